@@ -1,0 +1,103 @@
+"""The ``cosmos`` command line: run, check, repl, replay, bench.
+
+Exit status: 0 success; 1 the program failed (syntax, check or run-time
+failure); 2 wrong usage. A user's mistake never shows a Python traceback.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from cosmos import __version__
+from cosmos.errors import CosmosError, UsageError
+
+EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_USAGE = 2
+
+
+def _not_built(name: str) -> None:
+    click.echo(f"cosmos {name}: not built yet", err=True)
+    sys.exit(EXIT_USAGE)
+
+
+def _finish(status: int) -> None:
+    sys.exit(status)
+
+
+def _report(error: CosmosError) -> None:
+    click.echo(error.render(), err=True)
+    sys.exit(EXIT_USAGE if isinstance(error, UsageError) else EXIT_FAILED)
+
+
+program_argument = click.argument(
+    "program", type=click.Path(exists=True, dir_okay=False, path_type=Path)
+)
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="cosmos")
+def cli() -> None:
+    """COSMOS: operational-space task programs for a simulated PUMA 560."""
+
+
+@cli.command()
+@program_argument
+@click.option("--log", "log_path", type=click.Path(path_type=Path), help="MCAP log path.")
+@click.option("--servo-hz", type=click.FloatRange(min=1.0), default=None, help="Servo rate [Hz].")
+@click.option(
+    "--param-hz",
+    type=click.FloatRange(min=1.0),
+    default=None,
+    help="Parameter-evaluation rate [Hz].",
+)
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed for sensor noise.")
+def run(
+    program: Path, log_path: Path | None, servo_hz: float | None, param_hz: float | None, seed: int
+) -> None:
+    """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
+    _not_built("run")
+
+
+@cli.command()
+@program_argument
+@click.option("--json", "as_json", is_flag=True, help="Print the plan as JSON.")
+def check(program: Path, as_json: bool) -> None:
+    """Parse, check and compile PROGRAM without running it; print the plan."""
+    _not_built("check")
+
+
+@cli.command()
+@click.option("--log", "log_path", type=click.Path(path_type=Path), help="MCAP log path.")
+def repl(log_path: Path | None) -> None:
+    """Interactive session on a live simulated arm."""
+    _not_built("repl")
+
+
+@cli.command()
+@click.argument("log", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--plot", type=click.Path(path_type=Path), help="Write a plot (PNG).")
+@click.option("--view", is_flag=True, help="Play back in the MuJoCo viewer.")
+@click.option("--video", type=click.Path(path_type=Path), help="Render playback to MP4.")
+@click.option("--verify", is_flag=True, help="Re-run the program and compare with the log.")
+def replay(log: Path, plot: Path | None, view: bool, video: Path | None, verify: bool) -> None:
+    """Summarise, plot, play back or verify a run log."""
+    _not_built("replay")
+
+
+@cli.command()
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def bench(as_json: bool) -> None:
+    """Measure the servo loop: per-phase costs and ratios."""
+    _not_built("bench")
+
+
+def main() -> None:
+    """Entry point of the ``cosmos`` console script."""
+    try:
+        cli.main(standalone_mode=True)
+    except CosmosError as error:
+        _report(error)
