@@ -1,0 +1,16 @@
+"""Operational-space control maths (Khatib 1987): pure functions of numpy arrays.
+
+One module per concept, each citing the seed's equations:
+
+* :mod:`~cosmos.osc.dynamics`: Lambda, Jbar, mu, p, N^T (eq. 13, 26-28), singularities (section 5),
+  null-space damping and the dissipation matrix (eq. 31, 34, 38).
+* :mod:`~cosmos.osc.force`: ``Gamma = J^T F`` (eq. 16) and the selection matrices (Figure 2).
+* :mod:`~cosmos.osc.motion`: motion commands F*_m (eq. 19-21, 36-37), timed trajectories.
+* :mod:`~cosmos.osc.orientation`: so(3) exp/log, the orientation error, quaternions, RPY.
+* :mod:`~cosmos.osc.unified`: the unified motion and force command (eq. 17-18, 29).
+* :mod:`~cosmos.osc.limits`: torque saturation and the joint-limit potential (section 6).
+* :mod:`~cosmos.osc.firas`: FIRAS repulsion and capsule-to-obstacle proximity (section 6).
+
+Conventions: world axes; twists and wrenches are ``[linear; angular]``; the
+operational error is ``x - x_d = (p - p_d, log(R R_d^T))``.
+"""

@@ -1,0 +1,217 @@
+"""Motion commands of the unit-mass end effector (seed eq. 19-21, 36-37); timed trajectories.
+
+Every command here is ``F*_m``: an acceleration-like vector, in [m/s^2] then
+[rad/s^2], world axes, that eq. 18 turns into a force with ``Lambda``. The
+operational error is ``x - x_d`` as defined by
+:func:`cosmos.osc.orientation.pose_error` (``(p - p_d, log(R R_d^T))``), and
+velocities are twists ``(v, w)`` of the tool point in world axes, the
+quantities the geometric Jacobian's rows give.
+
+Gains are floats or per-axis arrays # (6,) in world axes (elementwise).
+
+Redundancy (eq. 34-38): with ``xi_q > 0`` the commands add ``xi_q xd``
+(eq. 36, 37); pair them with the joint torque ``-xi_q A qd``, or, equivalently,
+use ``xi_q = 0`` here and add :func:`cosmos.osc.dynamics.null_space_damping`
+(eq. 34). Either way the closed loop dissipates with eq. 38.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from cosmos.osc._types import FloatArray
+from cosmos.osc.orientation import so3_exp, so3_log
+
+Gain = float | FloatArray
+
+
+def tracking_command(
+    error: FloatArray,
+    velocity: FloatArray,
+    velocity_desired: FloatArray,
+    acceleration_desired: FloatArray,
+    kp: Gain,
+    kv: Gain,
+    xi_q: float = 0.0,
+) -> FloatArray:
+    """Trajectory tracking, eq. 19 (eq. 36 with xi_q): ``xdd_d - kp e - kv (xd - xd_d) + xi_q xd``.
+
+    Args:
+        error: ``x - x_d`` from ``pose_error``, in [m] and [rad]. # (6,)
+        velocity: Tool twist ``xd``, in [m/s] and [rad/s]. # (6,)
+        velocity_desired: ``xd_d``. # (6,)
+        acceleration_desired: ``xdd_d``, in [m/s^2] and [rad/s^2]. # (6,)
+        kp: Position gain, in [1/s^2].
+        kv: Velocity gain (the seed's xi), in [1/s].
+        xi_q: Null-space damping gain of eq. 34-36, in [1/s].
+
+    Returns:
+        F*_m. # (6,)
+    """
+    command = acceleration_desired - kp * error - kv * (velocity - velocity_desired)
+    return command + xi_q * velocity if xi_q else command
+
+
+def _speed_limited(desired: list[float], max_speed: float, max_angular_speed: float) -> list[float]:
+    """Eq. 21's ``nu``, applied to the linear and the angular part separately."""
+    vx, vy, vz, wx, wy, wz = desired
+    linear = math.sqrt(vx * vx + vy * vy + vz * vz)
+    angular = math.sqrt(wx * wx + wy * wy + wz * wz)
+    nu = 1.0 if linear <= max_speed else max_speed / linear
+    nu_w = 1.0 if angular <= max_angular_speed else max_angular_speed / angular
+    return [nu * vx, nu * vy, nu * vz, nu_w * wx, nu_w * wy, nu_w * wz]
+
+
+def goal_velocity(
+    error: FloatArray, kp: Gain, kv: Gain, max_speed: float, max_angular_speed: float
+) -> FloatArray:
+    """Speed-limited desired velocity of eq. 21: ``nu (kp/kv)(x_d - x)``.
+
+    The seed's ``nu = min(1, V_max/|xd_d|)`` is applied twice, to the translation
+    with ``max_speed`` and to the rotation with ``max_angular_speed``, so each
+    part points at its goal (a straight line; a fixed rotation axis) and neither
+    limit depends on the units of the other.
+
+    Args:
+        error: ``x - x_d``, in [m] and [rad]. # (6,)
+        kp: Position gain, in [1/s^2].
+        kv: Velocity gain, in [1/s].
+        max_speed: V_max for the tool point, in [m/s].
+        max_angular_speed: The same for the rotation, in [rad/s].
+
+    Returns:
+        ``nu xd_d``, in [m/s] and [rad/s]. # (6,)
+    """
+    desired = ((-kp / kv) * error).tolist()
+    return np.array(_speed_limited(desired, max_speed, max_angular_speed))
+
+
+def goal_command(
+    error: FloatArray,
+    velocity: FloatArray,
+    kp: Gain,
+    kv: Gain,
+    max_speed: float,
+    max_angular_speed: float,
+    xi_q: float = 0.0,
+) -> FloatArray:
+    """Goal position with a speed limit, eq. 20-21 (37 with xi_q): ``-kv (xd - nu xd_d) + xi_q xd``.
+
+    Far from the goal the tool travels in a straight line at ``max_speed`` (and
+    turns about a fixed axis at ``max_angular_speed``); near it, the command is
+    ``-kp (x - x_d) - kv xd``.
+
+    Args:
+        error: ``x - x_d``, in [m] and [rad]. # (6,)
+        velocity: Tool twist ``xd``, in [m/s] and [rad/s]. # (6,)
+        kp: Position gain, in [1/s^2].
+        kv: Velocity gain, in [1/s].
+        max_speed: Speed limit of the tool point, in [m/s].
+        max_angular_speed: Angular speed limit, in [rad/s].
+        xi_q: Null-space damping gain of eq. 34-37, in [1/s].
+
+    Returns:
+        F*_m. # (6,)
+    """
+    command = kv * (goal_velocity(error, kp, kv, max_speed, max_angular_speed) - velocity)
+    return command + xi_q * velocity if xi_q else command
+
+
+def min_jerk(t_s: float, duration_s: float) -> tuple[float, float, float]:
+    """Minimum-jerk (quintic) time scaling ``s = 10 u^3 - 15 u^4 + 6 u^5``, ``u = t/T`` in [0, 1].
+
+    Zero velocity and acceleration at both ends.
+
+    Args:
+        t_s: Time since the start, in [s].
+        duration_s: Total duration T, in [s], > 0.
+
+    Returns:
+        ``(s, ds/dt, d2s/dt2)`` in [1], [1/s], [1/s^2].
+    """
+    if t_s <= 0.0:
+        return 0.0, 0.0, 0.0
+    if t_s >= duration_s:
+        return 1.0, 0.0, 0.0
+    u = t_s / duration_s
+    v = 1.0 - u
+    s = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
+    return (
+        s,
+        30.0 * u * u * v * v / duration_s,
+        60.0 * u * v * (1.0 - 2.0 * u) / (duration_s * duration_s),
+    )
+
+
+class PoseSample(NamedTuple):
+    """Desired pose, twist and its derivative at one instant; world axes."""
+
+    position: FloatArray  # (3,) [m]
+    rotation_to_world: FloatArray  # (3, 3)
+    velocity: FloatArray  # (6,) [m/s, rad/s]
+    acceleration: FloatArray  # (6,) [m/s^2, rad/s^2]
+
+
+@dataclass(frozen=True)
+class PoseTrajectory:
+    """A timed move (``MOVE ... IN t``): straight line, fixed-axis rotation, minimum-jerk timing.
+
+    ``p(t) = p0 + s(t) (p1 - p0)`` and ``R(t) = exp(s(t) phi) R0`` with
+    ``phi = log(R1 R0^T)`` (world axes), so the angular velocity is exactly
+    ``ds/dt phi`` (a slerp). Track it with :func:`tracking_command` (eq. 19).
+
+    Attributes:
+        start_position: p0, in [m]. # (3,)
+        start_rotation_to_world: R0. # (3, 3)
+        displacement: p1 - p0, in [m]. # (3,)
+        rotation_vector: phi, in [rad], world axes. # (3,)
+        duration_s: T, in [s].
+    """
+
+    start_position: FloatArray
+    start_rotation_to_world: FloatArray
+    displacement: FloatArray
+    rotation_vector: FloatArray
+    duration_s: float
+
+    @classmethod
+    def between(
+        cls,
+        start_position: FloatArray,
+        start_rotation_to_world: FloatArray,
+        end_position: FloatArray,
+        end_rotation_to_world: FloatArray,
+        duration_s: float,
+    ) -> PoseTrajectory:
+        """The move from a start pose to an end pose in ``duration_s`` seconds.
+
+        Raises:
+            ValueError: If the duration is not positive.
+        """
+        if not duration_s > 0.0:
+            raise ValueError(f"PoseTrajectory: duration_s must be > 0, got {duration_s}")
+        return cls(
+            start_position=np.array(start_position, dtype=float),
+            start_rotation_to_world=np.array(start_rotation_to_world, dtype=float),
+            displacement=np.asarray(end_position, dtype=float) - start_position,
+            rotation_vector=so3_log(end_rotation_to_world.dot(start_rotation_to_world.T)),
+            duration_s=float(duration_s),
+        )
+
+    def sample(self, t_s: float) -> PoseSample:
+        """Desired pose, twist and acceleration ``t_s`` seconds after the start (held after T)."""
+        s, sd, sdd = min_jerk(t_s, self.duration_s)
+        px, py, pz = self.start_position.tolist()
+        dx, dy, dz = self.displacement.tolist()
+        fx, fy, fz = self.rotation_vector.tolist()
+        turn = so3_exp(s * self.rotation_vector)
+        return PoseSample(
+            position=np.array((px + s * dx, py + s * dy, pz + s * dz)),
+            rotation_to_world=turn.dot(self.start_rotation_to_world),
+            velocity=np.array((sd * dx, sd * dy, sd * dz, sd * fx, sd * fy, sd * fz)),
+            acceleration=np.array((sdd * dx, sdd * dy, sdd * dz, sdd * fx, sdd * fy, sdd * fz)),
+        )

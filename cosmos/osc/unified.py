@@ -1,0 +1,271 @@
+"""The unified motion and force command (seed eq. 16-18, 29 and Figure 2).
+
+Operational force on the end effector::
+
+    F   = Lambda Omega F*_m + Omega_bar F_a + mu + p                       (eq. 17-18)
+    F_a = F_d + k_f (F_d - F_s) + k_i integral(F_d - F_s) dt - Lambda Omega_bar k_vf xd
+
+and the joint torque, eq. 16 written as in eq. 29 (Appendix I, A2)::
+
+    Gamma = J^T (Lambda Omega F*_m + Omega_bar F_a) + b + g - J^T Lambda h + N^T Gamma_0
+          = J^T F + N^T (b + g + Gamma_0)
+
+For a square, non-singular J, ``N^T = 0`` and this is exactly ``J^T F``. In a
+redundant or singular case eq. 29 also compensates the null-space part of b and
+g, which the end effector cannot feel, so the self-motion does not fall under
+gravity; ``Gamma_0`` is any further null-space torque (eq. 34, posture).
+
+Signs. Wrenches (force then moment, about the tool point, world axes) are:
+
+* ``F``: what the actuators apply ON the end effector (eq. 9: ``Lambda xdd + mu
+  + p = F + F_ext``, ``F_ext`` the environment's wrench on the tool).
+* ``F_d`` (setpoint) and ``F_s`` (sensed): what the tool APPLIES TO THE
+  ENVIRONMENT, as the language and the logs use it: ``CONTACT DOWN FORCE 10 N``
+  is ``F_d = (0, 0, -10, 0, 0, 0)``. The environment pushes back with
+  ``F_ext = -F_s``.
+
+At rest in contact eq. 9 gives ``F - p = -F_ext = F_s``: the actuators' force
+net of gravity equals the force the tool applies to the environment. That is
+why ``F_d`` enters ``F_a`` with a plus sign (feed-forward) and the error is
+``F_d - F_s``: pressing too lightly (``F_s`` short of ``F_d``) pushes harder.
+
+Cost: the servo level (:func:`servo_torque`, one product) uses a matrix
+that :func:`servo_matrices` combines once per parameter update (the seed's
+two-level architecture, section 3).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from cosmos.osc._types import FloatArray
+from cosmos.osc.dynamics import OperationalDynamics
+from cosmos.osc.force import Selection
+
+
+@dataclass(frozen=True)
+class ForceGains:
+    """Gains of the force loop on force-controlled axes (Figure 2).
+
+    Attributes:
+        k_f: Proportional gain on the force error, in [1] (N per N).
+        k_i: Integral gain, in [1/s] (N per N s).
+        k_vf: Velocity damping of the force-controlled axes, in [1/s]; multiplied by
+            Lambda it is a physical damping.
+        integral_limit: Clamp on each component of the force-error integral, in [N s]
+            (and [N m s]): the anti-windup bound.
+    """
+
+    k_f: float = 0.0
+    k_i: float = 0.0
+    k_vf: float = 0.0
+    integral_limit: float = math.inf
+
+    def __post_init__(self) -> None:
+        if min(self.k_f, self.k_i, self.k_vf, self.integral_limit) < 0.0:
+            raise ValueError(f"ForceGains: gains and integral_limit must be >= 0, got {self}")
+
+
+def integrate_force_error(
+    integral: FloatArray,
+    force_setpoint: FloatArray,
+    force_sensed: FloatArray,
+    omega_bar: FloatArray,
+    dt_s: float,
+    limit: float,
+) -> FloatArray:
+    """One step of ``integral(Omega_bar (F_d - F_s)) dt`` with an anti-windup clamp.
+
+    Only the force-controlled part is integrated (on motion axes the error means
+    nothing and would wind up); each component is clamped to ``[-limit, limit]``.
+    Reset the integral to zero when the selection changes.
+
+    Args:
+        integral: The integral so far, in [N s] and [N m s]. # (6,)
+        force_setpoint: F_d, applied to the environment, in [N] and [N m]. # (6,)
+        force_sensed: F_s, applied to the environment, in [N] and [N m]. # (6,)
+        omega_bar: Force-controlled projector. # (6, 6)
+        dt_s: Servo period, in [s].
+        limit: Clamp per component, in [N s].
+
+    Returns:
+        The new integral. # (6,)
+    """
+    updated = integral + omega_bar.dot(force_setpoint - force_sensed) * dt_s
+    return np.minimum(np.maximum(updated, -limit), limit)
+
+
+def force_feedback(
+    force_setpoint: FloatArray,
+    force_sensed: FloatArray,
+    force_integral: FloatArray,
+    gains: ForceGains,
+) -> FloatArray:
+    """The part of F_a without damping: ``F_d + k_f (F_d - F_s) + k_i integral``.
+
+    Args:
+        force_setpoint: F_d, applied to the environment, in [N] and [N m]. # (6,)
+        force_sensed: F_s, applied to the environment, in [N] and [N m]. # (6,)
+        force_integral: From :func:`integrate_force_error`, in [N s]. # (6,)
+        gains: Force loop gains.
+
+    Returns:
+        A wrench on the end effector, in [N] and [N m]. # (6,)
+    """
+    return (1.0 + gains.k_f) * force_setpoint - gains.k_f * force_sensed + gains.k_i * force_integral
+
+
+def force_command(
+    force_setpoint: FloatArray,
+    force_sensed: FloatArray,
+    force_integral: FloatArray,
+    velocity: FloatArray,
+    lambda_: FloatArray,
+    omega_bar: FloatArray,
+    gains: ForceGains,
+) -> FloatArray:
+    """F_a: setpoint fed forward, PI on the force error, damping ``-Lambda Omega_bar k_vf xd``.
+
+    Args:
+        force_setpoint: F_d, applied to the environment, in [N] and [N m]. # (6,)
+        force_sensed: F_s, applied to the environment, in [N] and [N m]. # (6,)
+        force_integral: From :func:`integrate_force_error`, in [N s]. # (6,)
+        velocity: Tool twist xd, in [m/s] and [rad/s]. # (6,)
+        lambda_: Lambda. # (6, 6)
+        omega_bar: Force-controlled projector. # (6, 6)
+        gains: Force loop gains.
+
+    Returns:
+        F_a, on the end effector, in [N] and [N m]; eq. 17 applies Omega_bar. # (6,)
+    """
+    damping = lambda_.dot(omega_bar.dot(velocity)) * gains.k_vf
+    return force_feedback(force_setpoint, force_sensed, force_integral, gains) - damping
+
+
+def unified_wrench(
+    dynamics: OperationalDynamics,
+    selection: Selection,
+    motion_command: FloatArray,
+    force_command: FloatArray,
+) -> FloatArray:
+    """Eq. 17-18 with Figure 2's selection: ``F = Lambda Omega F*_m + Omega_bar F_a + mu + p``.
+
+    Args:
+        dynamics: The operational model at this configuration.
+        selection: Omega and Omega_bar in world axes.
+        motion_command: F*_m (eq. 19, 20 or 36, 37), in [m/s^2] and [rad/s^2]. # (6,)
+        force_command: F_a from :func:`force_command`, in [N] and [N m]. # (6,)
+
+    Returns:
+        F, the wrench the actuators apply on the end effector. # (6,)
+    """
+    motion = dynamics.lambda_.dot(selection.omega.dot(motion_command))
+    return motion + selection.omega_bar.dot(force_command) + dynamics.mu + dynamics.p
+
+
+def unified_torque(
+    dynamics: OperationalDynamics,
+    selection: Selection,
+    motion_command: FloatArray,
+    force_command: FloatArray,
+    null_space_torque: FloatArray | None = None,
+) -> FloatArray:
+    """Eq. 16, 29: ``J^T (Lambda Omega F*_m + Omega_bar F_a) + b + g - J^T Lambda h``.
+
+    Args:
+        dynamics: The operational model at this configuration.
+        selection: Omega and Omega_bar in world axes.
+        motion_command: F*_m, in [m/s^2] and [rad/s^2]. # (6,)
+        force_command: F_a, in [N] and [N m]. # (6,)
+        null_space_torque: Gamma_0, projected by N^T before it is added, in [N m]. # (n,)
+
+    Returns:
+        Gamma, in [N m]. # (n,)
+    """
+    operational = dynamics.lambda_.dot(selection.omega.dot(motion_command))
+    operational += selection.omega_bar.dot(force_command)
+    torque = dynamics.jacobian.T.dot(operational) + dynamics.compensation_torque
+    if null_space_torque is not None:
+        torque += dynamics.null_space_t.dot(null_space_torque)
+    return torque
+
+
+class ServoMatrices(NamedTuple):
+    """Eq. 29 pre-combined for the servo level; rebuild when model, selection or gains change.
+
+    One matrix, so the servo does a single product:
+    ``Gamma = stacked @ (F*_m, F_fb, xd, 1)``.
+    """
+
+    stacked: (
+        FloatArray  # (n, 19): J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar | bias
+    )
+
+    @property
+    def motion_to_torque(self) -> FloatArray:
+        """``J^T Lambda Omega``. # (n, 6)."""
+        return self.stacked[:, 0:6]
+
+    @property
+    def force_to_torque(self) -> FloatArray:
+        """``J^T Omega_bar``. # (n, 6)."""
+        return self.stacked[:, 6:12]
+
+    @property
+    def damping_to_torque(self) -> FloatArray:
+        """``k_vf J^T Omega_bar Lambda Omega_bar`` (subtracted). # (n, 6)."""
+        return -self.stacked[:, 12:18]
+
+    @property
+    def bias_torque(self) -> FloatArray:
+        """``b + g - J^T Lambda h``. # (n,)."""
+        return self.stacked[:, 18]
+
+
+_ONE = np.ones(1)
+
+
+def servo_matrices(dynamics: OperationalDynamics, selection: Selection, gains: ForceGains) -> ServoMatrices:
+    """Combine the parameter-level quantities for :func:`servo_torque`.
+
+    Args:
+        dynamics: The operational model at this configuration.
+        selection: Omega and Omega_bar in world axes.
+        gains: Force loop gains (k_vf is folded in).
+
+    Returns:
+        The servo matrices.
+    """
+    j_t = dynamics.jacobian.T
+    omega_bar = selection.omega_bar
+    force_to_torque = j_t.dot(omega_bar)
+    stacked = np.hstack(
+        (
+            j_t.dot(dynamics.lambda_).dot(selection.omega),
+            force_to_torque,
+            -gains.k_vf * force_to_torque.dot(dynamics.lambda_).dot(omega_bar),
+            dynamics.compensation_torque[:, None],
+        )
+    )
+    return ServoMatrices(stacked)
+
+
+def servo_torque(
+    servo: ServoMatrices, motion_command: FloatArray, force_feedback: FloatArray, velocity: FloatArray
+) -> FloatArray:
+    """The same Gamma as :func:`unified_torque` (no null-space term), in one product.
+
+    Args:
+        servo: From :func:`servo_matrices`.
+        motion_command: F*_m, in [m/s^2] and [rad/s^2]. # (6,)
+        force_feedback: From :func:`force_feedback`, in [N] and [N m]. # (6,)
+        velocity: Tool twist xd, in [m/s] and [rad/s]. # (6,)
+
+    Returns:
+        Gamma, in [N m]. # (n,)
+    """
+    return servo.stacked.dot(np.concatenate((motion_command, force_feedback, velocity, _ONE)))
