@@ -291,11 +291,4 @@ def _golden(f: Callable[[float], float]) -> float:
             lo, x1, f1 = x1, x2, f2
             x2 = lo + _GOLDEN * (hi - lo)
             f2 = f(x2)
-    best = x1 if f1 <= f2 else x2
-    f_best = min(f1, f2)
-    f_lo, f_hi = f(0.0), f(1.0)
-    if f_lo <= f_best and f_lo <= f_hi:
-        return 0.0
-    if f_hi <= f_best:
-        return 1.0
-    return best
+    return min((f(0.0), 0.0), (f(1.0), 1.0), (f1, x1), (f2, x2))[1]

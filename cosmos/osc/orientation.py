@@ -76,8 +76,7 @@ def _log_rows(r: _Rows) -> tuple[float, float, float]:
     # Near pi the antisymmetric part vanishes; use (R + R^T)/2 = c I + (1 - c) n n^T
     # from its largest diagonal entry, and the sign of n from the antisymmetric part.
     d = 1.0 - c
-    diag = (r00, r11, r22)
-    i = max(range(3), key=diag.__getitem__)
+    i = max(range(3), key=(r00, r11, r22).__getitem__)
     if i == 0:
         nx = math.sqrt(max((r00 - c) / d, 0.0))
         ny, nz = (r01 + r10) / (2.0 * d * nx), (r02 + r20) / (2.0 * d * nx)
@@ -266,8 +265,7 @@ def matrix_to_quat(rotation: FloatArray) -> FloatArray:
     else:
         k = math.sqrt(1.0 + r22 - r00 - r11) * 2.0  # 4 z
         q = ((r10 - r01) / k, (r02 + r20) / k, (r12 + r21) / k, 0.25 * k)
-    out = np.array(q)
-    return -out if q[0] < 0.0 else out
+    return np.array(q) if q[0] >= 0.0 else -np.array(q)
 
 
 def rpy_to_matrix(roll: float, pitch: float, yaw: float) -> FloatArray:
