@@ -1,0 +1,207 @@
+"""The servo level of the two-level architecture (seed section 3, Figure 2).
+
+Every servo tick, from the encoders, the wrist sensor and the latest parameter
+evaluation, it estimates the operational position (the seed's estimator:
+``x = x_e + J (q - q_e)`` between evaluations), forms the motion command
+F*_m (eq. 19 or 20-21) on the motion-controlled axes and the active force
+command on the force-controlled ones (setpoint fed forward, PI on the force
+error, velocity damping), and maps them to joint torques with the folded
+matrices of eq. 29, adding the null-space damping of eq. 34, the joint-limit
+potential of section 6 and friction compensation, saturated to the drives.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from cosmos.osc.force import Selection, selection
+from cosmos.osc.limits import saturate_torque
+from cosmos.osc.motion import goal_command, tracking_command
+from cosmos.osc.orientation import pose_error
+from cosmos.osc.unified import ForceGains, force_feedback, integrate_force_error, servo_torque
+from cosmos.runtime.parameters import Evaluation, fold_for_servo
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+FloatArray = np.ndarray
+
+
+@dataclass(frozen=True)
+class ServoGains:
+    """Gains of the servo level that do not change from segment to segment.
+
+    Attributes:
+        force: Force-loop gains on force-controlled axes.
+        xi_q: Null-space joint damping of eq. 34, in [1/s].
+        coulomb_velocity_rad_s: Joint speed over which the Coulomb friction
+            compensation ramps from 0 to its full value, in [rad/s].
+        coulomb_fraction: Share of the model's Coulomb friction compensated.
+    """
+
+    force: ForceGains = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
+    xi_q: float = 20.0
+    coulomb_velocity_rad_s: float = 0.02
+    coulomb_fraction: float = 0.8
+
+
+def _rotate_blocks(rotation: FloatArray, vector: FloatArray) -> FloatArray:
+    return np.concatenate((rotation.dot(vector[:3]), rotation.dot(vector[3:])))
+
+
+class ServoLevel:
+    """Computes joint torques every servo tick; holds the force integral."""
+
+    def __init__(
+        self,
+        gains: ServoGains,
+        torque_limits: FloatArray,
+        viscous: FloatArray,
+        coulomb: FloatArray,
+        servo_dt_s: float,
+    ):
+        self.gains = gains
+        self._torque_limits = torque_limits
+        self._viscous = viscous
+        self._coulomb = coulomb * gains.coulomb_fraction
+        self._dt_s = servo_dt_s
+        self._integral = np.zeros(6)
+        self._setpoint: ServoSetpoint | None = None
+        self._evaluation: Evaluation | None = None
+        self._selection: Selection | None = None
+        self._fold: tuple | None = None
+        self._base_error = np.zeros(6)
+        self.last_error = np.zeros(6)  # x - x_d of the last tick, world, [m, rad]
+        self.last_displacement = np.zeros(6)  # J (q - q_e): motion since the evaluation
+        self.last_velocity = np.zeros(6)  # J qd of the last tick, world, [m/s, rad/s]
+
+    @property
+    def selection(self) -> Selection | None:
+        """Omega and Omega_bar of the current segment, world axes."""
+        return self._selection
+
+    def set_setpoint(self, setpoint: ServoSetpoint) -> None:
+        """Start a segment; the force integral restarts when the selection changes."""
+        previous = self._setpoint
+        if previous is None or (
+            previous.motion_axes != setpoint.motion_axes
+            or not np.array_equal(previous.rotation_task_to_world, setpoint.rotation_task_to_world)
+        ):
+            self._integral = np.zeros(6)
+            self._selection = selection(setpoint.motion_axes, setpoint.rotation_task_to_world)
+        self._setpoint = setpoint
+        self._refold()
+
+    def set_evaluation(self, evaluation: Evaluation) -> None:
+        """Take a new parameter evaluation (the lower-rate level's output)."""
+        self._evaluation = evaluation
+        self._refold()
+
+    def _refold(self) -> None:
+        ev, sp, sel = self._evaluation, self._setpoint, self._selection
+        if ev is None or sp is None or sel is None:
+            return
+        self._fold = fold_for_servo(ev, sel, self.gains.force, self.gains.xi_q)
+        self._base_error = pose_error(
+            ev.position, ev.rotation_tool_to_world, sp.position, sp.rotation_to_world
+        )
+
+    def command(self, t_s: float, q: FloatArray, qd: FloatArray, wrench_env: FloatArray) -> FloatArray:
+        """Joint torques for this tick.
+
+        Args:
+            t_s: Simulated time, in [s].
+            q: Joint positions from the encoders, in [rad]. # (6,)
+            qd: Joint velocities, in [rad/s]. # (6,)
+            wrench_env: Sensed wrench the tool applies to the environment, world, [N, N m]. # (6,)
+
+        Returns:
+            Joint torques within the drive limits, in [N m]. # (6,)
+        """
+        ev, sp, fold, sel = self._evaluation, self._setpoint, self._fold, self._selection
+        if ev is None or sp is None or fold is None or sel is None:
+            raise RuntimeError("servo level used before a setpoint and an evaluation were given")
+        matrices, null_damping = fold
+        jacobian = ev.jacobian
+        velocity = jacobian.dot(qd)
+        displacement = jacobian.dot(q - ev.q)
+        self.last_velocity, self.last_displacement = velocity, displacement
+        motion = self._motion_command(t_s, sp, ev, displacement, velocity)
+        ramp = min(1.0, (t_s - sp.start_s) / sp.ramp_s) if sp.ramp_s > 0.0 else 1.0
+        force_target = sp.force_world
+        force_setpoint = sp.force_start_world + ramp * (force_target - sp.force_start_world)
+        gains = self.gains.force
+        self._integral = integrate_force_error(
+            self._integral,
+            force_setpoint,
+            wrench_env,
+            sel.omega_bar,
+            self._dt_s,
+            gains.integral_limit,
+        )
+        feedback = force_feedback(force_setpoint, wrench_env, self._integral, gains)
+        torque = servo_torque(matrices, motion, feedback, velocity)
+        torque += null_damping.dot(qd) + ev.joint_limit_torque
+        torque += self._viscous * qd + self._coulomb * np.clip(
+            qd / self.gains.coulomb_velocity_rad_s, -1.0, 1.0
+        )
+        saturated, _ = saturate_torque(torque, self._torque_limits, keep=ev.gravity)
+        return saturated
+
+    def _motion_command(
+        self,
+        t_s: float,
+        sp: ServoSetpoint,
+        ev: Evaluation,
+        displacement: FloatArray,
+        velocity: FloatArray,
+    ) -> FloatArray:
+        velocity_desired = acceleration_desired = None
+        if sp.mode is MotionMode.TRAJECTORY and sp.trajectory is not None:
+            sample = sp.trajectory.sample(t_s - sp.start_s)
+            error = pose_error(
+                ev.position, ev.rotation_tool_to_world, sample.position, sample.rotation_to_world
+            )
+            error += displacement
+            self.last_error = error
+            velocity_desired, acceleration_desired = sample.velocity, sample.acceleration
+        else:
+            error = self._base_error + displacement
+        self.last_error = error
+        if sp.uniform_gains:
+            return self._unit_mass_command(
+                sp,
+                error,
+                velocity,
+                velocity_desired,
+                acceleration_desired,
+                sp.kp_task[0],
+                sp.kv_task[0],
+            )
+        r_t = sp.rotation_task_to_world.T
+        command_task = self._unit_mass_command(
+            sp,
+            _rotate_blocks(r_t, error),
+            _rotate_blocks(r_t, velocity),
+            None if velocity_desired is None else _rotate_blocks(r_t, velocity_desired),
+            None if acceleration_desired is None else _rotate_blocks(r_t, acceleration_desired),
+            sp.kp_task,
+            sp.kv_task,
+        )
+        return _rotate_blocks(sp.rotation_task_to_world, command_task)
+
+    @staticmethod
+    def _unit_mass_command(
+        sp: ServoSetpoint,
+        error: FloatArray,
+        velocity: FloatArray,
+        velocity_desired: FloatArray | None,
+        acceleration_desired: FloatArray | None,
+        kp: float | FloatArray,
+        kv: float | FloatArray,
+    ) -> FloatArray:
+        if sp.mode is MotionMode.GOAL:
+            return goal_command(error, velocity, kp, kv, sp.max_speed, sp.max_angular_speed)
+        if velocity_desired is None or acceleration_desired is None:
+            return -kp * error - kv * velocity  # eq. 19 with a constant x_d
+        return tracking_command(error, velocity, velocity_desired, acceleration_desired, kp, kv)

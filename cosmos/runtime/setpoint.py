@@ -1,0 +1,81 @@
+"""What the servo level is asked to do during one segment, resolved to world numbers."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+
+from cosmos.osc.motion import PoseTrajectory
+
+FloatArray = np.ndarray
+
+DEFAULT_KP = 400.0  # 1/s^2: unit-mass stiffness, a 20 rad/s (3.2 Hz) closed loop
+DEFAULT_KV = 40.0  # 1/s: critical damping for DEFAULT_KP (2 sqrt(kp))
+DEFAULT_MAX_ANGULAR_SPEED = 1.0  # rad/s: speed limit of rotations in goal motion
+
+
+class MotionMode(Enum):
+    """How the motion-controlled axes move."""
+
+    HOLD = "hold"  # hold a fixed pose (eq. 19 with a constant x_d)
+    GOAL = "goal"  # goal position with a speed limit, straight line (eq. 20-21)
+    TRAJECTORY = "trajectory"  # timed trajectory tracked with eq. 19
+
+
+def _identity() -> FloatArray:
+    return np.eye(3)
+
+
+def _gains(value: float) -> FloatArray:
+    return np.full(6, value)
+
+
+@dataclass(frozen=True)
+class ServoSetpoint:
+    """One segment's command to the servo level; world axes unless a name says task.
+
+    Attributes:
+        mode: How motion axes move.
+        position: Goal (or hold) tool point, in [m]. # (3,)
+        rotation_to_world: Goal (or hold) tool orientation. # (3, 3)
+        rotation_task_to_world: Task frame of the selection and the force setpoint. # (3, 3)
+        motion_axes: Per task axis, True motion-controlled, False force-controlled. # (6,)
+        force_task: Force setpoint, applied to the environment, task axes, [N, N m]. # (6,)
+        force_start_world: Sensed force when the segment began; the setpoint ramps
+            from it to ``force_task``, world axes, [N, N m]. # (6,)
+        ramp_s: Duration of that ramp, in [s].
+        start_s: Simulated time at which the segment began, in [s].
+        max_speed: Speed limit V_max of eq. 21, in [m/s].
+        max_angular_speed: Its rotational counterpart, in [rad/s].
+        kp_task: Unit-mass position gains per task axis, in [1/s^2]. # (6,)
+        kv_task: Velocity gains per task axis, in [1/s]. # (6,)
+        trajectory: The timed trajectory in TRAJECTORY mode.
+    """
+
+    mode: MotionMode
+    position: FloatArray
+    rotation_to_world: FloatArray
+    rotation_task_to_world: FloatArray = field(default_factory=_identity)
+    motion_axes: tuple[bool, ...] = (True,) * 6
+    force_task: FloatArray = field(default_factory=lambda: np.zeros(6))
+    force_start_world: FloatArray = field(default_factory=lambda: np.zeros(6))
+    ramp_s: float = 0.2
+    start_s: float = 0.0
+    max_speed: float = 0.25
+    max_angular_speed: float = DEFAULT_MAX_ANGULAR_SPEED
+    kp_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KP))
+    kv_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KV))
+    trajectory: PoseTrajectory | None = None
+
+    @property
+    def force_world(self) -> FloatArray:
+        """The force setpoint (applied to the environment) in world axes. # (6,)."""
+        r = self.rotation_task_to_world
+        return np.concatenate((r.dot(self.force_task[:3]), r.dot(self.force_task[3:])))
+
+    @property
+    def uniform_gains(self) -> bool:
+        """True when every axis has the same gains (the servo then skips frame rotations)."""
+        return bool(np.all(self.kp_task == self.kp_task[0]) and np.all(self.kv_task == self.kv_task[0]))
