@@ -14,6 +14,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -53,6 +54,14 @@ DEFAULT_GAINS = ServoGains()
 Recorder = Callable[[Sample, Evaluation], None]
 
 
+class PotentialField(Protocol):
+    """An artificial potential field (seed section 6) acting on the arm through joint torques."""
+
+    def torque(self, q: FloatArray, qd: FloatArray, t_s: float) -> FloatArray:
+        """Joint torques of the field at this state, in [N m]. # (6,)."""
+        ...
+
+
 class PhaseTimes:
     """Accumulated wall-clock nanoseconds per phase of the loop (for ``cosmos bench``)."""
 
@@ -86,6 +95,8 @@ class Runtime:
             1.0 / rates.servo_hz,
         )
         self.recorder = recorder
+        self.fields: list[PotentialField] = []
+        """Potential fields (obstacles), evaluated at the parameter rate like the model."""
         self.phases = PhaseTimes()
         self._servo_period_s = 1.0 / rates.servo_hz
         self._param_period_s = 1.0 / rates.param_hz
@@ -103,6 +114,12 @@ class Runtime:
         self.evaluation = self.parameters.evaluate(self.q, self.qd)
         self.servo.set_evaluation(self.evaluation)
         self.wrench = self._sense_wrench()
+
+    def _evaluate_fields(self, now: float) -> None:
+        torque = np.zeros(6)
+        for field in self.fields:
+            torque += field.torque(self.q, self.qd, now)
+        self.servo.field_torque = torque
 
     @property
     def time_s(self) -> float:
@@ -135,6 +152,7 @@ class Runtime:
         if now + self._eps_s >= self._next_param_s:
             self.evaluation = self.parameters.evaluate(self.q, self.qd)
             self.servo.set_evaluation(self.evaluation)
+            self._evaluate_fields(now)
             self._next_param_s += self._param_period_s
         t2 = clock()
         self.wrench = self._sense_wrench()

@@ -74,6 +74,7 @@ class ServoLevel:
         self.last_error = np.zeros(6)  # x - x_d of the last tick, world, [m, rad]
         self.last_displacement = np.zeros(6)  # J (q - q_e): motion since the evaluation
         self.last_velocity = np.zeros(6)  # J qd of the last tick, world, [m/s, rad/s]
+        self.field_torque = np.zeros(6)  # potential fields (obstacles), held between evaluations
 
     @property
     def selection(self) -> Selection | None:
@@ -141,7 +142,7 @@ class ServoLevel:
         )
         feedback = force_feedback(force_setpoint, wrench_env, self._integral, gains)
         torque = servo_torque(matrices, motion, feedback, velocity)
-        torque += null_damping.dot(qd) + ev.joint_limit_torque
+        torque += null_damping.dot(qd) + ev.joint_limit_torque + self.field_torque
         torque += self._viscous * qd + self._coulomb * np.clip(
             qd / self.gains.coulomb_velocity_rad_s, -1.0, 1.0
         )
