@@ -1,0 +1,197 @@
+"""The plant: the simulated PUMA 560 workcell in MuJoCo.
+
+The controller talks to the plant only through what a real arm offers: joint
+torques in (:meth:`Plant.step`), encoders and the wrist force/torque sensor out
+(:meth:`Plant.read_encoders`, :meth:`Plant.read_wrench_sensor`).
+:meth:`Plant.contacts` reports contacts for collision events, and
+:attr:`Plant.model` / :attr:`Plant.data` exist for rendering and logging only.
+
+Wrist sensor sign convention (MuJoCo ``force``/``torque`` sensors on the
+``ft_sensor`` site of the tool body, checked in ``tests/test_plant.py``): the
+reading is the wrench that link 6 (the parent) exerts on the tool (the child),
+in the sensor frame, the torque taken about the sensor origin. Held still in
+free air the sensor reads the tool's weight as an upward force: in world axes
+``f = -m g`` with ``g = (0, 0, -9.81) m/s^2``. Quasi-statically, the force the
+tool applies to the environment is ``R f + m g`` in world axes (``R``: sensor
+axes in world coordinates), and the moment about the sensor origin is
+``R tau + (c - o) x m g`` (``c``: tool centre of mass, ``o``: sensor origin).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from cosmos.errors import CosmosError
+from cosmos.workcell import FORCE_SENSOR, HOME_KEY, JOINT_NAMES, SCENE_XML, TORQUE_SENSOR
+
+
+@dataclass(frozen=True)
+class Contact:
+    """One contact between two geoms, named.
+
+    Attributes:
+        geom1: Name of the first geom.
+        geom2: Name of the second geom.
+        body1: Name of the body that carries ``geom1``.
+        body2: Name of the body that carries ``geom2``.
+        distance_m: Signed distance between the geoms [m]; negative when they
+            penetrate.
+        position: Midpoint of the contact in the world frame [m], ``(3,)``.
+    """
+
+    geom1: str
+    geom2: str
+    body1: str
+    body2: str
+    distance_m: float
+    position: np.ndarray  # (3,)
+
+
+class Plant:
+    """The simulated workcell: a MuJoCo model and its state.
+
+    Args:
+        scene_xml: MJCF file of the scene. It must have the hinge joints and
+            motors ``joint1`` .. ``joint6`` as its only degrees of freedom and
+            actuators, in that order, and a keyframe ``home``. The wrist sensor
+            (``ft_force``, ``ft_torque``) is optional: without it
+            :meth:`read_wrench_sensor` raises.
+
+    Raises:
+        CosmosError: If the scene does not have the joints and motors above.
+    """
+
+    def __init__(self, scene_xml: Path | str = SCENE_XML) -> None:
+        model = mujoco.MjModel.from_xml_path(str(scene_xml))
+        _check_arm(model, scene_xml)
+        home = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
+        if home < 0:
+            raise CosmosError(f"{scene_xml}: the scene has no keyframe '{HOME_KEY}'")
+        self._model = model
+        self._data = mujoco.MjData(model)
+        self._home_key = int(home)
+        self._ctrl_lower = model.actuator_ctrlrange[:, 0].copy()  # (6,) N m
+        self._ctrl_upper = model.actuator_ctrlrange[:, 1].copy()  # (6,) N m
+        self._wrench_slices = _wrench_slices(model)
+        self._geom_names = tuple(model.geom(i).name for i in range(model.ngeom))
+        self._body_names = tuple(model.body(i).name for i in range(model.nbody))
+        # Views into MjData's buffers, taken once: the hot loop does not rebuild them.
+        self._qpos = self._data.qpos  # (6,)
+        self._qvel = self._data.qvel  # (6,)
+        self._ctrl = self._data.ctrl  # (6,)
+        self._sensordata = self._data.sensordata
+        self.reset()
+
+    @property
+    def model(self) -> mujoco.MjModel:
+        """The MuJoCo model, for rendering and logging only: the controller must not read it."""
+        return self._model
+
+    @property
+    def data(self) -> mujoco.MjData:
+        """The MuJoCo state, for rendering and logging only: the controller must not read it."""
+        return self._data
+
+    @property
+    def dt_s(self) -> float:
+        """Physics time step [s]."""
+        return float(self._model.opt.timestep)
+
+    @property
+    def time_s(self) -> float:
+        """Simulated time since the last :meth:`reset` [s]."""
+        return float(self._data.time)
+
+    def reset(self, q: np.ndarray | None = None) -> None:
+        """Put the arm at rest, at ``q`` or at the home keyframe; zero time and torques.
+
+        Args:
+            q: Joint angles [rad], ``(6,)``; ``None`` for the ``home`` keyframe.
+        """
+        mujoco.mj_resetDataKeyframe(self._model, self._data, self._home_key)
+        if q is not None:
+            self._qpos[:] = q
+        self._qvel[:] = 0.0
+        self._ctrl[:] = 0.0
+        mujoco.mj_forward(self._model, self._data)
+
+    def step(self, tau: np.ndarray) -> None:
+        """Apply joint torques for one time step and advance the simulation.
+
+        Args:
+            tau: Motor torques [N m], ``(6,)``, joint order; each is clipped to its
+                drive's limit (the actuator's ``ctrlrange``). Must be finite: MuJoCo
+                zeroes non-finite controls and records a warning.
+        """
+        np.clip(tau, self._ctrl_lower, self._ctrl_upper, out=self._ctrl)
+        mujoco.mj_step(self._model, self._data)
+
+    def read_encoders(self) -> tuple[np.ndarray, np.ndarray]:
+        """Joint angles [rad] and velocities [rad/s], each ``(6,)``, copies."""
+        return self._qpos.copy(), self._qvel.copy()
+
+    def read_wrench_sensor(self) -> np.ndarray:
+        """The wrist force/torque sensor: ``(fx, fy, fz, tx, ty, tz)`` [N, N m], ``(6,)``.
+
+        Raw, in the sensor's own frame: the wrench that link 6 exerts on the tool,
+        the torque about the sensor origin (sign convention in the module docstring).
+
+        Raises:
+            CosmosError: If the scene has no wrist sensor.
+        """
+        if self._wrench_slices is None:
+            raise CosmosError(
+                f"the scene has no wrist sensor (force '{FORCE_SENSOR}', torque '{TORQUE_SENSOR}')"
+            )
+        force, torque = self._wrench_slices
+        return np.concatenate((self._sensordata[force], self._sensordata[torque]))
+
+    def contacts(self) -> list[Contact]:
+        """The contacts MuJoCo found at the current state, with geom and body names."""
+        if self._data.ncon == 0:
+            return []
+        found = self._data.contact
+        geom_body = self._model.geom_bodyid
+        return [
+            Contact(
+                geom1=self._geom_names[geom1],
+                geom2=self._geom_names[geom2],
+                body1=self._body_names[geom_body[geom1]],
+                body2=self._body_names[geom_body[geom2]],
+                distance_m=float(distance),
+                position=position.copy(),
+            )
+            for (geom1, geom2), distance, position in zip(found.geom, found.dist, found.pos, strict=True)
+        ]
+
+
+def _check_arm(model: mujoco.MjModel, scene_xml: Path | str) -> None:
+    """Raise unless the model's DOFs and actuators are the six joints, in order."""
+    joints = tuple(model.joint(i).name for i in range(model.njnt))
+    hinges = all(t == mujoco.mjtJoint.mjJNT_HINGE for t in model.jnt_type)
+    if joints != JOINT_NAMES or not hinges or model.nq != len(JOINT_NAMES):
+        raise CosmosError(
+            f"{scene_xml}: expected exactly the hinge joints {', '.join(JOINT_NAMES)}, "
+            f"found: {', '.join(joints) or 'none'}"
+        )
+    targets = tuple(model.joint(int(j)).name for j in model.actuator_trnid[:, 0])
+    motors = tuple(model.actuator(i).name for i in range(model.nu))
+    if motors != JOINT_NAMES or targets != JOINT_NAMES:
+        raise CosmosError(
+            f"{scene_xml}: expected the motors {', '.join(JOINT_NAMES)} on the joints of the "
+            f"same names, found: {', '.join(motors) or 'none'}"
+        )
+
+
+def _wrench_slices(model: mujoco.MjModel) -> tuple[slice, slice] | None:
+    """Where the wrist sensor's force and torque are in ``sensordata``, if present."""
+    force = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SENSOR, FORCE_SENSOR)
+    torque = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SENSOR, TORQUE_SENSOR)
+    if force < 0 or torque < 0:
+        return None
+    f0, t0 = int(model.sensor_adr[force]), int(model.sensor_adr[torque])
+    return slice(f0, f0 + 3), slice(t0, t0 + 3)

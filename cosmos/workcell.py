@@ -1,0 +1,195 @@
+"""The workcell: model files, home configuration, fixture frames and the tool.
+
+Everything here is read from the scene file (``cosmos/models/puma560/scene.xml``)
+once, so the XML stays the one place where the workcell is defined:
+
+- :data:`HOME_Q`: the ``home`` keyframe, where every program starts;
+- :func:`fixture_frames`: the predefined frames ``table``, ``hole``, ``slope``
+  of the task language, z axis pointing into the surface (approach direction);
+- :data:`TOOL`: what the controller may know about the tool (its datasheet):
+  mass properties and the sensor and tool-point frames, relative to the flange.
+
+World frame = PUMA base frame: z up, origin on the floor on the joint-1 axis.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from cosmos.errors import CosmosError
+
+MODEL_DIR = Path(__file__).resolve().parent / "models" / "puma560"
+ARM_XML = MODEL_DIR / "puma560.xml"
+"""The bare PUMA 560 (no tool): the controller's model is built from it."""
+SCENE_XML = MODEL_DIR / "scene.xml"
+"""The workcell: arm with wrist sensor and peg, table, hole fixture, tilted plate."""
+
+JOINT_NAMES = ("joint1", "joint2", "joint3", "joint4", "joint5", "joint6")
+"""Hinge joints (and their motors, same names) in the order of q."""
+FIXTURE_NAMES = ("table", "hole", "slope")
+"""Sites of the scene that are predefined frames of the task language."""
+FLANGE_SITE = "flange"
+TOOL_BODY = "tool"
+SENSOR_SITE = "ft_sensor"
+TOOL_SITE = "tool"
+FORCE_SENSOR = "ft_force"
+TORQUE_SENSOR = "ft_torque"
+HOME_KEY = "home"
+
+
+def read_only(array: np.ndarray) -> np.ndarray:
+    """A read-only float copy of ``array``: for constants that must not be mutated."""
+    out = np.array(array, dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+@dataclass(frozen=True)
+class FixtureFrame:
+    """A predefined frame of the workcell.
+
+    Attributes:
+        name: Name of the frame in programs (``table``, ``hole``, ``slope``).
+        position: Origin in the world frame [m], ``(3,)``, read-only.
+        rotation: Frame axes as columns in world coordinates (rotation from the
+            fixture frame to the world frame), ``(3, 3)``, read-only. Its z axis
+            points into the surface: the direction in which the tool approaches.
+    """
+
+    name: str
+    position: np.ndarray  # (3,)
+    rotation: np.ndarray  # (3, 3)
+
+
+@dataclass(frozen=True)
+class ToolSpec:
+    """The tool as the controller knows it; every quantity is in the flange frame.
+
+    The tool is everything beyond the wrist force/torque sensor's measuring
+    plane: sensor housing (tool side), collar and peg. It is rigidly mounted on
+    link 6; the flange frame is DH frame 6.
+
+    Attributes:
+        mass_kg: Mass [kg].
+        com_in_flange: Centre of mass [m], ``(3,)``.
+        inertia_in_flange: Rotational inertia about the centre of mass, flange
+            axes [kg m^2], ``(3, 3)``.
+        sensor_position_in_flange: Origin of the sensor's measuring frame [m], ``(3,)``.
+        sensor_rotation_in_flange: Sensor axes in flange coordinates (rotation
+            from the sensor frame to the flange frame), ``(3, 3)``.
+        tool_position_in_flange: The tool point (peg tip) [m], ``(3,)``.
+        tool_rotation_in_flange: Tool-frame axes in flange coordinates; z runs
+            along the peg, away from the flange, ``(3, 3)``.
+    """
+
+    mass_kg: float
+    com_in_flange: np.ndarray  # (3,)
+    inertia_in_flange: np.ndarray  # (3, 3)
+    sensor_position_in_flange: np.ndarray  # (3,)
+    sensor_rotation_in_flange: np.ndarray  # (3, 3)
+    tool_position_in_flange: np.ndarray  # (3,)
+    tool_rotation_in_flange: np.ndarray  # (3, 3)
+
+
+def _object_id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
+    index = mujoco.mj_name2id(model, kind, name)
+    if index < 0:
+        raise CosmosError(f"the scene has no {kind.name.removeprefix('mjOBJ_').lower()} '{name}'")
+    return int(index)
+
+
+@functools.cache
+def _scene_at_home() -> tuple[mujoco.MjModel, mujoco.MjData]:
+    """The compiled scene with the kinematics evaluated at the home keyframe."""
+    model = mujoco.MjModel.from_xml_path(str(SCENE_XML))
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY))
+    mujoco.mj_kinematics(model, data)
+    return model, data
+
+
+def _read_home_q() -> np.ndarray:
+    model, _ = _scene_at_home()
+    key = _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
+    return read_only(model.key_qpos[key])
+
+
+def _rotation(quat: np.ndarray) -> np.ndarray:
+    """The rotation matrix of a MuJoCo quaternion (w, x, y, z)."""
+    matrix = np.empty(9)
+    mujoco.mju_quat2Mat(matrix, quat)
+    return matrix.reshape(3, 3)
+
+
+def _read_tool() -> ToolSpec:
+    model, _ = _scene_at_home()
+    flange = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, FLANGE_SITE)
+    body = _object_id(model, mujoco.mjtObj.mjOBJ_BODY, TOOL_BODY)
+    sensor = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, SENSOR_SITE)
+    point = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)
+    if model.body_parentid[body] != model.site_bodyid[flange] or model.body_jntnum[body] != 0:
+        raise CosmosError(f"body '{TOOL_BODY}' must be welded to the body of site '{FLANGE_SITE}'")
+    if model.site_bodyid[sensor] != body or model.site_bodyid[point] != body:
+        raise CosmosError(f"sites '{SENSOR_SITE}' and '{TOOL_SITE}' must be on body '{TOOL_BODY}'")
+    # From the model's local poses, all relative to link 6 (the flange's body):
+    # a point x of the tool body is at R_b x + p_b in link 6, at R_f^T (R_b x + p_b - p_f)
+    # in the flange frame.
+    rotation_flange = _rotation(model.site_quat[flange])
+    rotation_body = rotation_flange.T @ _rotation(model.body_quat[body])
+    origin_body = rotation_flange.T @ (model.body_pos[body] - model.site_pos[flange])
+
+    def position_in_flange(point_in_body: np.ndarray) -> np.ndarray:
+        return read_only(rotation_body @ point_in_body + origin_body)
+
+    def rotation_in_flange(quat_in_body: np.ndarray) -> np.ndarray:
+        return read_only(rotation_body @ _rotation(quat_in_body))
+
+    principal_axes = rotation_in_flange(model.body_iquat[body])
+    return ToolSpec(
+        mass_kg=float(model.body_mass[body]),
+        com_in_flange=position_in_flange(model.body_ipos[body]),
+        inertia_in_flange=read_only(principal_axes @ np.diag(model.body_inertia[body]) @ principal_axes.T),
+        sensor_position_in_flange=position_in_flange(model.site_pos[sensor]),
+        sensor_rotation_in_flange=rotation_in_flange(model.site_quat[sensor]),
+        tool_position_in_flange=position_in_flange(model.site_pos[point]),
+        tool_rotation_in_flange=rotation_in_flange(model.site_quat[point]),
+    )
+
+
+@functools.cache
+def _read_fixture_frames() -> tuple[FixtureFrame, ...]:
+    model, data = _scene_at_home()
+    frames = []
+    for name in FIXTURE_NAMES:
+        site = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, name)
+        frames.append(
+            FixtureFrame(
+                name=name,
+                position=read_only(data.site_xpos[site]),
+                rotation=read_only(data.site_xmat[site].reshape(3, 3)),
+            )
+        )
+    return tuple(frames)
+
+
+def fixture_frames() -> dict[str, FixtureFrame]:
+    """The workcell's predefined frames by name: ``table``, ``hole``, ``slope``.
+
+    Read from the scene's sites of the same names (once; the arrays are read-only).
+
+    Returns:
+        A new dict on each call, so callers may add their own entries to it.
+    """
+    return {frame.name: frame for frame in _read_fixture_frames()}
+
+
+HOME_Q: np.ndarray = _read_home_q()
+"""Home configuration [rad], ``(6,)``, read-only: the scene's ``home`` keyframe."""
+
+TOOL: ToolSpec = _read_tool()
+"""The tool mounted in the scene, as the controller is allowed to know it."""

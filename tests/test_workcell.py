@@ -1,0 +1,237 @@
+"""The workcell scene, its home configuration, fixture frames and tool."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from cosmos.robot_model import build_robot_model
+from cosmos.workcell import ARM_XML, HOME_Q, SCENE_XML, TOOL, fixture_frames
+from tests.arm_helpers import solve_ik, tool_jacobian, tool_pose
+
+LINKS = [f"link{i}" for i in range(1, 7)]
+DOWN = np.array([0.0, 0.0, -1.0])
+# Tool as built in scene.xml: sensor and collar cylinders with given masses, a
+# steel capsule peg (radius, cylinder length, density).
+SENSOR_MASS, SENSOR_RADIUS, SENSOR_LENGTH = 0.25, 0.035, 0.035
+COLLAR_MASS, COLLAR_RADIUS, COLLAR_LENGTH = 0.05, 0.02, 0.015
+PEG_RADIUS, PEG_CYLINDER, PEG_DENSITY = 0.0096, 0.1404, 7850.0
+
+
+@pytest.fixture(scope="module")
+def scene() -> mujoco.MjModel:
+    return mujoco.MjModel.from_xml_path(str(SCENE_XML))
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return build_robot_model()
+
+
+def test_scene_arm_is_the_bare_arm(scene):
+    # scene.xml carries a copy of puma560.xml's arm (MJCF cannot add the tool
+    # to an included body): every kinematic, inertial, joint, drive and
+    # collision-geometry number must be the same.
+    arm = mujoco.MjModel.from_xml_path(str(ARM_XML))
+    for name in LINKS:
+        a, s = arm.body(name), scene.body(name)
+        for field in ("pos", "quat", "mass", "ipos", "iquat", "inertia"):
+            np.testing.assert_array_equal(getattr(a, field), getattr(s, field), err_msg=name)
+    for i in range(arm.njnt):
+        a = arm.joint(i)
+        s = scene.joint(a.name)
+        for field in ("pos", "axis", "range", "limited", "type"):
+            np.testing.assert_array_equal(getattr(a, field), getattr(s, field), err_msg=a.name)
+    for field in ("dof_armature", "dof_damping", "dof_frictionloss"):
+        np.testing.assert_array_equal(getattr(arm, field), getattr(scene, field), err_msg=field)
+    for field in ("actuator_ctrlrange", "actuator_gear", "actuator_trnid", "actuator_ctrllimited"):
+        np.testing.assert_array_equal(getattr(arm, field), getattr(scene, field), err_msg=field)
+    arm_geoms = [arm.geom(i) for i in range(arm.ngeom)]
+    for a in arm_geoms:
+        s = scene.geom(a.name)
+        assert arm.body(int(a.bodyid[0])).name == scene.body(int(s.bodyid[0])).name
+        for field in ("type", "size", "pos", "quat", "contype", "conaffinity"):
+            np.testing.assert_array_equal(getattr(a, field), getattr(s, field), err_msg=a.name)
+    for field in ("timestep", "integrator", "gravity"):
+        np.testing.assert_array_equal(getattr(arm.opt, field), getattr(scene.opt, field))
+    np.testing.assert_array_equal(arm.key("home").qpos, scene.key("home").qpos)
+
+
+def test_home_configuration(scene, robot):
+    np.testing.assert_array_equal(HOME_Q, scene.key("home").qpos)
+    with pytest.raises(ValueError):
+        HOME_Q[0] = 1.0
+    np.testing.assert_allclose(HOME_Q, np.radians([0, 45, -180, 0, -45, 180]), atol=1e-15)
+    pose = tool_pose(robot, HOME_Q)
+    # Tool straight down, tool x along world x: the fixture orientation RPY(180 deg, 0, 0).
+    np.testing.assert_allclose(pose.rotation, np.diag([1.0, -1.0, -1.0]), atol=1e-12)
+    table = fixture_frames()["table"]
+    assert np.linalg.norm(pose.translation[:2] - table.position[:2]) < 0.01
+    assert 0.2 < pose.translation[2] - table.position[2] < 0.3
+    assert_comfortable(robot, HOME_Q)
+
+
+def assert_comfortable(robot, q: np.ndarray) -> None:
+    """Far from joint limits and from the wrist and elbow singularities."""
+    margin = np.minimum(q - robot.q_lower_rad, robot.q_upper_rad - q)
+    assert margin.min() > np.radians(20), np.degrees(margin)
+    assert abs(q[4]) > np.radians(20), "wrist near its singularity (q5 = 0)"
+    elbow_straight = -np.pi / 2 + np.arctan2(0.0203, 0.4318)
+    assert abs(q[2] - elbow_straight) > np.radians(45), "elbow nearly straight"
+    singular_values = np.linalg.svd(tool_jacobian(robot, q), compute_uv=False)
+    assert singular_values.min() > 0.15, singular_values
+
+
+def test_fixture_frames_orientation():
+    frames = fixture_frames()
+    assert list(frames) == ["table", "hole", "slope"]
+    for name, frame in frames.items():
+        assert frame.name == name
+        np.testing.assert_allclose(frame.rotation.T @ frame.rotation, np.eye(3), atol=1e-12)
+        assert np.linalg.det(frame.rotation) == pytest.approx(1.0)
+        with pytest.raises(ValueError):
+            frame.position[0] = 0.0
+    for name in ("table", "hole"):  # approach straight down, x along world x
+        np.testing.assert_allclose(frames[name].rotation, np.diag([1.0, -1.0, -1.0]), atol=1e-12)
+    slope_z = frames["slope"].rotation[:, 2]
+    tilt = np.degrees(np.arccos(slope_z @ DOWN))
+    assert tilt == pytest.approx(20.0)
+    assert slope_z[0] < 0 and abs(slope_z[1]) < 1e-12  # surface falls away from the robot (+x)
+    assert fixture_frames() is not fixture_frames()  # callers may extend their copy
+
+
+def ray(scene: mujoco.MjModel, start: np.ndarray, direction: np.ndarray) -> tuple[float, str]:
+    """Distance along ``direction`` (unit) to the first world geom, and its name."""
+    data = mujoco.MjData(scene)
+    mujoco.mj_kinematics(scene, data)
+    geom = np.array([-1], dtype=np.int32)
+    groups = np.array([1, 0, 0, 0, 0, 0], dtype=np.uint8)  # group 0: all collision geoms
+    distance = mujoco.mj_ray(scene, data, start, direction, groups, True, -1, geom)
+    return distance, scene.geom(int(geom[0])).name if geom[0] >= 0 else ""
+
+
+def test_fixture_frames_lie_on_their_surfaces(scene):
+    # Cast a ray along each frame's z from 0.1 m before it: it must hit the
+    # fixture's surface at 0.1 m, so the origin is on the surface and z points into it.
+    frames = fixture_frames()
+    for name, geom_prefix in (("table", "table_top"), ("slope", "slope_plate")):
+        frame = frames[name]
+        z = frame.rotation[:, 2]
+        distance, geom = ray(scene, frame.position - 0.1 * z, z)
+        assert distance == pytest.approx(0.1, abs=1e-9)
+        assert geom.startswith(geom_prefix)
+    # The hole's axis is open down to its bottom, 45 mm below the mouth (> 30 mm).
+    hole = frames["hole"]
+    z = hole.rotation[:, 2]
+    distance, geom = ray(scene, hole.position - 0.1 * z, z)
+    assert distance - 0.1 == pytest.approx(0.045, abs=1e-9)
+    assert geom == "hole_bottom"
+
+
+def test_hole_is_round_with_small_clearance_and_a_chamfer(scene):
+    hole = fixture_frames()["hole"]
+    x, y, z = hole.rotation.T
+    angles = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+
+    def radii(depth: float) -> np.ndarray:
+        centre = hole.position + depth * z
+        return np.array([ray(scene, centre, np.cos(a) * x + np.sin(a) * y)[0] for a in angles])
+
+    wall = radii(0.02)
+    assert wall.min() == pytest.approx(0.010, abs=1e-9)  # flats of the 16-gon
+    assert wall.max() < 0.010 / np.cos(np.pi / 16) + 1e-9  # its corners: within 0.2 mm
+    peg_radius = scene.geom("peg").size[0]
+    clearance = 2 * (wall.min() - peg_radius)
+    assert 0 < clearance <= 1e-3
+    # 45 deg chamfer: 1 mm below the mouth the opening is 4 - 1 mm wider than the hole.
+    np.testing.assert_allclose(radii(0.001).min(), 0.013, atol=1e-9)
+
+
+def test_fixtures_reachable_with_margin(scene, robot):
+    # At the surface and 100 mm before it, each frame can be reached with the
+    # tool frame on it, comfortably, without an arm link touching anything.
+    frames = fixture_frames()
+    home_point = tool_pose(robot, HOME_Q).translation
+    for name in ("hole", "slope"):
+        horizontal = np.linalg.norm(frames[name].position[:2] - home_point[:2])
+        assert 0.2 <= horizontal <= 0.35, (name, horizontal)
+    data = mujoco.MjData(scene)
+    for frame in frames.values():
+        for standoff in (0.1, 0.0):
+            target = pin.SE3(frame.rotation, frame.position - standoff * frame.rotation[:, 2])
+            q = solve_ik(robot, target, HOME_Q)
+            assert_comfortable(robot, q)
+            data.qpos[:] = q
+            mujoco.mj_forward(scene, data)
+            touching = {
+                scene.body(int(scene.geom_bodyid[g])).name for g in data.contact.geom[: data.ncon].ravel()
+            }
+            assert not touching & set(LINKS), (frame.name, touching)
+
+
+def test_tool_spec_is_the_tool_in_the_scene():
+    # Independent: the tool's parts as built (cylinders and a capsule), by formula.
+    peg_cylinder_mass = PEG_DENSITY * np.pi * PEG_RADIUS**2 * PEG_CYLINDER
+    peg_cap_mass = PEG_DENSITY * 2 / 3 * np.pi * PEG_RADIUS**3  # each hemisphere
+    peg_axial = peg_cylinder_mass * PEG_RADIUS**2 / 2 + 2 * 0.4 * peg_cap_mass * PEG_RADIUS**2
+    peg_transverse = peg_cylinder_mass * (3 * PEG_RADIUS**2 + PEG_CYLINDER**2) / 12 + 2 * (
+        83 / 320 * peg_cap_mass * PEG_RADIUS**2 + peg_cap_mass * (PEG_CYLINDER / 2 + 3 * PEG_RADIUS / 8) ** 2
+    )
+
+    def cylinder(mass, radius, length, centre):
+        return mass, centre, mass * radius**2 / 2, mass * (3 * radius**2 + length**2) / 12
+
+    parts = [  # mass, centre on the flange z axis, axial and transverse inertia
+        cylinder(SENSOR_MASS, SENSOR_RADIUS, SENSOR_LENGTH, 0.0175),
+        cylinder(COLLAR_MASS, COLLAR_RADIUS, COLLAR_LENGTH, 0.0425),
+        (peg_cylinder_mass + 2 * peg_cap_mass, 0.05 + PEG_CYLINDER / 2, peg_axial, peg_transverse),
+    ]
+    mass = sum(p[0] for p in parts)
+    com = sum(p[0] * p[1] for p in parts) / mass
+    axial = sum(p[2] for p in parts)
+    transverse = sum(p[3] + p[0] * (p[1] - com) ** 2 for p in parts)
+    assert TOOL.mass_kg == pytest.approx(mass, rel=1e-12)
+    np.testing.assert_allclose(TOOL.com_in_flange, [0, 0, com], atol=1e-15)
+    np.testing.assert_allclose(
+        TOOL.inertia_in_flange, np.diag([transverse, transverse, axial]), rtol=1e-9, atol=1e-15
+    )
+    np.testing.assert_allclose(TOOL.sensor_position_in_flange, [0, 0, 0.035], atol=1e-15)
+    np.testing.assert_allclose(TOOL.tool_position_in_flange, [0, 0, 0.2], atol=1e-15)
+    np.testing.assert_allclose(TOOL.sensor_rotation_in_flange, np.eye(3), atol=1e-15)
+    np.testing.assert_allclose(TOOL.tool_rotation_in_flange, np.eye(3), atol=1e-15)
+    with pytest.raises(ValueError):
+        TOOL.com_in_flange[2] = 0.0
+
+
+def test_collision_filtering(scene):
+    # Arm links and tool never collide with each other; both collide with the
+    # world's geoms (table, fixtures, floor).
+    def collide(g1: int, g2: int) -> bool:
+        return bool(
+            scene.geom_contype[g1] & scene.geom_conaffinity[g2]
+            or scene.geom_contype[g2] & scene.geom_conaffinity[g1]
+        )
+
+    body_of = [scene.body(int(b)).name for b in scene.geom_bodyid]
+    robot_geoms = [g for g in range(scene.ngeom) if body_of[g] in {*LINKS, "tool"}]
+    robot_geoms.append(scene.geom("pedestal").id)
+    world_bodies = {"world", "table", "hole_fixture", "slope_fixture"}
+    world_geoms = [
+        g for g in range(scene.ngeom) if body_of[g] in world_bodies and g != scene.geom("pedestal").id
+    ]
+    assert len(world_geoms) > 50
+    for i, g1 in enumerate(robot_geoms):
+        for g2 in robot_geoms[i + 1 :]:
+            assert not collide(g1, g2), (scene.geom(g1).name, scene.geom(g2).name)
+        for g2 in world_geoms:
+            assert collide(g1, g2), (scene.geom(g1).name, scene.geom(g2).name)
+    assert "peg" in {scene.geom(g).name for g in robot_geoms}
+    for name in LINKS[:5]:  # every moving link has a capsule for obstacle work
+        capsules = [
+            g
+            for g in robot_geoms
+            if body_of[g] == name and scene.geom_type[g] == mujoco.mjtGeom.mjGEOM_CAPSULE
+        ]
+        assert capsules, name
