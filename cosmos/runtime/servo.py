@@ -37,12 +37,15 @@ class ServoGains:
         coulomb_velocity_rad_s: Joint speed over which the Coulomb friction
             compensation ramps from 0 to its full value, in [rad/s].
         coulomb_fraction: Share of the model's Coulomb friction compensated.
+        coulomb_lookahead_s: How far ahead the commanded joint acceleration counts
+            toward the direction of motion, in [s].
     """
 
     force: ForceGains = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
     xi_q: float = 20.0
-    coulomb_velocity_rad_s: float = 0.02
-    coulomb_fraction: float = 0.8
+    coulomb_velocity_rad_s: float = 0.01
+    coulomb_lookahead_s: float = 0.02
+    coulomb_fraction: float = 1.0
 
 
 def _rotate_blocks(rotation: FloatArray, vector: FloatArray) -> FloatArray:
@@ -143,8 +146,12 @@ class ServoLevel:
         feedback = force_feedback(force_setpoint, wrench_env, self._integral, gains)
         torque = servo_torque(matrices, motion, feedback, velocity)
         torque += null_damping.dot(qd) + ev.joint_limit_torque + self.field_torque
+        # Coulomb friction is compensated in the direction the joint is moving or, from rest,
+        # is being told to move: qd plus the commanded joint acceleration (Jbar F*_m) over a
+        # short look-ahead, so a joint starting to move is not held back by its friction.
+        intent = qd + self.gains.coulomb_lookahead_s * ev.dynamics.jbar.dot(motion)
         torque += self._viscous * qd + self._coulomb * np.clip(
-            qd / self.gains.coulomb_velocity_rad_s, -1.0, 1.0
+            intent / self.gains.coulomb_velocity_rad_s, -1.0, 1.0
         )
         saturated, _ = saturate_torque(torque, self._torque_limits, keep=ev.gravity)
         return saturated

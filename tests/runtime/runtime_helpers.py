@@ -1,0 +1,48 @@
+"""Shared set-up for the runtime tests: an arm at a configuration, driven by setpoints."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cosmos.plant import Plant
+from cosmos.robot_model import build_robot_model
+from cosmos.runtime.loop import Runtime
+from cosmos.runtime.rates import Rates
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+ROBOT = build_robot_model()
+
+
+def runtime_at(q: np.ndarray | None = None, rates: Rates | None = None) -> Runtime:
+    """A runtime on a fresh plant, the arm at rest at ``q`` (home if None), holding its pose."""
+    plant = Plant()
+    plant.reset(q)
+    runtime = Runtime(plant, ROBOT, rates or Rates())
+    hold(runtime)
+    return runtime
+
+
+def hold(runtime: Runtime) -> ServoSetpoint:
+    """Hold the measured pose."""
+    runtime.reset_clocks()
+    ev = runtime.evaluation
+    setpoint = ServoSetpoint(
+        mode=MotionMode.HOLD,
+        position=ev.position.copy(),
+        rotation_to_world=ev.rotation_tool_to_world.copy(),
+        start_s=runtime.time_s,
+    )
+    runtime.set_setpoint(setpoint)
+    return setpoint
+
+
+def run_for(runtime: Runtime, duration_s: float) -> list[tuple[float, np.ndarray, np.ndarray]]:
+    """Tick for ``duration_s``; return (t, true tool position, joint torque) at every tick."""
+    plant = runtime.plant
+    site = plant.model.site("tool").id
+    samples = []
+    end = runtime.time_s + duration_s - 1e-9
+    while runtime.time_s < end:
+        runtime.tick()
+        samples.append((runtime.time_s, plant.data.site_xpos[site].copy(), runtime.tau.copy()))
+    return samples
