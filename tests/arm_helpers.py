@@ -28,11 +28,6 @@ def tool_pose(robot: RobotModel, q: np.ndarray) -> pin.SE3:
     return robot.data.oMf[robot.tool_frame].copy()
 
 
-def gravity(robot: RobotModel, q: np.ndarray) -> np.ndarray:
-    """Joint torques that hold the arm and tool against gravity [N m]."""
-    return pin.computeGeneralizedGravity(robot.model, robot.data, q).copy()
-
-
 def tool_jacobian(robot: RobotModel, q: np.ndarray) -> np.ndarray:
     """Tool-point Jacobian, world axes (linear rows first), ``(6, 6)``."""
     return pin.computeFrameJacobian(

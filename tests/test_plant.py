@@ -13,7 +13,7 @@ from cosmos.errors import CosmosError
 from cosmos.plant import Plant
 from cosmos.robot_model import GRAVITY, RobotModel, build_robot_model
 from cosmos.workcell import ARM_XML, HOME_Q, SCENE_XML, TOOL, fixture_frames
-from tests.arm_helpers import gravity, solve_ik, tool_jacobian
+from tests.arm_helpers import solve_ik, tool_jacobian
 
 KP = np.array([400.0, 400.0, 200.0, 20.0, 20.0, 20.0])  # N m/rad
 KD = np.array([40.0, 40.0, 20.0, 2.0, 2.0, 2.0])  # N m s/rad
@@ -70,9 +70,10 @@ def test_gravity_compensation_holds_without_joint_friction(robot):
     plant = Plant()
     plant.model.dof_frictionloss[:] = 0
     plant.reset()
+    gravity = gravity_of(robot.model)
     for _ in range(1000):
         q, _ = plant.read_encoders()
-        plant.step(gravity(robot, q))
+        plant.step(gravity(q))
     q, qd = plant.read_encoders()
     np.testing.assert_allclose(q, HOME_Q, atol=1e-9)
     np.testing.assert_allclose(qd, 0, atol=1e-9)
@@ -167,13 +168,14 @@ def test_press_on_the_table(robot):
     plant.model.dof_frictionloss[:] = 0
     plant.reset(start)
     damping = np.array([20.0, 20.0, 10.0, 2.0, 2.0, 2.0])
+    gravity = gravity_of(robot.model)
     heights, touching = [], []
 
     def press(force_down: float, seconds: float) -> None:
         for _ in range(round(seconds / plant.dt_s)):
             q, qd = plant.read_encoders()
             force = np.array([0.0, 0.0, -force_down])
-            plant.step(gravity(robot, q) + tool_jacobian(robot, q)[:3].T @ force - damping * qd)
+            plant.step(gravity(q) + tool_jacobian(robot, q)[:3].T @ force - damping * qd)
             heights.append(plant.data.site("tool").xpos[2] - table.position[2])
             touching.append(plant.data.ncon > 0)
 
