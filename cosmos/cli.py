@@ -33,9 +33,7 @@ def _report(error: CosmosError) -> None:
     sys.exit(EXIT_USAGE if isinstance(error, UsageError) else EXIT_FAILED)
 
 
-program_argument = click.argument(
-    "program", type=click.Path(exists=True, dir_okay=False, path_type=Path)
-)
+program_argument = click.argument("program", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -79,13 +77,33 @@ def repl(log_path: Path | None) -> None:
 
 @cli.command()
 @click.argument("log", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option("--plot", type=click.Path(path_type=Path), help="Write a plot (PNG).")
+@click.option(
+    "--plot",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Write position and force against time, statement by statement (PNG).",
+)
+@click.option(
+    "--recover",
+    "recover_to",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Write what is readable in a cut log to a complete MCAP file.",
+)
 @click.option("--view", is_flag=True, help="Play back in the MuJoCo viewer.")
 @click.option("--video", type=click.Path(path_type=Path), help="Render playback to MP4.")
 @click.option("--verify", is_flag=True, help="Re-run the program and compare with the log.")
-def replay(log: Path, plot: Path | None, view: bool, video: Path | None, verify: bool) -> None:
-    """Summarise, plot, play back or verify a run log."""
-    _not_built("replay")
+def replay(
+    log: Path,
+    plot: Path | None,
+    recover_to: Path | None,
+    view: bool,
+    video: Path | None,
+    verify: bool,
+) -> None:
+    """Summarise, plot, recover, play back or verify a run log."""
+    from cosmos.commands.replay import ReplayOptions, replay_log
+
+    options = ReplayOptions(plot=plot, recover_to=recover_to, view=view, video=video, verify=verify)
+    _finish(replay_log(log, options))
 
 
 @cli.command()

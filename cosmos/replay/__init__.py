@@ -1,0 +1,1 @@
+"""Offline use of run logs: statement timeline, text summary, plots."""

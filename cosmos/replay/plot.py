@@ -1,0 +1,153 @@
+"""A picture of a run: tool position and force against time, statement by statement."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.patches import Patch
+
+from cosmos.errors import CosmosError
+from cosmos.replay.summary import shorten
+from cosmos.replay.timeline import StatementRun
+from cosmos.runlog.reader import RunRecord, SegmentRecord
+
+FORCE_SHADE = "#f2a541"
+OUTCOME_COLORS = {"done": "#2b6cb0", "stopped": "#2f855a", "failed": "#c53030"}
+UNFINISHED_COLOR = "#718096"
+
+
+def force_intervals(segments: Sequence[SegmentRecord], end: float) -> list[tuple[float, float]]:
+    """Time intervals in which a translational task axis was force-controlled [s].
+
+    A segment lasts from its start to the next segment's start (the last one to ``end``).
+    Adjacent intervals are merged.
+    """
+    intervals: list[tuple[float, float]] = []
+    for segment, following in zip(segments, [*segments[1:], None], strict=True):
+        if not segment.force_controlled_translation:
+            continue
+        stop = end if following is None else following.t
+        if intervals and intervals[-1][1] >= segment.t:
+            intervals[-1] = (intervals[-1][0], max(stop, intervals[-1][1]))
+        else:
+            intervals.append((segment.t, stop))
+    return intervals
+
+
+def _mark_statements(axes: Sequence[Axes], timeline: Sequence[StatementRun]) -> None:
+    top = axes[0]
+    for run in timeline:
+        if run.depth > 0:
+            continue
+        color = OUTCOME_COLORS.get(run.outcome, UNFINISHED_COLOR)
+        for ax in axes:
+            ax.axvline(run.start, color="#4a5568", linewidth=0.8, linestyle="--", alpha=0.7)
+        top.axvspan(run.start, run.end, ymin=0.95, ymax=1.0, color=color, alpha=0.8, linewidth=0)
+        label = f"{run.line}: {shorten(run.statement, 40)}"
+        if run.outcome not in ("done", "stopped"):
+            label += f" [{run.outcome}]"
+        top.text(
+            run.start,
+            1.02,
+            label,
+            transform=top.get_xaxis_transform(),
+            rotation=50,
+            rotation_mode="anchor",
+            fontsize=7,
+            color=color,
+            ha="left",
+            va="bottom",
+            clip_on=False,
+        )
+
+
+def figure_for_run(record: RunRecord, timeline: Sequence[StatementRun]) -> Figure:
+    """The figure of a run: x, y, z of the tool [mm] and the force it applies [N] against time.
+
+    Statement starts are dashed lines labelled ``line: statement``, and a bar
+    along the top spans each statement, coloured by outcome (blue done, green
+    stopped, red failed, grey unfinished); intervals with a force-controlled
+    translational axis are shaded.
+
+    Raises:
+        CosmosError: If the log has no state samples.
+    """
+    state = record.state
+    if len(state) == 0:
+        raise CosmosError(f"{record.path}: no state samples to plot")
+    figure = Figure(figsize=(13, 10), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(4, 1, sharex=True, height_ratios=(1, 1, 1, 1.6))
+    for ax, index, name in zip(axes[:3], range(3), "xyz", strict=False):
+        ax.plot(state.t, state.x[:, index] * 1e3, color="#2d3748", linewidth=1.2)
+        ax.set_ylabel(f"tool {name} [mm]")
+        ax.ticklabel_format(axis="y", useOffset=False)
+    force_ax = axes[3]
+    colors = ("#e53e3e", "#38a169", "#3182ce")
+    for index, (name, color) in enumerate(zip("xyz", colors, strict=True)):
+        force_ax.plot(state.t, state.wrench[:, index], color=color, linewidth=1.0, label=f"F{name}")
+    force_ax.plot(state.t, state.force_magnitude, color="black", linewidth=1.6, label="|F|")
+    force_ax.set_ylabel("force on environment [N]")
+    force_ax.set_xlabel("simulated time [s]")
+    force_ax.axhline(0.0, color="#a0aec0", linewidth=0.6)
+
+    end = record.end_time
+    for number, (start, stop) in enumerate(force_intervals(record.segments, end)):
+        for ax in axes:
+            ax.axvspan(
+                start,
+                stop,
+                color=FORCE_SHADE,
+                alpha=0.18,
+                linewidth=0,
+                label="force-controlled" if number == 0 and ax is force_ax else None,
+            )
+    _mark_statements(axes, timeline)
+    if record.truncated:
+        for ax in axes:
+            ax.axvline(end, color="#c53030", linewidth=1.5)
+        force_ax.annotate(
+            "log cut here",
+            (end, 0.95),
+            xycoords=force_ax.get_xaxis_transform(),
+            ha="right",
+            va="top",
+            color="#c53030",
+            fontsize=8,
+        )
+    outcomes = sorted({run.outcome for run in timeline if run.depth == 0})
+    handles, _ = force_ax.get_legend_handles_labels()
+    handles += [
+        Patch(color=OUTCOME_COLORS.get(outcome, UNFINISHED_COLOR), label=f"statement {outcome}")
+        for outcome in outcomes
+    ]
+    force_ax.legend(handles=handles, loc="upper left", fontsize=8, ncols=4)
+    axes[0].set_ymargin(0.15)  # keep the curve clear of the statement bar
+    first, last = float(np.min(state.t)), max(end, float(np.max(state.t)))
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+        if last > first:
+            ax.set_xlim(first, last)
+    program = record.metadata.get("program", record.path.name)
+    figure.suptitle(f"{program}: tool position and force", fontsize=11)
+    return figure
+
+
+def plot_run(record: RunRecord, timeline: Sequence[StatementRun], out: Path) -> Path:
+    """Write :func:`figure_for_run` to ``out`` as a PNG and return ``out``.
+
+    Raises:
+        CosmosError: If the log has no state samples or the file cannot be written.
+    """
+    figure = figure_for_run(record, timeline)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        figure.savefig(out, dpi=100)
+    except OSError as error:
+        raise CosmosError(f"{out}: cannot write the plot: {error.strerror}") from None
+    return out

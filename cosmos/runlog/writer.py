@@ -1,0 +1,454 @@
+"""The run log writer: one MCAP file per run, written as the run goes.
+
+Times: every message's MCAP ``log_time`` and ``publish_time`` are the
+simulated time of the sample in integer nanoseconds since the start of the
+run, ``round(t * 1e9)``; ``t`` in a message is the same time in seconds.
+
+Durability: :meth:`RunLog.flush` (called by the runtime at statement
+boundaries) closes the chunk in progress, hands everything to the operating
+system and fsyncs it, so a run killed after a flush leaves a file that
+:func:`cosmos.runlog.read_log` reads up to that flush and
+:func:`cosmos.runlog.recover` completes. :meth:`RunLog.close` writes the
+summary and footer; leaving the ``with`` block closes, also on an exception.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Mapping, Sequence
+from datetime import UTC, datetime
+from pathlib import Path
+from types import TracebackType
+from typing import Any, Final, cast
+
+import numpy as np
+from mcap.well_known import MessageEncoding, SchemaEncoding
+from mcap.writer import LIBRARY_IDENTIFIER, CompressionType, Writer
+from numpy.typing import ArrayLike
+
+from cosmos import __version__
+from cosmos.runlog import foxglove
+from cosmos.runlog.foxglove import LogLevel, TransformsEncoder
+from cosmos.runlog.scene import Primitive, entity
+from cosmos.runlog.schemas import (
+    EVENT_SCHEMA,
+    EVENT_SCHEMA_NAME,
+    EVENT_TOPIC,
+    METADATA_NAME,
+    SEGMENT_SCHEMA,
+    SEGMENT_SCHEMA_NAME,
+    SEGMENT_TOPIC,
+    STATE_SCHEMA,
+    STATE_SCHEMA_NAME,
+    STATE_TOPIC,
+    STATE_VECTORS,
+    STATE_WIDTH,
+    EventKind,
+    schema_bytes,
+)
+
+DEFAULT_CHUNK_SIZE: Final = 256 * 1024
+"""Bytes of messages per chunk; at most this much is lost past the last flush."""
+
+_BATCH: Final = 64  # state samples encoded together
+
+# JSON text of a state message. Vector components are written as integers with
+# a fixed exponent (125730e-6 is 0.125730): plain JSON, and much cheaper to
+# format than floats.
+_STATE_TEMPLATE: Final = (
+    '{"t":%.9f,'
+    + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in STATE_VECTORS)
+    + ',"segment":%d,"line":%d}'
+)
+_MICRO_LIMIT: Final = 1e12  # |value| below this is written exactly as micro-units in int64
+
+_EVENT_LEVELS: Final = {
+    EventKind.FAILED: LogLevel.ERROR,
+    EventKind.COLLISION: LogLevel.WARNING,
+    EventKind.WARNING: LogLevel.WARNING,
+}
+
+
+def default_log_path(program: Path, now: datetime) -> Path:
+    """``logs/<program stem>-<UTC time>.mcap``, e.g. ``logs/peg-20261122T031500Z.mcap``.
+
+    Args:
+        program: Path of the program file.
+        now: Time of the run; a naive datetime is taken as UTC.
+    """
+    utc = now.replace(tzinfo=UTC) if now.tzinfo is None else now.astimezone(UTC)
+    return Path("logs") / f"{program.stem}-{utc:%Y%m%dT%H%M%SZ}.mcap"
+
+
+def _ns(t: float) -> int:
+    return round(t * 1e9)
+
+
+def _vector(value: ArrayLike, n: int, name: str) -> list[float]:
+    array = np.asarray(value, dtype=float).reshape(-1)
+    if array.shape != (n,):
+        raise ValueError(f"{name} must have {n} components, got {array.size}")
+    return array.tolist()
+
+
+def _optional(value: float | None) -> float | None:
+    return None if value is None or not np.isfinite(value) else float(value)
+
+
+class RunLog:
+    """The MCAP log of one run (or REPL session), open for writing.
+
+    Args:
+        path: File to write; missing parent directories are created.
+        program: The program's path as the user named it (``<repl>`` for a session).
+        source: The program text, stored as an attachment named after the
+            program file; None to attach it later with :meth:`attach_source`.
+        servo_hz: Servo (torque) rate [Hz].
+        param_hz: Parameter-evaluation (dynamics) rate [Hz].
+        state_hz: Rate at which :meth:`state` is called [Hz of simulated time].
+        model: Name of the arm model.
+        seed: Seed of the sensor noise.
+        metadata: More ``name: value`` pairs for the ``cosmos`` metadata record.
+        chunk_size: Bytes per MCAP chunk (compressed with zstd).
+        frames: Child frames of :meth:`transforms`, in the order poses are given.
+    """
+
+    def __init__(
+        self,
+        path: Path | str,
+        *,
+        program: str,
+        source: str | None,
+        servo_hz: float,
+        param_hz: float,
+        state_hz: float,
+        model: str,
+        seed: int,
+        metadata: Mapping[str, str] | None = None,
+        chunk_size: int = DEFAULT_CHUNK_SIZE,
+        frames: Sequence[str] = foxglove.ARM_FRAMES,
+    ):
+        self.path = Path(path)
+        self.program = program
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._file = open(self.path, "wb")  # noqa: SIM115 - closed by close()
+        self._writer = Writer(self._file, chunk_size=chunk_size, compression=CompressionType.ZSTD)
+        self._writer.start(library=f"cosmos/{__version__}; {LIBRARY_IDENTIFIER}")
+        self._closed = False
+        self._last_ns = 0
+
+        channel = self._json_channel
+        self._state = channel(STATE_TOPIC, STATE_SCHEMA_NAME, STATE_SCHEMA)
+        self._segment = channel(SEGMENT_TOPIC, SEGMENT_SCHEMA_NAME, SEGMENT_SCHEMA)
+        self._event = channel(EVENT_TOPIC, EVENT_SCHEMA_NAME, EVENT_SCHEMA)
+        self._tf = channel(
+            foxglove.TRANSFORMS_TOPIC,
+            foxglove.FRAME_TRANSFORMS_SCHEMA_NAME,
+            foxglove.FRAME_TRANSFORMS_SCHEMA,
+        )
+        self._scene = channel(
+            foxglove.SCENE_TOPIC, foxglove.SCENE_UPDATE_SCHEMA_NAME, foxglove.SCENE_UPDATE_SCHEMA
+        )
+        self._log = channel(foxglove.LOG_TOPIC, foxglove.LOG_SCHEMA_NAME, foxglove.LOG_SCHEMA)
+        self._transforms = TransformsEncoder(frames)
+
+        # State samples wait here and are encoded _BATCH at a time.
+        self._rows = np.empty((_BATCH, STATE_WIDTH))  # (batch, 37)
+        self._times = [0.0] * _BATCH
+        self._segments = [0] * _BATCH
+        self._lines = [0] * _BATCH
+        self._pending = 0
+
+        record = {
+            "program": program,
+            "cosmos_version": __version__,
+            "servo_hz": f"{servo_hz:g}",
+            "param_hz": f"{param_hz:g}",
+            "state_hz": f"{state_hz:g}",
+            "model": model,
+            "seed": str(seed),
+            "time": "simulated time since the start of the run; log_time = round(t * 1e9)",
+            "started_utc": f"{datetime.now(UTC):%Y-%m-%dT%H:%M:%SZ}",
+        }
+        for key, value in (metadata or {}).items():
+            if not isinstance(key, str) or not isinstance(value, str):
+                raise TypeError(f"metadata must map str to str, got {key!r}: {value!r}")
+            record[key] = value
+        self._writer.add_metadata(METADATA_NAME, record)
+        if source is not None:
+            self.attach_source(source)
+        self.flush()
+
+    def _json_channel(self, topic: str, schema_name: str, schema: dict[str, Any]) -> int:
+        schema_id = self._writer.register_schema(
+            name=schema_name, encoding=SchemaEncoding.JSONSchema, data=schema_bytes(schema)
+        )
+        return self._writer.register_channel(
+            topic=topic, message_encoding=MessageEncoding.JSON, schema_id=schema_id
+        )
+
+    def _write(self, channel_id: int, t_ns: int, data: bytes) -> None:
+        if self._closed:
+            raise ValueError(f"{self.path}: the run log is closed")
+        self._writer.add_message(channel_id, log_time=t_ns, data=data, publish_time=t_ns)
+        self._last_ns = t_ns
+
+    @property
+    def closed(self) -> bool:
+        """Whether :meth:`close` has run."""
+        return self._closed
+
+    def attach_source(self, text: str, name: str | None = None) -> None:
+        """Store program text as a ``text/plain`` attachment.
+
+        Args:
+            text: The program source.
+            name: Attachment name; defaults to the program's file name.
+        """
+        self._writer.add_attachment(
+            create_time=0,
+            log_time=self._last_ns,
+            name=name or Path(self.program).name,
+            media_type="text/plain",
+            data=text.encode(),
+        )
+
+    def state(
+        self,
+        t: float,
+        q: ArrayLike,
+        qd: ArrayLike,
+        tau: ArrayLike,
+        x: ArrayLike,
+        quat: ArrayLike,
+        v: ArrayLike,
+        wrench: ArrayLike,
+        segment: int,
+        line: int,
+    ) -> None:
+        """Record one state sample on ``/cosmos/state`` (call at the state rate).
+
+        Vectors are copied, rounded to 1e-6 of their unit, and written in
+        batches; :meth:`flush` and :meth:`close` write what is pending.
+
+        Args:
+            t: Simulated time since the start [s], >= 0.
+            q: Joint positions [rad]. # (6,)
+            qd: Joint velocities [rad/s]. # (6,)
+            tau: Joint torques [N m]. # (6,)
+            x: Tool point position, world frame [m]. # (3,)
+            quat: Tool orientation, world frame, w x y z. # (4,)
+            v: Tool twist, world axes: linear [m/s] then angular [rad/s]. # (6,)
+            wrench: Force [N] then moment [N m] the tool applies to the
+                environment, world axes. # (6,)
+            segment: Index of the segment being executed.
+            line: Source line of the statement being executed.
+        """
+        i = self._pending
+        row = self._rows[i]
+        row[0:6] = q
+        row[6:12] = qd
+        row[12:18] = tau
+        row[18:21] = x
+        row[21:25] = quat
+        row[25:31] = v
+        row[31:37] = wrench
+        self._times[i] = t
+        self._segments[i] = segment
+        self._lines[i] = line
+        self._pending = i + 1
+        if i + 1 == _BATCH:
+            self._write_states()
+
+    def _write_states(self) -> None:
+        n = self._pending
+        if n == 0:
+            return
+        if self._closed:
+            raise ValueError(f"{self.path}: the run log is closed")
+        self._pending = 0
+        rows = self._rows[:n]
+        exact = np.abs(rows) < _MICRO_LIMIT  # False for NaN and inf
+        micro = np.rint(np.where(exact, rows, 0.0) * 1e6).astype(np.int64).tolist()
+        rows_exact = cast(list[bool], exact.all(axis=1).tolist())
+        add_message, channel = self._writer.add_message, self._state
+        times, segments, lines = self._times, self._segments, self._lines
+        t_ns = 0
+        for i in range(n):
+            t = times[i]
+            if rows_exact[i]:
+                text = _STATE_TEMPLATE % (t, *micro[i], segments[i], lines[i])
+            else:
+                text = self._state_json(t, rows[i], segments[i], lines[i])
+            t_ns = round(t * 1e9)
+            add_message(channel, t_ns, text.encode(), t_ns)
+        self._last_ns = t_ns
+
+    @staticmethod
+    def _state_json(t: float, row: np.ndarray, segment: int, line: int) -> str:
+        """A state message with a non-finite or huge value: slow path, nulls for non-finite."""
+        values = [round(v, 6) if np.isfinite(v) else None for v in row.tolist()]
+        message: dict[str, Any] = {"t": t}
+        start = 0
+        for name, n in STATE_VECTORS:
+            message[name] = values[start : start + n]
+            start += n
+        message["segment"] = segment
+        message["line"] = line
+        return json.dumps(message, separators=(",", ":"))
+
+    def segment(
+        self,
+        t: float,
+        *,
+        segment: int,
+        line: int,
+        statement: str,
+        kind: str,
+        frame: ArrayLike,
+        motion_axes: Sequence[int],
+        force_setpoint: ArrayLike,
+        stiffness: ArrayLike,
+        damping: ArrayLike,
+        goal: ArrayLike | None = None,
+        speed_limit: float | None = None,
+        timeout: float | None = None,
+    ) -> None:
+        """Record the start of a segment on ``/cosmos/segment``.
+
+        Args:
+            t: Simulated time at which the segment starts [s].
+            segment: Index of the segment in order of execution.
+            line: Source line of its statement.
+            statement: Source text of its statement.
+            kind: What it does (move, contact, slide, insert, wait, ...).
+            frame: Task frame orientation in the world frame, w x y z. # (4,)
+            motion_axes: 1 motion-controlled, 0 force-controlled, per task axis. # (6,)
+            force_setpoint: Force [N] and moment [N m] applied to the environment,
+                task axes. # (6,)
+            stiffness: Per task axis [N/m, N m/rad]. # (6,)
+            damping: Per task axis [N s/m, N m s/rad]. # (6,)
+            goal: World position [m] (3,) or pose with quaternion w x y z (7,); None if none.
+            speed_limit: Tool speed limit [m/s]; None (or inf) if none.
+            timeout: Time allowed [s]; None (or inf) if none.
+
+        Raises:
+            ValueError: If a vector has the wrong length or a value is not finite.
+        """
+        axes = [int(a) for a in motion_axes]
+        if len(axes) != 6 or not set(axes) <= {0, 1}:
+            raise ValueError(f"motion_axes must be six 0/1 values, got {axes}")
+        goal_list = None if goal is None else np.asarray(goal, dtype=float).reshape(-1).tolist()
+        if goal_list is not None and len(goal_list) not in (3, 7):
+            raise ValueError(f"goal must have 3 or 7 components, got {len(goal_list)}")
+        message = {
+            "t": t,
+            "segment": segment,
+            "line": line,
+            "statement": statement,
+            "kind": kind,
+            "frame": _vector(frame, 4, "frame"),
+            "motion_axes": axes,
+            "force_setpoint": _vector(force_setpoint, 6, "force_setpoint"),
+            "stiffness": _vector(stiffness, 6, "stiffness"),
+            "damping": _vector(damping, 6, "damping"),
+            "goal": goal_list,
+            "speed_limit": _optional(speed_limit),
+            "timeout": _optional(timeout),
+        }
+        self._write_states()
+        self._write(self._segment, _ns(t), json.dumps(message, allow_nan=False).encode())
+
+    def event(self, t: float, kind: str, *, line: int, statement: str, reason: str = "") -> None:
+        """Record a change of outcome on ``/cosmos/event`` (and ``/log`` for Foxglove).
+
+        Args:
+            t: Simulated time [s].
+            kind: One of start, done, stopped, failed, contact, collision, warning.
+            line: Source line of the statement concerned (0: none).
+            statement: Its source text.
+            reason: Why, in words.
+
+        Raises:
+            ValueError: If ``kind`` is not an event kind.
+        """
+        try:
+            kind = EventKind(kind)
+        except ValueError:
+            known = ", ".join(k.value for k in EventKind)
+            raise ValueError(f"event kind must be one of {known}; got {kind!r}") from None
+        message = {
+            "t": t,
+            "kind": kind.value,
+            "line": line,
+            "statement": statement,
+            "reason": reason,
+        }
+        t_ns = _ns(t)
+        self._write_states()
+        self._write(self._event, t_ns, json.dumps(message).encode())
+        text = f"{kind.value}: {statement}" + (f": {reason}" if reason else "")
+        level = _EVENT_LEVELS.get(kind, LogLevel.INFO)
+        self._write(self._log, t_ns, foxglove.log_message(t_ns, level, text, self.program, line))
+
+    def transforms(self, t: float, positions: ArrayLike, quats_wxyz: ArrayLike) -> None:
+        """Record the poses of the arm's frames on ``/tf`` (``foxglove.FrameTransforms``).
+
+        A sample with a non-finite value is skipped.
+
+        Args:
+            t: Simulated time [s].
+            positions: Origins of the frames given at construction, world frame [m]. # (n, 3)
+            quats_wxyz: Their orientations, world frame, w x y z. # (n, 4)
+        """
+        t_ns = _ns(t)
+        data = self._transforms.encode(t_ns, positions, quats_wxyz)
+        if data is not None:
+            self._write_states()
+            self._write(self._tf, t_ns, data)
+
+    def scene(self, t: float, add: Sequence[Primitive] = (), remove: Sequence[str] = ()) -> None:
+        """Show, move or remove fixtures and obstacles on ``/scene`` (``foxglove.SceneUpdate``).
+
+        Args:
+            t: Simulated time [s].
+            add: Primitives to show; one whose id is shown already replaces it.
+            remove: Ids of primitives to delete.
+        """
+        t_ns = _ns(t)
+        data = foxglove.scene_update(t_ns, [entity(p, t_ns) for p in add], remove)
+        self._write_states()
+        self._write(self._scene, t_ns, data)
+
+    def flush(self) -> None:
+        """Write everything so far to disk: pending states, the open chunk, an fsync."""
+        if self._closed:
+            raise ValueError(f"{self.path}: the run log is closed")
+        self._write_states()
+        self._writer.flush()
+        os.fsync(self._file.fileno())
+
+    def close(self) -> None:
+        """Write the summary and footer and close the file; later calls do nothing."""
+        if self._closed:
+            return
+        try:
+            self._write_states()
+            self._writer.finish()
+            self._file.flush()
+            os.fsync(self._file.fileno())
+        finally:
+            self._closed = True
+            self._file.close()
+
+    def __enter__(self) -> RunLog:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        self.close()

@@ -1,0 +1,68 @@
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from mcap.reader import make_reader
+from runlog_synthetic import STATEMENTS, WrittenRun, write_synthetic_run
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory: pytest.TempPathFactory) -> WrittenRun:
+    return write_synthetic_run(tmp_path_factory.mktemp("cli") / "run.mcap")
+
+
+def cosmos(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "cosmos", *args], capture_output=True, text=True, timeout=120
+    )
+
+
+def test_replay_prints_summary_and_timeline(written: WrittenRun) -> None:
+    result = cosmos("replay", str(written.path))
+    assert result.returncode == 0, result.stderr
+    for statement in STATEMENTS:
+        assert statement.text in result.stdout
+    assert "jammed at 10 mm" in result.stdout
+
+
+def test_replay_plot_writes_the_png(written: WrittenRun, tmp_path: Path) -> None:
+    out = tmp_path / "run.png"
+    result = cosmos("replay", str(written.path), "--plot", str(out))
+    assert result.returncode == 0, result.stderr
+    assert out.read_bytes()[:4] == b"\x89PNG"
+    assert f"plot written to {out}" in result.stdout
+
+
+def test_replay_recover_completes_a_cut_log(written: WrittenRun, tmp_path: Path) -> None:
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(written.path.read_bytes()[: written.flushes[2][0] + 500])
+    out = tmp_path / "fixed.mcap"
+    result = cosmos("replay", str(cut), "--recover", str(out))
+    assert result.returncode == 0, result.stderr
+    assert "was cut short" in result.stdout and "WARNING" in result.stdout
+    with open(out, "rb") as stream:
+        assert make_reader(stream).get_summary() is not None
+
+
+def test_missing_log_is_a_usage_error(tmp_path: Path) -> None:
+    result = cosmos("replay", str(tmp_path / "none.mcap"))
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+
+
+def test_corrupt_log_fails_with_a_message_naming_it(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.mcap"
+    bad.write_text("not a log\n")
+    result = cosmos("replay", str(bad))
+    assert result.returncode == 1
+    assert f"{bad}: not an MCAP file" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize("option", [["--view"], ["--verify"], ["--video", "out.mp4"]])
+def test_live_options_are_not_built_yet(written: WrittenRun, option: list[str]) -> None:
+    result = cosmos("replay", str(written.path), *option)
+    assert result.returncode == 1
+    assert "not built yet" in result.stderr
+    assert "Traceback" not in result.stderr

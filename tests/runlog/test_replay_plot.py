@@ -1,0 +1,87 @@
+from pathlib import Path
+
+import pytest
+from matplotlib.colors import to_hex
+from PIL import Image
+from runlog_synthetic import FORCE_CONTROLLED, STATEMENTS, WrittenRun, write_synthetic_run
+
+from cosmos.errors import CosmosError
+from cosmos.replay.plot import FORCE_SHADE, figure_for_run, force_intervals, plot_run
+from cosmos.replay.timeline import statement_timeline
+from cosmos.runlog import read_log
+from cosmos.runlog.reader import SegmentRecord
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory: pytest.TempPathFactory) -> WrittenRun:
+    return write_synthetic_run(tmp_path_factory.mktemp("plot") / "run.mcap")
+
+
+def segment(t: float, axes: tuple[int, ...]) -> SegmentRecord:
+    zeros = (0.0,) * 6
+    return SegmentRecord(
+        t, 0, 1, "S", "move", (1.0, 0.0, 0.0, 0.0), axes, zeros, zeros, zeros, None, None, None
+    )
+
+
+def test_force_intervals_merge_adjacent_and_split_on_motion() -> None:
+    motion, force_z, force_all = (1,) * 6, (1, 1, 0, 1, 1, 1), (0, 0, 0, 0, 0, 1)
+    rotation_only = (1, 1, 1, 0, 1, 1)
+    segments = [
+        segment(0.0, motion),
+        segment(1.0, force_z),
+        segment(2.0, force_all),
+        segment(3.0, motion),
+        segment(4.0, rotation_only),
+        segment(5.0, force_z),
+    ]
+    assert force_intervals(segments, end=6.5) == [(1.0, 3.0), (5.0, 6.5)]
+
+
+def shaded_spans(ax) -> list[tuple[float, float]]:
+    spans = []
+    for patch in ax.patches:
+        if to_hex(patch.get_facecolor(), keep_alpha=False) == FORCE_SHADE:
+            x0 = patch.get_x()
+            spans.append((round(x0, 9), round(x0 + patch.get_width(), 9)))
+    return spans
+
+
+def test_figure_has_position_and_force_panels_marked_by_statement(written: WrittenRun) -> None:
+    record = read_log(written.path)
+    figure = figure_for_run(record, statement_timeline(record))
+    axes = figure.axes
+    assert len(axes) == 4
+    assert [ax.get_ylabel() for ax in axes] == [
+        "tool x [mm]",
+        "tool y [mm]",
+        "tool z [mm]",
+        "force on environment [N]",
+    ]
+    assert len(axes[3].get_lines()) >= 4  # Fx, Fy, Fz, |F|
+    labels = [text.get_text() for text in axes[0].texts]
+    assert labels == [
+        f"{s.line}: {s.text}" + ("" if s.outcome in ("done", "stopped") else f" [{s.outcome}]")
+        for s in STATEMENTS
+    ]
+    for ax in axes:
+        assert shaded_spans(ax) == list(FORCE_CONTROLLED)
+        starts = {line.get_xdata()[0] for line in ax.get_lines() if line.get_linestyle() == "--"}
+        assert starts == {s.start for s in STATEMENTS}
+
+
+def test_plot_writes_a_png(written: WrittenRun, tmp_path: Path) -> None:
+    record = read_log(written.path)
+    out = plot_run(record, statement_timeline(record), tmp_path / "plots" / "run.png")
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert out.stat().st_size > 30_000
+    with Image.open(out) as image:
+        assert image.size == (1300, 1000)
+
+
+def test_plot_of_a_log_without_states_is_an_error(written: WrittenRun, tmp_path: Path) -> None:
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(written.path.read_bytes()[: written.flushes[0][0]])
+    record = read_log(cut)
+    with pytest.raises(CosmosError, match="no state samples"):
+        figure_for_run(record, statement_timeline(record))
