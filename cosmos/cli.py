@@ -57,7 +57,16 @@ def run(
     program: Path, log_path: Path | None, servo_hz: float | None, param_hz: float | None, seed: int
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
-    _not_built("run")
+    from cosmos.commands.run import run_program
+    from cosmos.runtime.rates import Rates
+
+    defaults = Rates()
+    rates = Rates(
+        servo_hz=servo_hz or defaults.servo_hz,
+        param_hz=param_hz or min(defaults.param_hz, servo_hz or defaults.servo_hz),
+        state_hz=defaults.state_hz,
+    )
+    _finish(run_program(program, log_path, rates, seed))
 
 
 @cli.command()
@@ -65,7 +74,9 @@ def run(
 @click.option("--json", "as_json", is_flag=True, help="Print the plan as JSON.")
 def check(program: Path, as_json: bool) -> None:
     """Parse, check and compile PROGRAM without running it; print the plan."""
-    _not_built("check")
+    from cosmos.commands.check import check_program
+
+    _finish(check_program(program, as_json))
 
 
 @cli.command()
@@ -110,7 +121,9 @@ def replay(
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def bench(as_json: bool) -> None:
     """Measure the servo loop: per-phase costs and ratios."""
-    _not_built("bench")
+    from cosmos.commands.bench import main as bench_main
+
+    _finish(bench_main(as_json))
 
 
 def main() -> None:

@@ -132,8 +132,7 @@ class ServoLevel:
         self.last_velocity, self.last_displacement = velocity, displacement
         motion = self._motion_command(t_s, sp, ev, displacement, velocity)
         ramp = min(1.0, (t_s - sp.start_s) / sp.ramp_s) if sp.ramp_s > 0.0 else 1.0
-        force_target = sp.force_world
-        force_setpoint = sp.force_start_world + ramp * (force_target - sp.force_start_world)
+        force_setpoint = sp.force_start_world + ramp * (sp.force_world - sp.force_start_world)
         gains = self.gains.force
         self._integral = integrate_force_error(
             self._integral,

@@ -69,11 +69,17 @@ class ServoSetpoint:
     kv_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KV))
     trajectory: PoseTrajectory | None = None
 
-    @property
-    def force_world(self) -> FloatArray:
-        """The force setpoint (applied to the environment) in world axes. # (6,)."""
+    force_world: FloatArray = field(init=False)
+    """The force setpoint in world axes (derived from force_task). # (6,)."""
+
+    def __post_init__(self) -> None:
         r = self.rotation_task_to_world
-        return np.concatenate((r.dot(self.force_task[:3]), r.dot(self.force_task[3:])))
+        target = np.concatenate((r.dot(self.force_task[:3]), r.dot(self.force_task[3:])))
+        object.__setattr__(self, "force_world", target)
+        # The ramp starts from the sensed force, but never from beyond the setpoint nor
+        # from the other side of zero: an impact spike at touch is no place to start from.
+        start = np.clip(self.force_start_world, np.minimum(target, 0.0), np.maximum(target, 0.0))
+        object.__setattr__(self, "force_start_world", start)
 
     @property
     def uniform_gains(self) -> bool:

@@ -1,0 +1,124 @@
+"""``cosmos bench``: the cost of the servo loop, per phase, against a floor measured in the same run.
+
+The workload is representative of a contact task: goal motion with a speed
+limit on five axes while z is force-controlled (at 0 N in free space), with the
+state recorded at its fixed rate into a real MCAP file. The floor is a Python
+loop of only ``mj_step`` plus Pinocchio's ``computeAllTerms`` and the tool
+Jacobian: no control logic. Ratios are reported, not asserted.
+"""
+
+from __future__ import annotations
+
+import json
+import tempfile
+import time
+from pathlib import Path
+
+import click
+import mujoco
+import numpy as np
+import pinocchio as pin
+
+from cosmos.execution.recording import LogRecorder
+from cosmos.plant import Plant
+from cosmos.robot_model import RobotModel, build_robot_model
+from cosmos.runlog.writer import RunLog
+from cosmos.runtime.loop import Runtime
+from cosmos.runtime.rates import Rates
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+TICKS = 6000
+WARMUP_TICKS = 500
+
+
+def _floor_tick_us(plant: Plant, robot: RobotModel, ticks: int) -> float:
+    model, data = robot.model, robot.model.createData()
+    mj_model, mj_data = plant.model, plant.data
+    frame = robot.tool_frame
+    step, all_terms, jacobian = mujoco.mj_step, pin.computeAllTerms, pin.getFrameJacobian
+    world = pin.LOCAL_WORLD_ALIGNED
+    start = time.perf_counter_ns()
+    for _ in range(ticks):
+        step(mj_model, mj_data)
+        all_terms(model, data, mj_data.qpos, mj_data.qvel)
+        jacobian(model, data, frame, world)
+    return (time.perf_counter_ns() - start) / ticks / 1e3
+
+
+def _workload_setpoint(runtime: Runtime) -> ServoSetpoint:
+    ev = runtime.evaluation
+    target = ev.position + np.array((0.15, -0.10, -0.05))
+    return ServoSetpoint(
+        mode=MotionMode.GOAL,
+        position=target,
+        rotation_to_world=ev.rotation_tool_to_world,
+        motion_axes=(True, True, False, True, True, True),
+        start_s=runtime.time_s,
+        max_speed=0.25,
+    )
+
+
+def measure(ticks: int = TICKS) -> dict[str, object]:
+    """Run the workload and the floor; return the figures (times in microseconds)."""
+    plant = Plant()
+    robot = build_robot_model()
+    rates = Rates()
+    with tempfile.TemporaryDirectory() as tmp:
+        log = RunLog(
+            Path(tmp) / "bench.mcap",
+            program="bench",
+            source=None,
+            servo_hz=rates.servo_hz,
+            param_hz=rates.param_hz,
+            state_hz=rates.state_hz,
+            model="puma560",
+            seed=0,
+        )
+        runtime = Runtime(plant, robot, rates)
+        runtime.recorder = LogRecorder(log, plant)
+        runtime.set_setpoint(_workload_setpoint(runtime))
+        for _ in range(WARMUP_TICKS):
+            runtime.tick()
+        runtime.phases.__init__()
+        start = time.perf_counter_ns()
+        for _ in range(ticks):
+            runtime.tick()
+        elapsed_ns = time.perf_counter_ns() - start
+        log.close()
+    plant.reset()
+    floor_us = _floor_tick_us(plant, robot, ticks)
+    tick_us = elapsed_ns / ticks / 1e3
+    phases = {name: ns / ticks / 1e3 for name, ns in runtime.phases.ns.items()}
+    return {
+        "ticks": ticks,
+        "servo_hz": rates.servo_hz,
+        "param_hz": rates.param_hz,
+        "ticks_per_second": 1e6 / tick_us,
+        "real_time_factor": 1e6 / tick_us / rates.servo_hz,
+        "tick_us": tick_us,
+        "floor_tick_us": floor_us,
+        "ratio_to_floor": tick_us / floor_us,
+        "phases_us": phases,
+    }
+
+
+def main(as_json: bool) -> int:
+    """Entry of ``cosmos bench``."""
+    figures = measure()
+    if as_json:
+        click.echo(json.dumps(figures, indent=2))
+        return 0
+    phases = figures["phases_us"]
+    assert isinstance(phases, dict)
+    click.echo(
+        f"servo loop: {figures['ticks_per_second']:,.0f} ticks/s "
+        f"({figures['tick_us']:.1f} us/tick, real-time factor {figures['real_time_factor']:.1f} "
+        f"at {figures['servo_hz']:g} Hz servo, {figures['param_hz']:g} Hz parameters)"
+    )
+    for name, cost in phases.items():
+        click.echo(f"  {name:<11} {cost:6.2f} us/tick")
+    click.echo(
+        f"floor (mj_step + computeAllTerms + Jacobian): {figures['floor_tick_us']:.1f} us/tick; "
+        f"loop / floor = {figures['ratio_to_floor']:.2f}"
+    )
+    return 0

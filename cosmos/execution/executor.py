@@ -1,0 +1,232 @@
+"""Runs a compiled plan on the runtime, segment by segment, and logs what happened.
+
+Each segment starts from the measured state: the parameters are re-evaluated,
+relative targets resolved against the measured pose, and force setpoints ramp
+from the sensed force, so there is no jump at a switch between motion and
+force control. Stop conditions, completion and timeouts are judged every servo
+tick. A failed statement leaves the arm holding its pose (all axes under
+position control, no force commanded), writes a ``failed`` event, and raises
+:class:`~cosmos.errors.TaskFailure` naming the statement and the reason.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from cosmos.errors import TaskFailure
+from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict, statement_head
+from cosmos.execution.recording import LogRecorder
+from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
+from cosmos.osc.orientation import matrix_to_quat
+from cosmos.plan import AddObstacle, Plan, RemoveObstacle, Segment, SegmentKind, Step
+from cosmos.runlog.writer import RunLog
+from cosmos.runtime.loop import Runtime
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+HOLD_AFTER_FAILURE_S = 0.3
+"""After a failure the arm holds its pose this long before the run ends [s]."""
+
+
+class Interrupted(TaskFailure):
+    """The run was stopped from outside (Ctrl-C, SIGTERM)."""
+
+
+@dataclass(frozen=True)
+class Progress:
+    """What a progress display shows: the statement running and the simulated time."""
+
+    line: int
+    statement: str
+    t_s: float
+
+
+ProgressCallback = Callable[[Progress], None]
+
+
+class Executor:
+    """Executes plans on one runtime; state (pose, held contact) persists across plans."""
+
+    def __init__(
+        self,
+        runtime: Runtime,
+        log: RunLog | None = None,
+        progress: ProgressCallback | None = None,
+        progress_every: int = 200,
+    ):
+        self.runtime = runtime
+        self.log = log
+        self.progress = progress
+        self.progress_every = progress_every
+        self.stop_requested = False
+        self.recorder: LogRecorder | None = None
+        if log is not None:
+            self.recorder = LogRecorder(log, runtime.plant)
+            runtime.recorder = self.recorder
+        self.segment_count = 0
+        self._source: str | None = None
+
+    # ------------------------------------------------------------------ plan
+
+    def run(self, plan: Plan) -> None:
+        """Run every step of ``plan``; raise TaskFailure on the first failed statement."""
+        self._source = plan.source
+        for group in _statements(plan.steps):
+            if isinstance(group, AddObstacle | RemoveObstacle):
+                self._scene_step(group)
+            else:
+                self._run_statement(group)
+
+    def _run_statement(self, segments: list[Segment]) -> None:
+        """Run a statement's segments; an UNTIL that holds ends the statement with success."""
+        statement_start = (self.runtime.time_s, self._position())
+        self._event("start", segments[0], "")
+        for segment in segments:
+            outcome = self.run_segment(segment, *statement_start)
+            if outcome.verdict is Verdict.FAILED:
+                self._fail(segment, outcome.reason)
+            if outcome.verdict is Verdict.STOPPED:
+                self._event("stopped", segment, outcome.reason)
+                break
+            if segment.kind is SegmentKind.CONTACT_APPROACH:
+                self._event("contact", segment, outcome.reason)
+        else:
+            self._event("done", segments[-1], outcome.reason)
+        if self.log is not None:
+            self.log.flush()
+
+    def _scene_step(self, step: AddObstacle | RemoveObstacle) -> None:
+        raise TaskFailure("OBSTACLE is not supported by this runtime yet", step.span, self._source)
+
+    # --------------------------------------------------------------- segment
+
+    def _position(self) -> np.ndarray:
+        ev = self.runtime.evaluation
+        return ev.position + self.runtime.servo.last_displacement[:3]
+
+    def run_segment(
+        self, segment: Segment, statement_start_s: float, statement_start_position: np.ndarray
+    ) -> Outcome:
+        """Run one segment until it is done, stopped or failed."""
+        rt = self.runtime
+        rt.reset_clocks()  # a fresh evaluation at the measured state
+        ev = rt.evaluation
+        start_s = rt.time_s
+        goals = [goal_pose(via, ev.position, ev.rotation_tool_to_world) for via in segment.via]
+        goals.append(goal_pose(segment.target, ev.position, ev.rotation_tool_to_world))
+        goal_index = 0
+        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s)
+        rt.set_setpoint(setpoint)
+        self._log_segment(segment, setpoint)
+        timed_until = None if segment.duration_s is None else start_s + segment.duration_s
+        monitor = SegmentMonitor(
+            segment, start_s, ev.position.copy(), statement_start_s, statement_start_position, timed_until
+        )
+        via_radius = segment.via_radius_m or 0.01
+        ticks = 0
+        servo = rt.servo
+        while True:
+            rt.tick()
+            ticks += 1
+            if self.stop_requested:
+                self.stop_requested = False
+                self.hold()
+                self._event("stopped", segment, "interrupted")
+                raise Interrupted(
+                    f"{statement_head(segment.statement)} interrupted", segment.span, self._source
+                )
+            position = rt.evaluation.position + servo.last_displacement[:3]
+            if goal_index < len(goals) - 1:
+                if float(np.linalg.norm(position - goals[goal_index][0])) < via_radius:
+                    goal_index += 1
+                    rt.set_setpoint(
+                        setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s)
+                    )
+                continue
+            snapshot = Snapshot(rt.time_s, position, servo.last_error, servo.last_velocity, rt.wrench)
+            outcome = monitor.check(snapshot)
+            if outcome is not None:
+                return outcome
+            if self.progress is not None and ticks % self.progress_every == 0:
+                self.progress(Progress(segment.line, segment.statement, rt.time_s))
+
+    def hold(self, duration_s: float = 0.0) -> None:
+        """Hold the measured pose with every axis under position control (no force)."""
+        rt = self.runtime
+        rt.reset_clocks()
+        ev = rt.evaluation
+        rt.set_setpoint(
+            ServoSetpoint(
+                mode=MotionMode.HOLD,
+                position=ev.position.copy(),
+                rotation_to_world=ev.rotation_tool_to_world.copy(),
+                start_s=rt.time_s,
+                force_start_world=rt.wrench.copy(),
+            )
+        )
+        end = rt.time_s + duration_s
+        while rt.time_s < end - 1e-9:
+            rt.tick()
+
+    def _fail(self, segment: Segment, reason: str) -> None:
+        self.hold(HOLD_AFTER_FAILURE_S)
+        self._event("failed", segment, reason)
+        if self.log is not None:
+            self.log.flush()
+        raise TaskFailure(f"{statement_head(segment.statement)} {reason}", segment.span, self._source)
+
+    # ------------------------------------------------------------------- log
+
+    def _event(self, kind: str, segment: Segment | None, reason: str) -> None:
+        if self.log is None:
+            return
+        line = segment.line if segment is not None else 0
+        statement = segment.statement if segment is not None else ""
+        self.log.event(self.runtime.time_s, kind, line=line, statement=statement, reason=reason)
+
+    def _log_segment(self, segment: Segment, setpoint: ServoSetpoint) -> None:
+        index = self.segment_count
+        self.segment_count += 1
+        if self.recorder is not None:
+            self.recorder.segment = index
+            self.recorder.line = segment.line
+        if self.log is None:
+            return
+        # The servo's unit-mass gains times the effective masses: physical stiffness and damping.
+        masses = effective_masses(self.runtime.evaluation, setpoint.rotation_task_to_world)
+        motion = np.array(setpoint.motion_axes, dtype=bool)
+        stiffness = np.where(motion, setpoint.kp_task * masses, 0.0)
+        damping = setpoint.kv_task * masses
+        goal = np.concatenate((setpoint.position, matrix_to_quat(setpoint.rotation_to_world)))
+        self.log.segment(
+            self.runtime.time_s,
+            segment=index,
+            line=segment.line,
+            statement=segment.statement,
+            kind=segment.kind.value,
+            frame=matrix_to_quat(setpoint.rotation_task_to_world),
+            motion_axes=[int(a) for a in setpoint.motion_axes],
+            force_setpoint=setpoint.force_task,
+            stiffness=stiffness,
+            damping=damping,
+            goal=goal,
+            speed_limit=segment.speed_limit_mps,
+            timeout=segment.timeout_s,
+        )
+
+
+def _statements(steps: tuple[Step, ...]) -> list[list[Segment] | AddObstacle | RemoveObstacle]:
+    """Steps grouped into statements: consecutive segments sharing a statement index."""
+    groups: list[list[Segment] | AddObstacle | RemoveObstacle] = []
+    for step in steps:
+        if not isinstance(step, Segment):
+            groups.append(step)
+        elif (
+            groups and isinstance(groups[-1], list) and groups[-1][0].statement_index == step.statement_index
+        ):
+            groups[-1].append(step)
+        else:
+            groups.append([step])
+    return groups

@@ -1,0 +1,206 @@
+"""Per-tick judgement of a running segment: done, stopped by UNTIL, failed, or still running.
+
+Evaluated every servo tick (issue: stop conditions and timeouts are checked at
+the servo rate), so it works on the estimates the servo already made.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+
+from cosmos.plan import (
+    ContactTouch,
+    DepthReached,
+    Elapsed,
+    ForceSettled,
+    GoalReached,
+    Segment,
+    SegmentKind,
+    condition_holds,
+)
+
+FloatArray = np.ndarray
+
+
+class Verdict(Enum):
+    """How a segment ended."""
+
+    DONE = "done"
+    STOPPED = "stopped"  # its UNTIL held: success, the statement's remaining segments are skipped
+    FAILED = "failed"
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """A segment's end: the verdict and why, in words."""
+
+    verdict: Verdict
+    reason: str
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """What the monitor looks at in one tick (world axes).
+
+    Attributes:
+        t_s: Simulated time, in [s].
+        position: Estimated tool point, in [m]. # (3,)
+        error: Pose error ``x - x_d`` of the motion command, in [m, rad]. # (6,)
+        velocity: Tool twist, in [m/s, rad/s]. # (6,)
+        wrench: Wrench the tool applies to the environment, in [N, N m]. # (6,)
+    """
+
+    t_s: float
+    position: FloatArray
+    error: FloatArray
+    velocity: FloatArray
+    wrench: FloatArray
+
+
+def _norm3(v: FloatArray) -> float:
+    x, y, z = v.tolist()
+    return math.sqrt(x * x + y * y + z * z)
+
+
+def statement_head(statement: str) -> str:
+    """The statement's keyword and its first operand, as messages name it (``CONTACT UP``)."""
+    words = statement.split()
+    return " ".join(words[:2])
+
+
+class SegmentMonitor:
+    """Judges one segment; built when it starts."""
+
+    def __init__(
+        self,
+        segment: Segment,
+        start_s: float,
+        start_position: FloatArray,
+        statement_start_s: float,
+        statement_start_position: FloatArray,
+        timed_until_s: float | None,
+    ):
+        self.segment = segment
+        self.start_s = start_s
+        self.start_position = start_position
+        self.statement_start_s = statement_start_s
+        self.statement_start_position = statement_start_position
+        self.timed_until_s = timed_until_s
+        self._settled_since: float | None = None
+        self._stalled_since: float | None = None
+        self._last_depth = 0.0
+        self._last_progress_s = start_s
+        rotation = segment.frame_rotation
+        self._rotation_t = np.array(rotation).T
+        self._motion = np.asarray(segment.motion_axes, dtype=bool)
+        self._force_axes = ~self._motion
+        self.peak_force_n = 0.0
+
+    def check(self, snap: Snapshot) -> Outcome | None:
+        """The outcome if the segment ends at this tick, else None."""
+        seg = self.segment
+        force = snap.wrench[:3]
+        force_n = _norm3(force)
+        self.peak_force_n = max(self.peak_force_n, force_n)
+        if seg.until is not None:
+            distance = _norm3(snap.position - self.statement_start_position)
+            if condition_holds(seg.until, force, snap.wrench[3:], distance):
+                return Outcome(Verdict.STOPPED, f"UNTIL {_until_text(seg)} held")
+        done = self._completion(snap)
+        if done is not None:
+            return done
+        if seg.timeout_s is not None and snap.t_s - self.statement_start_s >= seg.timeout_s:
+            return Outcome(Verdict.FAILED, self._timeout_reason(seg.timeout_s))
+        return None
+
+    def _timeout_reason(self, timeout_s: float) -> str:
+        kind = self.segment.kind
+        if kind is SegmentKind.CONTACT_APPROACH:
+            return f"found no contact within {timeout_s:g} s"
+        if kind is SegmentKind.INSERT:
+            return f"timed out after {timeout_s:g} s at depth {self._last_depth * 1e3:.1f} mm"
+        return f"timed out after {timeout_s:g} s"
+
+    def _completion(self, snap: Snapshot) -> Outcome | None:
+        completion = self.segment.completion
+        elapsed = snap.t_s - self.start_s
+        if isinstance(completion, GoalReached):
+            return self._goal_reached(snap, completion)
+        if isinstance(completion, ContactTouch):
+            push = float(snap.wrench[:3].dot(completion.direction_world))
+            if push > completion.threshold_n:
+                return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach")
+            travel = float((snap.position - self.start_position).dot(completion.direction_world))
+            if travel >= completion.max_travel_m - 1e-3:
+                return Outcome(
+                    Verdict.FAILED, f"found no contact within {completion.max_travel_m * 1e3:.0f} mm"
+                )
+            return None
+        if isinstance(completion, ForceSettled):
+            return self._force_settled(snap, completion, elapsed)
+        if isinstance(completion, DepthReached):
+            return self._depth(snap, completion)
+        if isinstance(completion, Elapsed):
+            return Outcome(Verdict.DONE, "") if elapsed >= completion.duration_s else None
+        return None
+
+    def _goal_reached(self, snap: Snapshot, goal: GoalReached) -> Outcome | None:
+        if self.timed_until_s is not None and snap.t_s < self.timed_until_s:
+            return None
+        if _norm3(snap.velocity[:3]) > goal.speed_tolerance_mps:
+            return None
+        r_t = self._rotation_t
+        position_error = r_t.dot(snap.error[:3])[self._motion[:3]]
+        rotation_error = r_t.dot(snap.error[3:])[self._motion[3:]]
+        if position_error.size and float(np.max(np.abs(position_error))) > goal.position_tolerance_m:
+            return None
+        if rotation_error.size and float(np.max(np.abs(rotation_error))) > goal.orientation_tolerance_rad:
+            return None
+        return Outcome(Verdict.DONE, "")
+
+    def _force_settled(self, snap: Snapshot, settled: ForceSettled, elapsed: float) -> Outcome | None:
+        r_t = self._rotation_t
+        wrench_task = np.concatenate((r_t.dot(snap.wrench[:3]), r_t.dot(snap.wrench[3:])))
+        error = (wrench_task - self.segment.force_setpoint)[self._force_axes]
+        if error.size == 0 or float(np.max(np.abs(error))) <= settled.tolerance_n:
+            if self._settled_since is None:
+                self._settled_since = snap.t_s
+            if snap.t_s - self._settled_since >= settled.settle_time_s:
+                return Outcome(Verdict.DONE, "force settled")
+        else:
+            self._settled_since = None
+        if elapsed >= settled.max_time_s:
+            return Outcome(Verdict.FAILED, f"force did not settle within {settled.max_time_s:g} s")
+        return None
+
+    def _depth(self, snap: Snapshot, depth: DepthReached) -> Outcome | None:
+        travelled = float((snap.position - self.start_position).dot(depth.direction_world))
+        if travelled >= depth.depth_m:
+            return Outcome(Verdict.DONE, f"depth {travelled * 1e3:.1f} mm reached")
+        jam = self.segment.jam_check
+        if jam is not None:
+            if travelled > self._last_depth + jam.stall_speed_mps * jam.stall_time_s:
+                self._last_depth = travelled
+                self._last_progress_s = snap.t_s
+            elif snap.t_s - self._last_progress_s >= jam.stall_time_s:
+                push = float(snap.wrench[:3].dot(depth.direction_world))
+                return Outcome(
+                    Verdict.FAILED,
+                    f"jammed at depth {max(travelled, 0.0) * 1e3:.1f} mm: no progress for "
+                    f"{jam.stall_time_s:g} s while pushing {push:.1f} N",
+                )
+        return None
+
+
+def _until_text(segment: Segment) -> str:
+    until = segment.until
+    text = getattr(until, "text", None)
+    if text:
+        return str(text)
+    statement = segment.statement
+    index = statement.upper().find("UNTIL")
+    return statement[index + 5 :].strip() if index >= 0 else "condition"

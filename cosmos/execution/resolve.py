@@ -1,0 +1,125 @@
+"""From a compiled segment to the servo's setpoint, resolved against the measured state.
+
+A segment's relative or absent target, its per-axis stiffness and damping and
+its force ramp only become numbers when the segment starts: the target is the
+measured pose plus the offset, a physical stiffness K on a motion axis becomes
+the unit-mass gain ``kp = K / lambda`` with ``lambda = n^T Lambda n`` the
+end effector's effective mass along that task axis (eq. 18 makes the
+decoupled end effector a unit mass, so the physical spring is ``Lambda kp``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cosmos.osc.motion import PoseTrajectory
+from cosmos.plan import AbsoluteTarget, RelativeTarget, Segment, SegmentKind, Target
+from cosmos.runtime.parameters import Evaluation
+from cosmos.runtime.setpoint import (
+    DEFAULT_KP,
+    DEFAULT_KV,
+    MotionMode,
+    ServoSetpoint,
+)
+
+FloatArray = np.ndarray
+
+FORCE_RAMP_S = 0.25
+"""Force setpoints ramp from the sensed force to the new value over this time [s]."""
+
+HOLD_SPEED_MPS = 0.25
+"""Speed limit when a segment holds or only moves its force axes [m/s]."""
+
+
+def goal_pose(
+    target: Target | None, position: FloatArray, rotation: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """The goal pose of a target, given the measured tool pose at segment start."""
+    if target is None:
+        return position.copy(), rotation.copy()
+    if isinstance(target, RelativeTarget):
+        return position + target.offset_world, rotation.copy()
+    goal_rotation = rotation.copy() if target.rotation_world is None else target.rotation_world
+    return np.array(target.position_world), np.array(goal_rotation)
+
+
+def effective_masses(evaluation: Evaluation, rotation_task_to_world: FloatArray) -> FloatArray:
+    """``n^T Lambda n`` for each task axis n: translation [kg], rotation [kg m^2]. # (6,)."""
+    lam = evaluation.dynamics.lambda_
+    masses = np.empty(6)
+    for i in range(3):
+        axis = rotation_task_to_world[:, i]
+        masses[i] = axis.dot(lam[:3, :3]).dot(axis)
+        masses[i + 3] = axis.dot(lam[3:, 3:]).dot(axis)
+    return masses
+
+
+def axis_gains(segment: Segment, evaluation: Evaluation) -> tuple[FloatArray, FloatArray]:
+    """Unit-mass gains ``(kp, kv)`` per task axis from the segment's stiffness and damping."""
+    kp = np.full(6, DEFAULT_KP)
+    kv = np.full(6, DEFAULT_KV)
+    custom = [
+        i
+        for i in range(6)
+        if segment.motion_axes[i] and (segment.stiffness[i] is not None or segment.damping[i] is not None)
+    ]
+    if not custom:
+        return kp, kv
+    masses = effective_masses(evaluation, segment.frame_rotation)
+    for i in custom:
+        stiffness, damping = segment.stiffness[i], segment.damping[i]
+        if stiffness is not None:
+            kp[i] = stiffness / masses[i]
+        if damping is not None:
+            kv[i] = damping / masses[i]
+        else:
+            kv[i] = 2.0 * math.sqrt(kp[i])  # critically damped
+    return kp, kv
+
+
+def setpoint_for(
+    segment: Segment,
+    goal_position: FloatArray,
+    goal_rotation: FloatArray,
+    evaluation: Evaluation,
+    wrench_world: FloatArray,
+    start_s: float,
+) -> ServoSetpoint:
+    """The servo setpoint that executes ``segment`` toward the given goal pose."""
+    kp, kv = axis_gains(segment, evaluation)
+    trajectory = None
+    if segment.duration_s is not None:
+        mode = MotionMode.TRAJECTORY
+        trajectory = PoseTrajectory.between(
+            evaluation.position,
+            evaluation.rotation_tool_to_world,
+            goal_position,
+            goal_rotation,
+            segment.duration_s,
+        )
+    elif segment.target is None and segment.kind is not SegmentKind.CONTACT_APPROACH:
+        mode = MotionMode.HOLD
+    else:
+        mode = MotionMode.GOAL
+    return ServoSetpoint(
+        mode=mode,
+        position=goal_position,
+        rotation_to_world=goal_rotation,
+        rotation_task_to_world=np.array(segment.frame_rotation),
+        motion_axes=tuple(bool(a) for a in segment.motion_axes),
+        force_task=np.array(segment.force_setpoint),
+        force_start_world=wrench_world.copy(),
+        ramp_s=FORCE_RAMP_S,
+        start_s=start_s,
+        max_speed=segment.speed_limit_mps or HOLD_SPEED_MPS,
+        kp_task=kp,
+        kv_task=kv,
+        trajectory=trajectory,
+    )
+
+
+def via_goals(segment: Segment) -> tuple[AbsoluteTarget, ...]:
+    """The via points of a MOVE ... VIA, in order."""
+    return segment.via

@@ -1,0 +1,71 @@
+"""A live arm in its workcell with a run log: what ``cosmos run``, the REPL and ``--verify`` share."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from cosmos import __version__
+from cosmos.execution.executor import Executor, ProgressCallback
+from cosmos.execution.recording import fixture_primitives
+from cosmos.plant import Plant
+from cosmos.robot_model import build_robot_model
+from cosmos.runlog.writer import RunLog
+from cosmos.runtime.loop import Runtime
+from cosmos.runtime.rates import Rates
+from cosmos.workcell import SCENE_XML
+
+MODEL_NAME = "PUMA 560 (Corke & Armstrong-Helouvry 1994) in the cosmos workcell"
+
+
+class Session:
+    """Plant, controller, executor and log, opened together and closed together.
+
+    Args:
+        program: The program's path as the user gave it (``<repl>`` for a REPL).
+        source: Its text, stored in the log as an attachment (None: none yet).
+        log_path: Where the MCAP log goes.
+        rates: Servo, parameter and state rates.
+        seed: Recorded in the log's metadata.
+        progress: Called now and then with the statement running.
+    """
+
+    def __init__(
+        self,
+        program: str,
+        source: str | None,
+        log_path: Path,
+        rates: Rates,
+        seed: int = 0,
+        progress: ProgressCallback | None = None,
+    ):
+        self.plant = Plant()
+        self.runtime = Runtime(self.plant, build_robot_model(), rates)
+        self.log = RunLog(
+            log_path,
+            program=program,
+            source=source,
+            servo_hz=rates.servo_hz,
+            param_hz=rates.param_hz,
+            state_hz=rates.state_hz,
+            model=MODEL_NAME,
+            seed=seed,
+            metadata={"scene": SCENE_XML.name, "cosmos_version": __version__},
+        )
+        self.log.scene(0.0, add=fixture_primitives(self.plant))
+        self.executor = Executor(self.runtime, self.log, progress)
+        self.executor.hold()
+
+    @property
+    def log_path(self) -> Path:
+        """Path of the MCAP log."""
+        return self.log.path
+
+    def close(self) -> None:
+        """Close the log (writes its summary); safe to call twice."""
+        self.log.close()
+
+    def __enter__(self) -> Session:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
