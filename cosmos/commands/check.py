@@ -1,0 +1,168 @@
+"""``cosmos check PROGRAM [--json]``: parse, check and compile; print the plan.
+
+Exit status 0 when the program compiles (warnings are printed on stderr and do
+not change it); a syntax or check error raises a :class:`ProgramError`, which
+the command line renders on stderr with exit status 1.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TextIO
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+from cosmos import plan
+from cosmos.lang.compiler import compile_program
+from cosmos.lang.source import read_source
+from cosmos.lang.state import FrameLike
+
+_AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
+
+
+def load_fixtures() -> Mapping[str, FrameLike]:
+    """The workcell's fixture frames, or none if the workcell cannot be loaded."""
+    try:
+        from cosmos.workcell import fixture_frames
+    except ImportError:
+        return {}
+    frames = fixture_frames()
+    if isinstance(frames, Mapping):
+        return frames
+    return {frame.name: frame for frame in frames}
+
+
+def check_program(
+    program: Path,
+    as_json: bool = False,
+    fixtures: Mapping[str, FrameLike] | None = None,
+    out: TextIO | None = None,
+    err: TextIO | None = None,
+) -> int:
+    """Compile ``program`` and print its plan; return the exit status (0).
+
+    Args:
+        program: Path of the program.
+        as_json: Print the plan as one JSON object instead of a table.
+        fixtures: Fixture frames; by default the workcell's.
+        out: Where the plan goes (stdout).
+        err: Where warnings go (stderr).
+
+    Raises:
+        ProgramError: Syntax or check errors.
+        UsageError: The file cannot be read.
+    """
+    out = out or sys.stdout
+    err = err or sys.stderr
+    source = read_source(program)
+    compiled = compile_program(source, str(program), load_fixtures() if fixtures is None else fixtures)
+    for warning in compiled.warnings:
+        print(warning.render(source), file=err)
+    if as_json:
+        json.dump(plan.plan_to_json(compiled), out, indent=2)
+        out.write("\n")
+    else:
+        Console(file=out, width=max(Console(file=out).width, 140)).print(plan_table(compiled))
+    return 0
+
+
+def plan_table(compiled: plan.Plan) -> Table:
+    """The plan as a table: one row per step."""
+    table = Table(title=f"{compiled.file}: {len(compiled.segments)} segments", title_justify="left")
+    for header in ("#", "line", "statement", "kind", "frame", "motion", "force", "setpoints", "goal", "ends"):
+        table.add_column(header, overflow="fold")
+    for step in compiled.steps:
+        if isinstance(step, plan.Segment):
+            table.add_row(*_segment_row(step))
+        elif isinstance(step, plan.AddObstacle):
+            table.add_row(
+                "", str(step.line), step.statement, f"add {step.shape.value}", "", "", "", "", "", ""
+            )
+        else:
+            table.add_row("", str(step.line), step.statement, "remove obstacle", "", "", "", "", "", "")
+    return table
+
+
+def _segment_row(segment: plan.Segment) -> tuple[str, ...]:
+    motion = " ".join(a for a, m in zip(_AXES, segment.motion_axes, strict=True) if m) or "-"
+    force = " ".join(a for a, m in zip(_AXES, segment.motion_axes, strict=True) if not m) or "-"
+    setpoints = []
+    for axis, value, moving, stiffness in zip(
+        _AXES, segment.force_setpoint, segment.motion_axes, segment.stiffness, strict=True
+    ):
+        unit = "N" if axis in ("X", "Y", "Z") else "Nm"
+        if not moving:
+            setpoints.append(f"F{axis.lower()} {value:+g} {unit}")
+        elif stiffness is not None:
+            setpoints.append(f"K{axis.lower()} {stiffness:g} {unit}/{'m' if unit == 'N' else 'rad'}")
+    statement = segment.statement + (f"\n[dim]{segment.context}[/dim]" if segment.context else "")
+    return (
+        str(segment.index),
+        str(segment.line),
+        statement,
+        segment.kind.value,
+        segment.frame_name,
+        motion,
+        force,
+        ", ".join(setpoints) or "-",
+        _goal(segment),
+        _ends(segment),
+    )
+
+
+def _vector(values: np.ndarray, scale: float = 1000.0) -> str:
+    return "(" + ", ".join(f"{v * scale:.4g}" for v in values) + ")"
+
+
+def _goal(segment: plan.Segment) -> str:
+    target = segment.target
+    if target is None:
+        text = "hold"
+    elif isinstance(target, plan.RelativeTarget):
+        text = f"by {_vector(target.offset_world)} mm"
+    else:
+        text = f"to {_vector(target.position_world)} mm"
+        if target.rotation_world is not None:
+            text += " oriented"
+    if segment.via:
+        text += f" via {len(segment.via)}"
+    if segment.speed_limit_mps is not None:
+        text += f" @ {segment.speed_limit_mps * 1000:g} mm/s"
+    if segment.duration_s is not None:
+        text += f" in {segment.duration_s:g} s"
+    return text
+
+
+def _ends(segment: plan.Segment) -> str:
+    completion = segment.completion
+    if isinstance(completion, plan.ContactTouch):
+        text = f"touch > {completion.threshold_n:g} N"
+    elif isinstance(completion, plan.ForceSettled):
+        text = f"force settled ±{completion.tolerance_n:g} N"
+    elif isinstance(completion, plan.DepthReached):
+        text = f"depth {completion.depth_m * 1000:g} mm"
+    elif isinstance(completion, plan.Elapsed):
+        text = f"after {completion.duration_s:g} s"
+    elif isinstance(completion, plan.UntilOnly):
+        text = "condition"
+    else:
+        text = "goal reached"
+    if segment.until is not None:
+        text += f"; until {_condition(segment.until)}"
+    if segment.timeout_s is not None:
+        text += f"; timeout {segment.timeout_s:g} s"
+    if segment.jam_check is not None:
+        text += "; jam check"
+    return text
+
+
+def _condition(condition: plan.Condition) -> str:
+    if isinstance(condition, plan.Comparison):
+        return condition.text
+    joiner = " AND " if isinstance(condition, plan.AllOf) else " OR "
+    return "(" + joiner.join(_condition(term) for term in condition.terms) + ")"

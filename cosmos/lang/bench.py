@@ -1,0 +1,50 @@
+"""How long parsing and compiling a long program takes (for ``cosmos bench``)."""
+
+from __future__ import annotations
+
+import math
+import time
+
+from cosmos.lang.compiler import compile_program
+from cosmos.lang.rotations import FloatArray, readonly, rpy_to_matrix
+
+_BLOCK = """\
+MOVE TO hole + (0, 0, 80 mm) SPEED 0.2 m/s
+CONTACT DOWN FORCE 8 N SPEED 20 mm/s TIMEOUT 5 s
+SLIDE +X BY 10 mm FORCE 6 N UNTIL FORCE X > 5 N OR DISTANCE > 9 mm
+INSERT DOWN DEPTH 25 mm FORCE 15 N COMPLY X Y RX RY TIMEOUT 10 s
+WAIT 0.5 s
+MOVE BY (0, 0, 100 mm)
+COMPLY X Y STIFFNESS 200 N/m
+MOVE TO (0.5, 0.1, 0.3) RPY (180 deg, 0, 0) VIA (0.45, 0, 0.4), (0.5, 0.05, 0.35) IN 2 s
+COMPLY NONE
+LET offset = (1 mm, 2 mm, 3 mm) * 2
+"""
+
+
+class _Fixture:
+    """A fixture frame, z pointing down, like the workcell's."""
+
+    def __init__(self, position: tuple[float, float, float]):
+        self.position: FloatArray = readonly(position)
+        self.rotation: FloatArray = rpy_to_matrix(math.pi, 0.0, 0.0)
+
+
+def bench_program(lines: int = 10_000) -> str:
+    """A program of about ``lines`` lines mixing every kind of motion statement."""
+    block = _BLOCK.splitlines(keepends=True)
+    count = max(1, lines // len(block))
+    return "# benchmark program\n" + "".join(block) * count
+
+
+def bench_compile(lines: int = 10_000) -> float:
+    """Seconds to parse, check and compile a ``lines``-line program (one run).
+
+    The grammar is loaded (and Lark's cache filled) before the clock starts.
+    """
+    source = bench_program(lines)
+    fixtures = {"hole": _Fixture((0.55, 0.10, 0.02))}
+    compile_program("WAIT 1 s", "<warm-up>", fixtures)
+    start = time.perf_counter()
+    compile_program(source, "<bench>", fixtures)
+    return time.perf_counter() - start

@@ -1,0 +1,161 @@
+"""Checks that need only the statement itself: clauses and blocks.
+
+The grammar lets each statement take only its own clauses, in any order; this
+module adds what a grammar says badly: a clause given twice, a clause that is
+required (CONTACT needs FORCE), a clause that does not fit the obstacle's shape,
+blocks in the wrong place or closed with the wrong END. Checks that depend on
+what came before (names, the held contact, COMPLY) are the compiler's.
+"""
+
+from __future__ import annotations
+
+from cosmos.errors import ProgramError
+from cosmos.lang import ast
+from cosmos.lang.syntax import STATEMENT_KEYWORDS
+
+_SHAPE_CLAUSES: dict[ast.Shape, tuple[set[ast.ClauseKind], set[ast.ClauseKind]]] = {
+    # shape: (required, allowed besides AT, MOVING, INFLUENCE, GAIN)
+    ast.Shape.SPHERE: ({ast.ClauseKind.RADIUS}, {ast.ClauseKind.RADIUS}),
+    ast.Shape.CYLINDER: (
+        {ast.ClauseKind.RADIUS, ast.ClauseKind.HEIGHT},
+        {ast.ClauseKind.RADIUS, ast.ClauseKind.HEIGHT},
+    ),
+    ast.Shape.BOX: ({ast.ClauseKind.SIZE}, {ast.ClauseKind.SIZE}),
+    ast.Shape.PLANE: (set(), {ast.ClauseKind.NORMAL}),
+}
+_ANY_SHAPE = {ast.ClauseKind.AT, ast.ClauseKind.MOVING, ast.ClauseKind.INFLUENCE, ast.ClauseKind.GAIN}
+
+_EXAMPLES = {
+    ast.ClauseKind.FORCE: "FORCE 10 N",
+    ast.ClauseKind.BY: "BY 100 mm",
+    ast.ClauseKind.DEPTH: "DEPTH 25 mm",
+    ast.ClauseKind.AT: "AT (0.4, 0.2, 0.5)",
+    ast.ClauseKind.RADIUS: "RADIUS 50 mm",
+    ast.ClauseKind.HEIGHT: "HEIGHT 0.5 m",
+    ast.ClauseKind.SIZE: "SIZE (0.1, 0.2, 0.3)",
+}
+
+
+def clause_key(clause: ast.Clause) -> str:
+    """The clause's keyword (``"SPEED"``, ``"VIA"``, ...)."""
+    if isinstance(clause, ast.ValueClause):
+        return clause.kind.value
+    if isinstance(clause, ast.ViaClause):
+        return "VIA"
+    if isinstance(clause, ast.UntilClause):
+        return "UNTIL"
+    return "COMPLY"
+
+
+def _statement_keyword(statement: ast.Statement) -> str:
+    return type(statement).__name__.upper()
+
+
+def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...], span_statement: ast.Statement) -> set[str]:
+    seen: dict[str, ast.Clause] = {}
+    for clause in clauses:
+        key = clause_key(clause)
+        if key in seen:
+            first = seen[key].span
+            hint = "; join conditions with AND or OR" if key == "UNTIL" else ""
+            raise ProgramError(
+                f"{key} is given twice in this {keyword} (first at line {first.line}, "
+                f"column {first.column}){hint}",
+                clause.span,
+            )
+        seen[key] = clause
+    return set(seen)
+
+
+def _require(keyword: str, present: set[str], needed: ast.ClauseKind, statement: ast.Statement) -> None:
+    if needed.value not in present:
+        raise ProgramError(
+            f"{keyword} needs {needed.value}, as in {keyword} ... {_EXAMPLES[needed]}",
+            statement.span,
+        )
+
+
+def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None:
+    """Check one statement (and the statements of its block).
+
+    Args:
+        statement: The statement.
+        in_block: Whether it sits inside a PROC or REPEAT.
+
+    Raises:
+        ProgramError: The first problem found.
+    """
+    if isinstance(statement, ast.Move):
+        present = _check_clauses("MOVE", statement.clauses, statement)
+        if statement.mode is ast.MoveMode.BY and "VIA" in present:
+            via = next(c for c in statement.clauses if isinstance(c, ast.ViaClause))
+            raise ProgramError("VIA goes with MOVE TO, not MOVE BY", via.span)
+        if "SPEED" in present and "IN" in present:
+            return  # IN may name a frame; the compiler decides once it knows the value
+    elif isinstance(statement, ast.Contact):
+        present = _check_clauses("CONTACT", statement.clauses, statement)
+        _require("CONTACT", present, ast.ClauseKind.FORCE, statement)
+    elif isinstance(statement, ast.Slide):
+        present = _check_clauses("SLIDE", statement.clauses, statement)
+        _require("SLIDE", present, ast.ClauseKind.BY, statement)
+    elif isinstance(statement, ast.Insert):
+        present = _check_clauses("INSERT", statement.clauses, statement)
+        _require("INSERT", present, ast.ClauseKind.DEPTH, statement)
+        _require("INSERT", present, ast.ClauseKind.FORCE, statement)
+    elif isinstance(statement, ast.Wait):
+        present = _check_clauses("WAIT", statement.clauses, statement)
+        if statement.duration is None and "UNTIL" not in present:
+            raise ProgramError(
+                "WAIT needs a duration (WAIT 2 s) or a condition (WAIT UNTIL FORCE > 5 N)",
+                statement.span,
+            )
+    elif isinstance(statement, ast.Comply):
+        present = _check_clauses("COMPLY", statement.clauses, statement)
+        if not statement.axes and present:
+            raise ProgramError(
+                "COMPLY NONE restores full stiffness and takes no STIFFNESS or DAMPING",
+                statement.clauses[0].span,
+            )
+    elif isinstance(statement, ast.Obstacle):
+        _check_obstacle(statement)
+    elif isinstance(statement, ast.ProcDef):
+        if in_block:
+            raise ProgramError(
+                "define PROC at the top level of the program, not inside a block", statement.span
+            )
+        if statement.name.name.upper() in STATEMENT_KEYWORDS or statement.name.key == "end":
+            raise ProgramError(
+                f"'{statement.name.name}' is a keyword; give the PROC another name",
+                statement.name.span,
+            )
+        _check_end("PROC", statement.end_tag, statement)
+        for inner in statement.body:
+            check_statement(inner, in_block=True)
+    elif isinstance(statement, ast.Repeat):
+        _check_end("REPEAT", statement.end_tag, statement)
+        for inner in statement.body:
+            check_statement(inner, in_block=True)
+
+
+def _check_end(keyword: str, tag: str | None, statement: ast.ProcDef | ast.Repeat) -> None:
+    if tag is not None and tag != keyword:
+        raise ProgramError(
+            f"END {tag} closes a {keyword} (opened here); write END or END {keyword}",
+            statement.span,
+        )
+
+
+def _check_obstacle(statement: ast.Obstacle) -> None:
+    present = _check_clauses("OBSTACLE", statement.clauses, statement)
+    shape = statement.shape
+    required, allowed = _SHAPE_CLAUSES[shape]
+    for clause in statement.clauses:
+        key = clause_key(clause)
+        if isinstance(clause, ast.ValueClause) and clause.kind not in allowed | _ANY_SHAPE:
+            raise ProgramError(f"{key} does not apply to a {shape.value}", clause.span)
+    for needed in sorted(required | {ast.ClauseKind.AT}, key=lambda k: k.value):
+        if needed.value not in present:
+            raise ProgramError(
+                f"a {shape.value} obstacle needs {needed.value}, as in {_EXAMPLES[needed]}",
+                statement.span,
+            )

@@ -1,0 +1,619 @@
+"""Motion statements (MOVE, CONTACT, SLIDE, INSERT, WAIT) to segments.
+
+Each statement picks its task frame (``IN frame``, else the world; WAIT uses the
+held contact's frame) and fills in, per task axis, the diagonal of the seed's
+selection matrix Omega (motion) and its complement (force), the force setpoint,
+stiffness and damping, from three sources:
+
+- COMPLY in force: zero stiffness = force control at 0 N, else a spring;
+- the held contact: its axis stays force-controlled at its force;
+- the statement: CONTACT's and INSERT's force axis, INSERT's compliant axes.
+
+The axis rule (docs/language.md, "One job per axis"): an axis that carries a
+commanded force (the contact's, INSERT's) may not also be under COMPLY, and the
+direction a statement moves along (SLIDE, the CONTACT approach) may be neither
+force-controlled nor compliant at zero stiffness. Breaking it is an error.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from cosmos import plan
+from cosmos.errors import ProgramError, Span
+from cosmos.lang import ast, units
+from cosmos.lang.conditions import comparisons, compile_condition, holds_at_start
+from cosmos.lang.rotations import IDENTITY, readonly
+from cosmos.lang.state import WORLD, CompileState, Defaults, HeldContact, TaskFrame
+from cosmos.lang.values import BindingKind, Evaluator, FrameValue, Scalar
+
+_ALIGNED = math.cos(math.radians(1.0))
+"""A contact direction within 1 degree of a task axis counts as along it."""
+
+_AXIS_NAMES = tuple(axis.name for axis in ast.Axis)
+
+
+@dataclass(frozen=True)
+class _Axes:
+    """Per-axis setup of a segment in its task frame."""
+
+    motion: np.ndarray  # (6,) bool
+    force: np.ndarray  # (6,) float
+    stiffness: tuple[float | None, ...]
+    damping: tuple[float | None, ...]
+
+
+@dataclass
+class _Clauses:
+    """A statement's clauses by keyword (the checker has refused duplicates)."""
+
+    values: dict[ast.ClauseKind, ast.ValueClause]
+    via: ast.ViaClause | None
+    until: ast.UntilClause | None
+    comply: ast.ComplyClause | None
+
+    @classmethod
+    def of(cls, clauses: tuple[ast.Clause, ...]) -> _Clauses:
+        found = cls({}, None, None, None)
+        for clause in clauses:
+            if isinstance(clause, ast.ValueClause):
+                found.values[clause.kind] = clause
+            elif isinstance(clause, ast.ViaClause):
+                found.via = clause
+            elif isinstance(clause, ast.UntilClause):
+                found.until = clause
+            else:
+                found.comply = clause
+        return found
+
+    def get(self, kind: ast.ClauseKind) -> ast.Expr | None:
+        clause = self.values.get(kind)
+        return None if clause is None else clause.value
+
+
+def _axis_list(axes: list[int] | set[int]) -> str:
+    return " ".join(_AXIS_NAMES[i] for i in sorted(axes))
+
+
+def _vector_text(vector: np.ndarray) -> str:
+    return "(" + ", ".join(f"{v:.3g}" if abs(v) > 1e-12 else "0" for v in vector) + ")"
+
+
+class MotionBuilder:
+    """Builds the segments of one motion statement.
+
+    Args:
+        defaults: Values used where the program gives none.
+        state: The compile state before the statement.
+        evaluator: Evaluates expressions against the state's names.
+        text_of: Source text of a span.
+        warn: Records a warning.
+        context: Where an expanded statement came from (see ``Segment.context``).
+    """
+
+    def __init__(
+        self,
+        defaults: Defaults,
+        state: CompileState,
+        evaluator: Evaluator,
+        text_of: Callable[[Span], str],
+        warn: Callable[[str, Span], None],
+        context: str,
+    ):
+        self.defaults = defaults
+        self.state = state
+        self.evaluator = evaluator
+        self.text_of = text_of
+        self.warn = warn
+        self.context = context
+        self._segments: list[plan.Segment] = []
+
+    def build(
+        self, statement: ast.Move | ast.Contact | ast.Slide | ast.Insert | ast.Wait
+    ) -> tuple[tuple[plan.Segment, ...], CompileState]:
+        """The statement's segments and the state after it.
+
+        Raises:
+            ProgramError: A unit, value or axis error, pointing at its cause.
+        """
+        if isinstance(statement, ast.Move):
+            state = self._move(statement)
+        elif isinstance(statement, ast.Contact):
+            state = self._contact(statement)
+        elif isinstance(statement, ast.Slide):
+            state = self._slide(statement)
+        elif isinstance(statement, ast.Insert):
+            state = self._insert(statement)
+        else:
+            state = self._wait(statement)
+        state = replace(
+            state,
+            statement_count=self.state.statement_count + 1,
+            segment_count=self.state.segment_count + len(self._segments),
+        )
+        return tuple(self._segments), state
+
+    # ------------------------------------------------------------ statements
+
+    def _move(self, statement: ast.Move) -> CompileState:
+        clauses = _Clauses.of(statement.clauses)
+        frame, duration, _ = self._frame(clauses, "MOVE", allow_duration=True)
+        speed: float | None = None
+        if ast.ClauseKind.SPEED in clauses.values:
+            if duration is not None:
+                raise ProgramError(
+                    "give MOVE a SPEED or a duration (IN 2 s), not both",
+                    clauses.values[ast.ClauseKind.SPEED].span,
+                )
+            speed = self._speed(clauses, None)
+        elif duration is None:
+            speed = self.state.default_speed_mps
+        target: plan.Target
+        distance: float | None = None
+        if statement.mode is ast.MoveMode.TO:
+            goal = self._position(statement.target, "MOVE TO")
+            target = plan.AbsoluteTarget(goal.position, goal.rotation)
+        else:
+            if isinstance(statement.target, ast.Pose):
+                raise ProgramError(
+                    "MOVE BY takes an offset (x, y, z); to turn the tool, MOVE TO a pose with RPY",
+                    statement.target.span,
+                )
+            offset = self.evaluator.expect_vector3(statement.target, units.LENGTH, "MOVE BY")
+            distance = float(np.linalg.norm(offset))
+            if distance == 0:
+                self.warn("MOVE BY (0, 0, 0) goes nowhere", statement.target.span)
+            target = plan.RelativeTarget(readonly(frame.rotation @ offset))
+        via: tuple[plan.AbsoluteTarget, ...] = ()
+        if clauses.via is not None:
+            via = tuple(
+                plan.AbsoluteTarget(p.position, p.rotation)
+                for p in (self._position(point, "VIA") for point in clauses.via.points)
+            )
+        axes = self._axes({}, set())
+        floating = [i for i in range(6) if not axes.motion[i]]
+        if floating:
+            comply = self.state.compliance[floating[0]]
+            assert comply is not None
+            self.warn(
+                f"{_axis_list(floating)} compliant (COMPLY at line {comply.span.line}), so this "
+                "MOVE does not control them; COMPLY NONE first to move on every axis",
+                statement.span,
+            )
+        timeout = self._timeout(clauses)
+        self._warn_timeout(timeout, distance, speed, duration, clauses)
+        self._add(
+            plan.SegmentKind.MOVE,
+            statement,
+            frame,
+            axes,
+            target=target,
+            via=via,
+            speed=speed,
+            duration=duration,
+            completion=self._goal_reached(),
+            until=self._until(clauses, frame, force_expected=self.state.contact is not None),
+            timeout=timeout,
+        )
+        released = statement.span if self.state.contact is not None else self.state.contact_released_by
+        return replace(self.state, contact=None, contact_released_by=released)
+
+    def _contact(self, statement: ast.Contact) -> CompileState:
+        clauses = _Clauses.of(statement.clauses)
+        frame, _, fixture = self._frame(clauses, "CONTACT", allow_duration=False)
+        axis, sign = self._translation(statement.direction, "CONTACT")
+        direction_world = readonly(frame.rotation[:, axis] * sign)
+        force = self._force(clauses)
+        speed = self._speed(clauses, self.defaults.contact_speed_mps)
+        self._no_compliance(axis, f"CONTACT {statement.direction.text}", statement.direction.span)
+        self._warn_away_from_fixture(statement.direction, fixture, "CONTACT")
+        timeout = self._timeout(clauses)
+        until = self._until(clauses, frame, force_expected=self.state.contact is not None)
+        travel = self.defaults.contact_max_travel_m
+        self._add(
+            plan.SegmentKind.CONTACT_APPROACH,
+            statement,
+            frame,
+            self._axes({}, set()),
+            target=plan.RelativeTarget(readonly(direction_world * travel)),
+            speed=speed,
+            completion=plan.ContactTouch(
+                direction_world=direction_world,
+                threshold_n=min(self.defaults.touch_threshold_n, 0.5 * force),
+                max_travel_m=travel,
+            ),
+            until=until,
+            timeout=timeout,
+        )
+        self._add(
+            plan.SegmentKind.CONTACT_HOLD,
+            statement,
+            frame,
+            self._axes({axis: sign * force}, set()),
+            target=None,
+            speed=speed,
+            completion=plan.ForceSettled(
+                tolerance_n=max(self.defaults.settle_tolerance_n, 0.1 * force),
+                settle_time_s=self.defaults.settle_time_s,
+                max_time_s=self.defaults.settle_max_time_s,
+            ),
+            until=until,
+            timeout=timeout,
+        )
+        contact = HeldContact(direction_world, force, frame, statement.span)
+        released = statement.span if self.state.contact is not None else self.state.contact_released_by
+        return replace(self.state, contact=contact, contact_released_by=released)
+
+    def _slide(self, statement: ast.Slide) -> CompileState:
+        clauses = _Clauses.of(statement.clauses)
+        contact = self._held_contact("SLIDE", statement.span)
+        frame, _, _ = self._frame(clauses, "SLIDE", allow_duration=False)
+        axis, sign = self._translation(statement.direction, "SLIDE")
+        contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
+        if axis == contact_axis:
+            raise ProgramError(
+                f"SLIDE {statement.direction.text} moves along the contact's own axis "
+                f"({_AXIS_NAMES[axis]}, CONTACT at line {contact.span.line}); slide across the "
+                "surface, or MOVE to leave it",
+                statement.direction.span,
+            )
+        self._motion_allowed(axis, f"SLIDE {statement.direction.text}", statement.direction.span)
+        self._no_compliance(contact_axis, f"the contact held since line {contact.span.line}", statement.span)
+        by = clauses.get(ast.ClauseKind.BY)
+        assert by is not None  # the checker requires BY
+        distance = self._positive_scalar(by, units.LENGTH, "BY")
+        force = self._force(clauses) if ast.ClauseKind.FORCE in clauses.values else contact.force_n
+        speed = self._speed(clauses, self.state.default_speed_mps)
+        timeout = self._timeout(clauses)
+        self._warn_timeout(timeout, distance, speed, None, clauses)
+        offset = frame.rotation[:, axis] * sign * distance
+        self._add(
+            plan.SegmentKind.SLIDE,
+            statement,
+            frame,
+            self._axes({contact_axis: contact_sign * force}, set()),
+            target=plan.RelativeTarget(readonly(offset)),
+            speed=speed,
+            completion=self._goal_reached(),
+            until=self._until(clauses, frame, force_expected=True),
+            timeout=timeout,
+        )
+        return self.state
+
+    def _insert(self, statement: ast.Insert) -> CompileState:
+        clauses = _Clauses.of(statement.clauses)
+        frame, _, fixture = self._frame(clauses, "INSERT", allow_duration=False)
+        axis, sign = self._translation(statement.direction, "INSERT")
+        direction_world = readonly(frame.rotation[:, axis] * sign)
+        depth_expr = clauses.get(ast.ClauseKind.DEPTH)
+        assert depth_expr is not None  # the checker requires DEPTH
+        depth = self._positive_scalar(depth_expr, units.LENGTH, "DEPTH")
+        force = self._force(clauses)
+        contact = self.state.contact
+        forces = {axis: sign * force}
+        contact_axis = None
+        held_since = f"the contact held since line {contact.span.line}" if contact else ""
+        if contact is not None:
+            contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
+            if contact_axis != axis:
+                forces[contact_axis] = contact_sign * contact.force_n
+        what = f"INSERT {statement.direction.text}"
+        if clauses.comply is not None:
+            free = {ref.axis.value for ref in clauses.comply.axes}
+            for ref in clauses.comply.axes:
+                if ref.axis.value in forces:
+                    because = (
+                        f"{what} pushes along it" if ref.axis.value == axis else f"it carries {held_since}"
+                    )
+                    raise ProgramError(
+                        f"{ref.axis.name} cannot be compliant here: {because}; leave it out of COMPLY",
+                        ref.span,
+                    )
+        else:
+            lateral = [i for i in range(3) if i != axis]
+            free = {i for i in lateral + [i + 3 for i in lateral] if i != contact_axis}
+        self._no_compliance(axis, what, statement.direction.span)
+        if contact_axis is not None and contact_axis != axis:
+            self._no_compliance(contact_axis, held_since, statement.span)
+        if contact is None:
+            self.warn(
+                f"no contact is held, so {what} pushes {force:g} N into free space (at up to "
+                f"{self._speed(clauses, self.defaults.insert_speed_mps) * 1000:g} mm/s) until it "
+                "meets something; make a CONTACT first",
+                statement.span,
+            )
+        self._warn_away_from_fixture(statement.direction, fixture, "INSERT")
+        self._add(
+            plan.SegmentKind.INSERT,
+            statement,
+            frame,
+            self._axes(forces, free),
+            target=None,
+            speed=self._speed(clauses, self.defaults.insert_speed_mps),
+            completion=plan.DepthReached(direction_world=direction_world, depth_m=depth),
+            until=self._until(clauses, frame, force_expected=True),
+            timeout=self._timeout(clauses),
+            jam_check=plan.JamCheck(
+                stall_speed_mps=self.defaults.jam_stall_speed_mps,
+                stall_time_s=self.defaults.jam_stall_time_s,
+            ),
+        )
+        return self.state
+
+    def _wait(self, statement: ast.Wait) -> CompileState:
+        clauses = _Clauses.of(statement.clauses)
+        duration = None
+        if statement.duration is not None:
+            duration = self._positive_scalar(statement.duration, units.TIME, "WAIT")
+        contact = self.state.contact
+        frame = WORLD if contact is None else contact.frame
+        forces: dict[int, float] = {}
+        if contact is not None:
+            contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
+            self._no_compliance(
+                contact_axis, f"the contact held since line {contact.span.line}", statement.span
+            )
+            forces[contact_axis] = contact_sign * contact.force_n
+        axes = self._axes(forces, set())
+        until = self._until(clauses, frame, force_expected=contact is not None)
+        movable = not axes.motion.all() or any(
+            c is not None and c.stiffness > 0 for c in self.state.compliance
+        )
+        if until is not None and not movable:
+            for comparison in comparisons(until):
+                if comparison.quantity is plan.Quantity.DISTANCE:
+                    raise ProgramError(
+                        "WAIT holds the tool still (no contact held, nothing compliant), so "
+                        "DISTANCE stays 0 and cannot be sensed here",
+                        comparison.span,
+                    )
+        timeout = self._timeout(clauses)
+        if duration is None and timeout is None:
+            self.warn("WAIT UNTIL without TIMEOUT may wait for ever; add TIMEOUT", statement.span)
+        self._add(
+            plan.SegmentKind.WAIT,
+            statement,
+            frame,
+            axes,
+            target=None,
+            speed=self.defaults.contact_speed_mps if forces else None,
+            completion=plan.UntilOnly() if duration is None else plan.Elapsed(duration),
+            until=until,
+            timeout=timeout,
+        )
+        return self.state
+
+    # ------------------------------------------------------------------ axes
+
+    def _axes(self, forces: dict[int, float], free: set[int]) -> _Axes:
+        """Axis setup: COMPLY in force, then zero-force axes ``free``, then ``forces``."""
+        motion = np.ones(6, dtype=bool)
+        force = np.zeros(6)
+        stiffness: list[float | None] = [None] * 6
+        damping: list[float | None] = [None] * 6
+        for i, compliance in enumerate(self.state.compliance):
+            if compliance is None:
+                continue
+            damping[i] = compliance.damping
+            stiffness[i] = compliance.stiffness
+            if compliance.stiffness == 0:
+                motion[i] = False
+        for i in free:
+            motion[i] = False
+            stiffness[i] = 0.0
+        for i, value in forces.items():
+            motion[i] = False
+            force[i] = value
+            stiffness[i] = 0.0
+        motion.flags.writeable = False
+        return _Axes(motion, readonly(force), tuple(stiffness), tuple(damping))
+
+    def _no_compliance(self, axis: int, what: str, span: Span) -> None:
+        compliance = self.state.compliance[axis]
+        if compliance is not None:
+            raise ProgramError(
+                f"{_AXIS_NAMES[axis]} is compliant (COMPLY at line {compliance.span.line}) and "
+                f"{what} commands a force along it; an axis takes one job: COMPLY NONE first, "
+                "or comply other axes",
+                span,
+            )
+
+    def _motion_allowed(self, axis: int, what: str, span: Span) -> None:
+        compliance = self.state.compliance[axis]
+        if compliance is not None and compliance.stiffness == 0:
+            raise ProgramError(
+                f"{what} moves along {_AXIS_NAMES[axis]}, but {_AXIS_NAMES[axis]} is compliant "
+                f"with zero stiffness (COMPLY at line {compliance.span.line}), so it cannot be "
+                "moved; COMPLY NONE first",
+                span,
+            )
+
+    def _held_contact(self, keyword: str, span: Span) -> HeldContact:
+        contact = self.state.contact
+        if contact is not None:
+            return contact
+        released = self.state.contact_released_by
+        why = f"; the contact was released at line {released.line}" if released is not None else ""
+        raise ProgramError(
+            f"{keyword} needs a held contact: make one with CONTACT first "
+            f"(e.g. CONTACT DOWN FORCE 10 N){why}",
+            span,
+        )
+
+    def _contact_axis(self, contact: HeldContact, frame: TaskFrame, span: Span) -> tuple[int, int]:
+        """The task axis (0..2) and sign along which the contact pushes."""
+        projections = frame.rotation.T @ contact.direction_world
+        for axis in range(3):
+            if abs(projections[axis]) >= _ALIGNED:
+                return axis, 1 if projections[axis] > 0 else -1
+        raise ProgramError(
+            f"the contact held along {_vector_text(contact.direction_world)} in the world "
+            f"(CONTACT at line {contact.span.line}) is not along an axis of frame "
+            f"'{frame.name}'; give this statement IN {contact.frame.name}",
+            span,
+        )
+
+    def _translation(self, direction: ast.Direction, keyword: str) -> tuple[int, int]:
+        if direction.axis.is_rotation:
+            raise ProgramError(
+                f"{keyword} needs a translation direction (+X -X +Y -Y +Z -Z, UP or DOWN), "
+                f"not {direction.axis.name}",
+                direction.span,
+            )
+        return direction.axis.value, direction.sign
+
+    # ---------------------------------------------------------------- values
+
+    def _frame(
+        self, clauses: _Clauses, keyword: str, *, allow_duration: bool
+    ) -> tuple[TaskFrame, float | None, str | None]:
+        """(task frame, duration of IN t, fixture named by IN)."""
+        expr = clauses.get(ast.ClauseKind.IN)
+        if expr is None:
+            return WORLD, None, None
+        value = self.evaluator.evaluate(expr)
+        if isinstance(value, FrameValue):
+            rotation = IDENTITY if value.rotation is None else value.rotation
+            fixture = None
+            if isinstance(expr, ast.Name):
+                binding = self.evaluator.names.get(expr.name.casefold())
+                if binding is not None and binding.kind is BindingKind.FIXTURE:
+                    fixture = expr.name
+            return TaskFrame(self.text_of(expr.span), rotation), None, fixture
+        if isinstance(value, Scalar) and allow_duration:
+            return WORLD, self._positive_scalar(expr, units.TIME, "IN"), None
+        also = " or a duration, like IN 2 s" if allow_duration else ""
+        raise ProgramError(
+            f"IN takes a frame, like IN hole{also}; {self.text_of(expr.span)} is not one"
+            + ("" if allow_duration or not isinstance(value, Scalar) else " (only MOVE takes a duration)"),
+            expr.span,
+        )
+
+    def _position(self, expr: ast.Expr, what: str) -> FrameValue:
+        return self.evaluator.expect_position(expr, what)
+
+    def _positive_scalar(self, expr: ast.Expr, dim: units.Dim, what: str) -> float:
+        value = self.evaluator.expect_scalar(expr, dim, what)
+        if not value > 0 or not math.isfinite(value):
+            raise ProgramError(
+                f"{what} must be positive, not {self.text_of(expr.span)}"
+                + ("; the direction gives the sign" if what in ("FORCE", "BY", "DEPTH") else ""),
+                expr.span,
+            )
+        return value
+
+    def _force(self, clauses: _Clauses) -> float:
+        expr = clauses.get(ast.ClauseKind.FORCE)
+        assert expr is not None  # the checker requires FORCE where there is no default
+        force = self._positive_scalar(expr, units.FORCE, "FORCE")
+        if force > 100:
+            self.warn(f"FORCE {force:g} N is a lot for the PUMA 560's wrist", expr.span)
+        return force
+
+    def _speed(self, clauses: _Clauses, default: float | None) -> float:
+        expr = clauses.get(ast.ClauseKind.SPEED)
+        if expr is None:
+            assert default is not None
+            return default
+        return self._positive_scalar(expr, units.SPEED, "SPEED")
+
+    def _timeout(self, clauses: _Clauses) -> float | None:
+        expr = clauses.get(ast.ClauseKind.TIMEOUT)
+        return None if expr is None else self._positive_scalar(expr, units.TIME, "TIMEOUT")
+
+    def _until(self, clauses: _Clauses, frame: TaskFrame, *, force_expected: bool) -> plan.Condition | None:
+        if clauses.until is None:
+            return None
+        condition = compile_condition(clauses.until.condition, frame, self.evaluator, self.text_of)
+        early = holds_at_start(condition, force_expected)
+        if early is not None:
+            self.warn(
+                f"UNTIL {early.text} already holds when the statement starts, so it stops at once",
+                early.span,
+            )
+        return condition
+
+    def _goal_reached(self) -> plan.GoalReached:
+        return plan.GoalReached(
+            position_tolerance_m=self.defaults.position_tolerance_m,
+            orientation_tolerance_rad=self.defaults.orientation_tolerance_rad,
+            speed_tolerance_mps=self.defaults.rest_speed_mps,
+        )
+
+    # --------------------------------------------------------------- warnings
+
+    def _warn_timeout(
+        self,
+        timeout: float | None,
+        distance: float | None,
+        speed: float | None,
+        duration: float | None,
+        clauses: _Clauses,
+    ) -> None:
+        if timeout is None:
+            return
+        needed = duration
+        if needed is None and distance is not None and speed:
+            needed = distance / speed
+        if needed is not None and timeout < needed:
+            self.warn(
+                f"TIMEOUT {timeout:g} s is shorter than the {needed:.3g} s this motion needs",
+                clauses.values[ast.ClauseKind.TIMEOUT].span,
+            )
+
+    def _warn_away_from_fixture(self, direction: ast.Direction, fixture: str | None, keyword: str) -> None:
+        if fixture is not None and direction.axis is ast.Axis.Z and direction.sign < 0:
+            self.warn(
+                f"fixture frames point +Z into their surface, so {keyword} -Z IN {fixture} "
+                f"moves away from it; did you mean +Z IN {fixture}, or DOWN?",
+                direction.span,
+            )
+
+    # --------------------------------------------------------------- segments
+
+    def _add(
+        self,
+        kind: plan.SegmentKind,
+        statement: ast.Statement,
+        frame: TaskFrame,
+        axes: _Axes,
+        *,
+        target: plan.Target | None,
+        speed: float | None,
+        completion: plan.Completion,
+        until: plan.Condition | None,
+        timeout: float | None,
+        via: tuple[plan.AbsoluteTarget, ...] = (),
+        duration: float | None = None,
+        jam_check: plan.JamCheck | None = None,
+    ) -> None:
+        self._segments.append(
+            plan.Segment(
+                index=self.state.segment_count + len(self._segments),
+                kind=kind,
+                statement_index=self.state.statement_count,
+                span=statement.span,
+                line=statement.span.line,
+                statement=self.text_of(statement.span),
+                context=self.context,
+                frame_name=frame.name,
+                frame_rotation=frame.rotation,
+                motion_axes=axes.motion,
+                force_setpoint=axes.force,
+                stiffness=axes.stiffness,
+                damping=axes.damping,
+                target=target,
+                via=via,
+                via_radius_m=self.defaults.via_radius_m if via else None,
+                speed_limit_mps=speed,
+                duration_s=duration,
+                completion=completion,
+                until=until,
+                timeout_s=timeout,
+                jam_check=jam_check,
+            )
+        )

@@ -1,0 +1,337 @@
+"""Source text to syntax tree: the Lark parser and the tree builder.
+
+The grammar is ``grammar/cosmos.lark`` (shipped inside the wheel as
+``cosmos/grammar/cosmos.lark``). Lark runs LALR with the contextual lexer and
+calls the builder below as each rule is reduced (an inline transformer), so no
+parse tree is kept and nesting costs no recursion. Every token is kept, and a
+node's span runs from its first token to its last.
+"""
+
+from __future__ import annotations
+
+import contextvars
+import math
+import re
+from collections.abc import Iterable
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from lark import Lark, Token, Transformer, Tree
+from lark.exceptions import UnexpectedInput, UnexpectedToken
+from lark.lexer import PatternStr
+
+from cosmos.errors import ProgramError, Span
+from cosmos.lang import ast
+from cosmos.lang.syntax import MAX_NESTING, check_nesting, syntax_error
+
+_FILE: contextvars.ContextVar[str] = contextvars.ContextVar("cosmos_source_file", default="<input>")
+
+
+def _grammar_text() -> str:
+    """The grammar, from the installed package or else from the source tree."""
+    packaged = resources.files("cosmos") / "grammar" / "cosmos.lark"
+    if packaged.is_file():
+        return packaged.read_text(encoding="utf-8")
+    return (Path(__file__).parents[2] / "grammar" / "cosmos.lark").read_text(encoding="utf-8")
+
+
+class _WordsEverywhere:
+    """A no-op postlexer whose ``always_accept`` makes the lexer try WORD in every state.
+
+    A keyword is then lexed as WORD and renamed by Lark only where the parser
+    expects it, so keywords end at word boundaries and may double as names.
+    """
+
+    always_accept = ("WORD",)
+
+    def process(self, stream: Any) -> Any:
+        return stream
+
+
+def _bounds(item: Any) -> tuple[tuple[int, int], tuple[int, int]] | None:
+    """(start, end) as (line, column) of a token, a node or a sequence of them."""
+    if isinstance(item, Token):
+        if item.type == "_NL" or item.line is None:
+            return None
+        return (item.line, item.column), (item.end_line, item.end_column)  # type: ignore[return-value]
+    span = getattr(item, "span", None)
+    if isinstance(span, Span):
+        return (span.line, span.column), (span.end_line, span.end_column)
+    if isinstance(item, tuple | list):
+        found = [b for b in map(_bounds, item) if b is not None]
+        if found:
+            return found[0][0], found[-1][1]
+    return None
+
+
+def _span(children: Iterable[Any]) -> Span:
+    """The span from the first to the last positioned child."""
+    found = [b for b in map(_bounds, children) if b is not None]
+    if not found:
+        return Span(_FILE.get(), 1, 1, 1, 1)
+    (line, column), (end_line, end_column) = found[0][0], found[-1][1]
+    return Span(_FILE.get(), line, column, end_line, end_column)
+
+
+def _nodes(children: Iterable[Any]) -> tuple[Any, ...]:
+    """The children that are not tokens or placeholders."""
+    return tuple(c for c in children if c is not None and not isinstance(c, Token))
+
+
+def _ident(token: Token) -> ast.Ident:
+    return ast.Ident(str(token), _span([token]))
+
+
+_QUANTITY = re.compile(r"(?P<number>(?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(?P<unit>.*)", re.I | re.S)
+
+
+class _Builder(Transformer):
+    """Builds AST nodes as rules are reduced; children hold every token.
+
+    Every grammar rule that reaches the builder has a method here;
+    ``__default__`` raises, so a rule added to the grammar without a builder
+    fails loudly (tests/lang/test_lang_parser.py also checks the two agree).
+    """
+
+    def __default__(self, data: Any, children: Any, meta: Any) -> Any:
+        if str(data).startswith("_"):  # an inlined rule: its parent splices the children in
+            return Tree(data, children)
+        raise NotImplementedError(f"grammar rule '{data}' has no builder in cosmos/lang/parser.py")
+
+    # ------------------------------------------------------------ program
+
+    def start(self, children: list[Any]) -> tuple[ast.Statement, ...]:
+        return _nodes(children)
+
+    # --------------------------------------------------------- statements
+
+    def move(self, children: list[Any]) -> ast.Move:
+        _, mode, target, *clauses = children
+        return ast.Move(ast.MoveMode[mode.type], target, tuple(clauses), _span(children))
+
+    def contact(self, children: list[Any]) -> ast.Contact:
+        return ast.Contact(children[1], tuple(children[2:]), _span(children))
+
+    def slide(self, children: list[Any]) -> ast.Slide:
+        return ast.Slide(children[1], tuple(children[2:]), _span(children))
+
+    def insert(self, children: list[Any]) -> ast.Insert:
+        return ast.Insert(children[1], tuple(children[2:]), _span(children))
+
+    def wait(self, children: list[Any]) -> ast.Wait:
+        return ast.Wait(children[1], tuple(children[2:]), _span(children))
+
+    def speed(self, children: list[Any]) -> ast.SetSpeed:
+        return ast.SetSpeed(children[1], _span(children))
+
+    def comply(self, children: list[Any]) -> ast.Comply:
+        return ast.Comply(children[1], tuple(children[2:]), _span(children))
+
+    def obstacle(self, children: list[Any]) -> ast.Obstacle:
+        _, name, shape, *clauses = children
+        return ast.Obstacle(_ident(name), ast.Shape[shape.type], tuple(clauses), _span(children))
+
+    def remove_obstacle(self, children: list[Any]) -> ast.RemoveObstacle:
+        return ast.RemoveObstacle(_ident(children[2]), _span(children))
+
+    def let(self, children: list[Any]) -> ast.Let:
+        return ast.Let(_ident(children[1]), children[3], _span(children))
+
+    def frame(self, children: list[Any]) -> ast.FrameDef:
+        return ast.FrameDef(_ident(children[1]), children[3], _span(children))
+
+    def proc(self, children: list[Any]) -> ast.ProcDef:
+        keyword, name = children[0], children[1]
+        body = _nodes(children[2:-2])
+        return ast.ProcDef(_ident(name), body, _tag(children[-1]), _span([keyword, name]))
+
+    def repeat(self, children: list[Any]) -> ast.Repeat:
+        keyword, count = children[0], children[1]
+        body = _nodes(children[2:-2])
+        return ast.Repeat(count, body, _tag(children[-1]), _span([keyword, count]))
+
+    def call(self, children: list[Any]) -> ast.Call:
+        return ast.Call(_ident(children[-1]), _span(children))
+
+    # ------------------------------------------------------------ clauses
+
+    def value_clause(self, children: list[Any]) -> ast.ValueClause:
+        keyword, value = children
+        return ast.ValueClause(ast.ClauseKind[keyword.type], value, _span(children))
+
+    def via_clause(self, children: list[Any]) -> ast.ViaClause:
+        return ast.ViaClause(_nodes(children), _span(children))
+
+    def until_clause(self, children: list[Any]) -> ast.UntilClause:
+        return ast.UntilClause(children[1], _span(children))
+
+    def comply_clause(self, children: list[Any]) -> ast.ComplyClause:
+        return ast.ComplyClause(children[1], _span(children))
+
+    def axes(self, children: list[Any]) -> tuple[ast.AxisRef, ...]:
+        return tuple(child for child in children if isinstance(child, ast.AxisRef))
+
+    def axis(self, children: list[Token]) -> ast.AxisRef:
+        return ast.AxisRef(ast.Axis[children[0].type], _span(children))
+
+    def direction(self, children: list[Any]) -> ast.Direction:
+        last = children[-1]
+        if isinstance(last, Token):  # UP or DOWN
+            return ast.Direction(ast.Axis.Z, 1 if last.type == "UP" else -1, _span(children))
+        sign = -1 if isinstance(children[0], Token) and children[0].type == "MINUS" else 1
+        return ast.Direction(last.axis, sign, _span(children))
+
+    # --------------------------------------------------------- conditions
+
+    def any_of(self, children: list[Any]) -> ast.AnyOf:
+        return ast.AnyOf(_flatten(_nodes(children), ast.AnyOf), _span(children))
+
+    def all_of(self, children: list[Any]) -> ast.AllOf:
+        return ast.AllOf(_flatten(_nodes(children), ast.AllOf), _span(children))
+
+    def conjunction(self, children: list[Any]) -> ast.Condition:
+        """A parenthesised condition: ``( condition )``."""
+        return children[1]
+
+    def comparison(self, children: list[Any]) -> ast.Comparison:
+        (_, sensed, direction), op, value = children
+        return ast.Comparison(sensed, direction, str(op), value, _span(children))
+
+    def sensed(self, children: list[Any]) -> tuple[Token, ast.Sensed, ast.Direction | None]:
+        direction = children[1] if len(children) > 1 else None
+        return children[0], ast.Sensed[children[0].type], direction
+
+    # -------------------------------------------------------- expressions
+
+    def pose(self, children: list[Any]) -> ast.Expr:
+        position, rpy = children[0], children[-1]
+        return position if rpy is None else ast.Pose(position, rpy, _span(children))
+
+    def add(self, children: list[Any]) -> ast.Binary:
+        return ast.Binary("+", children[0], children[2], _span(children))
+
+    def subtract(self, children: list[Any]) -> ast.Binary:
+        return ast.Binary("-", children[0], children[2], _span(children))
+
+    def multiply(self, children: list[Any]) -> ast.Binary:
+        return ast.Binary("*", children[0], children[2], _span(children))
+
+    def negate(self, children: list[Any]) -> ast.Unary:
+        return ast.Unary("-", children[1], _span(children))
+
+    def plus(self, children: list[Any]) -> ast.Unary:
+        return ast.Unary("+", children[1], _span(children))
+
+    def unary(self, children: list[Any]) -> ast.Expr:
+        """A parenthesised expression: ``( expr )``."""
+        return children[1]
+
+    def vector(self, children: list[Any]) -> ast.Vector:
+        return ast.Vector(_nodes(children), _span(children))
+
+    def quantity(self, children: list[Token]) -> ast.Number:
+        match = _QUANTITY.fullmatch(str(children[0]))
+        assert match is not None  # the QUANTITY terminal has this shape
+        value = float(match["number"])
+        if not math.isfinite(value):
+            value = math.inf
+        return ast.Number(value, match["unit"].strip() or None, _span(children))
+
+    def name(self, children: list[Token]) -> ast.Name:
+        return ast.Name(str(children[0]), _span(children))
+
+
+def _tag(token: Token | None) -> str | None:
+    return None if token is None else token.type
+
+
+def _flatten(children: Iterable[Any], kind: type[ast.AnyOf] | type[ast.AllOf]) -> tuple[Any, ...]:
+    items: list[Any] = []
+    for child in children:
+        items.extend(child.items if isinstance(child, kind) else (child,))
+    return tuple(items)
+
+
+@cache
+def lark_parser() -> Lark:
+    """The shared Lark parser (LALR, contextual lexer, builds AST nodes inline)."""
+    return Lark(
+        _grammar_text(),
+        parser="lalr",
+        lexer="contextual",
+        keep_all_tokens=True,
+        maybe_placeholders=True,
+        cache=True,
+        postlex=_WordsEverywhere(),
+        transformer=_Builder(),
+    )
+
+
+@cache
+def _keywords() -> dict[str, str]:
+    parser = lark_parser()
+    return {
+        terminal.name: terminal.pattern.value
+        for terminal in parser.terminals
+        if isinstance(terminal.pattern, PatternStr) and terminal.pattern.value.isalpha()
+    }
+
+
+def keyword_of(terminal_name: str) -> str | None:
+    """The keyword a terminal stands for (``"SPEED"``), or None for other terminals."""
+    return _keywords().get(terminal_name)
+
+
+def keywords() -> frozenset[str]:
+    """Every keyword of the language, upper case."""
+    return frozenset(word.upper() for word in _keywords().values())
+
+
+def _raw_parse(text: str) -> Any:
+    """Parse without error mapping (used by match_examples)."""
+    return lark_parser().parse(text if text.endswith("\n") else text + "\n")
+
+
+def parse_program(source: str, file: str = "<input>") -> ast.Program:
+    """Parse program text into an AST.
+
+    Args:
+        source: The program text.
+        file: The name spans carry (a path, or ``<repl>``).
+
+    Raises:
+        ProgramError: A syntax error, with its span and the source attached.
+    """
+    try:
+        check_nesting(source, file)
+        token = _FILE.set(file)
+        try:
+            statements = _raw_parse(source)
+        finally:
+            _FILE.reset(token)
+    except UnexpectedInput as error:
+        raise syntax_error(error, source, file, _raw_parse, keyword_of, keywords()).with_source(
+            source
+        ) from None
+    except RecursionError:
+        raise ProgramError(
+            f"the program nests too deeply to parse (more than {MAX_NESTING} levels)",
+            Span(file, 1, 1, 1, 2),
+            source,
+        ) from None
+    except ProgramError as error:
+        raise error.with_source(source) from None
+    return ast.Program(statements, file, source)
+
+
+def needs_more_input(text: str) -> bool:
+    """Whether ``text`` ends inside a PROC or REPEAT block (a REPL should read on)."""
+    try:
+        _raw_parse(text)
+    except UnexpectedToken as error:
+        return error.token.type == "$END" and "END" in set(error.expected)
+    except Exception:  # noqa: BLE001 - any other failure is reported by parse_program
+        return False
+    return False

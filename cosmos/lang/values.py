@@ -1,0 +1,316 @@
+"""Evaluating expressions: numbers with units, vectors, frames, names.
+
+Values carry a dimension (cosmos.lang.units) or none: a bare number keeps
+``dim=None`` until it meets a slot, where it takes the slot's SI unit. The
+``expect_*`` functions are those slots: they check kind, size and dimension and
+raise a :class:`ProgramError` that points at the offending expression.
+"""
+
+from __future__ import annotations
+
+import difflib
+import enum
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from cosmos.errors import ProgramError, Span
+from cosmos.lang import ast, units
+from cosmos.lang.rotations import FloatArray, readonly, rpy_to_matrix
+from cosmos.lang.units import Dim
+
+
+@dataclass(frozen=True)
+class Scalar:
+    """A number in SI; ``dim`` None for a bare number."""
+
+    value: float
+    dim: Dim | None
+
+
+@dataclass(frozen=True)
+class Vec:
+    """Two or more numbers in SI sharing one dimension (None if all bare)."""
+
+    values: tuple[float, ...]
+    dim: Dim | None
+
+
+@dataclass(frozen=True, eq=False)
+class FrameValue:
+    """A frame: an origin in the world and, optionally, an orientation.
+
+    Attributes:
+        position: Origin [m], world, (3,).
+        rotation: Frame to world, (3, 3); None for a frame given as a bare position
+            (it has the world's axes under IN, and keeps the tool's orientation as a
+            MOVE target).
+    """
+
+    position: FloatArray
+    rotation: FloatArray | None
+
+
+Value = Scalar | Vec | FrameValue
+
+
+class BindingKind(enum.Enum):
+    """Where a name comes from."""
+
+    LET = "LET"
+    FRAME = "FRAME"
+    FIXTURE = "fixture"
+
+
+@dataclass(frozen=True)
+class Binding:
+    """A name's value; ``value`` None marks a name whose definition had an error."""
+
+    value: Value | None
+    kind: BindingKind
+    span: Span | None
+
+
+class SuppressedError(ProgramError):
+    """An error caused by an earlier, already reported one (a broken definition)."""
+
+
+def kind_of(value: Value) -> str:
+    """``"a length"``, ``"a vector of 3 lengths"``, ``"a frame"`` for messages."""
+    if isinstance(value, FrameValue):
+        return "a frame"
+    if isinstance(value, Vec):
+        inner = "numbers" if value.dim is None else units.describe(value.dim)[2:] + "s"
+        return f"a vector of {len(value.values)} {inner}"
+    return "a plain number" if value.dim is None else units.describe(value.dim)
+
+
+class Evaluator:
+    """Evaluates expressions against named values.
+
+    Args:
+        names: Names in scope, keyed by case-folded name.
+        text_of: The source text of a span, for messages.
+    """
+
+    def __init__(self, names: Mapping[str, Binding], text_of: Callable[[Span], str]):
+        self.names = names
+        self.text_of = text_of
+
+    # ------------------------------------------------------------ evaluation
+
+    def evaluate(self, expr: ast.Expr) -> Value:
+        """The value of an expression; every number in it finite.
+
+        Raises:
+            ProgramError: An unknown name, a unit or kind mismatch, or a number
+                too large to represent.
+        """
+        value = self._evaluate(expr)
+        if isinstance(expr, ast.Number | ast.Binary | ast.Unary) and not _finite(value):
+            raise ProgramError("this number is too large", expr.span)
+        return value
+
+    def _evaluate(self, expr: ast.Expr) -> Value:
+        if isinstance(expr, ast.Number):
+            if expr.unit is None:
+                return Scalar(expr.value, None)
+            try:
+                unit = units.parse_unit(expr.unit)
+            except units.UnknownUnit as error:
+                raise ProgramError(str(error), expr.span) from None
+            return Scalar(expr.value * unit.factor, unit.dim)
+        if isinstance(expr, ast.Name):
+            return self._lookup(expr)
+        if isinstance(expr, ast.Vector):
+            return self._vector(expr)
+        if isinstance(expr, ast.Unary):
+            operand = self.evaluate(expr.operand)
+            if expr.op == "+":
+                return operand
+            return self._scale(operand, -1.0, expr.span)
+        if isinstance(expr, ast.Binary):
+            return self._binary(expr)
+        return self._pose(expr)
+
+    def _lookup(self, expr: ast.Name) -> Value:
+        binding = self.names.get(expr.name.casefold())
+        if binding is None:
+            raise ProgramError(f"unknown name '{expr.name}'{suggest(expr.name, self.names)}", expr.span)
+        if binding.value is None:
+            raise SuppressedError(f"'{expr.name}' has an error in its definition", expr.span)
+        return binding.value
+
+    def _vector(self, expr: ast.Vector) -> Vec:
+        values: list[float] = []
+        dim: Dim | None = None
+        first_with_dim: ast.Expr | None = None
+        for item in expr.items:
+            value = self.evaluate(item)
+            if not isinstance(value, Scalar):
+                raise ProgramError(
+                    f"a vector's components must be numbers; this is {kind_of(value)}", item.span
+                )
+            if value.dim is not None:
+                if dim is None:
+                    dim, first_with_dim = value.dim, item
+                elif value.dim != dim:
+                    assert first_with_dim is not None
+                    raise ProgramError(
+                        f"the components of a vector must be of one kind: "
+                        f"{self.text_of(first_with_dim.span)} is {units.describe(dim)}, "
+                        f"{self.text_of(item.span)} is {units.describe(value.dim)}",
+                        item.span,
+                    )
+            values.append(value.value)
+        return Vec(tuple(values), dim)
+
+    def _scale(self, value: Value, factor: float, span: Span) -> Value:
+        if isinstance(value, Scalar):
+            return Scalar(value.value * factor, value.dim)
+        if isinstance(value, Vec):
+            return Vec(tuple(v * factor for v in value.values), value.dim)
+        raise ProgramError("a frame cannot be negated or scaled", span)
+
+    def _binary(self, expr: ast.Binary) -> Value:
+        left = self.evaluate(expr.left)
+        right = self.evaluate(expr.right)
+        if expr.op == "*":
+            return self._multiply(left, right, expr)
+        sign = 1.0 if expr.op == "+" else -1.0
+        if isinstance(left, FrameValue):
+            if isinstance(right, FrameValue) and sign < 0:
+                return Vec(tuple(left.position - right.position), units.LENGTH)
+            offset = self.expect_vector(expr.right, right, 3, units.LENGTH, "an offset")
+            return FrameValue(readonly(left.position + sign * offset), left.rotation)
+        if isinstance(right, FrameValue):
+            raise ProgramError(
+                f"write the frame first: {self.text_of(expr.right.span)} {expr.op} ...", expr.span
+            )
+        if type(left) is not type(right):
+            raise ProgramError(
+                f"cannot {'add' if sign > 0 else 'subtract'} {kind_of(right)} "
+                f"{'to' if sign > 0 else 'from'} {kind_of(left)}",
+                expr.span,
+            )
+        dim = self._common_dim(left.dim, right.dim, expr)
+        if isinstance(left, Scalar):
+            assert isinstance(right, Scalar)
+            return Scalar(left.value + sign * right.value, dim)
+        assert isinstance(left, Vec) and isinstance(right, Vec)
+        if len(left.values) != len(right.values):
+            raise ProgramError(
+                f"cannot combine vectors of {len(left.values)} and {len(right.values)} components",
+                expr.span,
+            )
+        return Vec(tuple(a + sign * b for a, b in zip(left.values, right.values, strict=True)), dim)
+
+    def _common_dim(self, a: Dim | None, b: Dim | None, expr: ast.Binary) -> Dim | None:
+        if a is None or b is None or a == b:
+            return a if a is not None else b
+        raise ProgramError(
+            f"cannot {'add' if expr.op == '+' else 'subtract'} {units.describe(b)} "
+            f"({self.text_of(expr.right.span)}) and {units.describe(a)} "
+            f"({self.text_of(expr.left.span)})",
+            expr.span,
+        )
+
+    def _multiply(self, left: Value, right: Value, expr: ast.Binary) -> Value:
+        if isinstance(left, Vec) and isinstance(right, Scalar):
+            left, right = right, left
+        if not isinstance(left, Scalar) or isinstance(right, FrameValue):
+            raise ProgramError("only numbers can multiply: a number * a number or a vector", expr.span)
+        dim = None
+        if left.dim is not None or right.dim is not None:
+            dim = units.multiply(left.dim or units.DIMENSIONLESS, right.dim or units.DIMENSIONLESS)
+        if isinstance(right, Scalar):
+            return Scalar(left.value * right.value, dim)
+        return Vec(tuple(left.value * v for v in right.values), dim)
+
+    def _pose(self, expr: ast.Pose) -> FrameValue:
+        position = self.expect_position(expr.position, "a pose's position")
+        angles = self.expect_vector(expr.rpy, self.evaluate(expr.rpy), 3, units.ANGLE, "RPY")
+        return FrameValue(position.position, rpy_to_matrix(*angles))
+
+    # ----------------------------------------------------------------- slots
+
+    def expect_scalar(self, expr: ast.Expr, dim: Dim, what: str) -> float:
+        """The SI value of ``expr``, which must be a number of dimension ``dim``.
+
+        Args:
+            expr: The expression.
+            dim: The slot's dimension; a bare number is read in its SI unit.
+            what: The slot, for messages (``"FORCE"``).
+        """
+        value = self.evaluate(expr)
+        if not isinstance(value, Scalar):
+            raise ProgramError(
+                f"{what} needs {units.describe(dim)}, like {units.example(dim)}; "
+                f"{self.text_of(expr.span)} is {kind_of(value)}",
+                expr.span,
+            )
+        if value.dim is not None and value.dim != dim:
+            raise ProgramError(
+                f"{what} needs {units.describe(dim)}, like {units.example(dim)}; "
+                f"{self.text_of(expr.span)} is {units.describe(value.dim)}",
+                expr.span,
+            )
+        return value.value
+
+    def expect_vector(self, expr: ast.Expr, value: Value, size: int, dim: Dim, what: str) -> FloatArray:
+        """``value`` (of ``expr``) as a read-only (size,) SI array of dimension ``dim``."""
+        if not isinstance(value, Vec):
+            raise ProgramError(
+                f"{what} needs a vector of {size} {units.describe(dim)[2:]}s, like "
+                f"({', '.join([units.example(dim)] * size)}); "
+                f"{self.text_of(expr.span)} is {kind_of(value)}",
+                expr.span,
+            )
+        if len(value.values) != size:
+            raise ProgramError(f"{what} needs {size} components, not {len(value.values)}", expr.span)
+        if value.dim is not None and value.dim != dim:
+            raise ProgramError(
+                f"{what} needs {units.describe(dim)[2:]}s; "
+                f"{self.text_of(expr.span)} holds {units.describe(value.dim)[2:]}s",
+                expr.span,
+            )
+        return readonly(value.values)
+
+    def expect_vector3(self, expr: ast.Expr, dim: Dim, what: str) -> FloatArray:
+        """Evaluate ``expr`` as a vector of 3 components of dimension ``dim``."""
+        return self.expect_vector(expr, self.evaluate(expr), 3, dim, what)
+
+    def expect_position(self, expr: ast.Expr, what: str) -> FrameValue:
+        """A position or frame: a 3-vector of lengths becomes a frame without orientation."""
+        value = self.evaluate(expr)
+        if isinstance(value, FrameValue):
+            return value
+        if isinstance(value, Scalar):
+            raise ProgramError(
+                f"{what} needs a position like (0.5, 0.1, 0.3) or a frame; "
+                f"{self.text_of(expr.span)} is {kind_of(value)}",
+                expr.span,
+            )
+        return FrameValue(self.expect_vector(expr, value, 3, units.LENGTH, what), None)
+
+
+def _finite(value: Value) -> bool:
+    if isinstance(value, Scalar):
+        return math.isfinite(value.value)
+    if isinstance(value, Vec):
+        return all(math.isfinite(v) for v in value.values)
+    return bool(np.all(np.isfinite(value.position)))
+
+
+def suggest(name: str, known: Mapping[str, object]) -> str:
+    """``"; did you mean 'hole'?"``, or the known names, for an unknown name."""
+    close = difflib.get_close_matches(name.casefold(), list(known), n=1, cutoff=0.6)
+    if close:
+        return f"; did you mean '{close[0]}'?"
+    if not known:
+        return ""
+    listed = sorted(known)
+    more = ", ..." if len(listed) > 10 else ""
+    return "; known names: " + ", ".join(listed[:10]) + more

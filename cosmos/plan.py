@@ -1,0 +1,599 @@
+"""The compiled plan: the contract between the language and the executor.
+
+A :class:`Plan` is the program after parsing, checking and compiling: a list of
+steps in execution order. A step is a :class:`Segment` (the arm does something
+under one fixed control law until a completion or stop condition) or a scene
+change (:class:`AddObstacle`, :class:`RemoveObstacle`). Procedures and loops are
+already expanded; each step keeps the span of the statement it came from.
+
+Conventions, for every field below:
+
+- Units are SI: m, s, N, N m, rad, m/s, N/m, N m/rad, N s/m, N m s/rad.
+- Vectors and matrices are read-only ``float64`` numpy arrays. A 6-vector is
+  ordered (x, y, z, rx, ry, rz): three translations then three rotations.
+- ``*_world`` quantities are in the world frame. 6-vectors of a segment
+  (``motion_axes``, ``force_setpoint``, ``stiffness``, ``damping``) are in the
+  segment's *task frame*, whose orientation is ``frame_rotation``: a 3x3 matrix
+  whose columns are the task frame's x, y, z axes in world coordinates (so a
+  task-frame vector v is ``frame_rotation @ v`` in the world). The task frame's
+  origin is the tool point; only its orientation matters.
+- Forces and moments are those the tool applies to the environment
+  (docs/language.md, "Sign of forces"): ``CONTACT DOWN FORCE 10 N`` holds a
+  setpoint of -10 N on the world z axis.
+
+Statement-level semantics the executor must honour:
+
+- Segments of one statement share ``statement_index`` (CONTACT gives two).
+  ``timeout_s`` and the ``DISTANCE`` of ``until`` count from the start of the
+  statement's first segment. When ``until`` holds, the statement ends with
+  success: skip its remaining segments.
+- A relative target or a ``None`` target is resolved against the tool pose
+  measured when the segment starts.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cosmos.errors import CosmosError, Span
+from cosmos.lang.rotations import matrix_to_quaternion
+
+FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+
+class SegmentKind(enum.Enum):
+    """What a segment does; the statement it came from is in ``Segment.statement``."""
+
+    MOVE = "move"
+    """Goal-position motion (seed eq. 20-21) or a timed trajectory (eq. 19)."""
+    CONTACT_APPROACH = "contact_approach"
+    """Guarded move along a direction at low speed until the tool touches."""
+    CONTACT_HOLD = "contact_hold"
+    """Hold the contact force on the contact axis, position on the others."""
+    SLIDE = "slide"
+    """Motion along a direction while the held contact axis stays force-controlled."""
+    INSERT = "insert"
+    """Force control along the insertion axis, zero-force compliance laterally."""
+    WAIT = "wait"
+    """Hold (position, and any held contact force) for a time or until a condition."""
+
+
+# ----------------------------------------------------------------- targets
+
+
+@dataclass(frozen=True, eq=False)
+class AbsoluteTarget:
+    """A goal pose in the world.
+
+    Attributes:
+        position_world: Tool point position [m], shape (3,).
+        rotation_world: Tool orientation (tool frame to world), shape (3, 3), or
+            ``None`` to keep the orientation the tool has when the segment starts.
+    """
+
+    position_world: FloatArray
+    rotation_world: FloatArray | None
+
+
+@dataclass(frozen=True, eq=False)
+class RelativeTarget:
+    """A goal offset from the tool position measured when the segment starts.
+
+    Attributes:
+        offset_world: Displacement of the tool point [m], world axes, shape (3,).
+            The orientation is kept as it is at the segment start.
+    """
+
+    offset_world: FloatArray
+
+
+Target = AbsoluteTarget | RelativeTarget
+
+
+# ------------------------------------------------------------- completions
+
+
+class CompletionKind(enum.Enum):
+    """How a segment finishes successfully when no stop condition fires first."""
+
+    GOAL_REACHED = "goal_reached"
+    CONTACT_TOUCH = "contact_touch"
+    FORCE_SETTLED = "force_settled"
+    DEPTH_REACHED = "depth_reached"
+    DURATION = "duration"
+    CONDITION = "condition"
+
+
+@dataclass(frozen=True, eq=False)
+class GoalReached:
+    """Done when the motion axes are at the target and the tool is nearly at rest.
+
+    Only motion-controlled axes are compared; force-controlled axes are ignored.
+
+    Attributes:
+        position_tolerance_m: Largest position error on the motion axes [m].
+        orientation_tolerance_rad: Largest orientation error on the motion axes [rad].
+        speed_tolerance_mps: Largest tool-point speed [m/s].
+    """
+
+    position_tolerance_m: float
+    orientation_tolerance_rad: float
+    speed_tolerance_mps: float
+    kind: ClassVar[CompletionKind] = CompletionKind.GOAL_REACHED
+
+
+@dataclass(frozen=True, eq=False)
+class ContactTouch:
+    """Done when the tool touches.
+
+    Touching: the force the tool applies along ``direction_world``
+    (``wrench_force_world @ direction_world``) exceeds ``threshold_n``.
+
+    Attributes:
+        direction_world: Unit approach direction, world, shape (3,).
+        threshold_n: Touch threshold [N].
+        max_travel_m: The segment *fails* ("nothing touched") when the tool has
+            moved this far along the direction without touching [m]. The
+            segment's target sits at this distance.
+    """
+
+    direction_world: FloatArray
+    threshold_n: float
+    max_travel_m: float
+    kind: ClassVar[CompletionKind] = CompletionKind.CONTACT_TOUCH
+
+
+@dataclass(frozen=True, eq=False)
+class ForceSettled:
+    """Done when the force has settled on its setpoint.
+
+    Settled: every force-controlled axis has been within ``tolerance_n`` of its
+    setpoint (moments: ``tolerance_n`` read as N m) for ``settle_time_s``.
+
+    Attributes:
+        tolerance_n: Allowed force error [N].
+        settle_time_s: How long the force must stay within tolerance [s].
+        max_time_s: The segment fails ("force did not settle") after this long [s].
+    """
+
+    tolerance_n: float
+    settle_time_s: float
+    max_time_s: float
+    kind: ClassVar[CompletionKind] = CompletionKind.FORCE_SETTLED
+
+
+@dataclass(frozen=True, eq=False)
+class DepthReached:
+    """Done when the tool point has gone ``depth_m`` deep along ``direction_world``.
+
+    Depth is measured since the segment started:
+    ``(x - x_start) @ direction_world >= depth_m``.
+
+    Attributes:
+        direction_world: Unit insertion direction, world, shape (3,).
+        depth_m: Depth to reach [m].
+    """
+
+    direction_world: FloatArray
+    depth_m: float
+    kind: ClassVar[CompletionKind] = CompletionKind.DEPTH_REACHED
+
+
+@dataclass(frozen=True, eq=False)
+class Elapsed:
+    """Done after ``duration_s`` seconds in the segment (WAIT t)."""
+
+    duration_s: float
+    kind: ClassVar[CompletionKind] = CompletionKind.DURATION
+
+
+@dataclass(frozen=True, eq=False)
+class UntilOnly:
+    """Never done by itself: only ``until`` ends it (``WAIT UNTIL ...``), or the timeout."""
+
+    kind: ClassVar[CompletionKind] = CompletionKind.CONDITION
+
+
+Completion = GoalReached | ContactTouch | ForceSettled | DepthReached | Elapsed | UntilOnly
+
+
+# --------------------------------------------------------- stop conditions
+
+
+class Quantity(enum.Enum):
+    """A sensed quantity an UNTIL condition compares."""
+
+    FORCE = "force"
+    """Magnitude of the force the tool applies [N]."""
+    FORCE_ALONG = "force_along"
+    """Force the tool applies, projected on ``direction_world`` [N]."""
+    TORQUE = "torque"
+    """Magnitude of the moment the tool applies [N m]."""
+    TORQUE_ABOUT = "torque_about"
+    """Moment the tool applies, projected on ``direction_world`` [N m]."""
+    DISTANCE = "distance"
+    """Distance of the tool point from where the statement started [m]."""
+
+
+class CompareOp(enum.Enum):
+    """Comparison operators."""
+
+    GT = ">"
+    GE = ">="
+    LT = "<"
+    LE = "<="
+
+    def holds(self, measured: float, value: float) -> bool:
+        """``measured <op> value``."""
+        if self is CompareOp.GT:
+            return measured > value
+        if self is CompareOp.GE:
+            return measured >= value
+        if self is CompareOp.LT:
+            return measured < value
+        return measured <= value
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison:
+    """``quantity <op> value``.
+
+    Attributes:
+        quantity: What is measured.
+        direction_world: Unit vector, world, for FORCE_ALONG and TORQUE_ABOUT; else None.
+        op: The comparison.
+        value: Threshold in SI (N, N m or m).
+        text: The condition as written.
+        span: Where it is written.
+    """
+
+    quantity: Quantity
+    direction_world: FloatArray | None
+    op: CompareOp
+    value: float
+    text: str
+    span: Span
+
+
+@dataclass(frozen=True, eq=False)
+class AllOf:
+    """True when every term is true (AND)."""
+
+    terms: tuple[Condition, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class AnyOf:
+    """True when any term is true (OR)."""
+
+    terms: tuple[Condition, ...]
+
+
+Condition = Comparison | AllOf | AnyOf
+
+
+def condition_holds(
+    condition: Condition, force_world: FloatArray, torque_world: FloatArray, distance_m: float
+) -> bool:
+    """Evaluate a stop condition on measured values.
+
+    Args:
+        condition: The condition tree.
+        force_world: Force the tool applies to the environment [N], world, (3,).
+        torque_world: Moment the tool applies to the environment [N m], world, (3,).
+        distance_m: Distance of the tool point from the statement's start [m].
+    """
+    if isinstance(condition, AllOf):
+        return all(condition_holds(t, force_world, torque_world, distance_m) for t in condition.terms)
+    if isinstance(condition, AnyOf):
+        return any(condition_holds(t, force_world, torque_world, distance_m) for t in condition.terms)
+    quantity = condition.quantity
+    if quantity is Quantity.FORCE:
+        measured = float(np.linalg.norm(force_world))
+    elif quantity is Quantity.TORQUE:
+        measured = float(np.linalg.norm(torque_world))
+    elif quantity is Quantity.FORCE_ALONG:
+        measured = float(np.dot(force_world, condition.direction_world))  # type: ignore[arg-type]
+    elif quantity is Quantity.TORQUE_ABOUT:
+        measured = float(np.dot(torque_world, condition.direction_world))  # type: ignore[arg-type]
+    else:
+        measured = distance_m
+    return condition.op.holds(measured, condition.value)
+
+
+# ---------------------------------------------------------------- segments
+
+
+@dataclass(frozen=True, eq=False)
+class JamCheck:
+    """When an INSERT counts as jammed.
+
+    Jammed: the tool moves slower than ``stall_speed_mps`` along the insertion
+    direction for ``stall_time_s`` before the depth is reached.
+    """
+
+    stall_speed_mps: float
+    stall_time_s: float
+
+
+@dataclass(frozen=True, eq=False)
+class Segment:
+    """One control law held until completion, a stop condition, a timeout or a failure.
+
+    Attributes:
+        index: Position among the plan's segments, from 0.
+        kind: What the segment does.
+        statement_index: Counts executed statements from 0; a statement's segments
+            share it (procedures and loops expanded, so every call counts anew).
+        span: The statement in the source.
+        line: ``span.line``.
+        statement: The statement's source text.
+        context: Where an expanded statement came from ("" at top level), e.g.
+            ``"PROC pick called at line 12, REPEAT pass 2 of 3 at line 10"``.
+        frame_name: The task frame as written (``"world"`` unless ``IN frame``).
+        frame_rotation: Task frame to world rotation, (3, 3).
+        motion_axes: Diagonal of the seed's selection matrix Omega, (6,) bool, task
+            frame: True = motion-controlled, False = force-controlled (the
+            complement selects the force servo).
+        force_setpoint: Force then moment the tool applies [N, N m], task frame,
+            (6,); zero on motion axes.
+        stiffness: Per task axis [N/m x3, N m/rad x3]. ``None`` = the controller's
+            default servo stiffness; 0.0 on every force-controlled axis; a COMPLY
+            STIFFNESS value on a motion axis makes that axis a spring.
+        damping: Per task axis [N s/m x3, N m s/rad x3]; ``None`` = controller default.
+        target: Goal of the motion axes: absolute, relative to the pose at segment
+            start, or ``None`` = hold the pose measured at segment start.
+        via: Intermediate goals passed in order before ``target`` (MOVE TO ... VIA).
+        via_radius_m: Switch to the next goal when this close to a via point [m].
+        speed_limit_mps: Tool-point speed limit [m/s] (V_max of seed eq. 21); the
+            executor also keeps force-controlled axes below it. ``None`` when the
+            motion is timed or the segment does not move.
+        duration_s: For a timed MOVE (``IN t``): the trajectory's duration [s] (eq. 19).
+        completion: How the segment succeeds.
+        until: Stop condition (UNTIL): the statement ends with success when it holds.
+        timeout_s: The statement fails if not finished this long after it started [s].
+        jam_check: INSERT only: when to fail as jammed.
+    """
+
+    index: int
+    kind: SegmentKind
+    statement_index: int
+    span: Span
+    line: int
+    statement: str
+    context: str
+    frame_name: str
+    frame_rotation: FloatArray
+    motion_axes: BoolArray
+    force_setpoint: FloatArray
+    stiffness: tuple[float | None, ...]
+    damping: tuple[float | None, ...]
+    target: Target | None
+    via: tuple[AbsoluteTarget, ...]
+    via_radius_m: float | None
+    speed_limit_mps: float | None
+    duration_s: float | None
+    completion: Completion
+    until: Condition | None
+    timeout_s: float | None
+    jam_check: JamCheck | None
+
+    @property
+    def force_axes(self) -> BoolArray:
+        """Complement of ``motion_axes``: the diagonal of the force selection matrix."""
+        return ~self.motion_axes
+
+
+# ------------------------------------------------------------------- scene
+
+
+class ObstacleShape(enum.Enum):
+    """Obstacle primitives."""
+
+    SPHERE = "sphere"
+    CYLINDER = "cylinder"
+    BOX = "box"
+    PLANE = "plane"
+
+
+@dataclass(frozen=True, eq=False)
+class AddObstacle:
+    """Add an obstacle to the scene (a body in the simulation and a FIRAS field).
+
+    Attributes:
+        name: The obstacle's name as written.
+        shape: Its primitive.
+        position_world: Centre of the shape when added [m], (3,) (for a cylinder the
+            middle of its axis; for a plane a point on it).
+        rotation_world: Shape frame to world, (3, 3): a cylinder's axis and a plane's
+            normal are the shape frame's z axis; a box's edges its x, y, z axes.
+        radius_m: Sphere and cylinder radius [m], else None.
+        height_m: Cylinder length along its axis [m], else None.
+        size_m: Box edge lengths along its x, y, z axes [m], (3,), else None.
+        velocity_world_mps: Constant velocity [m/s], (3,); zeros when not MOVING.
+        influence_m: Distance of influence of the repulsive field (rho_0) [m], or
+            None for the controller's default.
+        gain_scale: Factor on the controller's default repulsion gain (1.0 = default).
+        span, line, statement: Where it was written.
+    """
+
+    name: str
+    shape: ObstacleShape
+    position_world: FloatArray
+    rotation_world: FloatArray
+    radius_m: float | None
+    height_m: float | None
+    size_m: FloatArray | None
+    velocity_world_mps: FloatArray
+    influence_m: float | None
+    gain_scale: float
+    span: Span
+    line: int
+    statement: str
+
+
+@dataclass(frozen=True, eq=False)
+class RemoveObstacle:
+    """Remove the obstacle named ``name`` from the scene."""
+
+    name: str
+    span: Span
+    line: int
+    statement: str
+
+
+Step = Segment | AddObstacle | RemoveObstacle
+
+
+# -------------------------------------------------------------------- plan
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """A warning: legal but likely not what was meant."""
+
+    message: str
+    span: Span
+
+    def render(self, source: str | None = None) -> str:
+        """``file:line:col: warning: message``, the line, and a caret."""
+        return CosmosError(f"warning: {self.message}", self.span, source).render()
+
+
+@dataclass(frozen=True, eq=False)
+class Plan:
+    """A compiled program.
+
+    Attributes:
+        file: The program's path as given.
+        source: The program text.
+        steps: Segments and scene changes in execution order.
+        warnings: Diagnostics that do not stop the program.
+    """
+
+    file: str
+    source: str
+    steps: tuple[Step, ...]
+    warnings: tuple[Diagnostic, ...]
+
+    @property
+    def segments(self) -> tuple[Segment, ...]:
+        """The steps that are segments, in order."""
+        return tuple(step for step in self.steps if isinstance(step, Segment))
+
+
+# -------------------------------------------------------------------- JSON
+
+
+def _floats(values: Any) -> list[float]:
+    return [float(v) for v in np.asarray(values, dtype=np.float64).ravel()]
+
+
+def _target_json(target: Target | None) -> dict[str, Any] | None:
+    if target is None:
+        return None
+    if isinstance(target, RelativeTarget):
+        return {"type": "relative", "offset": _floats(target.offset_world)}
+    orientation = None if target.rotation_world is None else list(matrix_to_quaternion(target.rotation_world))
+    return {"type": "absolute", "position": _floats(target.position_world), "orientation": orientation}
+
+
+def _completion_json(completion: Completion) -> dict[str, Any]:
+    fields: dict[str, Any] = {"type": completion.kind.value}
+    for name, value in vars(completion).items():
+        fields[name] = _floats(value) if isinstance(value, np.ndarray) else value
+    return fields
+
+
+def condition_to_json(condition: Condition) -> dict[str, Any]:
+    """A stop condition as nested dicts."""
+    if isinstance(condition, AllOf | AnyOf):
+        key = "all" if isinstance(condition, AllOf) else "any"
+        return {key: [condition_to_json(t) for t in condition.terms]}
+    direction = None if condition.direction_world is None else _floats(condition.direction_world)
+    return {
+        "quantity": condition.quantity.value,
+        "direction": direction,
+        "op": condition.op.value,
+        "value": condition.value,
+        "text": condition.text,
+    }
+
+
+def segment_to_json(segment: Segment) -> dict[str, Any]:
+    """A segment as a JSON-ready dict (the fields of the ``/cosmos/segment`` topic).
+
+    ``frame`` is the task frame orientation as a quaternion (w, x, y, z);
+    ``motion_axes`` is 6 of 0/1; ``stiffness`` and ``damping`` hold ``null`` where
+    the controller's default applies.
+    """
+    return {
+        "segment": segment.index,
+        "kind": segment.kind.value,
+        "line": segment.line,
+        "column": segment.span.column,
+        "statement": segment.statement,
+        "statement_index": segment.statement_index,
+        "context": segment.context,
+        "frame_name": segment.frame_name,
+        "frame": list(matrix_to_quaternion(segment.frame_rotation)),
+        "motion_axes": [int(bool(a)) for a in segment.motion_axes],
+        "force_setpoint": _floats(segment.force_setpoint),
+        "stiffness": list(segment.stiffness),
+        "damping": list(segment.damping),
+        "goal": _target_json(segment.target),
+        "via": [_target_json(v) for v in segment.via],
+        "via_radius": segment.via_radius_m,
+        "speed_limit": segment.speed_limit_mps,
+        "duration": segment.duration_s,
+        "timeout": segment.timeout_s,
+        "completion": _completion_json(segment.completion),
+        "until": None if segment.until is None else condition_to_json(segment.until),
+        "jam_check": None
+        if segment.jam_check is None
+        else {
+            "stall_speed": segment.jam_check.stall_speed_mps,
+            "stall_time": segment.jam_check.stall_time_s,
+        },
+    }
+
+
+def step_to_json(step: Step) -> dict[str, Any]:
+    """A step as a JSON-ready dict with a ``step`` field naming its type."""
+    if isinstance(step, Segment):
+        return {"step": "segment", **segment_to_json(step)}
+    if isinstance(step, RemoveObstacle):
+        return {"step": "remove_obstacle", "name": step.name, "line": step.line, "statement": step.statement}
+    return {
+        "step": "add_obstacle",
+        "name": step.name,
+        "shape": step.shape.value,
+        "position": _floats(step.position_world),
+        "orientation": list(matrix_to_quaternion(step.rotation_world)),
+        "radius": step.radius_m,
+        "height": step.height_m,
+        "size": None if step.size_m is None else _floats(step.size_m),
+        "velocity": _floats(step.velocity_world_mps),
+        "influence": step.influence_m,
+        "gain_scale": step.gain_scale,
+        "line": step.line,
+        "statement": step.statement,
+    }
+
+
+def plan_to_json(plan: Plan) -> Mapping[str, Any]:
+    """The plan as JSON-ready dicts: ``file``, ``steps``, ``warnings``."""
+    return {
+        "file": plan.file,
+        "steps": [step_to_json(step) for step in plan.steps],
+        "warnings": [
+            {"line": w.span.line, "column": w.span.column, "message": w.message} for w in plan.warnings
+        ],
+    }
