@@ -196,8 +196,10 @@ def test_press_on_the_table(robot):
     np.testing.assert_allclose(contact_force_on_tool(plant), expected, atol=0.2)
     # The sensor: force link 6 exerts on the tool = -(contact + weight); the
     # force the tool applies to the table is then R f + m g = (0, 0, -10) N.
+    # (1 mN: the soft tool contact is still creeping by micrometres, so the tool's
+    # own acceleration stands between the two by a fraction of a millinewton.)
     force, _ = sensor_in_world(plant)
-    np.testing.assert_allclose(force, -contact_force_on_tool(plant) - TOOL.mass_kg * GRAVITY, atol=1e-6)
+    np.testing.assert_allclose(force, -contact_force_on_tool(plant) - TOOL.mass_kg * GRAVITY, atol=1e-3)
     np.testing.assert_allclose(force + TOOL.mass_kg * GRAVITY, -expected, atol=0.2)
 
     contacts = plant.contacts()

@@ -120,7 +120,8 @@ class Executor:
         setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s)
         rt.set_setpoint(setpoint)
         self._log_segment(segment, setpoint)
-        timed_until = None if segment.duration_s is None else start_s + segment.duration_s
+        trajectory = setpoint.trajectory
+        timed_until = None if trajectory is None else start_s + trajectory.duration_s
         monitor = SegmentMonitor(
             segment, start_s, ev.position.copy(), statement_start_s, statement_start_position, timed_until
         )

@@ -113,7 +113,10 @@ class SegmentMonitor:
         done = self._completion(snap)
         if done is not None:
             return done
-        if seg.timeout_s is not None and snap.t_s - self.statement_start_s >= seg.timeout_s:
+        # A CONTACT's TIMEOUT bounds the search for the surface (language.md); once it
+        # touched, settling the force has its own bound (ForceSettled.max_time_s).
+        timed = seg.timeout_s is not None and seg.kind is not SegmentKind.CONTACT_HOLD
+        if timed and snap.t_s - self.statement_start_s >= seg.timeout_s:
             return Outcome(Verdict.FAILED, self._timeout_reason(seg.timeout_s))
         return None
 

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from cosmos.osc.motion import PoseTrajectory
-from cosmos.plan import AbsoluteTarget, RelativeTarget, Segment, SegmentKind, Target
+from cosmos.plan import RelativeTarget, Segment, SegmentKind, Target
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.setpoint import (
     DEFAULT_KP,
@@ -90,14 +90,21 @@ def setpoint_for(
     """The servo setpoint that executes ``segment`` toward the given goal pose."""
     kp, kv = axis_gains(segment, evaluation)
     trajectory = None
-    if segment.duration_s is not None:
+    duration_s = segment.duration_s
+    if duration_s is None and segment.kind is SegmentKind.SLIDE and segment.speed_limit_mps:
+        # Along a surface, friction opposes the motion: a trajectory tracked with eq. 19
+        # pushes through it with position error, where eq. 20's velocity servo would
+        # crawl. Minimum jerk peaks at 1.875 times the mean speed: keep that at the limit.
+        distance = float(np.linalg.norm(goal_position - evaluation.position))
+        duration_s = max(1.875 * distance / segment.speed_limit_mps, 0.1)
+    if duration_s is not None:
         mode = MotionMode.TRAJECTORY
         trajectory = PoseTrajectory.between(
             evaluation.position,
             evaluation.rotation_tool_to_world,
             goal_position,
             goal_rotation,
-            segment.duration_s,
+            duration_s,
         )
     elif segment.target is None and segment.kind is not SegmentKind.CONTACT_APPROACH:
         mode = MotionMode.HOLD
@@ -118,8 +125,3 @@ def setpoint_for(
         kv_task=kv,
         trajectory=trajectory,
     )
-
-
-def via_goals(segment: Segment) -> tuple[AbsoluteTarget, ...]:
-    """The via points of a MOVE ... VIA, in order."""
-    return segment.via

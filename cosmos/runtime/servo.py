@@ -12,7 +12,7 @@ potential of section 6 and friction compensation, saturated to the drives.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -101,11 +101,16 @@ class ServoLevel:
         self._evaluation = evaluation
         self._refold()
 
+    def _force_gains(self, sp: ServoSetpoint) -> ForceGains:
+        if sp.force_damping is None:
+            return self.gains.force
+        return replace(self.gains.force, k_vf=sp.force_damping)
+
     def _refold(self) -> None:
         ev, sp, sel = self._evaluation, self._setpoint, self._selection
         if ev is None or sp is None or sel is None:
             return
-        self._fold = fold_for_servo(ev, sel, self.gains.force, self.gains.xi_q)
+        self._fold = fold_for_servo(ev, sel, self._force_gains(sp), self.gains.xi_q)
         self._base_error = pose_error(
             ev.position, ev.rotation_tool_to_world, sp.position, sp.rotation_to_world
         )
@@ -133,7 +138,7 @@ class ServoLevel:
         motion = self._motion_command(t_s, sp, ev, displacement, velocity)
         ramp = min(1.0, (t_s - sp.start_s) / sp.ramp_s) if sp.ramp_s > 0.0 else 1.0
         force_setpoint = sp.force_start_world + ramp * (sp.force_world - sp.force_start_world)
-        gains = self.gains.force
+        gains = self._force_gains(sp)
         self._integral = integrate_force_error(
             self._integral,
             force_setpoint,
