@@ -127,13 +127,25 @@ class _Run:
     # ------------------------------------------------------------ dispatch
 
     def statement(self, statement: ast.Statement, state: CompileState) -> CompileState:
+        """Compile one statement (expanding blocks) and return the state after it.
+
+        An error leaving here carries the text it points into and, for a statement
+        expanded from a procedure or loop, where it was expanded from.
+        """
         try:
-            return self._statement(statement, state)
-        except RecursionError:
-            raise ProgramError(
-                "this statement nests too deeply to compile; split its expressions",
-                statement.span,
-            ) from None
+            try:
+                return self._statement(statement, state)
+            except RecursionError:
+                raise ProgramError(
+                    "this statement nests too deeply to compile; split its expressions",
+                    statement.span,
+                ) from None
+        except ProgramError as error:
+            if error.source is None:  # not yet seen by an inner statement
+                if self.context and not isinstance(error, SuppressedError):
+                    error.message += f" (in {'; '.join(self.context)})"
+                error.with_source(self.source)
+            raise
 
     def _statement(self, statement: ast.Statement, state: CompileState) -> CompileState:
         evaluator = Evaluator(state.names, self.text_of)
@@ -457,7 +469,7 @@ class Compiler:
             check_statement(statement)
             new_state = run.statement(statement, state)
         except ProgramError as error:
-            raise _in_context(error, run).with_source(run.source) from None
+            raise error.with_source(source) from None
         return StatementResult(tuple(run.steps), new_state, tuple(run.warnings))
 
     def compile_text(self, text: str, state: CompileState, file: str = "<repl>") -> StatementResult:
@@ -510,12 +522,6 @@ class Compiler:
             warnings.append(plan.Diagnostic("the program is empty", Span(file, 1, 1, 1, 1)))
         warnings.sort(key=lambda w: (w.span.line, w.span.column))
         return plan.Plan(file=file, source=source, steps=result.steps, warnings=tuple(warnings))
-
-
-def _in_context(error: ProgramError, run: _Run) -> ProgramError:
-    if run.context and not isinstance(error, SuppressedError):
-        error.message += f" (in {'; '.join(run.context)})"
-    return error
 
 
 def _poison(statement: ast.Statement, state: CompileState) -> CompileState:

@@ -40,7 +40,7 @@ def compile_condition(
     quantity, direction_world = _quantity(condition, frame)
     name = condition.sensed.value
     if condition.direction is not None:
-        name += f" {condition.direction.text}"
+        name += f" {text_of(condition.direction.span)}"
     value = evaluator.expect_scalar(condition.value, _QUANTITY_DIM[quantity], name)
     op = plan.CompareOp(condition.op)
     if quantity in _MAGNITUDES:

@@ -123,6 +123,42 @@ _EXAMPLES: dict[str, list[str]] = {
 }
 
 
+_PREFIXES = ("", "WAIT 1 s\n", "PROC p\n", "PROC p\nWAIT 1 s\n")
+"""Each slip is also tried after a line and inside a PROC: the parser's stack
+differs there, and parser states are compared whole."""
+
+_example_errors: list[tuple[str, UnexpectedToken, set[str]]] | None = None
+
+
+def _match_example(error: UnexpectedToken, parse: Callable[[str], Any]) -> str | None:
+    """The label of the common slip that fails in the same parser state as ``error``.
+
+    Like Lark's ``UnexpectedInput.match_examples``, but the examples are parsed
+    once per process rather than on every error.
+    """
+    global _example_errors
+    if _example_errors is None:
+        found = []
+        for label, examples in _EXAMPLES.items():
+            for prefix in _PREFIXES:
+                for example in examples:
+                    try:
+                        parse(prefix + example)
+                    except UnexpectedToken as failure:
+                        found.append((label, failure, set(failure.accepts or failure.expected)))
+                    except UnexpectedInput:
+                        pass
+        _example_errors = found
+    accepts = set(error.accepts or error.expected)
+    candidate = None
+    for label, example_error, example_accepts in _example_errors:
+        if example_error.state == error.state and example_accepts == accepts:
+            if example_error.token.type == error.token.type:
+                return label
+            candidate = candidate or label
+    return candidate
+
+
 def check_nesting(source: str, file: str) -> None:
     """Refuse parentheses nested deeper than :data:`MAX_NESTING` (before parsing).
 
@@ -287,6 +323,9 @@ def syntax_error(
         if block is not None:
             return block
 
+    if token.type == "END" and "END" not in expected and _open_block(source, file) is None:
+        return ProgramError("END without a PROC or REPEAT to close", span)
+
     keyword_candidates = [n for n in expected if terminal_text(n)]
     if token.type == "WORD":
         keyword = _closest(text, [terminal_text(n) or "" for n in keyword_candidates], 0.7)
@@ -304,10 +343,7 @@ def syntax_error(
         if first and first[1].upper() not in STATEMENT_KEYWORDS and first[1].upper() != "END":
             return _unknown_statement(first, span.line, file, keywords)
 
-    try:
-        label = error.match_examples(parse, _EXAMPLES, use_accepts=True)
-    except UnexpectedInput:
-        label = None
+    label = _match_example(error, parse)
     if label is not None:
         return ProgramError(label, span)
 

@@ -1,0 +1,127 @@
+"""``cosmos check``: the plan as a table or JSON, exit status, errors and warnings."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from lang_support import FIXTURES
+
+from cosmos.cli import cli
+from cosmos.commands import check as check_command
+
+PEG = """\
+FRAME above = hole + (2 mm, 0, 80 mm)
+SPEED 0.25 m/s
+MOVE TO above
+CONTACT DOWN FORCE 8 N SPEED 20 mm/s TIMEOUT 5 s
+INSERT DOWN DEPTH 25 mm FORCE 15 N COMPLY X Y RX RY TIMEOUT 10 s
+MOVE BY (0, 0, 100 mm) UNTIL FORCE > 5 N
+OBSTACLE post CYLINDER AT (0.4, -0.2, 0) RADIUS 40 mm HEIGHT 0.6 m
+"""
+
+
+@pytest.fixture(autouse=True)
+def test_fixtures(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(check_command, "load_fixtures", lambda: FIXTURES)
+
+
+def run(tmp_path: Path, source: str | bytes, *args: str) -> tuple[int, str, str]:
+    path = tmp_path / "prog.cos"
+    if isinstance(source, bytes):
+        path.write_bytes(source)
+    else:
+        path.write_text(source)
+    result = CliRunner().invoke(cli, ["check", str(path), *args], catch_exceptions=True)
+    if result.exception is not None and not isinstance(result.exception, SystemExit):
+        # the console script's main() renders CosmosErrors; CliRunner sees them raw
+        from cosmos.errors import CosmosError
+
+        assert isinstance(result.exception, CosmosError), repr(result.exception)
+        return 1, result.stdout, result.exception.render()
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_json_plan_has_the_segment_topic_fields(tmp_path: Path) -> None:
+    status, out, _ = run(tmp_path, PEG, "--json")
+    assert status == 0
+    data = json.loads(out)
+    segments = [s for s in data["steps"] if s["step"] == "segment"]
+    assert [s["kind"] for s in segments] == ["move", "contact_approach", "contact_hold", "insert", "move"]
+    fields = {
+        "kind",
+        "frame",
+        "motion_axes",
+        "force_setpoint",
+        "stiffness",
+        "damping",
+        "goal",
+        "speed_limit",
+        "timeout",
+        "line",
+        "statement",
+    }
+    for segment in segments:
+        assert fields <= set(segment)
+        assert len(segment["frame"]) == 4 and all(
+            len(segment[f]) == 6 for f in ("motion_axes", "force_setpoint", "stiffness", "damping")
+        )
+    hold = segments[2]
+    assert hold["motion_axes"] == [1, 1, 0, 1, 1, 1]
+    assert hold["force_setpoint"] == [0, 0, -8, 0, 0, 0]
+    assert hold["line"] == 4 and hold["statement"] == "CONTACT DOWN FORCE 8 N SPEED 20 mm/s TIMEOUT 5 s"
+    assert segments[0]["goal"]["type"] == "absolute" and segments[0]["goal"]["orientation"] == [0, 1, 0, 0]
+    assert segments[4]["until"] == {
+        "quantity": "force",
+        "direction": None,
+        "op": ">",
+        "value": 5.0,
+        "text": "FORCE > 5 N",
+    }
+    assert data["steps"][-1]["step"] == "add_obstacle" and data["steps"][-1]["position"] == [0.4, -0.2, 0.3]
+
+
+def test_table_lists_every_statement(tmp_path: Path) -> None:
+    status, out, _ = run(tmp_path, PEG)
+    assert status == 0
+    for word in ("MOVE TO above", "contact_hold", "Fz -8 N", "insert", "add cylinder", "X Y RX RY"):
+        assert word in out
+
+
+def test_error_exits_1_with_a_rendered_message(tmp_path: Path) -> None:
+    status, _, err = run(tmp_path, "MOVE TO hole\nCONTACT DOWN FORCE 10 mm\n")
+    assert status == 1
+    assert err.startswith(f"{tmp_path / 'prog.cos'}:2:20: FORCE needs a force")
+    assert "^^^^^" in err
+
+
+def test_warnings_are_printed_and_exit_0(tmp_path: Path) -> None:
+    status, _, err = run(tmp_path, "INSERT DOWN DEPTH 5 mm FORCE 5 N\n")
+    assert status == 0
+    assert "1:1: warning: no contact is held" in err
+
+
+def test_console_script_end_to_end(tmp_path: Path) -> None:
+    # The real command line with the real workcell: no traceback, exit 1 on error.
+    bad = tmp_path / "bad.cos"
+    bad.write_bytes(b"MOVE TO hole\n\xff\xfe garbage\n")
+    result = subprocess.run(
+        [sys.executable, "-m", "cosmos", "check", str(bad)], capture_output=True, text=True, timeout=120
+    )
+    assert result.returncode == 1
+    assert "Traceback" not in result.stderr
+    assert f"{bad}:2:1: the program is not UTF-8 text" in result.stderr
+    good = tmp_path / "good.cos"
+    good.write_text(PEG)
+    result = subprocess.run(
+        [sys.executable, "-m", "cosmos", "check", str(good), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["steps"][0]["kind"] == "move"
