@@ -358,7 +358,9 @@ class Segment:
         duration_s: For a timed MOVE (``IN t``): the trajectory's duration [s] (eq. 19).
         completion: How the segment succeeds.
         until: Stop condition (UNTIL): the statement ends with success when it holds.
-        timeout_s: The statement fails if not finished this long after it started [s].
+        timeout_s: The statement fails if not finished this long after it started [s]
+            (a CONTACT_HOLD carries its CONTACT's TIMEOUT, which bounds only the
+            search for the surface: the hold is bounded by ``ForceSettled.max_time_s``).
         jam_check: INSERT only: when to fail as jammed.
     """
 

@@ -47,11 +47,7 @@ def clause_key(clause: ast.Clause) -> str:
     return "COMPLY"
 
 
-def _statement_keyword(statement: ast.Statement) -> str:
-    return type(statement).__name__.upper()
-
-
-def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...], span_statement: ast.Statement) -> set[str]:
+def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str]:
     seen: dict[str, ast.Clause] = {}
     for clause in clauses:
         key = clause_key(clause)
@@ -86,31 +82,29 @@ def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None
         ProgramError: The first problem found.
     """
     if isinstance(statement, ast.Move):
-        present = _check_clauses("MOVE", statement.clauses, statement)
+        present = _check_clauses("MOVE", statement.clauses)
         if statement.mode is ast.MoveMode.BY and "VIA" in present:
             via = next(c for c in statement.clauses if isinstance(c, ast.ViaClause))
             raise ProgramError("VIA goes with MOVE TO, not MOVE BY", via.span)
-        if "SPEED" in present and "IN" in present:
-            return  # IN may name a frame; the compiler decides once it knows the value
     elif isinstance(statement, ast.Contact):
-        present = _check_clauses("CONTACT", statement.clauses, statement)
+        present = _check_clauses("CONTACT", statement.clauses)
         _require("CONTACT", present, ast.ClauseKind.FORCE, statement)
     elif isinstance(statement, ast.Slide):
-        present = _check_clauses("SLIDE", statement.clauses, statement)
+        present = _check_clauses("SLIDE", statement.clauses)
         _require("SLIDE", present, ast.ClauseKind.BY, statement)
     elif isinstance(statement, ast.Insert):
-        present = _check_clauses("INSERT", statement.clauses, statement)
+        present = _check_clauses("INSERT", statement.clauses)
         _require("INSERT", present, ast.ClauseKind.DEPTH, statement)
         _require("INSERT", present, ast.ClauseKind.FORCE, statement)
     elif isinstance(statement, ast.Wait):
-        present = _check_clauses("WAIT", statement.clauses, statement)
+        present = _check_clauses("WAIT", statement.clauses)
         if statement.duration is None and "UNTIL" not in present:
             raise ProgramError(
                 "WAIT needs a duration (WAIT 2 s) or a condition (WAIT UNTIL FORCE > 5 N)",
                 statement.span,
             )
     elif isinstance(statement, ast.Comply):
-        present = _check_clauses("COMPLY", statement.clauses, statement)
+        present = _check_clauses("COMPLY", statement.clauses)
         if not statement.axes and present:
             raise ProgramError(
                 "COMPLY NONE restores full stiffness and takes no STIFFNESS or DAMPING",
@@ -146,7 +140,7 @@ def _check_end(keyword: str, tag: str | None, statement: ast.ProcDef | ast.Repea
 
 
 def _check_obstacle(statement: ast.Obstacle) -> None:
-    present = _check_clauses("OBSTACLE", statement.clauses, statement)
+    present = _check_clauses("OBSTACLE", statement.clauses)
     shape = statement.shape
     required, allowed = _SHAPE_CLAUSES[shape]
     for clause in statement.clauses:

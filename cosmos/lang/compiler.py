@@ -120,7 +120,7 @@ class _Run:
         if len(self.steps) + len(steps) > MAX_STEPS:
             raise ProgramError(
                 f"the program expands to more than {MAX_STEPS} steps; use fewer REPEATs",
-                _step_span(steps[0]),
+                steps[0].span,
             )
         self.steps.extend(steps)
 
@@ -389,10 +389,6 @@ class _Run:
             finally:
                 self.context.pop()
         return state
-
-
-def _step_span(step: plan.Step) -> Span:
-    return step.span
 
 
 def _positive(value: float, span: Span, what: str) -> None:

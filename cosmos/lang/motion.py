@@ -486,11 +486,14 @@ class MotionBuilder:
             return TaskFrame(self.text_of(expr.span), rotation), None, fixture
         if isinstance(value, Scalar) and allow_duration:
             return WORLD, self._positive_scalar(expr, units.TIME, "IN"), None
-        also = " or a duration, like IN 2 s" if allow_duration else ""
+        if allow_duration:
+            also = " or a duration, like IN 2 s"
+        elif isinstance(value, Scalar):
+            also = " (only MOVE takes a duration)"
+        else:
+            also = ""
         raise ProgramError(
-            f"IN takes a frame, like IN hole{also}; {self.text_of(expr.span)} is not one"
-            + ("" if allow_duration or not isinstance(value, Scalar) else " (only MOVE takes a duration)"),
-            expr.span,
+            f"IN takes a frame, like IN hole{also}; {self.text_of(expr.span)} is not one", expr.span
         )
 
     def _position(self, expr: ast.Expr, what: str) -> FrameValue:

@@ -16,9 +16,7 @@ def decode_source(data: bytes, file: str) -> str:
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as error:
-        start = error.start
-        if data.startswith(b"\xef\xbb\xbf"):
-            start += 0  # the offset already counts from the start of the data
+        start = error.start  # counts from the start of the data, byte-order mark included
         before = data[:start]
         line = before.count(b"\n") + 1
         column = len(before.rsplit(b"\n", 1)[-1].decode("utf-8", errors="replace")) + 1

@@ -127,6 +127,11 @@ def describe(dim: Dim) -> str:
     return "a quantity in " + " ".join(parts)
 
 
+def plural(dim: Dim) -> str:
+    """``"lengths"``, ``"angles"``: the dimension's name without article, plural."""
+    return describe(dim).split(" ", 1)[1] + "s"
+
+
 def example(dim: Dim) -> str:
     """An example value of the dimension, for messages (``"10 N"``)."""
     return _DESCRIPTIONS.get(dim, ("", "1"))[1]

@@ -82,7 +82,7 @@ def kind_of(value: Value) -> str:
     if isinstance(value, FrameValue):
         return "a frame"
     if isinstance(value, Vec):
-        inner = "numbers" if value.dim is None else units.describe(value.dim)[2:] + "s"
+        inner = "numbers" if value.dim is None else units.plural(value.dim)
         return f"a vector of {len(value.values)} {inner}"
     return "a plain number" if value.dim is None else units.describe(value.dim)
 
@@ -263,7 +263,7 @@ class Evaluator:
         """``value`` (of ``expr``) as a read-only (size,) SI array of dimension ``dim``."""
         if not isinstance(value, Vec):
             raise ProgramError(
-                f"{what} needs a vector of {size} {units.describe(dim)[2:]}s, like "
+                f"{what} needs a vector of {size} {units.plural(dim)}, like "
                 f"({', '.join([units.example(dim)] * size)}); "
                 f"{self.text_of(expr.span)} is {kind_of(value)}",
                 expr.span,
@@ -272,8 +272,8 @@ class Evaluator:
             raise ProgramError(f"{what} needs {size} components, not {len(value.values)}", expr.span)
         if value.dim is not None and value.dim != dim:
             raise ProgramError(
-                f"{what} needs {units.describe(dim)[2:]}s; "
-                f"{self.text_of(expr.span)} holds {units.describe(value.dim)[2:]}s",
+                f"{what} needs {units.plural(dim)}; "
+                f"{self.text_of(expr.span)} holds {units.plural(value.dim)}",
                 expr.span,
             )
         return readonly(value.values)
