@@ -102,6 +102,19 @@ def repl(log_path: Path | None) -> None:
 @click.option("--view", is_flag=True, help="Play back in the MuJoCo viewer.")
 @click.option("--video", type=click.Path(path_type=Path), help="Render playback to MP4.")
 @click.option("--verify", is_flag=True, help="Re-run the program and compare with the log.")
+@click.option(
+    "--rate",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=None,
+    help="Playback speed of --view/--video: 2 plays twice as fast as the run.  [default: 1]",
+)
+@click.option(
+    "--start",
+    "start_s",
+    type=click.FloatRange(min=0.0),
+    default=None,
+    help="Start --view/--video this many seconds into the run.  [default: 0]",
+)
 def replay(
     log: Path,
     plot: Path | None,
@@ -109,11 +122,23 @@ def replay(
     view: bool,
     video: Path | None,
     verify: bool,
+    rate: float | None,
+    start_s: float | None,
 ) -> None:
     """Summarise, plot, recover, play back or verify a run log."""
     from cosmos.commands.replay import ReplayOptions, replay_log
 
-    options = ReplayOptions(plot=plot, recover_to=recover_to, view=view, video=video, verify=verify)
+    if (rate is not None or start_s is not None) and not (view or video):
+        raise UsageError("--rate and --start apply to --view and --video")
+    options = ReplayOptions(
+        plot=plot,
+        recover_to=recover_to,
+        view=view,
+        video=video,
+        verify=verify,
+        rate=1.0 if rate is None else rate,
+        start_s=0.0 if start_s is None else start_s,
+    )
     _finish(replay_log(log, options))
 
 

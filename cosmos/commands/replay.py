@@ -1,8 +1,8 @@
-"""``cosmos replay LOG``: summary of a run log, plot, recovery; playback and verify later.
+"""``cosmos replay LOG``: summary of a run log, plot, recovery, playback, verification.
 
 Each option is one step of :func:`replay_log`, run in this order: recover,
-summarise, plot, then the steps that need the live runtime (view, video,
-verify), which are not built yet.
+summarise, plot, view, video, verify. The exit status is 1 if ``--verify``
+finds that the re-run departs from the log, else 0.
 """
 
 from __future__ import annotations
@@ -12,12 +12,13 @@ from pathlib import Path
 
 import click
 
-from cosmos.errors import CosmosError
+from cosmos.errors import UsageError
 from cosmos.replay.summary import format_summary
 from cosmos.replay.timeline import statement_timeline
 from cosmos.runlog import read_log, recover
 
 EXIT_OK = 0
+EXIT_DEPARTS = 1
 
 
 @dataclass(frozen=True)
@@ -30,6 +31,8 @@ class ReplayOptions:
         view: Play the run back in the MuJoCo viewer.
         video: Render the playback to this MP4 file.
         verify: Re-run the program and compare with the log.
+        rate: Playback speed for view and video: 2 plays twice as fast as the run.
+        start_s: Simulated time at which view and video start [s].
     """
 
     plot: Path | None = None
@@ -37,20 +40,27 @@ class ReplayOptions:
     view: bool = False
     video: Path | None = None
     verify: bool = False
+    rate: float = 1.0
+    start_s: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not self.rate > 0:
+            raise UsageError(f"--rate must be > 0 (1 plays at the speed of the run); got {self.rate:g}")
+        if not self.start_s >= 0:
+            raise UsageError(f"--start must be >= 0 s; got {self.start_s:g}")
 
 
 def replay_log(log: Path, options: ReplayOptions) -> int:
     """Run ``cosmos replay`` on ``log`` and return its exit status.
 
     Raises:
-        CosmosError: If the log cannot be read, an output cannot be written, or
-            an option needs what is not built yet.
+        CosmosError: If the log cannot be read, an output cannot be written,
+            there is no display for ``--view``, or the log cannot be re-run.
     """
-    unbuilt = {"--view": options.view, "--video": options.video, "--verify": options.verify}
-    for option, requested in unbuilt.items():
-        if requested:
-            raise CosmosError(f"cosmos replay {option}: not built yet")
+    if options.video is not None:
+        from cosmos.replay.playback import prefer_headless_gl
 
+        prefer_headless_gl()  # before anything imports mujoco
     if options.recover_to is not None:
         recovery = recover(log, options.recover_to)
         state = "was complete" if recovery.was_complete else "was cut short"
@@ -68,4 +78,26 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
         from cosmos.replay.plot import plot_run  # matplotlib is slow to import
 
         click.echo(f"plot written to {plot_run(record, timeline, options.plot)}")
+
+    if options.view or options.video is not None:
+        from cosmos.replay.playback import Playback, render_video, view
+
+        playback = Playback(start_s=options.start_s, rate=options.rate)
+        if options.view:
+            view(record, playback)
+        if options.video is not None:
+            video = render_video(record, options.video, playback)
+            click.echo(
+                f"video written to {video.path}: {video.frames} frames at {video.fps:g} fps, "
+                f"t = {video.start_s:.3f} .. {video.end_s:.3f} s at {options.rate:g}x"
+            )
+
+    if options.verify:
+        from cosmos.replay.verify import verify_log
+
+        click.echo(f"verify: re-running {record.metadata.get('program', 'the program')} ...")
+        verification = verify_log(record)
+        click.echo(verification.render())
+        if not verification.matches:
+            return EXIT_DEPARTS
     return EXIT_OK

@@ -1,0 +1,256 @@
+"""Playback of a logged run: in the MuJoCo viewer (``--view``) or rendered to MP4 (``--video``).
+
+Both set the workcell's joint positions from the log's ``q`` at the playback's
+frame times (linear interpolation between state samples) and show the scene
+from the ``overview`` camera. ``--start`` picks the simulated time to start
+from, ``--rate`` the speed (2: twice as fast as the run). Only the arm moves:
+obstacles logged on ``/scene`` are not drawn (the fixtures are part of the model).
+
+Video is rendered offscreen with :class:`mujoco.Renderer` (``MUJOCO_GL=egl``
+unless set otherwise: it needs no display) and encoded to H.264 MP4 by the
+ffmpeg binary that the ``imageio-ffmpeg`` package ships.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Generator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from cosmos.errors import CosmosError, UsageError
+from cosmos.runlog.reader import RunRecord, StateSeries
+
+if TYPE_CHECKING:
+    from cosmos.plant import Plant
+
+CAMERA = "overview"
+"""Camera of the workcell scene that playback looks through."""
+VIDEO_WIDTH, VIDEO_HEIGHT = 1024, 576
+"""Video frame size [pixels]; within the scene's offscreen buffer, multiples of 16 for H.264."""
+
+
+def prefer_headless_gl() -> None:
+    """Use MuJoCo's EGL backend unless ``MUJOCO_GL`` says otherwise.
+
+    MuJoCo reads ``MUJOCO_GL`` when it is first imported: call this before.
+    """
+    os.environ.setdefault("MUJOCO_GL", "egl")
+
+
+@dataclass(frozen=True)
+class Playback:
+    """How to play a run back.
+
+    Attributes:
+        start_s: Simulated time of the first frame [s].
+        rate: Simulated seconds shown per second of playback.
+        fps: Frames per second of playback (video frame rate, viewer refresh).
+    """
+
+    start_s: float = 0.0
+    rate: float = 1.0
+    fps: float = 30.0
+
+
+@dataclass(frozen=True)
+class Video:
+    """A video written by :func:`render_video`.
+
+    Attributes:
+        path: The MP4 file.
+        frames: Number of frames.
+        fps: Frame rate [1/s].
+        start_s: Simulated time of the first frame [s].
+        end_s: Simulated time of the last frame [s].
+    """
+
+    path: Path
+    frames: int
+    fps: float
+    start_s: float
+    end_s: float
+
+
+def frame_times(state_t: np.ndarray, playback: Playback) -> np.ndarray:
+    """Simulated times of the playback's frames, from ``start_s`` to the last sample.
+
+    Frame ``k`` shows simulated time ``start_s + k * rate / fps``: a run of ``T``
+    seconds played from 0 gives ``floor(T * fps / rate) + 1`` frames.
+
+    Args:
+        state_t: Times of the state samples [s]. # (n,)
+        playback: Start, rate and frame rate.
+
+    Raises:
+        CosmosError: If there are no samples.
+        UsageError: If ``start_s`` is past the last sample.
+    """
+    if state_t.size == 0:
+        raise CosmosError("the log has no state samples: nothing to play back")
+    end_s = float(state_t[-1])
+    if playback.start_s > end_s:
+        raise UsageError(f"--start {playback.start_s:g} s is past the end of the run (t = {end_s:.3f} s)")
+    step_s = playback.rate / playback.fps
+    count = int(np.floor((end_s - playback.start_s) / step_s + 1e-9)) + 1
+    return playback.start_s + step_s * np.arange(count)  # (frames,)
+
+
+def joint_positions_at(state: StateSeries, times_s: np.ndarray) -> np.ndarray:
+    """Joint positions at ``times_s`` [rad], linearly interpolated between state samples.
+
+    Samples with a non-finite ``q`` (a diverged controller) are skipped;
+    times outside the samples take the first or last one.
+
+    Returns:
+        One row of six joint angles per time. # (frames, 6)
+
+    Raises:
+        CosmosError: If no sample has a finite ``q``.
+    """
+    finite = np.isfinite(state.q).all(axis=1) & np.isfinite(state.t)
+    if not finite.any():
+        raise CosmosError("the log has no state sample with finite joint positions")
+    t, q = state.t[finite], state.q[finite]
+    return np.column_stack([np.interp(times_s, t, q[:, j]) for j in range(q.shape[1])])
+
+
+def _scene() -> Plant:
+    from cosmos.plant import Plant
+
+    return Plant()
+
+
+def _pose(plant: Plant, q: np.ndarray) -> None:
+    import mujoco
+
+    plant.data.qpos[: q.shape[0]] = q
+    plant.data.qvel[:] = 0.0
+    mujoco.mj_forward(plant.model, plant.data)
+
+
+def _encoder(path: Path, fps: float) -> Generator[None, Any, None]:
+    """A started imageio-ffmpeg writer generator for RGB frames of the video size."""
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        raise CosmosError(
+            "--video needs the imageio-ffmpeg package (it ships ffmpeg): pip install imageio-ffmpeg"
+        ) from None
+    writer = imageio_ffmpeg.write_frames(
+        str(path),
+        (VIDEO_WIDTH, VIDEO_HEIGHT),
+        fps=fps,
+        codec="libx264",
+        pix_fmt_in="rgb24",
+        pix_fmt_out="yuv420p",
+        quality=7,
+        macro_block_size=16,
+        ffmpeg_log_level="error",
+    )
+    writer.send(None)  # starts ffmpeg
+    return writer
+
+
+def render_video(record: RunRecord, path: Path, playback: Playback) -> Video:
+    """Render the logged joint trajectory offscreen from the ``overview`` camera to an MP4 file.
+
+    Raises:
+        UsageError: If ``path`` does not end in ``.mp4`` or ``--start`` is past the end.
+        CosmosError: If the encoder is missing, offscreen rendering is not
+            available, or the file cannot be written.
+    """
+    if path.suffix.lower() != ".mp4":
+        raise UsageError(f"--video writes MP4: give a file name ending in .mp4 (got {path})")
+    times = frame_times(record.state.t, playback)
+    positions = joint_positions_at(record.state, times)  # (frames, 6)
+    prefer_headless_gl()
+    import mujoco
+
+    plant = _scene()
+    try:
+        renderer = mujoco.Renderer(plant.model, VIDEO_HEIGHT, VIDEO_WIDTH)
+    except Exception as error:  # MuJoCo raises several kinds when no GL context can be made
+        backend = os.environ.get("MUJOCO_GL", "")
+        raise CosmosError(
+            f"--video: cannot render offscreen (MUJOCO_GL={backend!r}): {error}; "
+            "set MUJOCO_GL=egl (or osmesa) before running cosmos"
+        ) from None
+    path.parent.mkdir(parents=True, exist_ok=True)
+    writer = _encoder(path, playback.fps)
+    try:
+        with renderer:
+            for q in positions:
+                _pose(plant, q)
+                renderer.update_scene(plant.data, camera=CAMERA)
+                # Shadows cost ~5x the rest of a frame in software GL; reflections stay.
+                renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = 0
+                writer.send(np.ascontiguousarray(renderer.render()))
+        writer.close()
+    except (OSError, RuntimeError) as error:
+        raise CosmosError(f"--video: cannot write {path}: {error}") from None
+    return Video(path, int(times.size), playback.fps, float(times[0]), float(times[-1]))
+
+
+def has_display() -> bool:
+    """Whether a window can be opened (an X11 or Wayland display is named)."""
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def view(record: RunRecord, playback: Playback) -> None:
+    """Play the run back in the MuJoCo viewer in real time (times ``rate``); return when it closes.
+
+    The viewer opens looking through the ``overview`` camera's eye and can be
+    turned with the mouse; the last frame stays until the window is closed.
+
+    Raises:
+        CosmosError: If there is no display.
+        UsageError: If ``--start`` is past the end of the run.
+    """
+    if not has_display():
+        raise CosmosError("no display: use --video FILE.mp4")
+    times = frame_times(record.state.t, Playback(playback.start_s, playback.rate, fps=60.0))
+    positions = joint_positions_at(record.state, times)  # (frames, 6)
+    import mujoco
+    import mujoco.viewer
+
+    plant = _scene()
+    _pose(plant, positions[0])
+    with mujoco.viewer.launch_passive(plant.model, plant.data) as viewer:
+        _look_like_camera(viewer.cam, plant, CAMERA)
+        started = time.perf_counter()
+        try:
+            for t_s, q in zip(times, positions, strict=True):
+                if not viewer.is_running():
+                    return
+                with viewer.lock():
+                    _pose(plant, q)
+                viewer.sync()
+                wait_s = started + (t_s - times[0]) / playback.rate - time.perf_counter()
+                if wait_s > 0:
+                    time.sleep(wait_s)
+            while viewer.is_running():
+                time.sleep(0.05)
+        except KeyboardInterrupt:
+            return
+
+
+def _look_like_camera(cam: object, plant: Plant, name: str) -> None:
+    """Point the viewer's free camera like the scene's fixed camera ``name``."""
+    import mujoco
+
+    model = plant.model
+    camera = model.camera(name)
+    rotation_camera_to_world = np.array(plant.data.cam_xmat[camera.id]).reshape(3, 3)
+    forward = -rotation_camera_to_world[:, 2]  # cameras look along their -z
+    position = np.array(plant.data.cam_xpos[camera.id])
+    distance = 1.6  # [m] puts the look-at point near the table's middle for the overview camera
+    cam.type = mujoco.mjtCamera.mjCAMERA_FREE  # type: ignore[attr-defined]
+    cam.lookat[:] = position + distance * forward  # type: ignore[attr-defined]
+    cam.distance = distance  # type: ignore[attr-defined]
+    cam.azimuth = float(np.degrees(np.arctan2(forward[1], forward[0])))  # type: ignore[attr-defined]
+    cam.elevation = float(np.degrees(np.arcsin(np.clip(forward[2], -1.0, 1.0))))  # type: ignore[attr-defined]
