@@ -34,6 +34,9 @@ class ServoGains:
     Attributes:
         force: Force-loop gains on force-controlled axes.
         xi_q: Null-space joint damping of eq. 34, in [1/s].
+        contact_threshold_n: Sensed force on the force-controlled axes above which the
+            tool counts as touching for the rest of the segment: from then on the force
+            error is integrated (in free space it would wind up), [N].
         coulomb_velocity_rad_s: Joint speed over which the Coulomb friction
             compensation ramps from 0 to its full value, in [rad/s].
         coulomb_fraction: Share of the model's Coulomb friction compensated.
@@ -43,6 +46,7 @@ class ServoGains:
 
     force: ForceGains = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
     xi_q: float = 20.0
+    contact_threshold_n: float = 1.0
     coulomb_velocity_rad_s: float = 0.01
     coulomb_lookahead_s: float = 0.02
     coulomb_fraction: float = 1.0
@@ -73,6 +77,8 @@ class ServoLevel:
         self._evaluation: Evaluation | None = None
         self._selection: Selection | None = None
         self._fold: tuple | None = None
+        self._touching = False
+        self._force_to_acceleration = np.zeros((6, 6))  # Lambda^-1 Omega_bar
         self._base_error = np.zeros(6)
         self.last_error = np.zeros(6)  # x - x_d of the last tick, world, [m, rad]
         self.last_displacement = np.zeros(6)  # J (q - q_e): motion since the evaluation
@@ -94,6 +100,7 @@ class ServoLevel:
             self._integral = np.zeros(6)
             self._selection = selection(setpoint.motion_axes, setpoint.rotation_task_to_world)
         self._setpoint = setpoint
+        self._touching = False  # latched by the first push felt on a force axis
         self._refold()
 
     def set_evaluation(self, evaluation: Evaluation) -> None:
@@ -110,6 +117,7 @@ class ServoLevel:
         ev, sp, sel = self._evaluation, self._setpoint, self._selection
         if ev is None or sp is None or sel is None:
             return
+        self._force_to_acceleration = ev.dynamics.lambda_inv.dot(sel.omega_bar)
         self._fold = fold_for_servo(ev, sel, self._force_gains(sp), self.gains.xi_q)
         self._base_error = pose_error(
             ev.position, ev.rotation_tool_to_world, sp.position, sp.rotation_to_world
@@ -139,21 +147,27 @@ class ServoLevel:
         ramp = min(1.0, (t_s - sp.start_s) / sp.ramp_s) if sp.ramp_s > 0.0 else 1.0
         force_setpoint = sp.force_start_world + ramp * (sp.force_world - sp.force_start_world)
         gains = self._force_gains(sp)
-        self._integral = integrate_force_error(
-            self._integral,
-            force_setpoint,
-            wrench_env,
-            sel.omega_bar,
-            self._dt_s,
-            gains.integral_limit,
-        )
+        # Integral action only while something pushes back: in free space the force
+        # error cannot be closed and would wind up into an impact.
+        if not self._touching:
+            pushed = float(np.abs(sel.omega_bar.dot(wrench_env)).max())
+            self._touching = pushed > self.gains.contact_threshold_n
+        touching = self._touching
+        if touching:
+            self._integral = integrate_force_error(
+                self._integral, force_setpoint, wrench_env, sel.omega_bar, self._dt_s, gains.integral_limit
+            )
         feedback = force_feedback(force_setpoint, wrench_env, self._integral, gains)
         torque = servo_torque(matrices, motion, feedback, velocity)
         torque += null_damping.dot(qd) + ev.joint_limit_torque + self.field_torque
         # Coulomb friction is compensated in the direction the joint is moving or, from rest,
-        # is being told to move: qd plus the commanded joint acceleration (Jbar F*_m) over a
-        # short look-ahead, so a joint starting to move is not held back by its friction.
-        intent = qd + self.gains.coulomb_lookahead_s * ev.dynamics.jbar.dot(motion)
+        # is being told to move: qd plus the commanded joint acceleration (Jbar F*_m, and in
+        # free space Jbar Lambda^-1 F_a on the force axes) over a short look-ahead, so a joint
+        # starting to move is not held back by its friction. In contact the force loop's
+        # integral takes up the friction instead: switching friction torques on the sensed
+        # force would chatter.
+        acceleration = motion if touching else motion + self._force_to_acceleration.dot(feedback)
+        intent = qd + self.gains.coulomb_lookahead_s * ev.dynamics.jbar.dot(acceleration)
         torque += self._viscous * qd + self._coulomb * np.clip(
             intent / self.gains.coulomb_velocity_rad_s, -1.0, 1.0
         )
