@@ -83,7 +83,9 @@ def check(program: Path, as_json: bool) -> None:
 @click.option("--log", "log_path", type=click.Path(path_type=Path), help="MCAP log path.")
 def repl(log_path: Path | None) -> None:
     """Interactive session on a live simulated arm."""
-    _not_built("repl")
+    from cosmos.commands.repl import run_repl
+
+    _finish(run_repl(log_path))
 
 
 @cli.command()

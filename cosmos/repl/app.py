@@ -1,0 +1,97 @@
+"""A whole REPL session: open the arm and its log, read and run inputs, close the log.
+
+:class:`ReplApp` is what ``cosmos repl`` runs, and what the tests drive through
+prompt_toolkit's pipe input.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import TextIO
+
+from prompt_toolkit.history import History
+from prompt_toolkit.input import Input
+from prompt_toolkit.output import Output
+
+from cosmos import __version__
+from cosmos.errors import UsageError
+from cosmos.execution.session import Session
+from cosmos.repl.engine import REPL_FILE, ReplEngine
+from cosmos.repl.loop import run_loop
+from cosmos.repl.output import Printer, Tone
+from cosmos.repl.reader import Reader, history_path, open_history, plain_reader, prompt_reader
+from cosmos.runtime.rates import Rates
+
+BANNER = "cosmos {version}: a simulated PUMA 560 in its workcell. :help for help, Ctrl-D to leave."
+
+
+class ReplApp:
+    """One interactive session on a live simulated arm, logged like a run.
+
+    Args:
+        log_path: Where the MCAP log goes.
+        stream: Where messages go (the terminal's stdout).
+        input: Keyboard input for the prompt; None: the terminal, or plain lines
+            from ``stdin`` when it is not a terminal.
+        output: Screen output for the prompt (None: the terminal).
+        history: Input history; None: the file of :func:`history_path`.
+        stdin: Read when there is no terminal (None: ``sys.stdin``).
+
+    Raises:
+        UsageError: The log file cannot be created.
+    """
+
+    def __init__(
+        self,
+        log_path: Path,
+        stream: TextIO,
+        input: Input | None = None,
+        output: Output | None = None,
+        history: History | None = None,
+        stdin: TextIO | None = None,
+    ):
+        interactive = input is not None or _is_terminal(stdin or sys.stdin)
+        self.printer = Printer(stream, color=interactive and _is_terminal(stream))
+        try:
+            session = Session(REPL_FILE, None, log_path, Rates())
+        except OSError as error:
+            raise UsageError(f"cannot write the log {log_path}: {error.strerror or error}") from None
+        self.engine = ReplEngine(session, self.printer, show_progress=input is None and interactive)
+        self.read: Reader
+        if interactive:
+            self.read = prompt_reader(
+                self.engine, history or open_history(history_path(), self.printer), input, output
+            )
+        else:
+            self.read = plain_reader(stdin or sys.stdin, self.printer)
+
+    @property
+    def log_path(self) -> Path:
+        """The session's log."""
+        return self.engine.session.log_path
+
+    def run(self) -> int:
+        """Greet, read and run inputs until Ctrl-D or ``:quit``, then close the log; 0."""
+        self.printer.write(BANNER.format(version=__version__))
+        self.printer.write(f"log: {self.log_path}", Tone.NOTE)
+        try:
+            run_loop(self.engine, self.read)
+        finally:
+            self.close()
+        self.printer.write(f"log: {self.log_path}")
+        return 0
+
+    def close(self) -> None:
+        """Attach the transcript to the log as the session's program, and close the log."""
+        log = self.engine.session.log
+        if not log.closed:
+            log.attach_source(self.engine.transcript.text())
+        self.engine.session.close()
+
+
+def _is_terminal(stream: TextIO) -> bool:
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False

@@ -1,0 +1,277 @@
+"""The REPL's core: compile what is typed against the session's state and run it on the arm.
+
+No terminal here: :class:`ReplEngine` takes a text (one input: a statement, a
+few separated by ``;`` or new lines, or a whole PROC ... END) and reports
+through a :class:`~cosmos.repl.output.Printer`.
+
+An input is parsed and checked whole before anything moves; then its top-level
+statements run one after the other, and the compile state (names, frames,
+procedures, COMPLY, SPEED, the held contact, obstacles) advances with each one
+that finishes. When a statement fails or is interrupted the executor leaves the
+arm holding its pose under position control, so the state is corrected to
+match: no contact held, and only the obstacles that were really added.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterator
+from pathlib import Path
+
+from cosmos.errors import CosmosError, ProgramError, Span
+from cosmos.execution.executor import Executor, Interrupted
+from cosmos.execution.monitor import statement_head
+from cosmos.execution.session import Session
+from cosmos.lang import ast
+from cosmos.lang.compiler import Compiler, StatementResult
+from cosmos.lang.parser import parse_program
+from cosmos.lang.source import read_source
+from cosmos.lang.state import CompileState, frozen_map
+from cosmos.plan import AddObstacle, Diagnostic, Plan, RemoveObstacle, Segment, Step
+from cosmos.repl.names import changed_names, describe_value
+from cosmos.repl.output import Printer, Tone
+from cosmos.repl.status import ArmStatus
+from cosmos.repl.transcript import Transcript
+from cosmos.workcell import fixture_frames
+
+REPL_FILE = "<repl>"
+"""The file name typed input carries in spans and errors."""
+RESET_HOLD_S = 0.05
+"""After ``:reset`` the arm holds at home this long, logged as a segment [s]."""
+
+
+def normalise_newlines(text: str) -> str:
+    """CR LF and lone CR turned into LF, the one line break that spans count."""
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def statement_groups(steps: tuple[Step, ...]) -> Iterator[tuple[Step, ...]]:
+    """Steps cut into statements: consecutive segments of one statement, or one scene change."""
+    group: list[Step] = []
+    for step in steps:
+        if group and not (
+            isinstance(step, Segment)
+            and isinstance(group[-1], Segment)
+            and group[-1].statement_index == step.statement_index
+        ):
+            yield tuple(group)
+            group = []
+        group.append(step)
+    if group:
+        yield tuple(group)
+
+
+def state_after_failure(
+    before: CompileState, after: CompileState, executed: list[Step], failed: Span | None
+) -> CompileState:
+    """The compile state that matches the arm after a statement failed or was interrupted.
+
+    Args:
+        before: The state before the statement.
+        after: The state the compiler gave after it (as if it had succeeded).
+        executed: The statement's steps that ran to the end before the failure.
+        failed: Where the failed statement is written.
+
+    Returns:
+        ``after`` with no contact held (the arm holds its pose, no force) and the
+        obstacles of ``before`` changed only by the scene steps that ran.
+    """
+    obstacles = dict(before.obstacles)
+    for step in executed:
+        if isinstance(step, AddObstacle):
+            obstacles[step.name.casefold()] = step.span
+        elif isinstance(step, RemoveObstacle):
+            obstacles.pop(step.name.casefold(), None)
+    released = failed if before.contact is not None or after.contact is not None else None
+    return dataclasses.replace(
+        after,
+        contact=None,
+        contact_released_by=released or after.contact_released_by,
+        obstacles=frozen_map(obstacles),
+    )
+
+
+class ReplEngine:
+    """Compiles and runs inputs on one live session, keeping the state between them.
+
+    Args:
+        session: The arm, its executor and its log.
+        printer: Where results and errors go.
+        show_progress: Show a status line (statement, simulated time) while the arm moves.
+    """
+
+    def __init__(self, session: Session, printer: Printer, show_progress: bool = False):
+        self.session = session
+        self.printer = printer
+        self.show_progress = show_progress
+        self.compiler = Compiler(fixture_frames())
+        self.state = self.compiler.initial_state()
+        self.transcript = Transcript()
+
+    @property
+    def executor(self) -> Executor:
+        """The session's executor."""
+        return self.session.executor
+
+    def status(self) -> ArmStatus:
+        """The arm as sensed now."""
+        return ArmStatus.of(self.session.runtime)
+
+    def interrupt(self) -> None:
+        """Ask the running statement to stop and hold (safe from a signal handler or thread)."""
+        self.executor.stop_requested = True
+
+    # ------------------------------------------------------------- inputs
+
+    def submit(self, text: str) -> bool:
+        """Compile and run one input typed at the prompt; False if it failed."""
+        text = normalise_newlines(text)
+        if not text.strip():
+            return True
+        self.executor.stop_requested = False
+        source = self.transcript.placed(text)
+        try:
+            results = self._compile(source, REPL_FILE)
+        except ProgramError as error:
+            self.transcript.add_rejected(text)
+            self.printer.write(error.render(), Tone.ERROR)
+            return False
+        self.transcript.add_statements(text)
+        return self._execute(results, source, REPL_FILE)
+
+    def load(self, path: Path) -> bool:
+        """``:load FILE``: check the whole file, then run it into the session; False if it failed."""
+        self.transcript.add_command(f":load {path}")
+        self.executor.stop_requested = False
+        try:
+            text = normalise_newlines(read_source(path))
+            results = self._compile(text, str(path))
+        except CosmosError as error:
+            self.printer.write(error.render(), Tone.ERROR)
+            return False
+        self.session.log.attach_source(text, name=str(path))
+        return self._execute(results, text, str(path))
+
+    def _compile(self, source: str, file: str) -> list[StatementResult]:
+        """Parse and check a whole input, statement by statement; print its warnings.
+
+        A PROC typed again replaces the earlier one (the compiler refuses a second
+        definition within one program; a session is not one program).
+
+        Raises:
+            ProgramError: Every syntax and check error of the input.
+        """
+        program = parse_program(source, file)
+        start = self.state
+        redefined = {s.name.key for s in program.statements if isinstance(s, ast.ProcDef)}
+        if redefined & set(start.procedures):
+            kept = {k: v for k, v in start.procedures.items() if k not in redefined}
+            start = dataclasses.replace(start, procedures=frozen_map(kept))
+        results: list[StatementResult] = []
+        state = start
+        try:
+            for statement in program.statements:
+                result = self.compiler.compile_statement(statement, state, source)
+                results.append(result)
+                state = result.state
+        except ProgramError:
+            self.compiler.compile_text(source, start, file)  # raises every error of the input
+            raise
+        for result in results:
+            self._warn(result.warnings, source)
+        return results
+
+    def _warn(self, warnings: tuple[Diagnostic, ...], source: str) -> None:
+        for warning in warnings:
+            self.printer.write(warning.render(source), Tone.WARNING)
+
+    # ---------------------------------------------------------- execution
+
+    def _execute(self, results: list[StatementResult], source: str, file: str) -> bool:
+        """Run each statement's steps in turn, advancing the state as each one finishes."""
+        for result in results:
+            before = self.state
+            executed: list[Step] = []
+            try:
+                for group in statement_groups(result.steps):
+                    self._run_group(group, source, file)
+                    executed.extend(group)
+            except CosmosError as error:
+                self.state = state_after_failure(before, result.state, executed, error.span)
+                self.printer.write(error.render(), Tone.ERROR)
+                self.printer.write("the arm holds its pose", Tone.NOTE)
+                return False
+            self.state = result.state
+            for key in changed_names(before.names, self.state.names):
+                self.printer.write(f"{key} = {describe_value(self.state.names[key])}", Tone.NOTE)
+            for key, entry in self.state.procedures.items():
+                if before.procedures.get(key) is not entry:
+                    definition = entry.definition
+                    self.printer.write(
+                        f"PROC {definition.name.name} defined ({len(definition.body)} statements)", Tone.NOTE
+                    )
+        return True
+
+    def _run_group(self, group: tuple[Step, ...], source: str, file: str) -> None:
+        """Run one statement's steps; say how it went."""
+        first = group[0]
+        if self.executor.stop_requested:
+            self.executor.stop_requested = False
+            self.executor.hold()
+            raise Interrupted(f"interrupted before {statement_head(first.statement)}", first.span, source)
+        start_s = self.session.runtime.time_s
+        plan = Plan(file=file, source=source, steps=group, warnings=())
+        if self.show_progress:
+            from cosmos.commands.run import TerminalProgress
+
+            progress = TerminalProgress()
+            self.executor.progress = progress
+            try:
+                with progress.status:
+                    self.executor.run(plan)
+            finally:
+                self.executor.progress = None
+        else:
+            self.executor.run(plan)
+        if isinstance(first, Segment):
+            status = self.status()
+            where = f" ({first.context})" if first.context else ""
+            self.printer.write(
+                f"ok  {first.statement}{where}  [{self.session.runtime.time_s - start_s:.2f} s, "
+                f"|F| {status.force_n:.1f} N]",
+                Tone.OK,
+            )
+
+    # -------------------------------------------------------------- reset
+
+    def reset(self) -> None:
+        """``:reset``: obstacles removed, the arm put back home at rest, the compile state reset.
+
+        The simulated clock goes on, so the log stays in time order; the reset is
+        logged as a short hold segment whose statement is ``:reset``.
+        """
+        self.transcript.add_command(":reset")
+        line = self.transcript.line_count
+        source = self.transcript.text()
+        span = Span(REPL_FILE, line, 1, line, len(":reset") + 1)
+        removals = tuple(
+            RemoveObstacle(name=key, span=span, line=line, statement=f"OBSTACLE REMOVE {key}")
+            for key in self.state.obstacles
+        )
+        if removals:
+            try:
+                self.executor.run(Plan(REPL_FILE, source, removals, ()))
+            except CosmosError as error:
+                self.printer.write(error.render(), Tone.WARNING)
+        plant = self.session.plant
+        now_s = plant.time_s
+        plant.reset()  # the home keyframe, HOME_Q
+        plant.data.time = now_s
+        self.session.runtime.reset_clocks()
+        self.executor.hold()
+        self.state = self.compiler.initial_state()
+        hold = self.compiler.compile_text(f"WAIT {RESET_HOLD_S} s", self.state, REPL_FILE).steps[0]
+        assert isinstance(hold, Segment)  # a WAIT compiles to one segment
+        hold = dataclasses.replace(hold, statement=":reset", span=span, line=line)
+        self.executor.run(Plan(REPL_FILE, source, (hold,), ()))
+        self.printer.write("the arm is home; names, frames, procedures and settings are reset", Tone.OK)
