@@ -30,6 +30,10 @@ DEFAULT_TOLERANCE = LOG_RESOLUTION * (1 + 1e-6)
 TIME_TOLERANCE_S = 1e-9
 """Times of samples, events and segments must agree this closely [s]."""
 
+_FIRST_REPORTED = ("q", "x", "wrench", "tau")
+_REPORT_ORDER = _FIRST_REPORTED + tuple(n for n, _ in STATE_VECTORS if n not in _FIRST_REPORTED)
+"""State vectors in the order their differences are reported."""
+_REPORTED = 3  # differing quantities named at the first departing sample
 _UNITS = {"q": "rad", "qd": "rad/s", "tau": "N m", "x": "m", "quat": "", "v": "", "wrench": ""}
 _COMPONENTS = {
     "q": [f"joint {i}" for i in range(1, 7)],
@@ -172,16 +176,13 @@ def _state_departure(
 ) -> Departure | None:
     ours = logged.state
     n = min(len(ours), n_again)
-    bad_time = np.abs(ours.t[:n] - again.t[:n]) > TIME_TOLERANCE_S
-    first = _first(bad_time)
-    if first is not None:
-        return Departure(
-            float(min(ours.t[first], again.t[first])),
-            *_statement_at(logged, first),
-            f"sample {first} is at t = {ours.t[first]:.6f} s in the log, {again.t[first]:.6f} s now",
-        )
     candidates: list[tuple[int, str]] = []
-    for name, _ in STATE_VECTORS:
+    first = _first(np.abs(ours.t[:n] - again.t[:n]) > TIME_TOLERANCE_S)
+    if first is not None:
+        when = f"sample {first} is at t = {ours.t[first]:.6f} s in the log, {again.t[first]:.6f} s now"
+        candidates.append((first, when))
+        n = first  # values are compared while the samples are at the same times
+    for name in _REPORT_ORDER:
         old, new = getattr(ours, name)[:n], getattr(again, name)[:n]
         same_nan = np.isnan(old) & np.isnan(new)
         differs = (~same_nan & ~(np.abs(old - new) <= tolerance)).any(axis=1)
@@ -194,8 +195,10 @@ def _state_departure(
             old_value, new_value = getattr(ours, name)[index], getattr(again, name)[index]
             candidates.append((index, f"{name} is {old_value} in the log, {new_value} now"))
     if candidates:
-        index, what = min(candidates, key=lambda c: c[0])
-        return Departure(float(ours.t[index]), *_statement_at(logged, index), what)
+        index = min(i for i, _ in candidates)
+        what = "; ".join([text for i, text in candidates if i == index][:_REPORTED])
+        t_s = min(float(ours.t[index]), float(again.t[index]))
+        return Departure(t_s, *_statement_at(logged, index), what)
     if len(ours) != n_again:
         longer, shorter = ("the log", "the new run") if len(ours) > n_again else ("the new run", "the log")
         end = float(ours.t[n - 1]) if n else 0.0
