@@ -1,0 +1,37 @@
+"""Real-time obstacle avoidance with artificial potential fields (seed section 6).
+
+* :mod:`~cosmos.obstacles.obstacle`: an obstacle (primitive, pose, velocity).
+* :mod:`~cosmos.obstacles.scene`: obstacles as bodies of the MuJoCo workcell.
+* :mod:`~cosmos.obstacles.capsules`: the arm's links and tool as capsules.
+* :mod:`~cosmos.obstacles.proximity`: capsule-to-obstacle distances.
+* :mod:`~cosmos.obstacles.field`: the FIRAS field as joint torques (a runtime potential field).
+* :mod:`~cosmos.obstacles.minima`: detection of local minima.
+* :mod:`~cosmos.obstacles.collisions`: contacts the arm should not make.
+* :mod:`~cosmos.obstacles.bench`: the field's cost in the servo loop.
+"""
+
+from cosmos.obstacles.capsules import ARM_BODIES, LINK_BODIES, LinkCapsules, arm_capsules
+from cosmos.obstacles.collisions import Collision, collisions
+from cosmos.obstacles.field import FieldParameters, Influence, ObstacleField
+from cosmos.obstacles.minima import LocalMinimum, LocalMinimumDetector
+from cosmos.obstacles.obstacle import Obstacle, from_step
+from cosmos.obstacles.scene import DEFAULT_SLOTS, ObstacleScene, obstacle_scene_xml
+
+__all__ = [
+    "ARM_BODIES",
+    "DEFAULT_SLOTS",
+    "LINK_BODIES",
+    "Collision",
+    "FieldParameters",
+    "Influence",
+    "LinkCapsules",
+    "LocalMinimum",
+    "LocalMinimumDetector",
+    "Obstacle",
+    "ObstacleField",
+    "ObstacleScene",
+    "arm_capsules",
+    "collisions",
+    "from_step",
+    "obstacle_scene_xml",
+]

@@ -1,0 +1,144 @@
+"""The cost of obstacle avoidance in the servo loop: ticks with 10 obstacles against ticks with none.
+
+Two runtimes make the same goal motions (from home 400 mm sideways and back,
+the speed limit 0.25 m/s): one in the bare workcell without any potential
+field, one among ten obstacles (spheres, boxes, posts, a plane, one of them
+moving) with the obstacle field installed, several of them within the
+influence distance along the way. A tick includes everything the executor
+does per servo period: moving the obstacles, sensing, the parameter level
+(with the field, at its rate), the servo and the physics. The two runs
+alternate in short chunks so that the load of a shared machine affects both
+alike, and the time measured is this process's CPU time (what other
+processes on a shared machine take is not counted); the median chunk is
+reported.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from cosmos.obstacles.field import ObstacleField
+from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
+from cosmos.obstacles.scene import ObstacleScene, obstacle_scene_xml
+from cosmos.plan import ObstacleShape
+from cosmos.plant import Plant
+from cosmos.robot_model import build_robot_model
+from cosmos.runtime.loop import Runtime
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+CHUNK_TICKS = 200
+LEG_S = 2.0  # each goal is held this long before the next
+
+
+def bench_scene() -> tuple[Obstacle, ...]:
+    """Ten obstacles about the sideways move; the arm gets past them."""
+    floor = Obstacle(
+        "floor",
+        ObstacleShape.PLANE,
+        np.array((0.0, 0.0, 0.30)),
+        np.eye(3),
+        np.array((np.inf, np.inf, 0.0)),
+        np.zeros(3),
+    )
+    return (
+        sphere("ball", (0.61, 0.05, 0.52), 0.05),
+        sphere("rock", (0.42, 0.0, 0.73), 0.05),
+        sphere("moving", (0.45, 0.10, 0.53), 0.05, velocity_mps=(0.05, 0.0, 0.0)),
+        box("wall", (0.79, -0.05, 0.62), (0.02, 0.6, 0.5)),
+        box("crate", (0.62, -0.45, 0.30), (0.12, 0.12, 0.12)),
+        box("shelf", (0.20, 0.60, 0.50), (0.30, 0.05, 0.40)),
+        cylinder("post", (0.30, -0.50, 0.50), 0.04, 1.0),
+        cylinder("pillar", (-0.40, 0.30, 0.60), 0.06, 1.2),
+        cylinder("lamp", (0.60, -0.15, 1.45), 0.05, 0.3),
+        floor,
+    )
+
+
+def _runner(obstacles: tuple[Obstacle, ...]) -> tuple[Runtime, Callable[[int], None], ObstacleField | None]:
+    robot = build_robot_model()
+    if obstacles:
+        plant = Plant(obstacle_scene_xml())
+    else:
+        plant = Plant()
+    runtime = Runtime(plant, robot)
+    field = None
+    world = None
+    if obstacles:
+        world = ObstacleScene(plant)
+        field = ObstacleField(robot)
+        for obstacle in obstacles:
+            world.add(obstacle)
+            field.add(obstacle)
+        runtime.fields.append(field)
+    home = runtime.evaluation.position.copy()
+    rotation = runtime.evaluation.rotation_tool_to_world.copy()
+    goals = (home + np.array((0.0, 0.4, 0.0)), home)
+    leg = [-1]
+
+    def ticks(count: int) -> None:
+        for _ in range(count):
+            now = runtime.time_s
+            current = int(now // LEG_S) % 2
+            if current != leg[0]:
+                leg[0] = current
+                runtime.set_setpoint(
+                    ServoSetpoint(MotionMode.GOAL, goals[current], rotation, start_s=now, max_speed=0.25)
+                )
+            if world is not None:
+                world.update(now)
+            runtime.tick()
+
+    return runtime, ticks, field
+
+
+def bench_obstacles(ticks: int = 4000) -> dict[str, float]:
+    """Measure the servo tick with none and with ten obstacles (CPU time; still noisy on a shared machine).
+
+    Args:
+        ticks: Servo ticks per configuration (simulated seconds x 1000).
+
+    Returns:
+        ``tick_us_none`` and ``tick_us_10`` (median per-tick CPU time of the
+        chunks, in microseconds), their ``ratio``, ``field_us_per_evaluation``
+        (the field's own cost per parameter evaluation, in microseconds),
+        ``mean_obstacles_in_influence`` and ``ticks``.
+    """
+    bare, run_bare, _ = _runner(())
+    crowded, run_crowded, field = _runner(bench_scene())
+    assert field is not None
+    run_bare(CHUNK_TICKS)  # warm up both (caches, first evaluations)
+    run_crowded(CHUNK_TICKS)
+    chunks_bare, chunks_crowded, influenced = [], [], []
+    field_ns, evaluations = 0, 0
+    clock = time.process_time_ns  # CPU time of this process: other processes' load does not count
+    for _ in range(max(1, ticks // CHUNK_TICKS)):
+        start = clock()
+        run_bare(CHUNK_TICKS)
+        chunks_bare.append((clock() - start) / CHUNK_TICKS)
+        start = clock()
+        run_crowded(CHUNK_TICKS)
+        chunks_crowded.append((clock() - start) / CHUNK_TICKS)
+        influenced.append(len(field.influences))
+        t0 = clock()
+        field.torque(crowded.q, crowded.qd, crowded.time_s)
+        field_ns += clock() - t0
+        evaluations += 1
+    none_us = statistics.median(chunks_bare) / 1e3
+    ten_us = statistics.median(chunks_crowded) / 1e3
+    return {
+        "ticks": float(len(chunks_bare) * CHUNK_TICKS),
+        "tick_us_none": none_us,
+        "tick_us_10": ten_us,
+        "ratio": ten_us / none_us,
+        "field_us_per_evaluation": field_ns / evaluations / 1e3,
+        "mean_obstacles_in_influence": float(np.mean(influenced)),
+    }
+
+
+if __name__ == "__main__":  # pragma: no cover - manual use
+    for key, value in bench_obstacles().items():
+        print(f"{key}: {value:.3f}")

@@ -1,0 +1,168 @@
+"""The arm's links and the tool as capsules, in the frames of the controller's joints.
+
+Seed section 6 controls each link's point closest to an obstacle. Each link is
+modelled by capsules (a segment swollen by a radius), the collision geoms of
+the workcell's arm and tool (``scene.xml``, bodies ``link1`` .. ``link6`` and
+``tool``): a capsule geom is taken as it is, a cylinder as the capsule of its
+axis and radius (which contains it). The segment ends are expressed in the
+frame of the Pinocchio joint that carries the body, so the controller places
+them from its own kinematics: ``a_world = oMi[joint] * a_joint``.
+
+A *link* here is everything rigidly attached to one joint: link 6 includes the
+flange and the tool (sensor housing, collar, peg). A geom that lies inside
+another geom of the same link (the peg's collar inside the sensor housing's
+capsule) can never be that link's closest point and is left out.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+
+from cosmos.errors import CosmosError
+from cosmos.robot_model import RobotModel
+from cosmos.workcell import SCENE_XML, TOOL_BODY
+
+FloatArray = np.ndarray
+
+LINK_BODIES = ("link1", "link2", "link3", "link4", "link5", "link6")
+"""Bodies of the arm, link ``k`` turned by joint ``k``."""
+ARM_BODIES = (*LINK_BODIES, TOOL_BODY)
+"""Every body of the arm in the simulation, the tool included."""
+
+
+@dataclass(frozen=True)
+class LinkCapsules:
+    """The capsules of the arm, stacked for vectorised evaluation (arrays read-only).
+
+    Attributes:
+        names: Geom name of each capsule in the scene. # (n,)
+        links: Link of each capsule, ``link1`` .. ``link6`` (link 6 with the tool). # (n,)
+        joint: Index of the carrying joint in q, 0 .. 5. # (n,)
+        a_in_joint: Segment start in the joint's frame, in [m]. # (n, 3)
+        b_in_joint: Segment end in the joint's frame, in [m]. # (n, 3)
+        radius_m: Capsule radius, in [m]. # (n,)
+        bound_m: Radius of a sphere about the segment's midpoint that holds the
+            capsule (half length plus radius), in [m]. # (n,)
+    """
+
+    names: tuple[str, ...]
+    links: tuple[str, ...]
+    joint: np.ndarray
+    a_in_joint: FloatArray
+    b_in_joint: FloatArray
+    radius_m: FloatArray
+    bound_m: FloatArray
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+
+def _frozen(array: object) -> FloatArray:
+    out = np.array(array, dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+def _segment_in_body(model: mujoco.MjModel, geom: int) -> tuple[FloatArray, FloatArray, float]:
+    """The segment ends (in the geom's body frame) and radius of a capsule or cylinder geom."""
+    kind = int(model.geom_type[geom])
+    if kind not in (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER)):
+        raise CosmosError(f"{SCENE_XML}: arm geom '{model.geom(geom).name}' must be a capsule or a cylinder")
+    axis = np.empty(9)
+    mujoco.mju_quat2Mat(axis, model.geom_quat[geom])
+    half = float(model.geom_size[geom, 1]) * axis.reshape(3, 3)[:, 2]
+    center = model.geom_pos[geom]
+    return center - half, center + half, float(model.geom_size[geom, 0])
+
+
+def _body_in_link(model: mujoco.MjModel, body: int) -> pin.SE3:
+    """Pose of ``body`` in its nearest ancestor among the links (identity for a link)."""
+    pose = pin.SE3.Identity()
+    while model.body(body).name not in LINK_BODIES:
+        rotation = np.empty(9)
+        mujoco.mju_quat2Mat(rotation, model.body_quat[body])
+        if model.body_jntnum[body] != 0:
+            raise CosmosError(f"{SCENE_XML}: body '{model.body(body).name}' must be welded to a link")
+        pose = pin.SE3(rotation.reshape(3, 3), model.body_pos[body].copy()) * pose
+        body = int(model.body_parentid[body])
+    return pose
+
+
+@functools.cache
+def _scene_capsules() -> tuple[tuple[str, str, FloatArray, FloatArray, float], ...]:
+    """(geom, link, a, b, radius) of every collision geom of the arm, ends in the link's body frame."""
+    model = mujoco.MjModel.from_xml_path(str(SCENE_XML))
+    out = []
+    for geom in range(model.ngeom):
+        body = int(model.geom_bodyid[geom])
+        if model.body(body).name not in ARM_BODIES:
+            continue
+        if model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0:
+            continue  # visual only
+        a, b, radius = _segment_in_body(model, geom)
+        to_link = _body_in_link(model, body)
+        link = body
+        while model.body(link).name not in LINK_BODIES:
+            link = int(model.body_parentid[link])
+        out.append((model.geom(geom).name, model.body(link).name, to_link.act(a), to_link.act(b), radius))
+    return tuple(
+        capsule
+        for capsule in out
+        if not any(
+            other is not capsule and other[1] == capsule[1] and _inside(capsule, other) for other in out
+        )
+    )
+
+
+def _segment_distance(point: FloatArray, a: FloatArray, b: FloatArray) -> float:
+    """Distance from ``point`` to the segment ``a``-``b``."""
+    d = b - a
+    t = 0.0 if d.dot(d) < 1e-18 else min(1.0, max(0.0, float((point - a).dot(d) / d.dot(d))))
+    return float(np.linalg.norm(point - a - t * d))
+
+
+def _inside(
+    inner: tuple[str, str, FloatArray, FloatArray, float],
+    outer: tuple[str, str, FloatArray, FloatArray, float],
+) -> bool:
+    """True when capsule ``inner`` lies within capsule ``outer`` (then it never is the closer one)."""
+    room = outer[4] - inner[4] + 1e-9
+    return all(_segment_distance(end, outer[2], outer[3]) <= room for end in (inner[2], inner[3]))
+
+
+def arm_capsules(robot: RobotModel) -> LinkCapsules:
+    """The arm's and the tool's capsules in the frames of ``robot``'s joints.
+
+    Args:
+        robot: The controller's model; its body frames ``link1`` .. ``link6``
+            place the scene's link bodies on the joints.
+
+    Returns:
+        The capsules, in scene order.
+    """
+    names, links, joints, starts, ends, radii = [], [], [], [], [], []
+    for geom, link, a, b, radius in _scene_capsules():
+        frame = robot.model.frames[robot.model.getFrameId(link, pin.BODY)]
+        names.append(geom)
+        links.append(link)
+        joints.append(frame.parentJoint - 1)  # Pinocchio joint 0 is the universe
+        starts.append(frame.placement.act(a))
+        ends.append(frame.placement.act(b))
+        radii.append(radius)
+    a_arr, b_arr, r_arr = np.array(starts), np.array(ends), np.array(radii)
+    joint = np.array(joints, dtype=int)
+    joint.setflags(write=False)
+    return LinkCapsules(
+        names=tuple(names),
+        links=tuple(links),
+        joint=joint,
+        a_in_joint=_frozen(a_arr),
+        b_in_joint=_frozen(b_arr),
+        radius_m=_frozen(r_arr),
+        bound_m=_frozen(0.5 * np.linalg.norm(b_arr - a_arr, axis=1) + r_arr),
+    )

@@ -1,0 +1,63 @@
+"""Collision events: contacts between the arm and anything it should not touch.
+
+The tool touching a fixture (table, hole, plate) is the task's intended
+contact. Anything else the simulator reports between the arm and the world is
+a collision: the arm (a link or the tool) against an obstacle, or a link
+against a fixture or the floor.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from cosmos.obstacles.capsules import ARM_BODIES
+from cosmos.plant import Plant
+from cosmos.workcell import TOOL_BODY
+
+
+@dataclass(frozen=True)
+class Collision:
+    """One unintended contact.
+
+    Attributes:
+        arm_body: The arm's body in contact (``link1`` .. ``link6`` or ``tool``).
+        other: The obstacle's name, or the body it touched (``world`` for the floor).
+        is_obstacle: True when ``other`` is an obstacle.
+        depth_m: Penetration depth (>= 0), in [m].
+    """
+
+    arm_body: str
+    other: str
+    is_obstacle: bool
+    depth_m: float
+
+
+def collisions(plant: Plant, obstacle_bodies: Mapping[str, str]) -> list[Collision]:
+    """The plant's current contacts that are collisions, one per (arm body, other) pair.
+
+    Args:
+        plant: The simulated workcell.
+        obstacle_bodies: MuJoCo body name -> obstacle name, for the obstacles in
+            the scene (:meth:`cosmos.obstacles.ObstacleScene.body_names`).
+
+    Returns:
+        The collisions, deepest penetration per pair, in the order MuJoCo found them.
+    """
+    found: dict[tuple[str, str], Collision] = {}
+    for contact in plant.contacts():
+        if contact.body1 in ARM_BODIES and contact.body2 not in ARM_BODIES:
+            arm, other = contact.body1, contact.body2
+        elif contact.body2 in ARM_BODIES and contact.body1 not in ARM_BODIES:
+            arm, other = contact.body2, contact.body1
+        else:
+            continue
+        is_obstacle = other in obstacle_bodies
+        if arm == TOOL_BODY and not is_obstacle:
+            continue  # the tool on a fixture: the intended contact
+        name = obstacle_bodies.get(other, other)
+        depth = max(0.0, -contact.distance_m)
+        previous = found.get((arm, name))
+        if previous is None or depth > previous.depth_m:
+            found[(arm, name)] = Collision(arm, name, is_obstacle, depth)
+    return list(found.values())

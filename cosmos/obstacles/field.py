@@ -1,0 +1,234 @@
+"""The obstacles' artificial potential field (seed section 6), as joint torques for the runtime.
+
+For every link ``k`` of the arm (its capsules, :mod:`cosmos.obstacles.capsules`;
+link 6 carries the tool) and every obstacle ``O``, the link's point ``p``
+closest to ``O``, at surface distance ``rho`` along the unit normal ``n``
+pointing away from ``O``, is pushed by::
+
+    F = [ eta (1/rho - 1/rho_0) / rho^2            FIRAS, -grad U (cosmos.osc.firas)
+          + c (1 - rho/rho_0) max(0, -n . (v_p - v_O)) ]  n     for rho < rho_0
+
+The second term damps the approach: ``v_p - v_O`` is the point's velocity
+relative to the obstacle (``v_O`` its ``MOVING`` velocity, so a moving obstacle
+is a time-varying potential whose position is taken at time ``t`` and whose
+motion enters the damping), and the ramp ``1 - rho/rho_0`` keeps the force
+continuous at the edge of the influence zone. The magnitude is capped. An
+obstacle's ``gain_scale`` multiplies both eta and c.
+
+The force acts on the arm through the point's Jacobian, ``Gamma = J_p^T F``.
+With Pinocchio's world Jacobian ``J`` (spatial velocities of the joints'
+bodies at the world origin, columns 0..k for link k), ``J_p = J_v + J_w x p``
+column by column, so ``Gamma = J[:, :k+1]^T (F, p x F)``: the force becomes a
+wrench about the world origin, summed per link, one product per link.
+
+Cost: the field runs at the parameter rate. One vectorised test of bounding
+spheres (capsule about its midpoint, obstacle about its centre; a plane by
+height) rules out the (capsule, obstacle) pairs that cannot be inside
+``rho_0``; the closest points of the others come from the controller's own
+geometric model (:mod:`cosmos.obstacles.geometry`, MuJoCo's ``mj_geomDistance``),
+falling back to :mod:`cosmos.osc.firas` when a capsule touches an obstacle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from cosmos.errors import CosmosError
+from cosmos.obstacles.capsules import LINK_BODIES, arm_capsules
+from cosmos.obstacles.geometry import ProximityModel
+from cosmos.obstacles.obstacle import Obstacle
+from cosmos.osc.firas import firas_magnitude
+from cosmos.robot_model import RobotModel
+
+FloatArray = np.ndarray
+
+_REACH_M = 1.3  # farther than any point of the arm and tool from any joint axis
+
+
+@dataclass(frozen=True)
+class FieldParameters:
+    """Defaults of the obstacle field; ``OBSTACLE`` may set rho_0 and scale eta per obstacle.
+
+    Attributes:
+        influence_m: rho_0, the distance from the surface beyond which an obstacle
+            exerts no force, in [m].
+        eta: FIRAS gain, in [N m^3]: the force is ``eta (1/rho - 1/rho_0)/rho^2``.
+        damping_ns_per_m: c, damping of the approach speed at the surface, in [N s/m]
+            (it ramps to 0 at rho_0).
+        force_cap_n: Largest force on one link from one obstacle, in [N].
+        geometry_every: The closest points are measured at every this many
+            evaluations and estimated to first order in between (as the seed's
+            servo level estimates the end effector between evaluations); 1 measures
+            them every time.
+    """
+
+    influence_m: float = 0.10
+    eta: float = 1.0e-3
+    damping_ns_per_m: float = 300.0
+    force_cap_n: float = 400.0
+    geometry_every: int = 2
+
+
+@dataclass(frozen=True)
+class Influence:
+    """What one obstacle does to the arm at one evaluation.
+
+    Attributes:
+        obstacle: The obstacle's name.
+        link: The link nearest to it (``link6`` includes the tool).
+        distance_m: That link's surface distance to the obstacle, in [m].
+        force_n: Largest force magnitude the obstacle exerts on a link, in [N].
+    """
+
+    obstacle: str
+    link: str
+    distance_m: float
+    force_n: float
+
+
+class ObstacleField:
+    """FIRAS repulsion of every link from every obstacle; a runtime ``PotentialField``.
+
+    Args:
+        robot: The controller's model (the field keeps its own Pinocchio data).
+        parameters: Default rho_0, eta, damping and cap.
+    """
+
+    def __init__(self, robot: RobotModel, parameters: FieldParameters = FieldParameters()) -> None:
+        self.parameters = parameters
+        self.enabled = True
+        """When False, :meth:`torque` is zero (the obstacles are still tracked)."""
+        self._model = robot.model
+        self._data = robot.model.createData()
+        self._capsules = arm_capsules(robot)
+        self._obstacles: dict[str, Obstacle] = {}
+        self._geometry: ProximityModel | None = None
+        self._obstacle_speed = 0.0
+        self._evaluations = 0
+        self._speed_bound = 0.0
+        self.influences: tuple[Influence, ...] = ()
+        """Obstacles whose field acted at the last evaluation, with their nearest link."""
+
+    @property
+    def obstacles(self) -> tuple[Obstacle, ...]:
+        """The obstacles the field repels from."""
+        return tuple(self._obstacles.values())
+
+    def add(self, obstacle: Obstacle) -> None:
+        """Start repelling from ``obstacle``.
+
+        Raises:
+            CosmosError: If an obstacle of that name is already in the field.
+        """
+        if obstacle.name in self._obstacles:
+            raise CosmosError(f"obstacle '{obstacle.name}' is already in the scene; remove it first")
+        self._obstacles[obstacle.name] = obstacle
+        self._geometry = None
+
+    def remove(self, name: str) -> None:
+        """Stop repelling from the obstacle ``name``.
+
+        Raises:
+            CosmosError: If there is no obstacle of that name.
+        """
+        if self._obstacles.pop(name, None) is None:
+            present = ", ".join(self._obstacles) or "none"
+            raise CosmosError(f"no obstacle '{name}' in the scene (present: {present})")
+        self._geometry = None
+
+    def torque(self, q: FloatArray, qd: FloatArray, t_s: float) -> FloatArray:
+        """Joint torques of the field at ``(q, qd)`` and simulated time ``t_s``, in [N m]. # (6,)."""
+        torque = np.zeros(6)
+        if not self._obstacles:
+            self.influences = ()
+            return torque
+        geometry = self._geometry
+        if geometry is None:
+            default = self.parameters.influence_m
+            influence = [default if o.influence_m is None else o.influence_m for o in self.obstacles]
+            geometry = self._geometry = ProximityModel(self._capsules, self.obstacles, influence)
+            self._evaluations = 0
+            self._obstacle_speed = max(float(np.linalg.norm(o.velocity_world_mps)) for o in self.obstacles)
+        model, data = self._model, self._data
+        pin.computeJointJacobians(model, data, q)
+        jacobian = data.J  # (6, 6) world: spatial velocity of joint k's body at the origin
+        columns = jacobian.T.tolist()  # row j: joint j's spatial axis at the origin
+        rates = qd.tolist()
+        twists, twist = [], [0.0] * 6  # row k: twist of joint k's body, sum over j <= k of column j qd_j
+        for column, rate in zip(columns, rates, strict=True):
+            twist = [t + c * rate for t, c in zip(twist, column, strict=True)]
+            twists.append(twist)
+        # |velocity| of any arm point <= sum |qd_j| * (its distance to axis j) <= sum |qd_j| * reach.
+        speed = sum([abs(rate) for rate in rates]) * _REACH_M + self._obstacle_speed
+        self._speed_bound = max(self._speed_bound, speed)
+        if self._evaluations % self.parameters.geometry_every == 0:
+            placements = np.array([data.oMi[i].homogeneous for i in range(1, 7)])  # (6, 4, 4)
+            near = geometry.measure(placements[:, :3, :3], placements[:, :3, 3], t_s, self._speed_bound)
+            self._speed_bound = speed
+        else:
+            near = geometry.estimate(twists, t_s)
+        self._evaluations += 1
+        if not near:
+            self.influences = ()
+            return torque
+        wrenches = [[0.0] * 6 for _ in range(6)]  # row k: wrench about the origin on link k
+        acting: dict[int, list] = {}  # obstacle -> [distance, link, strongest force]
+        obstacles, influence = geometry.obstacles, geometry.influence_m
+        for k, j, distance, point, normal in near:
+            magnitude = self._magnitude(distance, point, normal, twists[k], obstacles[j], influence[j])
+            px, py, pz = point
+            fx, fy, fz = magnitude * normal[0], magnitude * normal[1], magnitude * normal[2]
+            w = wrenches[k]
+            w[0] += fx
+            w[1] += fy
+            w[2] += fz
+            w[3] += py * fz - pz * fy
+            w[4] += pz * fx - px * fz
+            w[5] += px * fy - py * fx
+            seen = acting.setdefault(j, [distance, k, magnitude])
+            if distance < seen[0]:
+                seen[0], seen[1] = distance, k
+            seen[2] = max(seen[2], magnitude)
+        self.influences = tuple(
+            Influence(obstacles[j].name, LINK_BODIES[k], distance, force)
+            for j, (distance, k, force) in sorted(acting.items())
+        )
+        if not self.enabled:
+            return torque
+        # Gamma_j = J_j . (sum of the wrenches on links k >= j): joint j carries the links beyond it.
+        carried = [0.0] * 6
+        for j in range(5, -1, -1):
+            carried = [c + w for c, w in zip(carried, wrenches[j], strict=True)]
+            torque[j] = sum([a * c for a, c in zip(columns[j], carried, strict=True)])
+        return torque
+
+    def _magnitude(
+        self,
+        distance: float,
+        point: tuple[float, float, float],
+        normal: tuple[float, float, float],
+        twist: list[float],
+        obstacle: Obstacle,
+        rho_0: float,
+    ) -> float:
+        """|F|: FIRAS plus approach damping at ``point`` of a link moving with ``twist``, in [N]."""
+        par = self.parameters
+        cap, scale = par.force_cap_n, obstacle.gain_scale
+        magnitude = firas_magnitude(distance, rho_0, par.eta * scale, cap)
+        vx, vy, vz, wx, wy, wz = twist
+        px, py, pz = point
+        ox, oy, oz = obstacle.velocity_world_mps.tolist()
+        nx, ny, nz = normal
+        # Point velocity v + w x p relative to the obstacle, along the normal; > 0 when closing in.
+        approach = -(
+            nx * (vx + wy * pz - wz * py - ox)
+            + ny * (vy + wz * px - wx * pz - oy)
+            + nz * (vz + wx * py - wy * px - oz)
+        )
+        if approach > 0.0:
+            ramp = min(1.0, max(0.0, 1.0 - distance / rho_0))
+            magnitude += scale * par.damping_ns_per_m * ramp * approach
+        return min(magnitude, cap)

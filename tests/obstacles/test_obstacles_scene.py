@@ -1,0 +1,155 @@
+"""Obstacles as bodies of the simulated workcell: slots, bounds, poses, contacts, collision events."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from cosmos.errors import CosmosError
+from cosmos.obstacles import ObstacleScene, collisions, obstacle_scene_xml
+from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
+from cosmos.obstacles.scene import DEFAULT_SLOTS, geom_size_and_bounds
+from cosmos.plan import ObstacleShape
+from cosmos.plant import Contact, Plant
+from cosmos.workcell import HOME_Q
+
+PLANE = Obstacle(
+    "floor2",
+    ObstacleShape.PLANE,
+    np.array([0.0, 0.0, 0.1]),
+    np.eye(3),
+    np.array([np.inf, np.inf, 0.0]),
+    np.zeros(3),
+)
+
+
+@pytest.mark.parametrize(
+    "obstacle",
+    [
+        sphere("s", (0, 0, 0), 0.07),
+        box("b", (0, 0, 0), (0.1, 0.2, 0.3)),
+        cylinder("c", (0, 0, 0), 0.05, 0.4),
+        PLANE,
+    ],
+    ids=["sphere", "box", "cylinder", "plane"],
+)
+def test_bounds_match_the_compiler(obstacle: Obstacle) -> None:
+    """The bounding volumes set at run time are those MuJoCo compiles for that geom."""
+    size, rbound, aabb = geom_size_and_bounds(obstacle)
+    spec = mujoco.MjSpec()
+    kinds = {
+        ObstacleShape.SPHERE: mujoco.mjtGeom.mjGEOM_SPHERE,
+        ObstacleShape.BOX: mujoco.mjtGeom.mjGEOM_BOX,
+        ObstacleShape.CYLINDER: mujoco.mjtGeom.mjGEOM_CYLINDER,
+        ObstacleShape.PLANE: mujoco.mjtGeom.mjGEOM_PLANE,
+    }
+    spec.worldbody.add_body(mocap=True).add_geom(type=kinds[obstacle.shape], size=size)
+    model = spec.compile()
+    assert model.geom_rbound[0] == pytest.approx(rbound)
+    np.testing.assert_allclose(model.geom_aabb[0], aabb)
+    np.testing.assert_allclose(model.bvh_aabb[model.body_bvhadr[1]], aabb)
+
+
+def test_the_slotted_workcell_is_the_workcell() -> None:
+    plain, slotted = Plant(), Plant(obstacle_scene_xml())
+    assert slotted.model.nmocap == DEFAULT_SLOTS
+    assert slotted.model.nq == plain.model.nq and slotted.model.nu == plain.model.nu
+    for _ in range(50):
+        plain.step(np.zeros(6))
+        slotted.step(np.zeros(6))
+    np.testing.assert_allclose(slotted.read_encoders()[0], plain.read_encoders()[0], atol=1e-12)
+    assert slotted.contacts() == [] or all(c.body1 != c.body2 for c in slotted.contacts())
+
+
+def test_an_obstacle_is_a_body_the_arm_touches() -> None:
+    plant = Plant(obstacle_scene_xml())
+    scene = ObstacleScene(plant)
+    ball = sphere("ball", (0.596, -0.15, 0.50), 0.03)  # around the peg at home
+    scene.add(ball)
+    plant.step(np.zeros(6))
+    hits = collisions(plant, scene.body_names())
+    assert [(h.arm_body, h.other, h.is_obstacle) for h in hits] == [("tool", "ball", True)]
+    assert scene.remove("ball") is ball
+    plant.step(np.zeros(6))
+    assert collisions(plant, scene.body_names()) == []
+
+
+def test_a_box_slot_collides_as_a_box_and_moves_with_its_velocity() -> None:
+    plant = Plant(obstacle_scene_xml())
+    scene = ObstacleScene(plant)
+    # A thin plate 60 mm beside the peg, moving toward it at 0.5 m/s: no contact, then contact.
+    plate = box("plate", (0.596 + 0.0096 + 0.06 + 0.005, -0.15, 0.52), (0.01, 0.3, 0.05), (-0.5, 0.0, 0.0))
+    scene.add(plate)
+    seen = []
+    for _ in range(200):
+        scene.update(plant.time_s)
+        plant.step(np.zeros(6))
+        seen.append(bool(collisions(plant, scene.body_names())))
+    assert not any(seen[:100]) and any(seen[130:])
+    mocap = plant.data.mocap_pos[plant.model.body_mocapid[plant.model.body("obstacle_slot0").id]]
+    assert mocap[0] == pytest.approx(plate.position_world[0] - 0.5 * (plant.time_s - plant.dt_s), abs=1e-9)
+
+
+def test_reset_parks_and_restore_puts_back() -> None:
+    plant = Plant(obstacle_scene_xml())
+    scene = ObstacleScene(plant)
+    scene.add(cylinder("post", (0.4, 0.2, 0.5), 0.05, 0.4))
+    mocap = plant.model.body_mocapid[plant.model.body("obstacle_slot0").id]
+    plant.reset()
+    assert plant.data.mocap_pos[mocap][2] < -10.0
+    scene.restore(plant.time_s)
+    np.testing.assert_allclose(plant.data.mocap_pos[mocap], (0.4, 0.2, 0.5))
+
+
+def test_scene_errors_name_the_fix() -> None:
+    with pytest.raises(CosmosError, match="obstacle_scene_xml"):
+        ObstacleScene(Plant())
+    plant = Plant(obstacle_scene_xml())
+    scene = ObstacleScene(plant)
+    for i in range(scene.capacity):
+        scene.add(sphere(f"b{i}", (2.0, 0.1 * i, 0.5), 0.01))
+    with pytest.raises(CosmosError, match="at most 12 obstacles"):
+        scene.add(sphere("one_more", (2.0, 0.0, 0.5), 0.01))
+    with pytest.raises(CosmosError, match="already"):
+        scene.add(sphere("b0", (2.0, 0.0, 0.5), 0.01))
+    with pytest.raises(CosmosError, match="no obstacle 'nope'"):
+        scene.remove("nope")
+
+
+class _Contacts:
+    """A stand-in plant with given contacts (for the filter's logic)."""
+
+    def __init__(self, pairs: list[tuple[str, str, float]]) -> None:
+        self._contacts = [Contact("g1", "g2", b1, b2, d, np.zeros(3)) for b1, b2, d in pairs]
+
+    def contacts(self) -> list[Contact]:
+        return self._contacts
+
+
+def test_the_tool_on_a_fixture_is_intended_a_link_on_it_is_not() -> None:
+    plant = _Contacts(
+        [
+            ("tool", "table", -0.001),  # the task's contact
+            ("hole_fixture", "tool", -0.002),  # the task's contact, either order
+            ("link3", "table", -0.003),
+            ("world", "link2", -0.001),  # the floor
+            ("obstacle_slot4", "tool", -0.004),
+            ("obstacle_slot4", "tool", -0.006),  # same pair: the deepest is kept
+            ("obstacle_slot4", "table", -0.001),  # not the arm
+        ]
+    )
+    found = collisions(plant, {"obstacle_slot4": "ball"})  # type: ignore[arg-type]
+    assert [(c.arm_body, c.other, c.is_obstacle) for c in found] == [
+        ("link3", "table", False),
+        ("link2", "world", False),
+        ("tool", "ball", True),
+    ]
+    assert found[2].depth_m == pytest.approx(0.006)
+
+
+def test_home_pose_has_no_collision() -> None:
+    plant = Plant(obstacle_scene_xml())
+    plant.reset(HOME_Q)
+    plant.step(np.zeros(6))
+    assert collisions(plant, {}) == []
