@@ -84,6 +84,10 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
 
         playback = Playback(start_s=options.start_s, rate=options.rate)
         if options.view:
+            click.echo(
+                f"playing from t = {options.start_s:g} s at {options.rate:g}x in the MuJoCo viewer; "
+                "close its window to go on"
+            )
             view(record, playback)
         if options.video is not None:
             video = render_video(record, options.video, playback)

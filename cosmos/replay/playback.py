@@ -220,7 +220,10 @@ def view(record: RunRecord, playback: Playback) -> None:
 
     plant = _scene()
     _pose(plant, positions[0])
-    with mujoco.viewer.launch_passive(plant.model, plant.data) as viewer:
+    viewer_window = mujoco.viewer.launch_passive(
+        plant.model, plant.data, show_left_ui=False, show_right_ui=False
+    )
+    with viewer_window as viewer:
         _look_like_camera(viewer.cam, plant, CAMERA)
         started = time.perf_counter()
         try:
