@@ -82,11 +82,11 @@ def state_after_failure(
             obstacles[step.name.casefold()] = step.span
         elif isinstance(step, RemoveObstacle):
             obstacles.pop(step.name.casefold(), None)
-    released = failed if before.contact is not None or after.contact is not None else None
+    released = failed if before.contact is not None else after.contact_released_by
     return dataclasses.replace(
         after,
         contact=None,
-        contact_released_by=released or after.contact_released_by,
+        contact_released_by=released,
         obstacles=frozen_map(obstacles),
     )
 

@@ -1,0 +1,44 @@
+"""``cosmos repl`` from the shell: lines piped to stdin, the log path printed, exit status."""
+
+from __future__ import annotations
+
+import io
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from cosmos.errors import UsageError
+from cosmos.repl.app import ReplApp
+from cosmos.runlog.reader import read_log
+
+
+def test_piped_session_runs_and_logs_under_logs(tmp_path: Path) -> None:
+    typed = "FRAME a = table + (0, 0, 200 mm)\nWAIT 0.1 s\nPROC w\n  WAIT 0.05 s\nEND\nw\nWAIT 1 mx\n:log\n"
+    done = subprocess.run(
+        [sys.executable, "-m", "cosmos", "repl"],
+        input=typed,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+    )
+    assert done.returncode == 0, done.stderr
+    out = done.stdout
+    assert "Traceback" not in out + done.stderr
+    (log,) = (tmp_path / "logs").glob("repl-*.mcap")  # the default path
+    assert out.count(f"log: logs/{log.name}") == 3  # at the start, for :log, at the end
+    assert "cosmos> WAIT 0.1 s\nok  WAIT 0.1 s" in out
+    assert "cosmos> PROC w\n.......   WAIT 0.05 s\n....... END\nPROC w defined" in out
+    assert "<repl>:7:8: 'mx' is not a unit" in out
+    record = read_log(log)
+    assert record.source is not None and record.source.splitlines()[6] == "# ! WAIT 1 mx"
+    assert [e.statement for e in record.events if e.kind == "done"] == ["WAIT 0.1 s", "WAIT 0.05 s"]
+
+
+def test_unwritable_log_is_a_usage_error(tmp_path: Path) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(UsageError, match="cannot write the log"):
+        ReplApp(blocker / "x.mcap", io.StringIO(), stdin=io.StringIO())
