@@ -1,10 +1,10 @@
 """The cost of obstacle avoidance in the servo loop: ticks with 10 obstacles against ticks with none.
 
-Two runtimes make the same goal motions (from home 400 mm sideways and back,
-the speed limit 0.25 m/s): one in the bare workcell without any potential
-field, one among ten obstacles (spheres, boxes, posts, a plane, one of them
-moving) with the obstacle field installed, several of them within the
-influence distance along the way. A tick includes everything the executor
+Two runtimes, built as the executor builds them (the workcell with its
+obstacle slots, the obstacle field installed), make the same goal motions
+(from home 400 mm sideways and back, speed limit 0.25 m/s): one with no
+obstacle, one among ten (spheres, boxes, posts, a plane, one of them moving),
+about four of them within the influence distance at any time. A tick includes everything the executor
 does per servo period: moving the obstacles, sensing, the parameter level
 (with the field, at its rate), the servo and the physics. The two runs
 alternate in short chunks so that the load of a shared machine affects both
@@ -58,22 +58,17 @@ def bench_scene() -> tuple[Obstacle, ...]:
     )
 
 
-def _runner(obstacles: tuple[Obstacle, ...]) -> tuple[Runtime, Callable[[int], None], ObstacleField | None]:
+def _runner(obstacles: tuple[Obstacle, ...]) -> tuple[Runtime, Callable[[int], None], ObstacleField]:
+    """A runtime as the executor builds it (workcell with obstacle slots, field installed)."""
     robot = build_robot_model()
-    if obstacles:
-        plant = Plant(obstacle_scene_xml())
-    else:
-        plant = Plant()
+    plant = Plant(obstacle_scene_xml())
     runtime = Runtime(plant, robot)
-    field = None
-    world = None
-    if obstacles:
-        world = ObstacleScene(plant)
-        field = ObstacleField(robot)
-        for obstacle in obstacles:
-            world.add(obstacle)
-            field.add(obstacle)
-        runtime.fields.append(field)
+    world = ObstacleScene(plant)
+    field = ObstacleField(robot)
+    for obstacle in obstacles:
+        world.add(obstacle)
+        field.add(obstacle)
+    runtime.fields.append(field)
     home = runtime.evaluation.position.copy()
     rotation = runtime.evaluation.rotation_tool_to_world.copy()
     goals = (home + np.array((0.0, 0.4, 0.0)), home)
@@ -88,8 +83,7 @@ def _runner(obstacles: tuple[Obstacle, ...]) -> tuple[Runtime, Callable[[int], N
                 runtime.set_setpoint(
                     ServoSetpoint(MotionMode.GOAL, goals[current], rotation, start_s=now, max_speed=0.25)
                 )
-            if world is not None:
-                world.update(now)
+            world.update(now)
             runtime.tick()
 
     return runtime, ticks, field
@@ -107,9 +101,8 @@ def bench_obstacles(ticks: int = 4000) -> dict[str, float]:
         (the field's own cost per parameter evaluation, in microseconds),
         ``mean_obstacles_in_influence`` and ``ticks``.
     """
-    bare, run_bare, _ = _runner(())
+    _, run_bare, _ = _runner(())
     crowded, run_crowded, field = _runner(bench_scene())
-    assert field is not None
     run_bare(CHUNK_TICKS)  # warm up both (caches, first evaluations)
     run_crowded(CHUNK_TICKS)
     chunks_bare, chunks_crowded, influenced = [], [], []

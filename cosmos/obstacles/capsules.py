@@ -166,3 +166,39 @@ def arm_capsules(robot: RobotModel) -> LinkCapsules:
         radius_m=_frozen(r_arr),
         bound_m=_frozen(0.5 * np.linalg.norm(b_arr - a_arr, axis=1) + r_arr),
     )
+
+
+def joint_reach_m(robot: RobotModel, capsules: LinkCapsules) -> FloatArray:
+    """For each joint, a bound on the distance from its axis to any point of the capsules it moves, in [m].
+
+    Joint j's own capsules are fixed in its frame: their exact distance to its
+    axis. A capsule of link k > j is within ``|a|`` (its segment end's distance
+    to joint k's origin) plus its radius of joint k's origin, joint m's origin
+    is a fixed distance from joint m-1's (a serial chain), and joint j+1's
+    origin a fixed distance from joint j's axis; by the triangle inequality the
+    bound holds in every configuration, and ``sum_j |qd_j| reach_j`` bounds the
+    speed of every point of the arm. # (6,)
+    """
+    model, data = robot.model, robot.model.createData()
+    pin.computeJointJacobians(model, data, pin.neutral(model))
+    # Joint j's axis in its own frame (Pinocchio joint j + 1): the angular part of its Jacobian column.
+    axes = [data.oMi[j + 1].rotation.T.dot(data.J[3:, j]) for j in range(6)]
+    hops = [float(np.linalg.norm(model.jointPlacements[j + 1].translation)) for j in range(6)]
+
+    def to_axis(j: int, point: FloatArray) -> float:
+        return float(np.linalg.norm(np.cross(axes[j], point)))
+
+    ends = np.maximum(
+        np.linalg.norm(capsules.a_in_joint, axis=1), np.linalg.norm(capsules.b_in_joint, axis=1)
+    )
+    reach = np.zeros(6)
+    for i, k in enumerate(capsules.joint.tolist()):
+        radius = float(capsules.radius_m[i])
+        for j in range(k + 1):
+            if j == k:
+                bound = max(to_axis(j, capsules.a_in_joint[i]), to_axis(j, capsules.b_in_joint[i])) + radius
+            else:
+                next_origin = to_axis(j, model.jointPlacements[j + 2].translation)
+                bound = next_origin + sum(hops[j + 2 : k + 1]) + float(ends[i]) + radius
+            reach[j] = max(reach[j], bound)
+    return _frozen(reach)

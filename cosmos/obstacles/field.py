@@ -32,20 +32,19 @@ falling back to :mod:`cosmos.osc.firas` when a capsule touches an obstacle.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
 from cosmos.errors import CosmosError
-from cosmos.obstacles.capsules import LINK_BODIES, arm_capsules
+from cosmos.obstacles.capsules import LINK_BODIES, arm_capsules, joint_reach_m
 from cosmos.obstacles.geometry import ProximityModel
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.osc.firas import firas_magnitude
 from cosmos.robot_model import RobotModel
 
 FloatArray = np.ndarray
-
-_REACH_M = 1.3  # farther than any point of the arm and tool from any joint axis
 
 
 @dataclass(frozen=True)
@@ -72,8 +71,7 @@ class FieldParameters:
     geometry_every: int = 2
 
 
-@dataclass(frozen=True)
-class Influence:
+class Influence(NamedTuple):
     """What one obstacle does to the arm at one evaluation.
 
     Attributes:
@@ -104,6 +102,7 @@ class ObstacleField:
         self._model = robot.model
         self._data = robot.model.createData()
         self._capsules = arm_capsules(robot)
+        self._reach = joint_reach_m(robot, self._capsules).tolist()
         self._obstacles: dict[str, Obstacle] = {}
         self._geometry: ProximityModel | None = None
         self._obstacle_speed = 0.0
@@ -161,8 +160,9 @@ class ObstacleField:
         for column, rate in zip(columns, rates, strict=True):
             twist = [t + c * rate for t, c in zip(twist, column, strict=True)]
             twists.append(twist)
-        # |velocity| of any arm point <= sum |qd_j| * (its distance to axis j) <= sum |qd_j| * reach.
-        speed = sum([abs(rate) for rate in rates]) * _REACH_M + self._obstacle_speed
+        # |velocity| of any arm point <= sum |qd_j| * (its distance to axis j) <= sum |qd_j| reach_j.
+        speed = sum([abs(rate) * reach for rate, reach in zip(rates, self._reach, strict=True)])
+        speed += self._obstacle_speed
         self._speed_bound = max(self._speed_bound, speed)
         if self._evaluations % self.parameters.geometry_every == 0:
             placements = np.array([data.oMi[i].homogeneous for i in range(1, 7)])  # (6, 4, 4)
@@ -176,11 +176,27 @@ class ObstacleField:
             return torque
         wrenches = [[0.0] * 6 for _ in range(6)]  # row k: wrench about the origin on link k
         acting: dict[int, list] = {}  # obstacle -> [distance, link, strongest force]
-        obstacles, influence = geometry.obstacles, geometry.influence_m
-        for k, j, distance, point, normal in near:
-            magnitude = self._magnitude(distance, point, normal, twists[k], obstacles[j], influence[j])
-            px, py, pz = point
-            fx, fy, fz = magnitude * normal[0], magnitude * normal[1], magnitude * normal[2]
+        obstacles, influence, velocities = geometry.obstacles, geometry.influence_m, geometry.velocities
+        par = self.parameters
+        for k, j, distance, (px, py, pz), (nx, ny, nz) in near:
+            vx, vy, vz, wx, wy, wz = twists[k]
+            ux, uy, uz = velocities[j]
+            # The point's velocity v + w x p relative to the obstacle, along -n: > 0 when closing in.
+            approach = -(
+                nx * (vx + wy * pz - wz * py - ux)
+                + ny * (vy + wz * px - wx * pz - uy)
+                + nz * (vz + wx * py - wy * px - uz)
+            )
+            scale = obstacles[j].gain_scale
+            magnitude = repulsion_magnitude(
+                distance,
+                influence[j],
+                scale * par.eta,
+                scale * par.damping_ns_per_m,
+                par.force_cap_n,
+                approach,
+            )
+            fx, fy, fz = magnitude * nx, magnitude * ny, magnitude * nz
             w = wrenches[k]
             w[0] += fx
             w[1] += fy
@@ -205,30 +221,27 @@ class ObstacleField:
             torque[j] = sum([a * c for a, c in zip(columns[j], carried, strict=True)])
         return torque
 
-    def _magnitude(
-        self,
-        distance: float,
-        point: tuple[float, float, float],
-        normal: tuple[float, float, float],
-        twist: list[float],
-        obstacle: Obstacle,
-        rho_0: float,
-    ) -> float:
-        """|F|: FIRAS plus approach damping at ``point`` of a link moving with ``twist``, in [N]."""
-        par = self.parameters
-        cap, scale = par.force_cap_n, obstacle.gain_scale
-        magnitude = firas_magnitude(distance, rho_0, par.eta * scale, cap)
-        vx, vy, vz, wx, wy, wz = twist
-        px, py, pz = point
-        ox, oy, oz = obstacle.velocity_world_mps.tolist()
-        nx, ny, nz = normal
-        # Point velocity v + w x p relative to the obstacle, along the normal; > 0 when closing in.
-        approach = -(
-            nx * (vx + wy * pz - wz * py - ox)
-            + ny * (vy + wz * px - wx * pz - oy)
-            + nz * (vz + wx * py - wy * px - oz)
-        )
-        if approach > 0.0:
-            ramp = min(1.0, max(0.0, 1.0 - distance / rho_0))
-            magnitude += scale * par.damping_ns_per_m * ramp * approach
-        return min(magnitude, cap)
+
+def repulsion_magnitude(
+    distance_m: float, rho_0_m: float, eta: float, damping_ns_per_m: float, cap_n: float, approach_mps: float
+) -> float:
+    """|F| of the field on one link's point: FIRAS plus approach damping, capped, in [N].
+
+    Args:
+        distance_m: rho, the point's distance to the obstacle's surface, in [m].
+        rho_0_m: Influence distance, in [m].
+        eta: FIRAS gain, in [N m^3].
+        damping_ns_per_m: c, in [N s/m].
+        cap_n: Largest magnitude, in [N].
+        approach_mps: Speed of the point toward the obstacle along the normal, in [m/s].
+
+    Returns:
+        ``eta (1/rho - 1/rho_0)/rho^2 + c (1 - rho/rho_0) max(0, approach)``, capped;
+        0 at and beyond rho_0.
+    """
+    if distance_m >= rho_0_m:
+        return 0.0
+    magnitude = firas_magnitude(distance_m, rho_0_m, eta, cap_n)
+    if approach_mps > 0.0:
+        magnitude += damping_ns_per_m * min(1.0, 1.0 - distance_m / rho_0_m) * approach_mps
+    return min(magnitude, cap_n)

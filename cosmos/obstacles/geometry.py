@@ -132,13 +132,14 @@ class ProximityModel:
             xmat[self._n + j] = np.ascontiguousarray(obstacle.rotation_world).reshape(9)
             xpos[self._n + j] = obstacle.position_world
         self._fromto = np.zeros(6)
-        self._candidates: list[tuple[int, int]] | None = None
+        self._candidates: list[list] | None = None  # [capsule, obstacle, distance, travel then]
         self._travel_m = 0.0
         self._last_s: float | None = None
         self._capsules = capsules
         # Per approach: link, obstacle, the link's point, the obstacle's point, normal, time; world.
         self._held: list[tuple[int, int, _Vec, _Vec, _Vec, float]] = []
-        self._velocity = [_triple(o.velocity_world_mps) for o in obstacles]
+        self.velocities = [_triple(o.velocity_world_mps) for o in obstacles]
+        """Each obstacle's velocity, world, in [m/s]."""
 
     def centers(self, t_s: float) -> FloatArray:
         """The obstacles' centres at simulated time ``t_s``, world, in [m]. # (k, 3)."""
@@ -168,7 +169,7 @@ class ProximityModel:
                 py + (vy + wz * px - wx * pz) * dt,
                 pz + (vz + wx * py - wy * px) * dt,
             )
-            ux, uy, uz = self._velocity[j]
+            ux, uy, uz = self.velocities[j]
             distance = nx * (px - ox - ux * dt) + ny * (py - oy - uy * dt) + nz * (pz - oz - uz * dt)
             if distance < self.influence_m[j]:
                 out.append(Approach(k, j, distance, (px, py, pz), (nx, ny, nz)))
@@ -188,18 +189,19 @@ class ProximityModel:
         caps, out, self._held = self._capsules, [], []
         for pair in self.nearest(rotations, origins, t_s, speed_mps):
             k, j, i, distance = pair.link, pair.obstacle, pair.capsule, pair.distance
-            point, other = np.array(pair.fromto[:3]), np.array(pair.fromto[3:])
+            px, py, pz, ox, oy, oz = pair.fromto
             if distance > _NORMAL_FROM_POINTS_M:
-                normal = (point - other) / distance
+                point, other = (px, py, pz), (ox, oy, oz)
+                normal = ((px - ox) / distance, (py - oy) / distance, (pz - oz) / distance)
             else:  # touching or penetrating: the signed distance and normal of firas
                 a = rotations[k].dot(caps.a_in_joint[i]) + origins[k]
                 b = rotations[k].dot(caps.b_in_joint[i]) + origins[k]
                 center = self.centers(t_s)[j]
                 exact = capsule_proximity(a, b, float(caps.radius_m[i]), self.obstacles[j], center)
-                distance, point, normal = exact.distance, exact.point, exact.normal
-                other = point - distance * normal
-            self._held.append((k, j, _triple(point), _triple(other), _triple(normal), t_s))
-            out.append(Approach(k, j, distance, _triple(point), _triple(normal)))
+                distance, point, normal = exact.distance, _triple(exact.point), _triple(exact.normal)
+                other = _triple(exact.point - exact.distance * exact.normal)
+            self._held.append((k, j, point, other, normal, t_s))
+            out.append(Approach(k, j, distance, point, normal))
         return out
 
     def nearest(
@@ -211,7 +213,8 @@ class ProximityModel:
         ``rho_0 + CANDIDATE_MARGIN_M`` of each other (bounding spheres first, then
         the exact distance); the list is kept until the surfaces may have closed
         that margin (``speed_mps`` bounds how fast any point of the arm
-        approaches any obstacle), then rebuilt.
+        approaches any obstacle), then rebuilt. A listed pair is queried again
+        only once it may have come within rho_0 since its last query.
 
         Args:
             rotations: Rotation of each joint's frame to world. # (6, 3, 3)
@@ -237,12 +240,16 @@ class ProximityModel:
         if self._candidates is None or self._travel_m >= CANDIDATE_MARGIN_M:
             self._candidates = self._candidate_pairs(midpoints, self.centers(t_s))
             self._travel_m = 0.0
-        rho_0, links = self.influence_m, self._joint_list
+        rho_0, links, travel = self.influence_m, self._joint_list, self._travel_m
         model, fromto, distance_of = self._model, self._fromto, mujoco.mj_geomDistance
         best: dict[tuple[int, int], Nearest] = {}
-        for i, j in self._candidates:
+        for candidate in self._candidates:
+            i, j, last_m, travel_then_m = candidate
             limit = rho_0[j]
-            distance = distance_of(model, data, i, n + j, limit, fromto)
+            if last_m - (travel - travel_then_m) >= limit:
+                continue  # it was farther than it can have come since
+            distance = distance_of(model, data, i, n + j, limit + CANDIDATE_MARGIN_M, fromto)
+            candidate[2], candidate[3] = distance, travel
             if distance >= limit:
                 continue
             key = (links[i], j)
@@ -251,8 +258,8 @@ class ProximityModel:
                 best[key] = Nearest(links[i], j, i, distance, fromto.tolist())
         return list(best.values())
 
-    def _candidate_pairs(self, midpoints: FloatArray, centers: FloatArray) -> list[tuple[int, int]]:
-        """(capsule, obstacle) pairs within rho_0 + margin: bounding spheres first, then exact distances."""
+    def _candidate_pairs(self, midpoints: FloatArray, centers: FloatArray) -> list[list]:
+        """``[capsule, obstacle, distance, travel]`` of the pairs within rho_0 + margin (spheres first)."""
         offsets = midpoints[:, None, :] - centers[None]  # (n, k, 3)
         gaps = np.sqrt(np.einsum("ijk,ijk->ij", offsets, offsets)) - self._obstacle_bounds[None]
         for j, normal in self._planes:
@@ -262,6 +269,7 @@ class ProximityModel:
         pairs = []
         for i, j in np.argwhere(gaps < self._rho_0[None] + CANDIDATE_MARGIN_M).tolist():
             reach = self.influence_m[j] + CANDIDATE_MARGIN_M
-            if mujoco.mj_geomDistance(model, data, i, n + j, reach, fromto) < reach:
-                pairs.append((i, j))
+            distance = mujoco.mj_geomDistance(model, data, i, n + j, reach, fromto)
+            if distance < reach:
+                pairs.append([i, j, -np.inf, 0.0])  # measured again right away
         return pairs

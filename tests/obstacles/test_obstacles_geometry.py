@@ -8,6 +8,7 @@ import pinocchio as pin
 import pytest
 
 from cosmos.obstacles import arm_capsules
+from cosmos.obstacles.capsules import joint_reach_m
 from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
 from cosmos.obstacles.proximity import capsule_proximity, distance_lower_bounds, signed_distances
 from cosmos.plan import ObstacleShape
@@ -126,3 +127,34 @@ def test_plane_distance_is_height_above_it() -> None:
     heights = [(p - plane.position_world).dot(normal) for p in (a, b)]
     assert near.distance == pytest.approx(min(heights) - 0.02)
     np.testing.assert_allclose(near.normal, normal)
+
+
+def test_reach_bounds_the_speed_of_every_capsule_point() -> None:
+    """sum |qd_j| reach_j >= the speed of any point on the capsules' surfaces, at random states."""
+    caps = arm_capsules(robot())
+    reach = joint_reach_m(robot(), caps)
+    model, data = robot().model, robot().model.createData()
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        q = rng.uniform(robot().q_lower_rad, robot().q_upper_rad)
+        qd = rng.normal(size=6)
+        bound = float(np.abs(qd).dot(reach))
+        step = 1e-7
+        points = []
+        for qq in (q, q + step * qd):
+            pin.forwardKinematics(model, data, qq)
+            local = rng.bit_generator.state  # same random surface offsets at both instants
+            offsets = np.random.default_rng(5).normal(size=(len(caps), 3))
+            offsets *= (caps.radius_m / np.linalg.norm(offsets, axis=1))[:, None]
+            rng.bit_generator.state = local
+            points.append(
+                np.array(
+                    [
+                        data.oMi[int(caps.joint[i]) + 1].act(end[i] + offsets[i])
+                        for end in (caps.a_in_joint, caps.b_in_joint)
+                        for i in range(len(caps))
+                    ]
+                )
+            )
+        speeds = np.linalg.norm(points[1] - points[0], axis=1) / step
+        assert speeds.max() <= bound * (1 + 1e-6)
