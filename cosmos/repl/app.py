@@ -17,10 +17,11 @@ from prompt_toolkit.output import Output
 from cosmos import __version__
 from cosmos.errors import UsageError
 from cosmos.execution.session import Session
-from cosmos.repl.engine import REPL_FILE, ReplEngine
+from cosmos.repl.engine import ReplEngine
 from cosmos.repl.loop import run_loop
 from cosmos.repl.output import Printer, Tone
 from cosmos.repl.reader import Reader, history_path, open_history, plain_reader, prompt_reader
+from cosmos.repl.statements import REPL_FILE
 from cosmos.runtime.rates import Rates
 
 BANNER = "cosmos {version}: a simulated PUMA 560 in its workcell. :help for help, Ctrl-D to leave."

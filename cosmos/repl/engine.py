@@ -15,7 +15,6 @@ match: no contact held, and only the obstacles that were really added.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterator
 from pathlib import Path
 
 from cosmos.errors import CosmosError, ProgramError, Span
@@ -26,69 +25,24 @@ from cosmos.lang import ast
 from cosmos.lang.compiler import Compiler, StatementResult
 from cosmos.lang.parser import parse_program
 from cosmos.lang.source import read_source
-from cosmos.lang.state import CompileState, frozen_map
-from cosmos.plan import AddObstacle, Diagnostic, Plan, RemoveObstacle, Segment, Step
+from cosmos.lang.state import frozen_map
+from cosmos.plan import Diagnostic, Plan, RemoveObstacle, Segment, Step
 from cosmos.repl.names import changed_names, describe_value
 from cosmos.repl.output import Printer, Tone
+from cosmos.repl.progress import StatementProgress
+from cosmos.repl.statements import (
+    REPL_FILE,
+    LoadedFile,
+    normalise_newlines,
+    state_after_failure,
+    statement_groups,
+)
 from cosmos.repl.status import ArmStatus
 from cosmos.repl.transcript import Transcript
 from cosmos.workcell import fixture_frames
 
-REPL_FILE = "<repl>"
-"""The file name typed input carries in spans and errors."""
 RESET_HOLD_S = 0.05
 """After ``:reset`` the arm holds at home this long, logged as a segment [s]."""
-
-
-def normalise_newlines(text: str) -> str:
-    """CR LF and lone CR turned into LF, the one line break that spans count."""
-    return text.replace("\r\n", "\n").replace("\r", "\n")
-
-
-def statement_groups(steps: tuple[Step, ...]) -> Iterator[tuple[Step, ...]]:
-    """Steps cut into statements: consecutive segments of one statement, or one scene change."""
-    group: list[Step] = []
-    for step in steps:
-        if group and not (
-            isinstance(step, Segment)
-            and isinstance(group[-1], Segment)
-            and group[-1].statement_index == step.statement_index
-        ):
-            yield tuple(group)
-            group = []
-        group.append(step)
-    if group:
-        yield tuple(group)
-
-
-def state_after_failure(
-    before: CompileState, after: CompileState, executed: list[Step], failed: Span | None
-) -> CompileState:
-    """The compile state that matches the arm after a statement failed or was interrupted.
-
-    Args:
-        before: The state before the statement.
-        after: The state the compiler gave after it (as if it had succeeded).
-        executed: The statement's steps that ran to the end before the failure.
-        failed: Where the failed statement is written.
-
-    Returns:
-        ``after`` with no contact held (the arm holds its pose, no force) and the
-        obstacles of ``before`` changed only by the scene steps that ran.
-    """
-    obstacles = dict(before.obstacles)
-    for step in executed:
-        if isinstance(step, AddObstacle):
-            obstacles[step.name.casefold()] = step.span
-        elif isinstance(step, RemoveObstacle):
-            obstacles.pop(step.name.casefold(), None)
-    released = failed if before.contact is not None else after.contact_released_by
-    return dataclasses.replace(
-        after,
-        contact=None,
-        contact_released_by=released,
-        obstacles=frozen_map(obstacles),
-    )
 
 
 class ReplEngine:
@@ -137,22 +91,30 @@ class ReplEngine:
             self.printer.write(error.render(), Tone.ERROR)
             return False
         self.transcript.add_statements(text)
-        return self._execute(results, source, REPL_FILE)
+        return self._execute(results, source)
 
     def load(self, path: Path) -> bool:
-        """``:load FILE``: check the whole file, then run it into the session; False if it failed."""
+        """``:load FILE``: check the whole file, then run it into the session; False if it failed.
+
+        The file's text joins the transcript (after a ``# :load FILE`` line), so
+        the log's line numbers stay those of the transcript; messages point into
+        the file.
+        """
         self.transcript.add_command(f":load {path}")
         self.executor.stop_requested = False
         try:
             text = normalise_newlines(read_source(path))
-            results = self._compile(text, str(path))
+            self._compile(text, str(path))  # errors and warnings point into the file
+            loaded = LoadedFile(path, text, self.transcript.line_count + 1)
+            source = self.transcript.placed(text)
+            results = self._compile(source, REPL_FILE, warn=False)
         except CosmosError as error:
             self.printer.write(error.render(), Tone.ERROR)
             return False
-        self.session.log.attach_source(text, name=str(path))
-        return self._execute(results, text, str(path))
+        self.transcript.add_statements(text)
+        return self._execute(results, source, loaded)
 
-    def _compile(self, source: str, file: str) -> list[StatementResult]:
+    def _compile(self, source: str, file: str, warn: bool = True) -> list[StatementResult]:
         """Parse and check a whole input, statement by statement; print its warnings.
 
         A PROC typed again replaces the earlier one (the compiler refuses a second
@@ -177,7 +139,7 @@ class ReplEngine:
         except ProgramError:
             self.compiler.compile_text(source, start, file)  # raises every error of the input
             raise
-        for result in results:
+        for result in results if warn else ():
             self._warn(result.warnings, source)
         return results
 
@@ -187,18 +149,18 @@ class ReplEngine:
 
     # ---------------------------------------------------------- execution
 
-    def _execute(self, results: list[StatementResult], source: str, file: str) -> bool:
+    def _execute(self, results: list[StatementResult], source: str, loaded: LoadedFile | None = None) -> bool:
         """Run each statement's steps in turn, advancing the state as each one finishes."""
         for result in results:
             before = self.state
             executed: list[Step] = []
             try:
                 for group in statement_groups(result.steps):
-                    self._run_group(group, source, file)
+                    self._run_group(group, source)
                     executed.extend(group)
             except CosmosError as error:
                 self.state = state_after_failure(before, result.state, executed, error.span)
-                self.printer.write(error.render(), Tone.ERROR)
+                self.printer.write(error.render() if loaded is None else loaded.render(error), Tone.ERROR)
                 self.printer.write("the arm holds its pose", Tone.NOTE)
                 return False
             self.state = result.state
@@ -212,7 +174,7 @@ class ReplEngine:
                     )
         return True
 
-    def _run_group(self, group: tuple[Step, ...], source: str, file: str) -> None:
+    def _run_group(self, group: tuple[Step, ...], source: str) -> None:
         """Run one statement's steps; say how it went."""
         first = group[0]
         if self.executor.stop_requested:
@@ -220,14 +182,12 @@ class ReplEngine:
             self.executor.hold()
             raise Interrupted(f"interrupted before {statement_head(first.statement)}", first.span, source)
         start_s = self.session.runtime.time_s
-        plan = Plan(file=file, source=source, steps=group, warnings=())
+        plan = Plan(file=REPL_FILE, source=source, steps=group, warnings=())
         if self.show_progress:
-            from cosmos.commands.run import TerminalProgress
-
-            progress = TerminalProgress()
+            progress = StatementProgress(start_s)
             self.executor.progress = progress
             try:
-                with progress.status:
+                with progress:
                     self.executor.run(plan)
             finally:
                 self.executor.progress = None

@@ -18,6 +18,7 @@ from tests.repl.repl_drive import CTRL_C, CTRL_D, ENTER, Driven, drive
 TABLE = fixture_frames()["table"].position  # (3,) m
 LONG_MOVE = "MOVE BY (0, 0, -150 mm) SPEED 0.05 m/s"  # 3 s of motion
 PROGRAM = "FRAME p = table + (0, 0, 80 mm)\nMOVE TO p SPEED 0.25 m/s\n"
+FAILING = "WAIT 0.05 s\nCONTACT UP FORCE 5 N TIMEOUT 0.2 s\n"
 
 
 def _press_ctrl_c_mid_motion(app: ReplApp) -> None:
@@ -38,6 +39,8 @@ def session(tmp_path_factory: pytest.TempPathFactory) -> Driven:
     folder = tmp_path_factory.mktemp("repl_interrupt")
     program = folder / "approach.cos"
     program.write_text(PROGRAM)
+    failing = folder / "failing.cos"
+    failing.write_text(FAILING)
     keys = (
         "MOVE BY (0, 0, -5 mm)" + CTRL_C  # cleared at the prompt, never runs
         + LONG_MOVE + ENTER  # interrupted by SIGINT
@@ -46,6 +49,7 @@ def session(tmp_path_factory: pytest.TempPathFactory) -> Driven:
         + "SLIDE +X BY 10 mm" + ENTER  # no contact held after the failure
         + f":load {program}" + ENTER
         + "MOVE TO p + (0, 0, 10 mm)" + ENTER
+        + f":load {failing}" + ENTER
         + ":reset" + ENTER
         + ":frames" + ENTER
         + CTRL_D
@@ -84,6 +88,21 @@ def test_a_failed_statement_is_reported_and_releases_nothing_held(session: Drive
 def test_load_runs_a_file_into_the_session_and_keeps_its_names(session: Driven) -> None:
     end = session.position_at(session.done_time("MOVE TO p + (0, 0, 10 mm)"))
     np.testing.assert_allclose(end, TABLE + [0.0, 0.0, 0.090], atol=2e-3)
+
+
+def test_a_failure_in_a_loaded_file_points_into_the_file(session: Driven) -> None:
+    failing = Path(session.app.log_path).parent / "failing.cos"
+    expected = (
+        f"{failing}:2:1: CONTACT UP found no contact within 0.2 s\n    CONTACT UP FORCE 5 N TIMEOUT 0.2 s\n"
+    )
+    assert expected in session.output
+
+
+def test_logged_lines_are_transcript_lines_loaded_files_included(session: Driven) -> None:
+    lines = (session.log.source or "").splitlines()
+    assert "MOVE TO p SPEED 0.25 m/s" in lines
+    for segment in session.log.segments:
+        assert lines[segment.line - 1].strip() in (segment.statement, "# " + segment.statement)
 
 
 def test_reset_puts_the_arm_home_and_forgets_names(session: Driven) -> None:
