@@ -6,8 +6,13 @@ prompt_toolkit's pipe input.
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from types import FrameType
 from typing import TextIO
 
 from prompt_toolkit.history import History
@@ -73,15 +78,27 @@ class ReplApp:
         return self.engine.session.log_path
 
     def run(self) -> int:
-        """Greet, read and run inputs until Ctrl-D or ``:quit``, then close the log; 0."""
+        """Greet, read and run inputs until Ctrl-D or ``:quit``, then close the log.
+
+        SIGTERM or SIGHUP (the terminal closed) end the session the same way, the
+        log closed and complete.
+
+        Returns:
+            0, or 1 when the session was ended by a signal.
+        """
         self.printer.write(BANNER.format(version=__version__))
         self.printer.write(f"log: {self.log_path}", Tone.NOTE)
+        status = 0
         try:
-            run_loop(self.engine, self.read)
+            with _signals_end_session():
+                run_loop(self.engine, self.read)
+        except SessionEnded as ended:
+            self.printer.write(f"session ended by {ended}", Tone.ERROR)
+            status = 1
         finally:
             self.close()
         self.printer.write(f"log: {self.log_path}")
-        return 0
+        return status
 
     def close(self) -> None:
         """Attach the transcript to the log as the session's program, and close the log."""
@@ -89,6 +106,29 @@ class ReplApp:
         if not log.closed:
             log.attach_source(self.engine.transcript.text())
         self.engine.session.close()
+
+
+class SessionEnded(BaseException):
+    """A signal ended the session (a BaseException, so no ``except Exception`` keeps it going)."""
+
+
+@contextmanager
+def _signals_end_session() -> Iterator[None]:
+    """While inside, SIGTERM and SIGHUP raise :class:`SessionEnded` (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def end(signum: int, frame: FrameType | None) -> None:
+        raise SessionEnded(signal.Signals(signum).name)
+
+    signals = [signal.SIGTERM] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
+    previous = {sig: signal.signal(sig, end) for sig in signals}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 def _is_terminal(stream: TextIO) -> bool:

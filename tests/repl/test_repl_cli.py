@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -35,6 +36,32 @@ def test_piped_session_runs_and_logs_under_logs(tmp_path: Path) -> None:
     record = read_log(log)
     assert record.source is not None and record.source.splitlines()[6] == "# ! WAIT 1 mx"
     assert [e.statement for e in record.events if e.kind == "done"] == ["WAIT 0.1 s", "WAIT 0.05 s"]
+
+
+def test_sigterm_at_the_prompt_ends_the_session_with_a_complete_log(tmp_path: Path) -> None:
+    log = tmp_path / "term.mcap"
+    child = subprocess.Popen(
+        [sys.executable, "-m", "cosmos", "repl", "--log", str(log)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert child.stdin is not None and child.stdout is not None
+    child.stdin.write("WAIT 0.1 s\n")
+    child.stdin.flush()
+    seen = ""
+    while "ok  WAIT 0.1 s" not in seen:  # the statement ran; the REPL now waits for a line
+        line = child.stdout.readline()
+        assert line, "the REPL ended early"
+        seen += line
+    child.send_signal(signal.SIGTERM)
+    out, err = child.communicate(timeout=60)
+    assert child.returncode == 1, err
+    assert "session ended by SIGTERM" in out and "Traceback" not in out + err
+    record = read_log(log)
+    assert not record.truncated
+    assert record.source == "WAIT 0.1 s\n"
 
 
 def test_unwritable_log_is_a_usage_error(tmp_path: Path) -> None:
