@@ -3,7 +3,8 @@
 * :mod:`~cosmos.obstacles.obstacle`: an obstacle (primitive, pose, velocity).
 * :mod:`~cosmos.obstacles.scene`: obstacles as bodies of the MuJoCo workcell.
 * :mod:`~cosmos.obstacles.capsules`: the arm's links and tool as capsules.
-* :mod:`~cosmos.obstacles.proximity`: capsule-to-obstacle distances.
+* :mod:`~cosmos.obstacles.proximity`: capsule-to-obstacle distances (firas; the reference).
+* :mod:`~cosmos.obstacles.geometry`: the controller's geometric model for fast distances.
 * :mod:`~cosmos.obstacles.field`: the FIRAS field as joint torques (a runtime potential field).
 * :mod:`~cosmos.obstacles.minima`: detection of local minima.
 * :mod:`~cosmos.obstacles.collisions`: contacts the arm should not make.

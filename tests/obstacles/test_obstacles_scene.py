@@ -153,3 +153,33 @@ def test_home_pose_has_no_collision() -> None:
     plant.reset(HOME_Q)
     plant.step(np.zeros(6))
     assert collisions(plant, {}) == []
+
+
+def test_a_compiled_program_builds_the_scene_and_the_field() -> None:
+    from cosmos.lang.compiler import compile_program
+    from cosmos.obstacles import ObstacleField, from_step
+    from tests.obstacles.obstacle_scenes import robot
+
+    program = compile_program(
+        "OBSTACLE post CYLINDER AT (0.4, -0.2, 0.3) RADIUS 40 mm HEIGHT 0.6 m\n"
+        "OBSTACLE ball SPHERE AT (0.6, -0.15, 0.44) RADIUS 30 mm MOVING (0, -50 mm/s, 0) INFLUENCE 50 mm\n"
+        "OBSTACLE floor2 PLANE AT (0, 0, 0.5) NORMAL (0, 0, 1)\n"
+        "OBSTACLE REMOVE post\n"
+    )
+    plant = Plant(obstacle_scene_xml())
+    scene, field = ObstacleScene(plant), ObstacleField(robot())
+    for step in program.steps:
+        if hasattr(step, "shape"):
+            obstacle = from_step(step, plant.time_s)
+            scene.add(obstacle)
+            field.add(obstacle)
+        else:
+            scene.remove(step.name)
+            field.remove(step.name)
+    assert [o.name for o in field.obstacles] == ["ball", "floor2"]
+    plant.step(np.zeros(6))
+    # The tool hangs below the plane z = 0.5 (inside its solid side) and the ball touches the peg's tip.
+    touched = {(c.arm_body, c.other) for c in collisions(plant, scene.body_names())}
+    assert ("tool", "floor2") in touched and ("tool", "ball") in touched
+    field.torque(HOME_Q, np.zeros(6), 0.0)
+    assert {i.obstacle for i in field.influences} == {"ball", "floor2"}
