@@ -2,15 +2,21 @@
 
 from __future__ import annotations
 
+import io
+from pathlib import Path
+
 import pytest
 from prompt_toolkit.completion import CompleteEvent
 from prompt_toolkit.document import Document
+from prompt_toolkit.history import FileHistory, InMemoryHistory
 
 from cosmos.lang.compiler import Compiler
 from cosmos.lang.parser import parse_program
 from cosmos.repl.completion import ReplCompleter
 from cosmos.repl.highlight import highlight_line
 from cosmos.repl.multiline import input_complete, next_indent, open_parentheses
+from cosmos.repl.output import Printer
+from cosmos.repl.reader import history_path, open_history
 from cosmos.workcell import fixture_frames
 
 
@@ -97,3 +103,32 @@ def test_highlighting_classes() -> None:
     assert "".join(text for _, text in fragments) == "MOVE TO above SPEED 20 mm/s  # slow"
     assert highlight_line("CONTACT -X", set())[-1] == ("class:direction", "-X")
     assert highlight_line("SPEED 0.2; WAIT 1", set())[-1 - 2] == ("class:statement", "WAIT")
+
+
+def test_load_completes_file_names(tmp_path: Path) -> None:
+    (tmp_path / "peg_in_hole.cos").write_text("")
+    typed = f":load {tmp_path}/peg"
+    completer = ReplCompleter(lambda: Compiler(fixture_frames()).initial_state())
+    (completion,) = completer.get_completions(Document(typed), CompleteEvent(completion_requested=True))
+    assert (
+        typed[: len(typed) + completion.start_position] + completion.text
+        == f":load {tmp_path}/peg_in_hole.cos"
+    )
+
+
+def test_history_file_from_the_environment(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    printer = Printer(io.StringIO())
+    monkeypatch.setenv("COSMOS_HISTORY", str(tmp_path / "sub" / "history"))
+    assert history_path() == tmp_path / "sub" / "history"
+    history = open_history(history_path(), printer)
+    assert isinstance(history, FileHistory)
+    history.store_string("MOVE BY (0, 0, 1 mm)")
+    assert "+MOVE BY (0, 0, 1 mm)" in (tmp_path / "sub" / "history").read_text()
+
+
+def test_unwritable_history_is_kept_in_memory(tmp_path: Path) -> None:
+    stream = io.StringIO()
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    assert isinstance(open_history(blocker / "history", Printer(stream)), InMemoryHistory)
+    assert "history is not kept" in stream.getvalue()
