@@ -23,7 +23,7 @@ from cosmos.execution.recording import LogRecorder
 from cosmos.plant import Plant
 from cosmos.robot_model import RobotModel, build_robot_model
 from cosmos.runlog.writer import RunLog
-from cosmos.runtime.loop import Runtime
+from cosmos.runtime.loop import PhaseTimes, Runtime
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -79,7 +79,7 @@ def measure(ticks: int = TICKS) -> dict[str, object]:
         runtime.set_setpoint(_workload_setpoint(runtime))
         for _ in range(WARMUP_TICKS):
             runtime.tick()
-        runtime.phases.__init__()
+        runtime.phases = PhaseTimes()
         start = time.perf_counter_ns()
         for _ in range(ticks):
             runtime.tick()

@@ -115,9 +115,9 @@ class SegmentMonitor:
             return done
         # A CONTACT's TIMEOUT bounds the search for the surface (language.md); once it
         # touched, settling the force has its own bound (ForceSettled.max_time_s).
-        timed = seg.timeout_s is not None and seg.kind is not SegmentKind.CONTACT_HOLD
-        if timed and snap.t_s - self.statement_start_s >= seg.timeout_s:
-            return Outcome(Verdict.FAILED, self._timeout_reason(seg.timeout_s))
+        timeout = None if seg.kind is SegmentKind.CONTACT_HOLD else seg.timeout_s
+        if timeout is not None and snap.t_s - self.statement_start_s >= timeout:
+            return Outcome(Verdict.FAILED, self._timeout_reason(timeout))
         return None
 
     def _timeout_reason(self, timeout_s: float) -> str:

@@ -78,6 +78,7 @@ class ServoLevel:
         self._selection: Selection | None = None
         self._fold: tuple | None = None
         self._touching = False
+        self._has_force_axes = False
         self._force_to_acceleration = np.zeros((6, 6))  # Lambda^-1 Omega_bar
         self._base_error = np.zeros(6)
         self.last_error = np.zeros(6)  # x - x_d of the last tick, world, [m, rad]
@@ -99,6 +100,7 @@ class ServoLevel:
         ):
             self._integral = np.zeros(6)
             self._selection = selection(setpoint.motion_axes, setpoint.rotation_task_to_world)
+            self._has_force_axes = not all(setpoint.motion_axes)
         self._setpoint = setpoint
         self._touching = False  # latched by the first push felt on a force axis
         self._refold()
@@ -149,11 +151,11 @@ class ServoLevel:
         gains = self._force_gains(sp)
         # Integral action only while something pushes back: in free space the force
         # error cannot be closed and would wind up into an impact.
-        if not self._touching:
+        if not self._touching and self._has_force_axes:
             pushed = float(np.abs(sel.omega_bar.dot(wrench_env)).max())
             self._touching = pushed > self.gains.contact_threshold_n
         touching = self._touching
-        if touching:
+        if touching and self._has_force_axes:
             self._integral = integrate_force_error(
                 self._integral, force_setpoint, wrench_env, sel.omega_bar, self._dt_s, gains.integral_limit
             )

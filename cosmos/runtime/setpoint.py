@@ -74,6 +74,8 @@ class ServoSetpoint:
 
     force_world: FloatArray = field(init=False)
     """The force setpoint in world axes (derived from force_task). # (6,)."""
+    uniform_gains: bool = field(init=False)
+    """True when every axis has the same gains (the servo then skips frame rotations)."""
 
     def __post_init__(self) -> None:
         r = self.rotation_task_to_world
@@ -83,8 +85,5 @@ class ServoSetpoint:
         # from the other side of zero: an impact spike at touch is no place to start from.
         start = np.clip(self.force_start_world, np.minimum(target, 0.0), np.maximum(target, 0.0))
         object.__setattr__(self, "force_start_world", start)
-
-    @property
-    def uniform_gains(self) -> bool:
-        """True when every axis has the same gains (the servo then skips frame rotations)."""
-        return bool(np.all(self.kp_task == self.kp_task[0]) and np.all(self.kv_task == self.kv_task[0]))
+        uniform = bool(np.all(self.kp_task == self.kp_task[0]) and np.all(self.kv_task == self.kv_task[0]))
+        object.__setattr__(self, "uniform_gains", uniform)

@@ -58,11 +58,3 @@ def test_corrupt_log_fails_with_a_message_naming_it(tmp_path: Path) -> None:
     assert result.returncode == 1
     assert f"{bad}: not an MCAP file" in result.stderr
     assert "Traceback" not in result.stderr
-
-
-@pytest.mark.parametrize("option", [["--view"], ["--verify"], ["--video", "out.mp4"]])
-def test_live_options_are_not_built_yet(written: WrittenRun, option: list[str]) -> None:
-    result = cosmos("replay", str(written.path), *option)
-    assert result.returncode == 1
-    assert "not built yet" in result.stderr
-    assert "Traceback" not in result.stderr
