@@ -7,8 +7,10 @@ finds that the re-run departs from the log, else 0.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -16,6 +18,10 @@ from cosmos.errors import UsageError
 from cosmos.replay.summary import format_summary
 from cosmos.replay.timeline import statement_timeline
 from cosmos.runlog import read_log, recover
+
+if TYPE_CHECKING:
+    from cosmos.replay.playback import Playback, Video
+    from cosmos.runlog.reader import RunRecord
 
 EXIT_OK = 0
 EXIT_DEPARTS = 1
@@ -80,7 +86,7 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
         click.echo(f"plot written to {plot_run(record, timeline, options.plot)}")
 
     if options.view or options.video is not None:
-        from cosmos.replay.playback import Playback, render_video, view
+        from cosmos.replay.playback import Playback, view
 
         playback = Playback(start_s=options.start_s, rate=options.rate)
         if options.view:
@@ -90,7 +96,7 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
             )
             view(record, playback)
         if options.video is not None:
-            video = render_video(record, options.video, playback)
+            video = _render_with_progress(record, options.video, playback)
             click.echo(
                 f"video written to {video.path}: {video.frames} frames at {video.fps:g} fps, "
                 f"t = {video.start_s:.3f} .. {video.end_s:.3f} s at {options.rate:g}x"
@@ -105,3 +111,17 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
         if not verification.matches:
             return EXIT_DEPARTS
     return EXIT_OK
+
+
+def _render_with_progress(record: RunRecord, path: Path, playback: Playback) -> Video:
+    """:func:`render_video`, with a frame counter on a terminal."""
+    from cosmos.replay.playback import render_video
+
+    if not sys.stderr.isatty():
+        return render_video(record, path, playback)
+    from rich.console import Console
+
+    with Console(stderr=True).status(f"rendering {path}") as status:
+        return render_video(
+            record, path, playback, lambda k, n: status.update(f"rendering {path}: frame {k + 1} of {n}")
+        )

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Generator
+from collections.abc import Callable, Generator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -156,8 +156,16 @@ def _encoder(path: Path, fps: float) -> Generator[None, Any, None]:
     return writer
 
 
-def render_video(record: RunRecord, path: Path, playback: Playback) -> Video:
+FrameCallback = Callable[[int, int], None]
+"""Called after each video frame with (frames done, frames in all)."""
+
+
+def render_video(
+    record: RunRecord, path: Path, playback: Playback, on_frame: FrameCallback | None = None
+) -> Video:
     """Render the logged joint trajectory offscreen from the ``overview`` camera to an MP4 file.
+
+    Software OpenGL (no GPU) takes ~0.1 to 0.4 s a frame at the video size.
 
     Raises:
         UsageError: If ``path`` does not end in ``.mp4`` or ``--start`` is past the end.
@@ -184,7 +192,9 @@ def render_video(record: RunRecord, path: Path, playback: Playback) -> Video:
     writer = _encoder(path, playback.fps)
     try:
         with renderer:
-            for q in positions:
+            for k, q in enumerate(positions):
+                if on_frame is not None:
+                    on_frame(k, times.size)
                 _pose(plant, q)
                 renderer.update_scene(plant.data, camera=CAMERA)
                 # Shadows cost ~5x the rest of a frame in software GL; reflections stay.
