@@ -1,12 +1,11 @@
-"""Distance from the arm's capsules to an obstacle: a cheap lower bound and the exact closest point.
+"""Distances to an obstacle in pure Python/numpy: of points, and of a capsule with its closest point.
 
-The exact closest approach of one capsule to one primitive comes from
-:mod:`cosmos.osc.firas` (a golden-section search for boxes and finite
-cylinders). Before it, :func:`distance_lower_bounds` rules out, for all
-capsules at once, those that cannot be within the influence distance: the
-obstacle's signed distance function is 1-Lipschitz, so a capsule held in a
-sphere of radius ``bound`` about the point ``c`` is at least
-``sdf(c) - bound`` from the obstacle.
+:func:`capsule_proximity` dispatches to :mod:`cosmos.osc.firas` (closed form
+for spheres and planes, a golden-section search for boxes and finite
+cylinders). It is the reference for the field's fast distances
+(:mod:`cosmos.obstacles.geometry`) and what the field uses when a link touches
+an obstacle. :func:`signed_distances` is the obstacle's signed distance
+function, e.g. to tell whether a target lies inside an obstacle.
 """
 
 from __future__ import annotations
@@ -45,23 +44,6 @@ def signed_distances(points: FloatArray, obstacle: Obstacle, center: FloatArray)
     q = np.abs(local) - half  # (n, 3)
     outside = np.sqrt(np.einsum("ij,ij->i", np.maximum(q, 0.0), np.maximum(q, 0.0)))
     return outside + np.minimum(q.max(axis=1), 0.0)
-
-
-def distance_lower_bounds(
-    midpoints: FloatArray, bounds_m: FloatArray, obstacle: Obstacle, center: FloatArray
-) -> FloatArray:
-    """A lower bound of each capsule's surface distance to the obstacle, in [m].
-
-    Args:
-        midpoints: Segment midpoints, world, in [m]. # (n, 3)
-        bounds_m: Radii of spheres about the midpoints holding the capsules, in [m]. # (n,)
-        obstacle: The primitive.
-        center: The obstacle's centre now, world, in [m]. # (3,)
-
-    Returns:
-        ``sdf(midpoint) - bound`` per capsule, in [m]. # (n,)
-    """
-    return signed_distances(midpoints, obstacle, center) - bounds_m
 
 
 def capsule_proximity(

@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from cosmos.obstacles import (
+    FieldParameters,
     LocalMinimum,
     LocalMinimumDetector,
     Obstacle,
@@ -67,12 +68,13 @@ def run(
     stop_on_contact: bool = False,
     stop_at_goal_m: float = 0.0,
     detect: bool = False,
+    parameters: FieldParameters | None = None,
 ) -> Outcome:
     """Drive the arm from home to ``scene.goal`` with the obstacle field on (``avoid``) or off."""
     plant = Plant(obstacle_scene_xml())
     runtime = Runtime(plant, robot())
     world = ObstacleScene(plant)
-    potential = ObstacleField(robot())
+    potential = ObstacleField(robot()) if parameters is None else ObstacleField(robot(), parameters)
     potential.enabled = avoid
     for obstacle in scene.obstacles:
         world.add(obstacle)

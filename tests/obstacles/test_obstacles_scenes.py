@@ -7,8 +7,11 @@ distance to the goal, MuJoCo's contacts and ``mj_geomDistance`` clearances.
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 
+from cosmos.obstacles import FieldParameters
 from cosmos.obstacles.obstacle import box, cylinder, sphere
 from tests.obstacles.obstacle_scenes import Scene, run
 
@@ -71,3 +74,11 @@ def test_a_wall_across_the_path_is_a_local_minimum_named_before_any_timeout() ->
 def test_the_detector_stays_quiet_when_the_arm_gets_through() -> None:
     for name in ("sphere_on_the_line", "post_by_the_elbow"):
         assert run(SCENES[name], avoid=True, detect=True, stop_at_goal_m=0.002).local_minimum is None
+
+
+def test_the_approach_damping_keeps_a_fast_arm_farther_away() -> None:
+    fast = dataclasses.replace(SCENES["wall_with_a_gap"], max_speed=0.5)
+    undamped = run(fast, parameters=dataclasses.replace(FieldParameters(), damping_ns_per_m=0.0))
+    damped = run(fast)
+    assert damped.contacts == [] and damped.goal_error_m < 0.005
+    assert damped.min_clearance_m > undamped.min_clearance_m + 0.003
