@@ -21,7 +21,7 @@ AXIS_LABELS = ("X", "Y", "Z", "RX", "RY", "RZ")
 
 KEYS_HELP = (
     "Enter runs the input when it is complete; inside PROC ... END or REPEAT n ... END,\n"
-    "after a line ending in '\\' or with a '(' still open, Enter starts a new line.\n"
+    "or after a line ending in '\\', Enter starts a new line.\n"
     "Esc Enter runs the input as it is. Two empty lines end an unfinished block.\n"
     "Tab completes keywords, frames, obstacles and procedures; Up and Down recall history.\n"
     "Ctrl-C while the arm moves stops it (it holds its pose); at the prompt it clears the line.\n"

@@ -1,9 +1,11 @@
 """When an input is complete: the rule that lets Enter run it or start a new line.
 
 An input is complete unless a PROC or REPEAT block is open (the parser says it
-needs an END), the last line ends in a backslash (a continuation), or a parenthesis is
-still open. Two empty lines in a row end an input regardless, so an unfinished
-block can always be handed over (and reported).
+needs an END) or the last line ends in a backslash (a continuation). Two empty
+lines in a row end an input regardless, so an unfinished block can always be
+handed over (and reported). An open parenthesis does not continue the input:
+the language ends a statement at the end of its line, so the parser's "expected
+')'" is the useful answer.
 """
 
 from __future__ import annotations
@@ -18,18 +20,6 @@ _BLOCK_START = re.compile(r"\s*(PROC|REPEAT)\b", re.IGNORECASE)
 _BLOCK_END = re.compile(r"\s*END\b", re.IGNORECASE)
 
 
-def open_parentheses(text: str) -> int:
-    """How many ``(`` are still open at the end of ``text`` (comments skipped)."""
-    depth = 0
-    for line in text.split("\n"):
-        for char in line.split("#", 1)[0]:
-            if char == "(":
-                depth += 1
-            elif char == ")":
-                depth = max(depth - 1, 0)
-    return depth
-
-
 def input_complete(text: str) -> bool:
     """Whether ``text`` is a whole input: run it on Enter rather than start a new line."""
     if not text.strip() or text.lstrip().startswith(":"):
@@ -38,8 +28,6 @@ def input_complete(text: str) -> bool:
     if len(lines) >= 3 and not lines[-1].strip() and not lines[-2].strip():
         return True
     if lines[-1].split("#", 1)[0].rstrip().endswith("\\"):
-        return False
-    if open_parentheses(text) > 0:
         return False
     return not needs_more_input(text)
 

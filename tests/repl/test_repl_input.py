@@ -14,7 +14,7 @@ from cosmos.lang.compiler import Compiler
 from cosmos.lang.parser import parse_program
 from cosmos.repl.completion import ReplCompleter
 from cosmos.repl.highlight import highlight_line
-from cosmos.repl.multiline import input_complete, next_indent, open_parentheses
+from cosmos.repl.multiline import input_complete, next_indent
 from cosmos.repl.output import Printer
 from cosmos.repl.reader import history_path, open_history
 from cosmos.workcell import fixture_frames
@@ -32,9 +32,10 @@ from cosmos.workcell import fixture_frames
         ("repeat 3 times\n    WAIT 1 s", False),
         ("REPEAT 3\n  REPEAT 2\n    WAIT 1 s\n  END", False),
         ("REPEAT 3\n  REPEAT 2\n    WAIT 1 s\n  END\nEND", True),
-        ("MOVE TO (0.5,\n  0.1", False),
+        ("MOVE TO (0.5,", True),  # a statement ends with its line: the parser wants ')'
         ("MOVE TO (0.5, 0.1, 0.3) \\", False),
-        ("MOVE TO (0.5, 0.1, 0.3) # (a comment", True),
+        ("MOVE TO (0.5, \\\n  0.1, 0.3)", True),
+        ("MOVE TO (0.5, 0.1, 0.3) # a comment \\", True),
         ("PROC pick\n    \n    ", True),  # two empty lines hand an open block over
         ("MOVE SPED 3", True),  # a mistake is complete: Enter shows it
     ],
@@ -51,11 +52,6 @@ def test_complete_blocks_parse_and_open_ones_do_not() -> None:
     with pytest.raises(Exception, match="no END"):
         parse_program(cut, "<test>")
     assert input_complete(block) and not input_complete(cut)
-
-
-def test_open_parentheses_ignores_comments() -> None:
-    assert open_parentheses("MOVE TO ((1, 2, 3) # (((") == 1
-    assert open_parentheses("(1, 2))") == 0
 
 
 def test_indentation_follows_blocks() -> None:
