@@ -11,13 +11,16 @@ from __future__ import annotations
 
 import sys
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from cosmos.errors import CosmosError, ProgramError, TaskFailure
 from cosmos.replay.compare import DEFAULT_TOLERANCE, Verification, compare_runs
 from cosmos.runlog.reader import RunRecord, read_log
 from cosmos.runtime.rates import Rates
+
+REPL_PROGRAM = "<repl>"
+"""The ``program`` of a REPL session's log; its source is the session's transcript."""
 
 
 @dataclass(frozen=True)
@@ -101,4 +104,11 @@ def verify_log(record: RunRecord, tolerance: float = DEFAULT_TOLERANCE) -> Verif
     with tempfile.TemporaryDirectory(prefix="cosmos-verify-") as directory:
         rerun(settings, Path(directory) / "rerun.mcap")
         again = read_log(Path(directory) / "rerun.mcap")
-    return compare_runs(record, again, tolerance)
+    verification = compare_runs(record, again, tolerance)
+    if settings.program == REPL_PROGRAM and not verification.matches:
+        note = (
+            "a REPL session re-runs as one program of its transcript: it departs after a "
+            "failed statement or a :reset, which a program does not go past"
+        )
+        return replace(verification, notes=(*verification.notes, note))
+    return verification
