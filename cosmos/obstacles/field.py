@@ -19,14 +19,14 @@ The force acts on the arm through the point's Jacobian, ``Gamma = J_p^T F``.
 With Pinocchio's world Jacobian ``J`` (spatial velocities of the joints'
 bodies at the world origin, columns 0..k for link k), ``J_p = J_v + J_w x p``
 column by column, so ``Gamma = J[:, :k+1]^T (F, p x F)``: the force becomes a
-wrench about the world origin, summed per link, one product per link.
+wrench about the world origin, summed per link, and joint j carries the links
+beyond it, ``Gamma_j = J_j . sum_{k >= j} W_k``.
 
-Cost: the field runs at the parameter rate. One vectorised test of bounding
-spheres (capsule about its midpoint, obstacle about its centre; a plane by
-height) rules out the (capsule, obstacle) pairs that cannot be inside
-``rho_0``; the closest points of the others come from the controller's own
-geometric model (:mod:`cosmos.obstacles.geometry`, MuJoCo's ``mj_geomDistance``),
-falling back to :mod:`cosmos.osc.firas` when a capsule touches an obstacle.
+Cost: the field runs at the parameter rate. The closest points come from the
+controller's own geometric model (:mod:`cosmos.obstacles.geometry`: candidate
+lists, MuJoCo's ``mj_geomDistance``, :mod:`cosmos.osc.firas` where a link
+touches), measured every ``geometry_every`` evaluations and estimated to first
+order in between. docs/obstacles.md has the figures.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ FloatArray = np.ndarray
 
 @dataclass(frozen=True)
 class FieldParameters:
-    """Defaults of the obstacle field; ``OBSTACLE`` may set rho_0 and scale eta per obstacle.
+    """Defaults of the obstacle field; ``OBSTACLE`` may set rho_0 and scale eta and c per obstacle.
 
     Attributes:
         influence_m: rho_0, the distance from the surface beyond which an obstacle
@@ -69,6 +69,14 @@ class FieldParameters:
     damping_ns_per_m: float = 300.0
     force_cap_n: float = 400.0
     geometry_every: int = 2
+
+    def __post_init__(self) -> None:
+        positive = (self.influence_m, self.eta, self.force_cap_n)
+        if min(positive) <= 0.0 or self.damping_ns_per_m < 0.0 or self.geometry_every < 1:
+            raise CosmosError(
+                "obstacle field: rho_0, eta and the cap must be > 0, the damping >= 0 and "
+                f"geometry_every >= 1; got {self}"
+            )
 
 
 class Influence(NamedTuple):

@@ -162,3 +162,10 @@ def test_between_measurements_the_approach_is_estimated_to_first_order() -> None
     measured = measuring.torque(q, qd, 0.004)
     assert estimating.influences[0].distance_m == pytest.approx(measuring.influences[0].distance_m, abs=2e-5)
     np.testing.assert_allclose(estimated, measured, rtol=0.05, atol=0.01 * np.abs(measured).max())
+
+
+def test_parameters_are_checked() -> None:
+    with pytest.raises(CosmosError, match="geometry_every"):
+        FieldParameters(geometry_every=0)
+    with pytest.raises(CosmosError, match="rho_0"):
+        FieldParameters(influence_m=-0.1)
