@@ -12,7 +12,7 @@ potential of section 6 and friction compensation, saturated to the drives.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -20,7 +20,13 @@ from cosmos.osc.force import Selection, selection
 from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, tracking_command
 from cosmos.osc.orientation import pose_error
-from cosmos.osc.unified import ForceGains, force_feedback, integrate_force_error, servo_torque
+from cosmos.osc.unified import (
+    ForceGains,
+    ServoMatrices,
+    force_feedback,
+    integrate_force_error,
+    servo_torque,
+)
 from cosmos.runtime.parameters import Evaluation, fold_for_servo
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -52,6 +58,10 @@ class ServoGains:
     coulomb_fraction: float = 1.0
 
 
+_NO_FORCE = np.zeros(6)
+_NO_FORCE.setflags(write=False)
+
+
 def _rotate_blocks(rotation: FloatArray, vector: FloatArray) -> FloatArray:
     return np.concatenate((rotation.dot(vector[:3]), rotation.dot(vector[3:])))
 
@@ -76,7 +86,6 @@ class ServoLevel:
         self._setpoint: ServoSetpoint | None = None
         self._evaluation: Evaluation | None = None
         self._selection: Selection | None = None
-        self._fold: tuple | None = None
         self._touching = False
         self._has_force_axes = False
         self._force_to_acceleration = np.zeros((6, 6))  # Lambda^-1 Omega_bar
@@ -84,7 +93,21 @@ class ServoLevel:
         self.last_error = np.zeros(6)  # x - x_d of the last tick, world, [m, rad]
         self.last_displacement = np.zeros(6)  # J (q - q_e): motion since the evaluation
         self.last_velocity = np.zeros(6)  # J qd of the last tick, world, [m/s, rad/s]
-        self.field_torque = np.zeros(6)  # potential fields (obstacles), held between evaluations
+        self._field_torque = np.zeros(6)
+        self._matrices: ServoMatrices | None = None
+        self._joint_damping = np.zeros((6, 6))
+        self._static_torque = np.zeros(6)
+
+    @property
+    def field_torque(self) -> FloatArray:
+        """Joint torques of the potential fields (obstacles), held between evaluations."""
+        return self._field_torque
+
+    @field_torque.setter
+    def field_torque(self, torque: FloatArray) -> None:
+        self._field_torque = torque
+        if self._evaluation is not None:
+            self._static_torque = self._evaluation.joint_limit_torque + torque
 
     @property
     def selection(self) -> Selection | None:
@@ -110,17 +133,18 @@ class ServoLevel:
         self._evaluation = evaluation
         self._refold()
 
-    def _force_gains(self, sp: ServoSetpoint) -> ForceGains:
-        if sp.force_damping is None:
-            return self.gains.force
-        return replace(self.gains.force, k_vf=sp.force_damping)
-
     def _refold(self) -> None:
         ev, sp, sel = self._evaluation, self._setpoint, self._selection
         if ev is None or sp is None or sel is None:
             return
         self._force_to_acceleration = ev.dynamics.lambda_inv.dot(sel.omega_bar)
-        self._fold = fold_for_servo(ev, sel, self._force_gains(sp), self.gains.xi_q)
+        matrices, null_damping = fold_for_servo(ev, sel, self.gains.force, self.gains.xi_q)
+        self._matrices = matrices
+        # Per-tick joint-space terms folded into one matrix and one vector: null-space
+        # damping (eq. 34) with the viscous friction, and the potentials held since the
+        # last evaluation.
+        self._joint_damping = null_damping + np.diag(self._viscous)
+        self._static_torque = ev.joint_limit_torque + self._field_torque
         self._base_error = pose_error(
             ev.position, ev.rotation_tool_to_world, sp.position, sp.rotation_to_world
         )
@@ -137,44 +161,57 @@ class ServoLevel:
         Returns:
             Joint torques within the drive limits, in [N m]. # (6,)
         """
-        ev, sp, fold, sel = self._evaluation, self._setpoint, self._fold, self._selection
-        if ev is None or sp is None or fold is None or sel is None:
+        ev, sp, matrices, sel = self._evaluation, self._setpoint, self._matrices, self._selection
+        if ev is None or sp is None or matrices is None or sel is None:
             raise RuntimeError("servo level used before a setpoint and an evaluation were given")
-        matrices, null_damping = fold
         jacobian = ev.jacobian
         velocity = jacobian.dot(qd)
         displacement = jacobian.dot(q - ev.q)
         self.last_velocity, self.last_displacement = velocity, displacement
         motion = self._motion_command(t_s, sp, ev, displacement, velocity)
-        ramp = min(1.0, (t_s - sp.start_s) / sp.ramp_s) if sp.ramp_s > 0.0 else 1.0
-        force_setpoint = sp.force_start_world + ramp * (sp.force_world - sp.force_start_world)
-        gains = self._force_gains(sp)
-        # Integral action only while something pushes back: in free space the force
-        # error cannot be closed and would wind up into an impact.
-        if not self._touching and self._has_force_axes:
-            pushed = float(np.abs(sel.omega_bar.dot(wrench_env)).max())
-            self._touching = pushed > self.gains.contact_threshold_n
-        touching = self._touching
-        if touching and self._has_force_axes:
-            self._integral = integrate_force_error(
-                self._integral, force_setpoint, wrench_env, sel.omega_bar, self._dt_s, gains.integral_limit
-            )
-        feedback = force_feedback(force_setpoint, wrench_env, self._integral, gains)
+        acceleration = motion
+        if self._has_force_axes:
+            feedback = self._force_feedback(t_s, sp, sel, wrench_env)
+            if not self._touching:
+                acceleration = motion + self._force_to_acceleration.dot(feedback)
+        else:
+            feedback = _NO_FORCE
         torque = servo_torque(matrices, motion, feedback, velocity)
-        torque += null_damping.dot(qd) + ev.joint_limit_torque + self.field_torque
+        torque += self._joint_damping.dot(qd)
+        torque += self._static_torque
         # Coulomb friction is compensated in the direction the joint is moving or, from rest,
         # is being told to move: qd plus the commanded joint acceleration (Jbar F*_m, and in
         # free space Jbar Lambda^-1 F_a on the force axes) over a short look-ahead, so a joint
         # starting to move is not held back by its friction. In contact the force loop's
         # integral takes up the friction instead: switching friction torques on the sensed
         # force would chatter.
-        acceleration = motion if touching else motion + self._force_to_acceleration.dot(feedback)
         intent = qd + self.gains.coulomb_lookahead_s * ev.dynamics.jbar.dot(acceleration)
-        torque += self._viscous * qd + self._coulomb * np.clip(
-            intent / self.gains.coulomb_velocity_rad_s, -1.0, 1.0
-        )
+        torque += self._coulomb * np.clip(intent / self.gains.coulomb_velocity_rad_s, -1.0, 1.0)
         saturated, _ = saturate_torque(torque, self._torque_limits, keep=ev.gravity)
         return saturated
+
+    def _force_feedback(
+        self, t_s: float, sp: ServoSetpoint, sel: Selection, wrench_env: FloatArray
+    ) -> FloatArray:
+        """F_d + k_f (F_d - F_s) + k_i integral: the setpoint ramped from the sensed force."""
+        elapsed = t_s - sp.start_s
+        if elapsed >= sp.ramp_s:
+            force_setpoint = sp.force_world
+        else:
+            force_setpoint = sp.force_start_world + (elapsed / sp.ramp_s) * (
+                sp.force_world - sp.force_start_world
+            )
+        gains = self.gains.force
+        # Integral action only once something pushes back (latched for the segment): in
+        # free space the force error cannot be closed and would wind up into an impact.
+        if not self._touching:
+            pushed = float(np.abs(sel.omega_bar.dot(wrench_env)).max())
+            self._touching = pushed > self.gains.contact_threshold_n
+        if self._touching:
+            self._integral = integrate_force_error(
+                self._integral, force_setpoint, wrench_env, sel.omega_bar, self._dt_s, gains.integral_limit
+            )
+        return force_feedback(force_setpoint, wrench_env, self._integral, gains)
 
     def _motion_command(
         self,

@@ -52,8 +52,6 @@ class ServoSetpoint:
         kp_task: Unit-mass position gains per task axis, in [1/s^2]. # (6,)
         kv_task: Velocity gains per task axis, in [1/s]. # (6,)
         trajectory: The timed trajectory in TRAJECTORY mode.
-        force_damping: Velocity damping k_vf of the force-controlled axes, in [1/s];
-            None for the servo's default.
     """
 
     mode: MotionMode
@@ -70,7 +68,6 @@ class ServoSetpoint:
     kp_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KP))
     kv_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KV))
     trajectory: PoseTrajectory | None = None
-    force_damping: float | None = None
 
     force_world: FloatArray = field(init=False)
     """The force setpoint in world axes (derived from force_task). # (6,)."""
