@@ -2,9 +2,9 @@
 
 Both set the workcell's joint positions from the log's ``q`` at the playback's
 frame times (linear interpolation between state samples) and show the scene
-from the ``overview`` camera. ``--start`` picks the simulated time to start
-from, ``--rate`` the speed (2: twice as fast as the run). Only the arm moves:
-obstacles logged on ``/scene`` are not drawn (the fixtures are part of the model).
+from the ``overview`` camera, with the obstacles logged on ``/scene`` drawn in
+(:mod:`cosmos.replay.overlay`). ``--start`` picks the simulated time to start
+from, ``--rate`` the speed (2: twice as fast as the run).
 
 Video is rendered offscreen with :class:`mujoco.Renderer` (``MUJOCO_GL=egl``
 unless set otherwise: it needs no display) and encoded to H.264 MP4 by the
@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from cosmos.errors import CosmosError, UsageError
+from cosmos.replay.overlay import draw, scene_timeline
 from cosmos.runlog.reader import RunRecord, StateSeries
 
 if TYPE_CHECKING:
@@ -125,6 +126,11 @@ def _scene() -> Plant:
     return Plant()
 
 
+def _geom_names(plant: Plant) -> set[str]:
+    """Names of the model's geoms: the fixtures that ``/scene`` also lists."""
+    return {plant.model.geom(i).name for i in range(plant.model.ngeom)}
+
+
 def _pose(plant: Plant, q: np.ndarray) -> None:
     import mujoco
 
@@ -180,6 +186,7 @@ def render_video(
     import mujoco
 
     plant = _scene()
+    obstacles = scene_timeline(record.path, _geom_names(plant))
     try:
         renderer = mujoco.Renderer(plant.model, VIDEO_HEIGHT, VIDEO_WIDTH)
     except Exception as error:  # MuJoCo raises several kinds when no GL context can be made
@@ -192,11 +199,12 @@ def render_video(
     writer = _encoder(path, playback.fps)
     try:
         with renderer:
-            for k, q in enumerate(positions):
+            for k, (t_s, q) in enumerate(zip(times, positions, strict=True)):
                 if on_frame is not None:
                     on_frame(k, times.size)
                 _pose(plant, q)
                 renderer.update_scene(plant.data, camera=CAMERA)
+                draw(renderer.scene, obstacles.at(float(t_s)))
                 # Shadows cost ~5x the rest of a frame in software GL; reflections stay.
                 renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = 0
                 writer.send(np.ascontiguousarray(renderer.render()))
@@ -229,6 +237,7 @@ def view(record: RunRecord, playback: Playback) -> None:
     import mujoco.viewer
 
     plant = _scene()
+    obstacles = scene_timeline(record.path, _geom_names(plant))
     _pose(plant, positions[0])
     viewer_window = mujoco.viewer.launch_passive(
         plant.model, plant.data, show_left_ui=False, show_right_ui=False
@@ -242,6 +251,8 @@ def view(record: RunRecord, playback: Playback) -> None:
                     return
                 with viewer.lock():
                     _pose(plant, q)
+                    viewer.user_scn.ngeom = 0
+                    draw(viewer.user_scn, obstacles.at(float(t_s)))
                 viewer.sync()
                 wait_s = started + (t_s - times[0]) / playback.rate - time.perf_counter()
                 if wait_s > 0:

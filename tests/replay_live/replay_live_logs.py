@@ -11,6 +11,7 @@ import json
 import os
 import subprocess
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -54,10 +55,15 @@ def decoded(log: Path, topic: str) -> list[dict[str, Any]]:
 
 
 def copy_with_source(
-    log: Path, out: Path, source: str | None = None, settings: dict[str, str] | None = None
+    log: Path,
+    out: Path,
+    source: str | None = None,
+    settings: dict[str, str] | None = None,
+    extra: Sequence[tuple[str, int, bytes]] = (),
 ) -> Path:
-    """Copy every record of ``log`` to ``out``, with ``source`` as the program attachment if given
-    and ``settings`` overriding entries of the metadata."""
+    """Copy every record of ``log`` to ``out``, with ``source`` as the program attachment if given,
+    ``settings`` overriding entries of the metadata, and ``extra`` messages (topic, log time ns,
+    data) added on the existing channels."""
     with open(log, "rb") as stream, open(out, "wb") as sink:
         reader = make_reader(stream)
         summary = reader.get_summary()
@@ -84,6 +90,9 @@ def copy_with_source(
             )
         for _, channel, message in reader.iter_messages(log_time_order=False):
             writer.add_message(channel_ids[channel.id], message.log_time, message.data, message.publish_time)
+        by_topic = {channel.topic: channel_ids[cid] for cid, channel in summary.channels.items()}
+        for topic, t_ns, data in extra:
+            writer.add_message(by_topic[topic], t_ns, data, t_ns)
         writer.finish()
     return out
 
