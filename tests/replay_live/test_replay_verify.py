@@ -110,3 +110,30 @@ def test_log_without_source_is_a_clear_error(tmp_path: Path) -> None:
     assert result.returncode == 1
     assert "no program source attached" in result.stderr
     assert "Traceback" not in result.stderr
+
+
+def test_interrupted_run_is_compared_up_to_the_interruption(tmp_path: Path) -> None:
+    from cosmos.execution.executor import Interrupted, Progress
+    from cosmos.execution.session import Session
+    from cosmos.lang.compiler import compile_program
+    from cosmos.runtime.rates import Rates
+    from cosmos.workcell import fixture_frames
+
+    program = str(tmp_path / "tiny.cos")
+    plan = compile_program(PROGRAM, program, fixture_frames())
+    log = tmp_path / "interrupted.mcap"
+    with Session(program, PROGRAM, log, Rates(), 0) as session:
+
+        def interrupt(progress: Progress) -> None:
+            if progress.t_s > 0.3:  # like Ctrl-C during the first MOVE
+                session.executor.stop_requested = True
+
+        session.executor.progress = interrupt
+        with pytest.raises(Interrupted):
+            session.executor.run(plan)
+    stopped = decoded(log, EVENT)[-1]
+    assert (stopped["kind"], stopped["reason"]) == ("stopped", "interrupted")
+    verification = verify_log(read_log(log))
+    assert verification.matches, verification.render()
+    assert any("interrupted" in note for note in verification.notes)
+    assert verification.samples == len(messages(log, STATE))
