@@ -116,8 +116,19 @@ class ObstacleField:
         self._obstacle_speed = 0.0
         self._evaluations = 0
         self._speed_bound = 0.0
-        self.influences: tuple[Influence, ...] = ()
+        self._acting: dict[int, list] = {}  # obstacle index -> [distance, link, strongest force]
+        self._influences: tuple[Influence, ...] | None = ()
+
+    @property
+    def influences(self) -> tuple[Influence, ...]:
         """Obstacles whose field acted at the last evaluation, with their nearest link."""
+        if self._influences is None:
+            obstacles = self._geometry.obstacles if self._geometry is not None else ()
+            self._influences = tuple(
+                Influence(obstacles[j].name, LINK_BODIES[k], distance, force)
+                for j, (distance, k, force) in sorted(self._acting.items())
+            )
+        return self._influences
 
     @property
     def obstacles(self) -> tuple[Obstacle, ...]:
@@ -133,7 +144,7 @@ class ObstacleField:
         if obstacle.name in self._obstacles:
             raise CosmosError(f"obstacle '{obstacle.name}' is already in the scene; remove it first")
         self._obstacles[obstacle.name] = obstacle
-        self._geometry = None
+        self._geometry, self._acting, self._influences = None, {}, ()
 
     def remove(self, name: str) -> None:
         """Stop repelling from the obstacle ``name``.
@@ -144,13 +155,13 @@ class ObstacleField:
         if self._obstacles.pop(name, None) is None:
             present = ", ".join(self._obstacles) or "none"
             raise CosmosError(f"no obstacle '{name}' in the scene (present: {present})")
-        self._geometry = None
+        self._geometry, self._acting, self._influences = None, {}, ()
 
     def torque(self, q: FloatArray, qd: FloatArray, t_s: float) -> FloatArray:
         """Joint torques of the field at ``(q, qd)`` and simulated time ``t_s``, in [N m]. # (6,)."""
         torque = np.zeros(6)
         if not self._obstacles:
-            self.influences = ()
+            self._acting, self._influences = {}, None
             return torque
         geometry = self._geometry
         if geometry is None:
@@ -164,10 +175,7 @@ class ObstacleField:
         jacobian = data.J  # (6, 6) world: spatial velocity of joint k's body at the origin
         columns = jacobian.T.tolist()  # row j: joint j's spatial axis at the origin
         rates = qd.tolist()
-        twists, twist = [], [0.0] * 6  # row k: twist of joint k's body, sum over j <= k of column j qd_j
-        for column, rate in zip(columns, rates, strict=True):
-            twist = [t + c * rate for t, c in zip(twist, column, strict=True)]
-            twists.append(twist)
+        twists = np.cumsum(jacobian * qd, axis=1).T.tolist()  # row k: twist of joint k's body
         # |velocity| of any arm point <= sum |qd_j| * (its distance to axis j) <= sum |qd_j| reach_j.
         speed = sum([abs(rate) * reach for rate, reach in zip(rates, self._reach, strict=True)])
         speed += self._obstacle_speed
@@ -180,7 +188,7 @@ class ObstacleField:
             near = geometry.estimate(twists, t_s)
         self._evaluations += 1
         if not near:
-            self.influences = ()
+            self._acting, self._influences = {}, None
             return torque
         wrenches = [[0.0] * 6 for _ in range(6)]  # row k: wrench about the origin on link k
         acting: dict[int, list] = {}  # obstacle -> [distance, link, strongest force]
@@ -216,10 +224,7 @@ class ObstacleField:
             if distance < seen[0]:
                 seen[0], seen[1] = distance, k
             seen[2] = max(seen[2], magnitude)
-        self.influences = tuple(
-            Influence(obstacles[j].name, LINK_BODIES[k], distance, force)
-            for j, (distance, k, force) in sorted(acting.items())
-        )
+        self._acting, self._influences = acting, None
         if not self.enabled:
             return torque
         # Gamma_j = J_j . (sum of the wrenches on links k >= j): joint j carries the links beyond it.
