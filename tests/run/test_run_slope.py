@@ -56,10 +56,12 @@ def test_tool_touches_the_plate_20_deg_off_its_normal(slope_run: ProgramRun) -> 
     reason=(
         "controller: the round tip does give an aligning moment about the tool point, "
         "r f sin(theta) = 9.6 mm x 5.4 N x sin 20 deg = 0.018 N m (logged My = -0.0177 N m), "
-        "but the wrist joints' Coulomb friction (frictionloss 0.55-1.07 N m, joints 4-6) is "
-        "30-60 x larger and the servo compensates friction only toward commanded motion "
-        "(intent = qd + 0.02 s Jbar F*_m), which is zero on force-controlled RX RY: the wrist "
-        "stays stuck (20.0 -> 19.98 deg after 3 s at 5 N; 19.75 deg after 4 s at 10 N IN slope)"
+        "but the wrist joints' Coulomb friction (0.55-1.07 N m, joints 4-6) holds the wrist: the "
+        "servo compensates friction only toward commanded motion (intent = qd + 0.02 s Jbar F*_m, "
+        "zero on force-controlled RX RY) and joint 5 gets -0.2..-0.36 N m; only the force integral "
+        "(+0.21 N m/s) frees it, ~11 s into the WAIT: 20.0 -> 19.98 deg after 3 s; with WAIT 25 s "
+        "it breaks loose at 15 s, jumps off the plate (contact lost ~0.5 s), reaches 8.9 deg at "
+        "20 s and drifts back to 17.5 deg (wound-up integral on RX)"
     ),
 )
 def test_tool_settles_flat_against_the_plate(slope_run: ProgramRun) -> None:
