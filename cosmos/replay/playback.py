@@ -180,6 +180,8 @@ def render_video(
     """
     if path.suffix.lower() != ".mp4":
         raise UsageError(f"--video writes MP4: give a file name ending in .mp4 (got {path})")
+    if path.is_dir():
+        raise UsageError(f"--video {path}: is a directory; give a file name ending in .mp4")
     times = frame_times(record.state.t, playback)
     positions = joint_positions_at(record.state, times)  # (frames, 6)
     prefer_headless_gl()
@@ -195,10 +197,10 @@ def render_video(
             f"--video: cannot render offscreen (MUJOCO_GL={backend!r}): {error}; "
             "set MUJOCO_GL=egl (or osmesa) before running cosmos"
         ) from None
-    path.parent.mkdir(parents=True, exist_ok=True)
-    writer = _encoder(path, playback.fps)
-    try:
-        with renderer:
+    with renderer:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            writer = _encoder(path, playback.fps)
             for k, (t_s, q) in enumerate(zip(times, positions, strict=True)):
                 if on_frame is not None:
                     on_frame(k, times.size)
@@ -208,9 +210,10 @@ def render_video(
                 # Shadows cost ~5x the rest of a frame in software GL; reflections stay.
                 renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = 0
                 writer.send(np.ascontiguousarray(renderer.render()))
-        writer.close()
-    except (OSError, RuntimeError) as error:
-        raise CosmosError(f"--video: cannot write {path}: {error}") from None
+            writer.close()
+        except (OSError, RuntimeError) as error:
+            first_line = str(error).strip().splitlines()[0] if str(error).strip() else repr(error)
+            raise CosmosError(f"--video: cannot write {path}: {first_line}") from None
     return Video(path, int(times.size), playback.fps, float(times[0]), float(times[-1]))
 
 
