@@ -15,13 +15,17 @@ from run_support import PROGRAMS, SHIPPED, BackgroundRuns, ProgramRun
 
 
 @pytest.fixture(scope="session")
-def background_runs(tmp_path_factory: pytest.TempPathFactory) -> Iterator[BackgroundRuns]:
-    """The queue of CLI runs; the shipped programs are queued at once."""
+def background_runs(
+    request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory
+) -> Iterator[BackgroundRuns]:
+    """The queue of CLI runs; the shipped programs are queued at once if any test needs them."""
     runs = BackgroundRuns(tmp_path_factory.mktemp("shipped"))
-    # The slowest and most-needed first: the slope program is judged on its own.
-    for name in sorted(SHIPPED, key=lambda n: (n != "comply_slope.cos", n)):
-        runs.submit(name, PROGRAMS / name)
+    if any("shipped_run" in getattr(item, "fixturenames", ()) for item in request.session.items):
+        # The one judged on its own first, then the rest in name order.
+        for name in sorted(SHIPPED, key=lambda n: (n != "comply_slope.cos", n)):
+            runs.submit(name, PROGRAMS / name)
     yield runs
+    runs.close()
 
 
 @pytest.fixture(autouse=True)

@@ -19,7 +19,6 @@ import io
 import subprocess
 import sys
 import threading
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -102,10 +101,15 @@ def read_run(program: Path, log_path: Path, returncode: int, stdout: str, stderr
     return ProgramRun(program, returncode, stdout, stderr, read_log(log_path))
 
 
+def cli_command(program: Path, log_path: Path) -> list[str]:
+    """``python -m cosmos run PROGRAM --log LOG``, as a user would type it."""
+    return [sys.executable, "-m", "cosmos", "run", str(program), "--log", str(log_path)]
+
+
 def run_cli(program: Path, log_path: Path) -> ProgramRun:
-    """Run ``cosmos run PROGRAM --log LOG`` in a subprocess, as a user would."""
+    """Run ``cosmos run PROGRAM --log LOG`` in a subprocess and wait for it."""
     done = subprocess.run(
-        [sys.executable, "-m", "cosmos", "run", str(program), "--log", str(log_path)],
+        cli_command(program, log_path),
         capture_output=True,
         text=True,
         timeout=CLI_TIMEOUT_S,
@@ -134,7 +138,7 @@ def write_program(directory: Path, name: str, source: str) -> Path:
 
 
 class BackgroundRuns:
-    """CLI runs started in a background thread, one at a time, while tests run in-process.
+    """CLI runs in a background thread, one at a time, while tests run in-process.
 
     The machine has two cores: one runs the in-process simulations of the test
     functions, the other works through this queue of subprocess runs, so the
@@ -143,48 +147,69 @@ class BackgroundRuns:
 
     def __init__(self, log_dir: Path):
         self._log_dir = log_dir
-        self._jobs: dict[str, Callable[[], ProgramRun]] = {}
+        self._programs: dict[str, Path] = {}
         self._results: dict[str, ProgramRun | BaseException] = {}
         self._done: dict[str, threading.Event] = {}
-        self._order: list[str] = []
+        self._queue: list[str] = []
         self._lock = threading.Lock()
         self._thread: threading.Thread | None = None
+        self._process: subprocess.Popen[str] | None = None
+        self._closed = False
 
     def submit(self, key: str, program: Path) -> None:
         """Queue a CLI run of ``program`` under ``key`` (a second submit of a key is ignored)."""
         with self._lock:
-            if key in self._done:
+            if key in self._done or self._closed:
                 return
-            log_path = self._log_dir / f"{key}.mcap"
-            self._jobs[key] = lambda: run_cli(program, log_path)
+            self._programs[key] = program
             self._done[key] = threading.Event()
-            self._order.append(key)
+            self._queue.append(key)
             if self._thread is None:
                 self._thread = threading.Thread(target=self._work, name="cosmos-runs", daemon=True)
                 self._thread.start()
 
     def _work(self) -> None:
-        index = 0
         while True:
             with self._lock:
-                if index >= len(self._order):
+                if not self._queue or self._closed:
                     self._thread = None
                     return
-                key = self._order[index]
-            index += 1
+                key = self._queue.pop(0)
+                program = self._programs[key]
+                log_path = self._log_dir / f"{key}.mcap"
+                self._process = subprocess.Popen(
+                    cli_command(program, log_path),
+                    stdout=subprocess.PIPE,
+                    stderr=subprocess.PIPE,
+                    text=True,
+                    cwd=REPO,
+                )
             try:
-                self._results[key] = self._jobs[key]()
+                stdout, stderr = self._process.communicate(timeout=CLI_TIMEOUT_S)
+                self._results[key] = read_run(program, log_path, self._process.returncode, stdout, stderr)
             except BaseException as error:  # handed to the test that waits for it
+                self._process.kill()
                 self._results[key] = error
             self._done[key].set()
 
     def result(self, key: str) -> ProgramRun:
         """Wait for the run queued under ``key`` and return it."""
-        self._done[key].wait(timeout=CLI_TIMEOUT_S * max(1, len(self._order)))
+        if not self._done[key].wait(timeout=CLI_TIMEOUT_S * max(1, len(self._done))):
+            raise TimeoutError(f"the background run of {key} did not finish")
         outcome = self._results[key]
         if isinstance(outcome, BaseException):
             raise outcome
         return outcome
+
+    def close(self) -> None:
+        """Drop what is still queued and stop the run in progress (the session is over)."""
+        with self._lock:
+            self._closed = True
+            self._queue.clear()
+            process = self._process
+        if process is not None and process.poll() is None:
+            process.kill()
+            process.wait()
 
 
 def samples_of(run: ProgramRun, segment_indices: list[int]) -> np.ndarray:
