@@ -8,6 +8,8 @@ and a complete log (summary and footer) that reads with a ``failed`` event.
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -94,3 +96,19 @@ def test_arm_holds_after_the_failure(failing_run: ProgramRun) -> None:
     speed_mps = np.linalg.norm(state.v[after, :3], axis=1)
     assert float(speed_mps.max()) < 0.005
     assert float(np.ptp(state.x[after], axis=0).max()) < 1e-3
+
+
+def test_replay_summary_shows_the_failure(failing_run: ProgramRun) -> None:
+    """``cosmos replay LOG`` reads the log (exit 0) and its timeline ends with the failed CONTACT."""
+    done = subprocess.run(
+        [sys.executable, "-m", "cosmos", "replay", str(failing_run.log.path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    rows = [line for line in done.stdout.splitlines() if line.strip().startswith(f"{FAILING_LINE} ")]
+    assert len(rows) == 1, done.stdout
+    assert "CONTACT UP" in rows[0] and "failed" in rows[0], done.stdout
+    assert "found no contact within 1.5 s" in rows[0], done.stdout
