@@ -22,8 +22,9 @@ column by column, so ``Gamma = J[:, :k+1]^T (F, p x F)``: the force becomes a
 wrench about the world origin, summed per link, and joint j carries the links
 beyond it, ``Gamma_j = J_j . sum_{k >= j} W_k``.
 
-Cost: the field runs at the parameter rate. The closest points come from the
-controller's own geometric model (:mod:`cosmos.obstacles.geometry`: candidate
+Cost: the runtime asks for the field at the parameter rate; it evaluates
+itself every ``period_s`` (8 ms) and holds its torque in between. The closest
+points come from the controller's own geometric model (:mod:`cosmos.obstacles.geometry`: candidate
 lists, MuJoCo's ``mj_geomDistance``, :mod:`cosmos.osc.firas` where a link
 touches), measured every ``geometry_every`` evaluations and estimated to first
 order in between. docs/obstacles.md has the figures.
@@ -62,6 +63,9 @@ class FieldParameters:
             evaluations and estimated to first order in between (as the seed's
             servo level estimates the end effector between evaluations); 1 measures
             them every time.
+        period_s: Least time between two evaluations, in [s]: asked again sooner
+            (the runtime asks at its parameter rate), the field returns its last
+            torque, which the servo holds. 0 evaluates at every request.
     """
 
     influence_m: float = 0.10
@@ -69,12 +73,13 @@ class FieldParameters:
     damping_ns_per_m: float = 300.0
     force_cap_n: float = 400.0
     geometry_every: int = 2
+    period_s: float = 0.008
 
     def __post_init__(self) -> None:
         positive = (self.influence_m, self.eta, self.force_cap_n)
-        if min(positive) <= 0.0 or self.damping_ns_per_m < 0.0 or self.geometry_every < 1:
+        if min(positive) <= 0.0 or min(self.damping_ns_per_m, self.period_s) < 0.0 or self.geometry_every < 1:
             raise CosmosError(
-                "obstacle field: rho_0, eta and the cap must be > 0, the damping >= 0 and "
+                "obstacle field: rho_0, eta and the cap must be > 0, the damping and period >= 0 and "
                 f"geometry_every >= 1; got {self}"
             )
 
@@ -116,6 +121,8 @@ class ObstacleField:
         self._obstacle_speed = 0.0
         self._evaluations = 0
         self._speed_bound = 0.0
+        self._evaluated_s = -np.inf
+        self._torque = np.zeros(6)
         self._acting: dict[int, list] = {}  # obstacle index -> [distance, link, strongest force]
         self._influences: tuple[Influence, ...] | None = ()
 
@@ -145,6 +152,7 @@ class ObstacleField:
             raise CosmosError(f"obstacle '{obstacle.name}' is already in the scene; remove it first")
         self._obstacles[obstacle.name] = obstacle
         self._geometry, self._acting, self._influences = None, {}, ()
+        self._evaluated_s = -np.inf
 
     def remove(self, name: str) -> None:
         """Stop repelling from the obstacle ``name``.
@@ -156,10 +164,14 @@ class ObstacleField:
             present = ", ".join(self._obstacles) or "none"
             raise CosmosError(f"no obstacle '{name}' in the scene (present: {present})")
         self._geometry, self._acting, self._influences = None, {}, ()
+        self._evaluated_s = -np.inf
 
     def torque(self, q: FloatArray, qd: FloatArray, t_s: float) -> FloatArray:
         """Joint torques of the field at ``(q, qd)`` and simulated time ``t_s``, in [N m]. # (6,)."""
-        torque = np.zeros(6)
+        if t_s - self._evaluated_s < self.parameters.period_s - 1e-9:
+            return self._torque
+        self._evaluated_s = t_s
+        torque = self._torque = np.zeros(6)
         if not self._obstacles:
             self._acting, self._influences = {}, None
             return torque

@@ -16,7 +16,8 @@ from cosmos.osc.firas import firas_potential
 from cosmos.workcell import HOME_Q
 from tests.obstacles.obstacle_scenes import robot
 
-UNCAPPED = FieldParameters(damping_ns_per_m=0.0, force_cap_n=1e9)
+EVERY_CALL = FieldParameters(period_s=0.0, geometry_every=1)  # measured at each call
+UNCAPPED = dataclasses.replace(EVERY_CALL, damping_ns_per_m=0.0, force_cap_n=1e9)
 
 
 def _potential(q: np.ndarray, obstacles: list[Obstacle], parameters: FieldParameters) -> float:
@@ -73,7 +74,7 @@ def test_torque_is_minus_the_gradient_of_the_potential(name: str) -> None:
 
 
 def test_nothing_acts_beyond_the_influence_distance_or_when_switched_off() -> None:
-    field = ObstacleField(robot())
+    field = ObstacleField(robot(), EVERY_CALL)
     field.add(sphere("far", (0.0, 1.5, 0.5), 0.1))
     assert not np.any(field.torque(HOME_Q, np.zeros(6), 0.0))
     assert field.influences == ()
@@ -88,8 +89,8 @@ def test_nothing_acts_beyond_the_influence_distance_or_when_switched_off() -> No
 def test_damping_resists_the_approach_only() -> None:
     """A velocity toward the obstacle adds a force that opposes it; moving away adds none."""
     ball = sphere("ball", (0.66, -0.15, 0.52), 0.05)
-    plain = ObstacleField(robot(), dataclasses.replace(FieldParameters(), damping_ns_per_m=0.0))
-    damped = ObstacleField(robot())
+    plain = ObstacleField(robot(), dataclasses.replace(EVERY_CALL, damping_ns_per_m=0.0))
+    damped = ObstacleField(robot(), EVERY_CALL)
     plain.add(ball)
     damped.add(ball)
     # Joint 2 turning positively moves the tool outward (+x), toward the ball.
@@ -105,7 +106,7 @@ def test_damping_resists_the_approach_only() -> None:
 
 def test_a_moving_obstacle_is_taken_where_it_is_now_and_its_approach_is_damped() -> None:
     ball = sphere("ball", (0.94, -0.15, 0.52), 0.05, velocity_mps=(-0.1, 0.0, 0.0))
-    every_time = dataclasses.replace(FieldParameters(), geometry_every=1)
+    every_time = EVERY_CALL
     field = ObstacleField(robot(), every_time)
     field.add(ball)
     assert not np.any(field.torque(HOME_Q, np.zeros(6), 0.0))  # 0.24 m away at t = 0
@@ -138,6 +139,15 @@ def test_gain_scale_and_influence_per_obstacle() -> None:
     assert not np.any(torques["short"])  # the peg is ~40 mm away
 
 
+def test_within_its_period_the_field_holds_its_torque() -> None:
+    field = ObstacleField(robot())  # period 8 ms
+    field.add(sphere("ball", (0.70, -0.15, 0.52), 0.05))
+    first = field.torque(HOME_Q, np.zeros(6), 0.0).copy()
+    moved = HOME_Q + np.array([0.0, 0.05, 0.0, 0.0, 0.0, 0.0])
+    np.testing.assert_array_equal(field.torque(moved, np.zeros(6), 0.004), first)  # held
+    assert not np.array_equal(field.torque(moved, np.zeros(6), 0.008), first)  # evaluated
+
+
 def test_names_are_unique() -> None:
     field = ObstacleField(robot())
     field.add(sphere("ball", (0.0, 1.0, 0.5), 0.1))
@@ -151,8 +161,8 @@ def test_names_are_unique() -> None:
 def test_between_measurements_the_approach_is_estimated_to_first_order() -> None:
     """With geometry measured every other evaluation, the estimate is close to a measurement."""
     ball = sphere("ball", (0.70, -0.15, 0.52), 0.05)
-    estimating = ObstacleField(robot())  # geometry_every = 2
-    measuring = ObstacleField(robot(), dataclasses.replace(FieldParameters(), geometry_every=1))
+    estimating = ObstacleField(robot(), dataclasses.replace(EVERY_CALL, geometry_every=2))
+    measuring = ObstacleField(robot(), EVERY_CALL)
     estimating.add(ball)
     measuring.add(ball)
     qd = np.array([0.3, 1.0, -0.5, 0.0, 0.2, 0.0])  # rad/s: the tool moves a few mm in 4 ms
