@@ -72,7 +72,7 @@ def test_a_wall_across_the_path_is_a_local_minimum_named_before_any_timeout() ->
 
 
 def test_the_detector_stays_quiet_when_the_arm_gets_through() -> None:
-    for name in ("sphere_on_the_line", "post_by_the_elbow"):
+    for name in SCENES:
         assert run(SCENES[name], avoid=True, detect=True, stop_at_goal_m=0.002).local_minimum is None
 
 
