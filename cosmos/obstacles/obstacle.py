@@ -36,7 +36,7 @@ def _positive(value: float | None, what: str, name: str, span: Span | None) -> f
     return float(value)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Obstacle:
     """A primitive obstacle (seed section 6) with a constant velocity.
 
