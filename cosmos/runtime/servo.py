@@ -48,6 +48,7 @@ class ServoGains:
         coulomb_fraction: Share of the model's Coulomb friction compensated.
         coulomb_lookahead_s: How far ahead the commanded joint acceleration counts
             toward the direction of motion, in [s].
+        coulomb_filter_s: Time constant of the low-pass on the Coulomb compensation, [s].
     """
 
     force: ForceGains = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
@@ -55,6 +56,7 @@ class ServoGains:
     contact_threshold_n: float = 1.0
     coulomb_velocity_rad_s: float = 0.01
     coulomb_lookahead_s: float = 0.02
+    coulomb_filter_s: float = 0.005
     coulomb_fraction: float = 1.0
 
 
@@ -82,6 +84,8 @@ class ServoLevel:
         self._viscous = viscous
         self._coulomb = coulomb * gains.coulomb_fraction
         self._dt_s = servo_dt_s
+        self._coulomb_blend = min(1.0, servo_dt_s / gains.coulomb_filter_s)
+        self._coulomb_torque = np.zeros(6)
         self._integral = np.zeros(6)
         self._setpoint: ServoSetpoint | None = None
         self._evaluation: Evaluation | None = None
@@ -186,7 +190,10 @@ class ServoLevel:
         # integral takes up the friction instead: switching friction torques on the sensed
         # force would chatter.
         intent = qd + self.gains.coulomb_lookahead_s * ev.dynamics.jbar.dot(acceleration)
-        torque += self._coulomb * np.clip(intent / self.gains.coulomb_velocity_rad_s, -1.0, 1.0)
+        # Low-passed, so that a new segment's setpoint (or a sign change) never steps it.
+        target = self._coulomb * np.clip(intent / self.gains.coulomb_velocity_rad_s, -1.0, 1.0)
+        self._coulomb_torque += self._coulomb_blend * (target - self._coulomb_torque)
+        torque += self._coulomb_torque
         saturated, _ = saturate_torque(torque, self._torque_limits, keep=ev.gravity)
         return saturated
 

@@ -80,15 +80,6 @@ def test_contact_holds_its_force_within_3_percent(contact_run: ProgramRun) -> No
     assert error <= 0.03, f"held {mean_n:.3f} N for a {CONTACT_FORCE_N:g} N setpoint ({error:.1%})"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason=(
-        "controller: at the CONTACT->WAIT segment switch the hold target is re-set to the "
-        "measured pose, the motion command F*_m drops to ~0, and the servo's Coulomb "
-        "compensation (intent = qd + 0.02 s Jbar F*_m, full at 0.01 rad/s) steps joint 2 "
-        "by ~4 N m (4.19 -> 0.15 N m): the push jumps 10.15 -> 14.6 N in one tick (+46 %)"
-    ),
-)
 def test_contact_overshoot_under_30_percent(contact_run: ProgramRun) -> None:
     """Peak push along the contact axis after the touch, over the hold and the WAIT: < 1.3 x setpoint."""
     t, push = contact_samples(contact_run)
