@@ -18,10 +18,11 @@ import numpy as np
 
 from cosmos.errors import TaskFailure
 from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict, statement_head
+from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
 from cosmos.osc.orientation import matrix_to_quat
-from cosmos.plan import AddObstacle, Plan, RemoveObstacle, Segment, SegmentKind, Step
+from cosmos.plan import AddObstacle, GoalReached, Plan, RemoveObstacle, Segment, SegmentKind, Step
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -55,6 +56,7 @@ class Executor:
         log: RunLog | None = None,
         progress: ProgressCallback | None = None,
         progress_every: int = 200,
+        obstacles: ObstacleWorld | None = None,
     ):
         self.runtime = runtime
         self.log = log
@@ -65,6 +67,7 @@ class Executor:
         if log is not None:
             self.recorder = LogRecorder(log, runtime.plant)
             runtime.recorder = self.recorder
+        self.obstacles = obstacles
         self.segment_count = 0
         self._source: str | None = None
 
@@ -98,7 +101,11 @@ class Executor:
             self.log.flush()
 
     def _scene_step(self, step: AddObstacle | RemoveObstacle) -> None:
-        raise TaskFailure("OBSTACLE is not supported by this runtime yet", step.span, self._source)
+        if self.obstacles is None:
+            raise TaskFailure("this workcell has no room for obstacles", step.span, self._source)
+        self.obstacles.apply(step)
+        self._event("start", step, "")
+        self._event("done", step, "")
 
     # --------------------------------------------------------------- segment
 
@@ -128,9 +135,18 @@ class Executor:
         via_radius = segment.via_radius_m or 0.01
         ticks = 0
         servo = rt.servo
+        obstacles = self.obstacles
+        watch_minima = obstacles is not None and isinstance(segment.completion, GoalReached)
+        if obstacles is not None:
+            obstacles.start_goal()
         while True:
+            if obstacles is not None:
+                obstacles.before_tick()
             rt.tick()
             ticks += 1
+            if obstacles is not None:
+                for reason in obstacles.after_tick():
+                    self._event("collision", segment, reason)
             if self.stop_requested:
                 self.stop_requested = False
                 self.hold()
@@ -146,6 +162,11 @@ class Executor:
                         setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s)
                     )
                 continue
+            if watch_minima and obstacles is not None:
+                stuck = obstacles.local_minimum(float(np.linalg.norm(position - goals[-1][0])))
+                if stuck is not None:
+                    head = statement_head(segment.statement)
+                    return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
             snapshot = Snapshot(rt.time_s, position, servo.last_error, servo.last_velocity, rt.wrench)
             outcome = monitor.check(snapshot)
             if outcome is not None:
@@ -172,15 +193,15 @@ class Executor:
             rt.tick()
 
     def _fail(self, segment: Segment, reason: str) -> None:
-        self.hold(HOLD_AFTER_FAILURE_S)
         self._event("failed", segment, reason)
+        self.hold(HOLD_AFTER_FAILURE_S)
         if self.log is not None:
             self.log.flush()
         raise TaskFailure(f"{statement_head(segment.statement)} {reason}", segment.span, self._source)
 
     # ------------------------------------------------------------------- log
 
-    def _event(self, kind: str, segment: Segment | None, reason: str) -> None:
+    def _event(self, kind: str, segment: Segment | AddObstacle | RemoveObstacle | None, reason: str) -> None:
         if self.log is None:
             return
         line = segment.line if segment is not None else 0

@@ -6,7 +6,9 @@ from pathlib import Path
 
 from cosmos import __version__
 from cosmos.execution.executor import Executor, ProgressCallback
+from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import fixture_primitives
+from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant
 from cosmos.robot_model import build_robot_model
 from cosmos.runlog.writer import RunLog
@@ -38,7 +40,7 @@ class Session:
         seed: int = 0,
         progress: ProgressCallback | None = None,
     ):
-        self.plant = Plant()
+        self.plant = Plant(obstacle_scene_xml())
         self.runtime = Runtime(self.plant, build_robot_model(), rates)
         self.log = RunLog(
             log_path,
@@ -52,7 +54,8 @@ class Session:
             metadata={"scene": SCENE_XML.name, "cosmos_version": __version__},
         )
         self.log.scene(0.0, add=fixture_primitives(self.plant))
-        self.executor = Executor(self.runtime, self.log, progress)
+        self.obstacles = ObstacleWorld(self.runtime, self.log)
+        self.executor = Executor(self.runtime, self.log, progress, obstacles=self.obstacles)
         self.executor.hold()
 
     @property

@@ -1,0 +1,114 @@
+"""The executor's side of OBSTACLE: bodies in the workcell, the FIRAS field, minima, collisions.
+
+One :class:`ObstacleWorld` per session ties together what ``cosmos.obstacles``
+provides: each added obstacle becomes a body in the MuJoCo workcell (so a
+collision is a real contact) and a term of the repulsive field the runtime
+adds at its parameter rate (seed section 6), and is drawn on the log's
+``/scene``; every tick moving obstacles move, contacts the arm should not make
+are logged as ``collision`` events, and a goal motion that stops progressing
+while obstacles act on the arm is reported as a local minimum.
+"""
+
+from __future__ import annotations
+
+from cosmos.obstacles import (
+    LocalMinimum,
+    LocalMinimumDetector,
+    Obstacle,
+    ObstacleField,
+    ObstacleScene,
+    collisions,
+    from_step,
+)
+from cosmos.osc.orientation import matrix_to_quat
+from cosmos.plan import AddObstacle, ObstacleShape, RemoveObstacle
+from cosmos.runlog.scene import Box, Cylinder, Primitive, Sphere
+from cosmos.runlog.writer import RunLog
+from cosmos.runtime.loop import Runtime
+
+COLLISION_CHECK_EVERY = 10
+"""Ticks between two looks at the simulator's contacts for collisions (10 ms at 1 kHz)."""
+
+SCENE_EVERY = 40
+"""Ticks between two updates of moving obstacles on ``/scene`` (25 Hz at 1 kHz)."""
+
+PLANE_DRAWN_SIZE_M = 2.0
+"""A plane is drawn as a thin square of this side."""
+
+
+def primitive(obstacle: Obstacle, t_s: float) -> Primitive:
+    """How an obstacle is drawn in the log's 3-D scene."""
+    position = obstacle.position_at(t_s).tolist()
+    quat = matrix_to_quat(obstacle.rotation_world).tolist()
+    if obstacle.shape is ObstacleShape.SPHERE:
+        return Sphere(obstacle.name, position, obstacle.radius_m)
+    if obstacle.shape is ObstacleShape.CYLINDER:
+        height = 2.0 * float(obstacle.half_extents_m[2])
+        return Cylinder(obstacle.name, position, obstacle.radius_m, height, quat)
+    if obstacle.shape is ObstacleShape.BOX:
+        return Box(obstacle.name, position, (2.0 * obstacle.half_extents_m).tolist(), quat)
+    return Box(obstacle.name, position, (PLANE_DRAWN_SIZE_M, PLANE_DRAWN_SIZE_M, 0.002), quat)
+
+
+class ObstacleWorld:
+    """Obstacles of one session, on the plant, in the runtime's field and in the log."""
+
+    def __init__(self, runtime: Runtime, log: RunLog | None):
+        self.runtime = runtime
+        self.log = log
+        self.scene = ObstacleScene(runtime.plant)
+        self.field = ObstacleField(runtime.robot)
+        runtime.fields.append(self.field)
+        self.detector = LocalMinimumDetector()
+        self._touching: set[tuple[str, str]] = set()
+        self._ticks = 0
+
+    @property
+    def active(self) -> bool:
+        """Whether any obstacle is in the scene."""
+        return bool(self.scene.obstacles)
+
+    def apply(self, step: AddObstacle | RemoveObstacle) -> None:
+        """Add or remove an obstacle (the compiler has checked names and shapes)."""
+        t_s = self.runtime.time_s
+        if isinstance(step, AddObstacle):
+            obstacle = from_step(step, t_s)
+            self.scene.add(obstacle)
+            self.field.add(obstacle)
+            if self.log is not None:
+                self.log.scene(t_s, add=[primitive(obstacle, t_s)])
+        else:
+            self.scene.remove(step.name)
+            self.field.remove(step.name)
+            if self.log is not None:
+                self.log.scene(t_s, remove=[step.name])
+
+    def before_tick(self) -> None:
+        """Move the moving obstacles to where they are now."""
+        if self.active:
+            self.scene.update(self.runtime.time_s)
+
+    def after_tick(self) -> list[str]:
+        """Look for new collisions (every few ticks); redraw moving obstacles. Returns reasons."""
+        self._ticks += 1
+        t_s = self.runtime.time_s
+        if self.log is not None and self.active and self._ticks % SCENE_EVERY == 0:
+            moving = [primitive(o, t_s) for o in self.scene.obstacles if o.moving]
+            if moving:
+                self.log.scene(t_s, add=moving)
+        if self._ticks % COLLISION_CHECK_EVERY:
+            return []
+        found = {(c.arm_body, c.other) for c in collisions(self.runtime.plant, self.scene.body_names())}
+        new = sorted(found - self._touching)
+        self._touching = found
+        return [f"{arm} touches {other}" for arm, other in new]
+
+    def start_goal(self) -> None:
+        """A goal motion begins: forget the progress of the previous one."""
+        self.detector.reset()
+
+    def local_minimum(self, distance_to_goal_m: float) -> LocalMinimum | None:
+        """The local minimum the goal motion is stuck in, if any."""
+        if not self.active:
+            return None
+        return self.detector.update(self.runtime.time_s, distance_to_goal_m, self.field.influences)

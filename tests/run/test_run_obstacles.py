@@ -1,0 +1,54 @@
+"""OBSTACLE through ``cosmos run``: bodies in the workcell, the field, local minima, collision events.
+
+The avoidance itself (five scenes, avoidance on and off) is tested in
+tests/obstacles against the simulator; here a program written in the language
+is judged by its log.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from run_support import run_in_process, write_program
+
+from cosmos.runlog.reader import read_log
+
+# Home puts the tool at (0.596, -0.150, 0.457). A ball sits beside the straight
+# line to (0.36, -0.15, 0.457): closer than its 100 mm influence, so the field acts.
+AVOID = """\
+SPEED 0.2 m/s
+OBSTACLE ball SPHERE AT (480 mm, -90 mm, 460 mm) RADIUS 30 mm
+MOVE TO (360 mm, -150 mm, 457 mm)
+OBSTACLE REMOVE ball
+MOVE BY (0, 0, 40 mm)
+"""
+
+# A wall straight across the path, wider than the arm can get round: a local minimum.
+TRAPPED = """\
+SPEED 0.2 m/s
+OBSTACLE wall BOX AT (450 mm, -150 mm, 420 mm) SIZE (20 mm, 600 mm, 400 mm)
+MOVE TO (300 mm, -150 mm, 457 mm) TIMEOUT 20 s
+"""
+
+
+def test_the_arm_goes_round_a_ball_and_the_log_shows_it(tmp_path: Path) -> None:
+    run = run_in_process(write_program(tmp_path, "avoid", AVOID), tmp_path / "avoid.mcap")
+    assert run.returncode == 0, run.describe()
+    record = read_log(tmp_path / "avoid.mcap")
+    assert not [e for e in record.events if e.kind == "collision"]
+    moves = [s for s in record.segments if s.line == 3]
+    assert moves
+    # The tool reached the goal within 5 mm, and the ball is drawn on /scene.
+    end = record.state.x[record.state.line == 3][-1]
+    assert np.linalg.norm(end - np.array((0.36, -0.15, 0.457))) < 0.005
+    assert record.message_counts.get("/scene", 0) >= 3  # fixtures, the ball, its removal
+
+
+def test_a_local_minimum_fails_with_the_obstacle_named_not_a_timeout(tmp_path: Path) -> None:
+    run = run_in_process(write_program(tmp_path, "trapped", TRAPPED), tmp_path / "trapped.mcap")
+    assert run.returncode == 1
+    assert "stuck in a local minimum of the potential field near obstacle 'wall'" in run.stderr
+    assert "trapped.cos:3:1:" in run.stderr
+    failed = [e for e in read_log(tmp_path / "trapped.mcap").events if e.kind == "failed"]
+    assert failed and failed[0].t < 20.0
