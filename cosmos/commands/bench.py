@@ -1,5 +1,8 @@
 """``cosmos bench``: the cost of the servo loop, per phase, against a floor measured in the same run.
 
+Also reported: the servo tick with 10 obstacles against none (seed section 6),
+and the time to parse, check and compile a 10,000-line program.
+
 The workload is representative of a contact task: goal motion with a speed
 limit on five axes while z is force-controlled (at 0 N in free space), with the
 state recorded at its fixed rate into a real MCAP file. The floor is a Python
@@ -104,7 +107,12 @@ def measure(ticks: int = TICKS) -> dict[str, object]:
 
 def main(as_json: bool) -> int:
     """Entry of ``cosmos bench``."""
+    from cosmos.lang import bench_compile
+    from cosmos.obstacles.bench import bench_obstacles
+
     figures = measure()
+    figures["obstacles"] = bench_obstacles()
+    figures["compile_10000_lines_s"] = bench_compile(10_000)
     if as_json:
         click.echo(json.dumps(figures, indent=2))
         return 0
@@ -121,4 +129,11 @@ def main(as_json: bool) -> int:
         f"floor (mj_step + computeAllTerms + Jacobian): {figures['floor_tick_us']:.1f} us/tick; "
         f"loop / floor = {figures['ratio_to_floor']:.2f}"
     )
+    obstacles = figures["obstacles"]
+    assert isinstance(obstacles, dict)
+    click.echo(
+        f"obstacles: servo tick {obstacles['tick_us_none']:.1f} us with none, "
+        f"{obstacles['tick_us_10']:.1f} us with 10; ratio {obstacles['ratio']:.2f}"
+    )
+    click.echo(f"language: parse + check + compile 10,000 lines in {figures['compile_10000_lines_s']:.2f} s")
     return 0

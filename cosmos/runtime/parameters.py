@@ -26,6 +26,8 @@ FloatArray = np.ndarray
 
 
 _LOWER = np.tril_indices(6, -1)
+_NO_TORQUE = np.zeros(6)
+_NO_TORQUE.setflags(write=False)
 
 
 def _symmetric(upper: FloatArray) -> FloatArray:
@@ -85,6 +87,16 @@ class ParameterLevel:
         self._limit_field = limit_field
         self._sensor_to_com_in_flange = TOOL.com_in_flange - TOOL.sensor_position_in_flange
 
+    def _joint_limit_torque(self, q: FloatArray) -> FloatArray:
+        """Section 6's joint-limit repulsion; zero (and cheap) when every joint is far from its limits."""
+        robot, field = self._robot, self._limit_field
+        margin = min(float((q - robot.q_lower_rad).min()), float((robot.q_upper_rad - q).min()))
+        if margin >= field.rho_0_rad:
+            return _NO_TORQUE
+        return joint_limit_torque(
+            q, robot.q_lower_rad, robot.q_upper_rad, field.rho_0_rad, field.eta, field.torque_cap_nm
+        )
+
     def evaluate(self, q: FloatArray, qd: FloatArray) -> Evaluation:
         """Evaluate J, A, b, g, h and the operational dynamics at ``(q, qd)``."""
         model, data, robot = self._model, self._data, self._robot
@@ -103,7 +115,6 @@ class ParameterLevel:
         sensor = data.oMf[robot.sensor_frame]
         rotation_sensor = sensor.rotation.copy()
         rotation_flange = data.oMf[robot.flange_frame].rotation
-        field = self._limit_field
         return Evaluation(
             q=q.copy(),
             position=tool.translation.copy(),
@@ -115,9 +126,7 @@ class ParameterLevel:
             inertia=inertia,
             gravity=gravity,
             dynamics=dynamics,
-            joint_limit_torque=joint_limit_torque(
-                q, robot.q_lower_rad, robot.q_upper_rad, field.rho_0_rad, field.eta, field.torque_cap_nm
-            ),
+            joint_limit_torque=self._joint_limit_torque(q),
         )
 
 
