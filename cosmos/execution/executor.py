@@ -103,8 +103,13 @@ class Executor:
     def _scene_step(self, step: AddObstacle | RemoveObstacle) -> None:
         if self.obstacles is None:
             raise TaskFailure("this workcell has no room for obstacles", step.span, self._source)
-        self.obstacles.apply(step)
         self._event("start", step, "")
+        try:
+            self.obstacles.apply(step)
+        except TaskFailure as failure:
+            self._event("failed", step, failure.message)
+            self.hold(HOLD_AFTER_FAILURE_S)
+            raise TaskFailure(failure.message, step.span, self._source) from None
         self._event("done", step, "")
 
     # --------------------------------------------------------------- segment

@@ -11,6 +11,9 @@ while obstacles act on the arm is reported as a local minimum.
 
 from __future__ import annotations
 
+import mujoco
+
+from cosmos.errors import TaskFailure
 from cosmos.obstacles import (
     LocalMinimum,
     LocalMinimumDetector,
@@ -74,6 +77,13 @@ class ObstacleWorld:
         if isinstance(step, AddObstacle):
             obstacle = from_step(step, t_s)
             self.scene.add(obstacle)
+            overlap = self._overlap(step.name)
+            if overlap:
+                self.scene.remove(step.name)
+                raise TaskFailure(
+                    f"OBSTACLE {step.name} would be placed through the arm ({overlap})",
+                    step.span,
+                )
             self.field.add(obstacle)
             if self.log is not None:
                 self.log.scene(t_s, add=[primitive(obstacle, t_s)])
@@ -82,6 +92,14 @@ class ObstacleWorld:
             self.field.remove(step.name)
             if self.log is not None:
                 self.log.scene(t_s, remove=[step.name])
+
+    def _overlap(self, name: str) -> str:
+        """The arm's bodies the obstacle ``name`` overlaps where the arm is now ("" if none)."""
+        plant = self.runtime.plant
+        mujoco.mj_kinematics(plant.model, plant.data)
+        mujoco.mj_collision(plant.model, plant.data)
+        touching = [c.arm_body for c in collisions(plant, self.scene.body_names()) if c.other == name]
+        return ", ".join(f"{body} inside it" for body in sorted(set(touching)))
 
     def before_tick(self) -> None:
         """Move the moving obstacles to where they are now."""
