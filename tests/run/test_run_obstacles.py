@@ -52,3 +52,13 @@ def test_a_local_minimum_fails_with_the_obstacle_named_not_a_timeout(tmp_path: P
     assert "trapped.cos:3:1:" in run.stderr
     failed = [e for e in read_log(tmp_path / "trapped.mcap").events if e.kind == "failed"]
     assert failed and failed[0].t < 20.0
+
+
+def test_an_obstacle_placed_through_the_arm_fails_at_its_line(tmp_path: Path) -> None:
+    # language.md's own wall example stands where the tool is at home (x = 0.596 m).
+    program = "OBSTACLE wall BOX AT (0.6, 0, 0.3) SIZE (0.02, 0.6, 0.6)\nMOVE BY (0, 0, 50 mm)\n"
+    run = run_in_process(write_program(tmp_path, "through", program), tmp_path / "through.mcap")
+    assert run.returncode == 1
+    assert "through.cos:1:1: OBSTACLE wall would be placed through the arm (tool inside it)" in run.stderr
+    record = read_log(tmp_path / "through.mcap")
+    assert [e.kind for e in record.events] == ["start", "failed"]
