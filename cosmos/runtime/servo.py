@@ -25,7 +25,6 @@ from cosmos.osc.unified import (
     ServoMatrices,
     force_feedback,
     integrate_force_error,
-    servo_torque,
 )
 from cosmos.runtime.parameters import Evaluation, fold_for_servo
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -62,6 +61,7 @@ class ServoGains:
 
 _NO_FORCE = np.zeros(6)
 _NO_FORCE.setflags(write=False)
+_ONE = np.ones(1)
 
 
 def _rotate_blocks(rotation: FloatArray, vector: FloatArray) -> FloatArray:
@@ -86,6 +86,7 @@ class ServoLevel:
         self._dt_s = servo_dt_s
         self._coulomb_blend = min(1.0, servo_dt_s / gains.coulomb_filter_s)
         self._coulomb_torque = np.zeros(6)
+        self._intent_scale = 1.0 / gains.coulomb_velocity_rad_s
         self._integral = np.zeros(6)
         self._setpoint: ServoSetpoint | None = None
         self._evaluation: Evaluation | None = None
@@ -99,8 +100,10 @@ class ServoLevel:
         self.last_velocity = np.zeros(6)  # J qd of the last tick, world, [m/s, rad/s]
         self._field_torque = np.zeros(6)
         self._matrices: ServoMatrices | None = None
-        self._joint_damping = np.zeros((6, 6))
-        self._static_torque = np.zeros(6)
+        # (6, 25): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
+        # bias + held potentials | null-space and viscous damping], one product per tick.
+        self._stacked = np.zeros((6, 25))
+        self._jbar_lookahead = np.zeros((6, 6))
 
     @property
     def field_torque(self) -> FloatArray:
@@ -110,8 +113,8 @@ class ServoLevel:
     @field_torque.setter
     def field_torque(self, torque: FloatArray) -> None:
         self._field_torque = torque
-        if self._evaluation is not None:
-            self._static_torque = self._evaluation.joint_limit_torque + torque
+        if self._evaluation is not None and self._matrices is not None:
+            self._stacked[:, 18] = self._matrices.bias_torque + self._evaluation.joint_limit_torque + torque
 
     @property
     def selection(self) -> Selection | None:
@@ -144,11 +147,15 @@ class ServoLevel:
         self._force_to_acceleration = ev.dynamics.lambda_inv.dot(sel.omega_bar)
         matrices, null_damping = fold_for_servo(ev, sel, self.gains.force, self.gains.xi_q)
         self._matrices = matrices
-        # Per-tick joint-space terms folded into one matrix and one vector: null-space
-        # damping (eq. 34) with the viscous friction, and the potentials held since the
-        # last evaluation.
-        self._joint_damping = null_damping + np.diag(self._viscous)
-        self._static_torque = ev.joint_limit_torque + self._field_torque
+        # Per-tick joint-space terms folded in too: null-space damping (eq. 34) with the
+        # viscous friction, and the potentials held since the last evaluation.
+        stacked = np.empty((6, 25))
+        stacked[:, :19] = matrices.stacked
+        stacked[:, 18] += ev.joint_limit_torque + self._field_torque
+        stacked[:, 19:] = null_damping
+        stacked[:, 19:] += np.diag(self._viscous)
+        self._stacked = stacked
+        self._jbar_lookahead = self.gains.coulomb_lookahead_s * ev.dynamics.jbar
         self._base_error = pose_error(
             ev.position, ev.rotation_tool_to_world, sp.position, sp.rotation_to_world
         )
@@ -180,18 +187,16 @@ class ServoLevel:
                 acceleration = motion + self._force_to_acceleration.dot(feedback)
         else:
             feedback = _NO_FORCE
-        torque = servo_torque(matrices, motion, feedback, velocity)
-        torque += self._joint_damping.dot(qd)
-        torque += self._static_torque
+        torque = self._stacked.dot(np.concatenate((motion, feedback, velocity, _ONE, qd)))
         # Coulomb friction is compensated in the direction the joint is moving or, from rest,
         # is being told to move: qd plus the commanded joint acceleration (Jbar F*_m, and in
         # free space Jbar Lambda^-1 F_a on the force axes) over a short look-ahead, so a joint
         # starting to move is not held back by its friction. In contact the force loop's
         # integral takes up the friction instead: switching friction torques on the sensed
         # force would chatter.
-        intent = qd + self.gains.coulomb_lookahead_s * ev.dynamics.jbar.dot(acceleration)
+        intent = (qd + self._jbar_lookahead.dot(acceleration)) * self._intent_scale
         # Low-passed, so that a new segment's setpoint (or a sign change) never steps it.
-        target = self._coulomb * np.clip(intent / self.gains.coulomb_velocity_rad_s, -1.0, 1.0)
+        target = self._coulomb * np.minimum(np.maximum(intent, -1.0), 1.0)
         self._coulomb_torque += self._coulomb_blend * (target - self._coulomb_torque)
         torque += self._coulomb_torque
         saturated, _ = saturate_torque(torque, self._torque_limits, keep=ev.gravity)
