@@ -75,6 +75,16 @@ class TerminalProgress:
         )
 
 
+def execute_plan(session: Session, plan: Plan, progress: TerminalProgress | None) -> None:
+    """Run ``plan`` on the session's arm: Ctrl-C and SIGTERM stop the arm, progress on a terminal."""
+    with stop_on_signals(session.executor):
+        if progress is None:
+            session.executor.run(plan)
+        else:
+            with progress.status:
+                session.executor.run(plan)
+
+
 def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int) -> int:
     """Run a program; print the log's path; return the exit status."""
     plan = compile_file(path)
@@ -82,12 +92,7 @@ def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int) -> i
     progress = TerminalProgress() if sys.stderr.isatty() else None
     with Session(str(path), plan.source, log_path, rates, seed, progress) as session:
         try:
-            with stop_on_signals(session.executor):
-                if progress is not None:
-                    with progress.status:
-                        session.executor.run(plan)
-                else:
-                    session.executor.run(plan)
+            execute_plan(session, plan, progress)
         except CosmosError as error:
             session.close()
             click.echo(error.render(), err=True)

@@ -62,7 +62,7 @@ def rerun(settings: RunSettings, log_path: Path) -> str | None:
     Raises:
         CosmosError: If the program does not compile (any more), or the run is interrupted.
     """
-    from cosmos.commands.run import TerminalProgress, stop_on_signals
+    from cosmos.commands.run import TerminalProgress, execute_plan
     from cosmos.execution.executor import Interrupted
     from cosmos.execution.session import Session
     from cosmos.lang.compiler import compile_program
@@ -75,12 +75,7 @@ def rerun(settings: RunSettings, log_path: Path) -> str | None:
     progress = TerminalProgress() if sys.stderr.isatty() else None
     with Session(settings.program, plan.source, log_path, settings.rates, settings.seed, progress) as session:
         try:
-            with stop_on_signals(session.executor):
-                if progress is not None:
-                    with progress.status:
-                        session.executor.run(plan)
-                else:
-                    session.executor.run(plan)
+            execute_plan(session, plan, progress)
         except Interrupted:
             raise CosmosError("--verify: the re-run was interrupted") from None
         except TaskFailure as failure:
