@@ -160,19 +160,22 @@ class Executor:
                     f"{statement_head(segment.statement)} interrupted", segment.span, self._source
                 )
             position = rt.evaluation.position + servo.last_displacement[:3]
+            snapshot = Snapshot(rt.time_s, position, servo.last_error, servo.last_velocity, rt.wrench)
             if goal_index < len(goals) - 1:
                 if float(np.linalg.norm(position - goals[goal_index][0])) < via_radius:
                     goal_index += 1
                     rt.set_setpoint(
                         setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s)
                     )
+                outcome = monitor.check(snapshot, completion=False)
+                if outcome is not None:
+                    return outcome
                 continue
             if watch_minima and obstacles is not None:
                 stuck = obstacles.local_minimum(float(np.linalg.norm(position - goals[-1][0])))
                 if stuck is not None:
                     head = statement_head(segment.statement)
                     return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
-            snapshot = Snapshot(rt.time_s, position, servo.last_error, servo.last_velocity, rt.wrench)
             outcome = monitor.check(snapshot)
             if outcome is not None:
                 return outcome

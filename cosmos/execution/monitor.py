@@ -98,19 +98,22 @@ class SegmentMonitor:
         self._rotation_t = np.array(rotation).T
         self._motion = np.asarray(segment.motion_axes, dtype=bool)
         self._force_axes = ~self._motion
-        self.peak_force_n = 0.0
 
-    def check(self, snap: Snapshot) -> Outcome | None:
-        """The outcome if the segment ends at this tick, else None."""
+    def check(self, snap: Snapshot, completion: bool = True) -> Outcome | None:
+        """The outcome if the segment ends at this tick, else None.
+
+        Args:
+            snap: This tick's estimates.
+            completion: False while a MOVE is still on its way through VIA points:
+                UNTIL and TIMEOUT are judged, reaching the goal is not.
+        """
         seg = self.segment
         force = snap.wrench[:3]
-        force_n = _norm3(force)
-        self.peak_force_n = max(self.peak_force_n, force_n)
         if seg.until is not None:
             distance = _norm3(snap.position - self.statement_start_position)
             if condition_holds(seg.until, force, snap.wrench[3:], distance):
                 return Outcome(Verdict.STOPPED, f"UNTIL {_until_text(seg)} held")
-        done = self._completion(snap)
+        done = self._completion(snap) if completion else None
         if done is not None:
             return done
         # A CONTACT's TIMEOUT bounds the search for the surface (language.md); once it

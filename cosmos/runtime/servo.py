@@ -44,7 +44,6 @@ class ServoGains:
             error is integrated (in free space it would wind up), [N].
         coulomb_velocity_rad_s: Joint speed over which the Coulomb friction
             compensation ramps from 0 to its full value, in [rad/s].
-        coulomb_fraction: Share of the model's Coulomb friction compensated.
         coulomb_lookahead_s: How far ahead the commanded joint acceleration counts
             toward the direction of motion, in [s].
         coulomb_filter_s: Time constant of the low-pass on the Coulomb compensation, [s].
@@ -56,7 +55,6 @@ class ServoGains:
     coulomb_velocity_rad_s: float = 0.01
     coulomb_lookahead_s: float = 0.02
     coulomb_filter_s: float = 0.005
-    coulomb_fraction: float = 1.0
 
 
 _NO_FORCE = np.zeros(6)
@@ -82,7 +80,7 @@ class ServoLevel:
         self.gains = gains
         self._torque_limits = torque_limits
         self._viscous = viscous
-        self._coulomb = coulomb * gains.coulomb_fraction
+        self._coulomb = coulomb
         self._dt_s = servo_dt_s
         self._coulomb_blend = min(1.0, servo_dt_s / gains.coulomb_filter_s)
         self._coulomb_torque = np.zeros(6)
