@@ -26,6 +26,13 @@ from cosmos.plan import (
 FloatArray = np.ndarray
 
 
+STALL_TIME_S = 2.0
+"""A goal motion that gets no closer by STALL_PROGRESS_M for this long has stalled [s]."""
+STALL_PROGRESS_M = 0.0005
+STALL_ACCEPT = 3.0
+"""A stall within this many position tolerances of the goal counts as arrival."""
+
+
 class Verdict(Enum):
     """How a segment ended."""
 
@@ -92,6 +99,8 @@ class SegmentMonitor:
         self.timed_until_s = timed_until_s
         self._settled_since: float | None = None
         self._stalled_since: float | None = None
+        self._closest_m = float("inf")
+        self._closest_s = start_s
         self._last_depth = 0.0
         self._last_progress_s = start_s
         rotation = segment.frame_rotation
@@ -157,16 +166,39 @@ class SegmentMonitor:
     def _goal_reached(self, snap: Snapshot, goal: GoalReached) -> Outcome | None:
         if self.timed_until_s is not None and snap.t_s < self.timed_until_s:
             return None
-        if _norm3(snap.velocity[:3]) > goal.speed_tolerance_mps:
-            return None
         r_t = self._rotation_t
         position_error = r_t.dot(snap.error[:3])[self._motion[:3]]
+        stalled = self._stalled(snap, float(np.linalg.norm(position_error)), goal)
+        if stalled is not None:
+            return stalled
+        if _norm3(snap.velocity[:3]) > goal.speed_tolerance_mps:
+            return None
         rotation_error = r_t.dot(snap.error[3:])[self._motion[3:]]
         if position_error.size and float(np.max(np.abs(position_error))) > goal.position_tolerance_m:
             return None
         if rotation_error.size and float(np.max(np.abs(rotation_error))) > goal.orientation_tolerance_rad:
             return None
         return Outcome(Verdict.DONE, "")
+
+    def _stalled(self, snap: Snapshot, distance_m: float, goal: GoalReached) -> Outcome | None:
+        """A goal the arm stopped getting closer to: something in the way, or out of reach.
+
+        Without it a MOVE into the table (or past a joint limit) would push for ever.
+        Within a few tolerances of the goal it counts as reached, and says so.
+        """
+        if distance_m < self._closest_m - STALL_PROGRESS_M:
+            self._closest_m, self._closest_s = distance_m, snap.t_s
+            return None
+        if snap.t_s - self._closest_s < STALL_TIME_S:
+            return None
+        if distance_m <= STALL_ACCEPT * goal.position_tolerance_m:
+            return Outcome(Verdict.DONE, f"settled {distance_m * 1e3:.1f} mm from its goal")
+        push = _norm3(snap.wrench[:3])
+        return Outcome(
+            Verdict.FAILED,
+            f"cannot reach its goal: stopped {distance_m * 1e3:.0f} mm short for {STALL_TIME_S:g} s "
+            f"(pushing {push:.1f} N on something in the way, or the goal is out of reach)",
+        )
 
     def _force_settled(self, snap: Snapshot, settled: ForceSettled, elapsed: float) -> Outcome | None:
         r_t = self._rotation_t
