@@ -29,6 +29,8 @@ FloatArray = np.ndarray
 STALL_TIME_S = 2.0
 """A goal motion that gets no closer by STALL_PROGRESS_M for this long has stalled [s]."""
 STALL_PROGRESS_M = 0.0005
+BLOCKED_N = 2.0
+"""A stalled goal motion pushing harder than this [N] is blocked, else out of reach."""
 STALL_ACCEPT = 3.0
 """A stall within this many position tolerances of the goal counts as arrival."""
 
@@ -194,11 +196,12 @@ class SegmentMonitor:
         if distance_m <= STALL_ACCEPT * goal.position_tolerance_m:
             return Outcome(Verdict.DONE, f"settled {distance_m * 1e3:.1f} mm from its goal")
         push = _norm3(snap.wrench[:3])
-        return Outcome(
-            Verdict.FAILED,
-            f"cannot reach its goal: stopped {distance_m * 1e3:.0f} mm short for {STALL_TIME_S:g} s "
-            f"(pushing {push:.1f} N on something in the way, or the goal is out of reach)",
-        )
+        short = f"stopped {distance_m * 1e3:.0f} mm short for {STALL_TIME_S:g} s"
+        if push > BLOCKED_N:
+            return Outcome(
+                Verdict.FAILED, f"is blocked: {short}, pushing {push:.1f} N against something in the way"
+            )
+        return Outcome(Verdict.FAILED, f"cannot reach its goal: {short}, the pose is out of the arm's reach")
 
     def _force_settled(self, snap: Snapshot, settled: ForceSettled, elapsed: float) -> Outcome | None:
         r_t = self._rotation_t
