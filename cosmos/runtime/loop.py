@@ -103,19 +103,21 @@ class Runtime:
         self._state_period_s = 1.0 / rates.state_hz
         self._eps_s = 0.25 * plant.dt_s
         self.tau = np.zeros(6)
+        self._next_state_s = plant.time_s  # the state is logged on one fixed grid from here on
         self.reset_clocks()
 
     def reset_clocks(self) -> None:
-        """Sense once, evaluate the model and restart the rate schedules at the plant's time."""
+        """Sense once, evaluate the model now and restart the parameter schedule from here."""
         now = self.plant.time_s
         self._next_param_s = now
-        self._next_state_s = now
         self.q, self.qd = self.plant.read_encoders()
         self.evaluation = self.parameters.evaluate(self.q, self.qd)
         self.servo.set_evaluation(self.evaluation)
         self.wrench = self._sense_wrench()
 
     def _evaluate_fields(self, now: float) -> None:
+        if not self.fields:
+            return
         torque = np.zeros(6)
         for field in self.fields:
             torque += field.torque(self.q, self.qd, now)
