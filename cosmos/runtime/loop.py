@@ -103,7 +103,7 @@ class Runtime:
         self._state_period_s = 1.0 / rates.state_hz
         self._eps_s = 0.25 * plant.dt_s
         self.tau = np.zeros(6)
-        self._next_state_s = plant.time_s  # the state is logged on one fixed grid from here on
+        self._next_state_s = plant.time_s + plant.dt_s  # one fixed grid from the first step on
         self.reset_clocks()
 
     def reset_clocks(self) -> None:
