@@ -52,7 +52,9 @@ def cli() -> None:
     default=None,
     help="Parameter-evaluation rate [Hz].",
 )
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed for sensor noise.")
+@click.option(
+    "--seed", type=int, default=0, show_default=True, help="Seed of the wrist force/torque sensor's noise."
+)
 def run(
     program: Path, log_path: Path | None, servo_hz: float | None, param_hz: float | None, seed: int
 ) -> None:

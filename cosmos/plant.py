@@ -51,6 +51,30 @@ class Contact:
     position: np.ndarray  # (3,)
 
 
+@dataclass(frozen=True)
+class SensorNoise:
+    """White noise on the wrist sensor's readings, reproducible from a seed (``cosmos run --seed``).
+
+    The defaults are of the order of a small industrial F/T sensor's noise
+    (about 0.05 N and 2 mN m standard deviation).
+
+    Attributes:
+        seed: Seed of the noise generator.
+        force_std_n: Standard deviation of each force component [N].
+        torque_std_nm: Standard deviation of each torque component [N m].
+    """
+
+    seed: int
+    force_std_n: float = 0.05
+    torque_std_nm: float = 0.002
+
+    @property
+    def std(self) -> np.ndarray:
+        """Per-component standard deviation, force then torque. # (6,)."""
+        f, t = self.force_std_n, self.torque_std_nm
+        return np.array((f, f, f, t, t, t))
+
+
 class Plant:
     """The simulated workcell: a MuJoCo model and its state.
 
@@ -65,7 +89,7 @@ class Plant:
         CosmosError: If the scene does not have the joints and motors above.
     """
 
-    def __init__(self, scene_xml: Path | str = SCENE_XML) -> None:
+    def __init__(self, scene_xml: Path | str = SCENE_XML, sensor_noise: SensorNoise | None = None) -> None:
         model = mujoco.MjModel.from_xml_path(str(scene_xml))
         _check_arm(model, scene_xml)
         home = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
@@ -84,6 +108,8 @@ class Plant:
         self._qvel = self._data.qvel  # (6,)
         self._ctrl = self._data.ctrl  # (6,)
         self._sensordata = self._data.sensordata
+        self._noise_std = None if sensor_noise is None else sensor_noise.std
+        self._rng = np.random.default_rng(None if sensor_noise is None else sensor_noise.seed)
         self.reset()
 
     @property
@@ -148,7 +174,10 @@ class Plant:
                 f"the scene has no wrist sensor (force '{FORCE_SENSOR}', torque '{TORQUE_SENSOR}')"
             )
         force, torque = self._wrench_slices
-        return np.concatenate((self._sensordata[force], self._sensordata[torque]))
+        reading = np.concatenate((self._sensordata[force], self._sensordata[torque]))
+        if self._noise_std is not None:
+            reading += self._rng.normal(0.0, self._noise_std)
+        return reading
 
     def contacts(self) -> list[Contact]:
         """The contacts MuJoCo found at the current state, with geom and body names."""

@@ -9,7 +9,7 @@ from cosmos.execution.executor import Executor, ProgressCallback
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import fixture_primitives
 from cosmos.obstacles import obstacle_scene_xml
-from cosmos.plant import Plant
+from cosmos.plant import Plant, SensorNoise
 from cosmos.robot_model import build_robot_model
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
@@ -27,7 +27,7 @@ class Session:
         source: Its text, stored in the log as an attachment (None: none yet).
         log_path: Where the MCAP log goes.
         rates: Servo, parameter and state rates.
-        seed: Recorded in the log's metadata.
+        seed: Seed of the wrist sensor's noise; recorded in the log's metadata.
         progress: Called now and then with the statement running.
     """
 
@@ -40,7 +40,7 @@ class Session:
         seed: int = 0,
         progress: ProgressCallback | None = None,
     ):
-        self.plant = Plant(obstacle_scene_xml())
+        self.plant = Plant(obstacle_scene_xml(), SensorNoise(seed))
         self.runtime = Runtime(self.plant, build_robot_model(), rates)
         self.log = RunLog(
             log_path,
