@@ -196,7 +196,12 @@ class MotionBuilder:
             speed=speed,
             duration=duration,
             completion=self._goal_reached(),
-            until=self._until(clauses, frame, force_expected=self.state.contact is not None),
+            until=self._until(
+                clauses,
+                frame,
+                force_expected=self.state.contact is not None,
+                heading_world=target.offset_world if isinstance(target, plan.RelativeTarget) else None,
+            ),
             timeout=timeout,
         )
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
@@ -528,10 +533,19 @@ class MotionBuilder:
         expr = clauses.get(ast.ClauseKind.TIMEOUT)
         return None if expr is None else self._positive_scalar(expr, units.TIME, "TIMEOUT")
 
-    def _until(self, clauses: _Clauses, frame: TaskFrame, *, force_expected: bool) -> plan.Condition | None:
+    def _until(
+        self,
+        clauses: _Clauses,
+        frame: TaskFrame,
+        *,
+        force_expected: bool,
+        heading_world: plan.FloatArray | None = None,
+    ) -> plan.Condition | None:
         if clauses.until is None:
             return None
         condition = compile_condition(clauses.until.condition, frame, self.evaluator, self.text_of)
+        if heading_world is not None:
+            self._warn_force_sign(condition, heading_world)
         early = holds_at_start(condition, force_expected)
         if early is not None:
             self.warn(
@@ -548,6 +562,30 @@ class MotionBuilder:
         )
 
     # --------------------------------------------------------------- warnings
+
+    def _warn_force_sign(self, condition: plan.Condition, heading_world: plan.FloatArray) -> None:
+        """A force component compared the wrong way round for what the move will run into.
+
+        Moving along h, the tool pushes whatever it meets along h: the force it applies
+        grows along h. ``FORCE Z > 3 N`` on a move toward -Z can then never hold.
+        """
+        norm = float(np.linalg.norm(heading_world))
+        if norm == 0.0:
+            return
+        heading = heading_world / norm
+        for comparison in comparisons(condition):
+            direction = comparison.direction_world
+            if comparison.quantity is not plan.Quantity.FORCE_ALONG or direction is None:
+                continue
+            grows = float(direction @ heading)  # > 0: the compared force grows on contact
+            rising = comparison.op in (plan.CompareOp.GT, plan.CompareOp.GE)
+            if abs(grows) > 0.7 and (grows < 0) == rising and (comparison.value > 0) == rising:
+                self.warn(
+                    f"this move pushes along {_vector_text(heading)} when it meets something, so "
+                    f"the force along that way grows but {comparison.text} needs the opposite sign; "
+                    "see 'Sign of forces' in the language reference",
+                    comparison.span,
+                )
 
     def _warn_timeout(
         self,
