@@ -81,6 +81,12 @@ def default_log_path(program: Path, now: datetime) -> Path:
     return Path("logs") / f"{program.stem}-{utc:%Y%m%dT%H%M%SZ}.mcap"
 
 
+def _exact(value: float) -> str:
+    """The shortest text that reads back as exactly ``value`` (``1000``, ``333.3333``)."""
+    short = f"{value:g}"
+    return short if float(short) == value else repr(float(value))
+
+
 def _ns(t: float) -> int:
     return round(t * 1e9)
 
@@ -163,9 +169,9 @@ class RunLog:
         record = {
             "program": program,
             "cosmos_version": __version__,
-            "servo_hz": f"{servo_hz:g}",
-            "param_hz": f"{param_hz:g}",
-            "state_hz": f"{state_hz:g}",
+            "servo_hz": _exact(servo_hz),
+            "param_hz": _exact(param_hz),
+            "state_hz": _exact(state_hz),
             "model": model,
             "seed": str(seed),
             "time": "simulated time since the start of the run; log_time = round(t * 1e9)",
