@@ -109,6 +109,12 @@ class SegmentMonitor:
         self._rotation_t = np.array(rotation).T
         self._motion = np.asarray(segment.motion_axes, dtype=bool)
         self._force_axes = ~self._motion
+        # An axis made a spring by COMPLY ... STIFFNESS settles where its spring and the
+        # world balance, which need not be the goal: there a stall is an arrival.
+        self._sprung = any(
+            stiffness is not None and stiffness > 0.0 and moving
+            for stiffness, moving in zip(segment.stiffness, self._motion, strict=True)
+        )
 
     def check(self, snap: Snapshot, completion: bool = True) -> Outcome | None:
         """The outcome if the segment ends at this tick, else None.
@@ -195,6 +201,10 @@ class SegmentMonitor:
             return None
         if distance_m <= STALL_ACCEPT * goal.position_tolerance_m:
             return Outcome(Verdict.DONE, f"settled {distance_m * 1e3:.1f} mm from its goal")
+        if self._sprung:
+            return Outcome(
+                Verdict.DONE, f"settled on its COMPLY spring {distance_m * 1e3:.1f} mm from its goal"
+            )
         push = _norm3(snap.wrench[:3])
         short = f"stopped {distance_m * 1e3:.0f} mm short for {STALL_TIME_S:g} s"
         if push > BLOCKED_N:

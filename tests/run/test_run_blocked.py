@@ -28,3 +28,12 @@ def test_a_pose_out_of_reach_fails_saying_so(tmp_path: Path) -> None:
     assert run.returncode == 1
     assert "far.cos:1:1: MOVE TO cannot reach its goal" in run.stderr
     assert "out of the arm's reach" in run.stderr
+
+
+def test_a_move_on_a_compliant_spring_settles_short_of_a_blocked_goal(tmp_path: Path) -> None:
+    # Z is a 100 N/m spring: pressed on the table it rests where the spring balances.
+    program = "MOVE TO table + (0, 0, 20 mm)\nCOMPLY Z STIFFNESS 100 N/m\nMOVE BY (0, 0, -40 mm)\n"
+    run = run_in_process(write_program(tmp_path, "spring", program), tmp_path / "spring.mcap")
+    assert run.returncode == 0, run.describe()
+    done = [e for e in read_log(tmp_path / "spring.mcap").events if e.kind == "done" and e.line == 3]
+    assert done and done[0].reason.startswith("settled on its COMPLY spring")
