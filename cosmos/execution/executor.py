@@ -115,6 +115,7 @@ class Executor:
     # --------------------------------------------------------------- segment
 
     def _position(self) -> np.ndarray:
+        """The tool point as the controller estimates it now (x_e + J (q - q_e)), world [m]."""
         ev = self.runtime.evaluation
         return ev.position + self.runtime.servo.last_displacement[:3]
 
@@ -159,7 +160,7 @@ class Executor:
                 raise Interrupted(
                     f"{statement_head(segment.statement)} interrupted", segment.span, self._source
                 )
-            position = rt.evaluation.position + servo.last_displacement[:3]
+            position = self._position()
             snapshot = Snapshot(rt.time_s, position, servo.last_error, servo.last_velocity, rt.wrench)
             if goal_index < len(goals) - 1:
                 if float(np.linalg.norm(position - goals[goal_index][0])) < via_radius:

@@ -100,7 +100,6 @@ class SegmentMonitor:
         self.statement_start_position = statement_start_position
         self.timed_until_s = timed_until_s
         self._settled_since: float | None = None
-        self._stalled_since: float | None = None
         self._closest_m = float("inf")
         self._closest_s = start_s
         self._last_depth = 0.0

@@ -18,8 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from cosmos.robot_model import GRAVITY
+
 FloatArray = np.ndarray
-GRAVITY_M_S2 = np.array((0.0, 0.0, -9.81))
 
 
 def environment_wrench(
@@ -44,7 +45,7 @@ def environment_wrench(
     """
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rotation_sensor_to_world.tolist()
     fx, fy, fz, mx, my, mz = flange_on_tool_sensor.tolist()
-    wz = -9.81 * tool_mass_kg  # the weight is (0, 0, wz)
+    wz = GRAVITY[2] * tool_mass_kg  # the weight is (0, 0, wz)
     ex = r00 * fx + r01 * fy + r02 * fz
     ey = r10 * fx + r11 * fy + r12 * fz
     ez = r20 * fx + r21 * fy + r22 * fz + wz
