@@ -75,6 +75,9 @@ class SensorNoise:
         return np.array((f, f, f, t, t, t))
 
 
+_NOISE_BLOCK = 1024
+
+
 class Plant:
     """The simulated workcell: a MuJoCo model and its state.
 
@@ -110,6 +113,8 @@ class Plant:
         self._sensordata = self._data.sensordata
         self._noise_std = None if sensor_noise is None else sensor_noise.std
         self._rng = np.random.default_rng(None if sensor_noise is None else sensor_noise.seed)
+        self._noise = np.zeros((0, 6))  # drawn in blocks: one draw per reading costs microseconds
+        self._noise_next = 0
         self.reset()
 
     @property
@@ -153,7 +158,7 @@ class Plant:
                 drive's limit (the actuator's ``ctrlrange``). Must be finite: MuJoCo
                 zeroes non-finite controls and records a warning.
         """
-        np.clip(tau, self._ctrl_lower, self._ctrl_upper, out=self._ctrl)
+        np.minimum(np.maximum(tau, self._ctrl_lower), self._ctrl_upper, out=self._ctrl)
         mujoco.mj_step(self._model, self._data)
 
     def read_encoders(self) -> tuple[np.ndarray, np.ndarray]:
@@ -174,9 +179,16 @@ class Plant:
                 f"the scene has no wrist sensor (force '{FORCE_SENSOR}', torque '{TORQUE_SENSOR}')"
             )
         force, torque = self._wrench_slices
-        reading = np.concatenate((self._sensordata[force], self._sensordata[torque]))
+        if force.stop == torque.start:  # adjacent in sensordata: one slice
+            reading = self._sensordata[force.start : torque.stop].copy()
+        else:
+            reading = np.concatenate((self._sensordata[force], self._sensordata[torque]))
         if self._noise_std is not None:
-            reading += self._rng.normal(0.0, self._noise_std)
+            if self._noise_next == len(self._noise):
+                self._noise = self._rng.normal(0.0, self._noise_std, size=(_NOISE_BLOCK, 6))
+                self._noise_next = 0
+            reading += self._noise[self._noise_next]
+            self._noise_next += 1
         return reading
 
     def contacts(self) -> list[Contact]:

@@ -19,7 +19,7 @@ from typing import Protocol
 import numpy as np
 
 from cosmos.plant import Plant
-from cosmos.robot_model import RobotModel
+from cosmos.robot_model import GRAVITY, RobotModel
 from cosmos.runtime.parameters import Evaluation, ParameterLevel
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.servo import ServoGains, ServoLevel
@@ -93,6 +93,7 @@ class Runtime:
             robot.viscous_nms_per_rad,
             robot.coulomb_nm,
             1.0 / rates.servo_hz,
+            float(GRAVITY[2]) * TOOL.mass_kg,
         )
         self.recorder = recorder
         self.fields: list[PotentialField] = []
@@ -102,7 +103,7 @@ class Runtime:
         self._param_period_s = 1.0 / rates.param_hz
         self._state_period_s = 1.0 / rates.state_hz
         self._eps_s = 0.25 * plant.dt_s
-        self.tau = np.zeros(6)
+        self.tau: FloatArray = np.zeros(6)
         self._next_state_s = plant.time_s + plant.dt_s  # one fixed grid from the first step on
         self.reset_clocks()
 
@@ -113,7 +114,12 @@ class Runtime:
         self.q, self.qd = self.plant.read_encoders()
         self.evaluation = self.parameters.evaluate(self.q, self.qd)
         self.servo.set_evaluation(self.evaluation)
-        self.wrench = self._sense_wrench()
+        self.servo.wrench[:] = self._sense_wrench()
+
+    @property
+    def wrench(self) -> FloatArray:
+        """The wrench the tool applied to the environment, as last sensed, world [N, N m]. # (6,)."""
+        return self.servo.wrench
 
     def _evaluate_fields(self, now: float) -> None:
         if not self.fields:
@@ -150,6 +156,7 @@ class Runtime:
         plant = self.plant
         now = plant.time_s
         self.q, self.qd = plant.read_encoders()
+        sensor = plant.read_wrench_sensor()
         t1 = clock()
         if now + self._eps_s >= self._next_param_s:
             self.evaluation = self.parameters.evaluate(self.q, self.qd)
@@ -157,10 +164,8 @@ class Runtime:
             self._evaluate_fields(now)
             self._next_param_s += self._param_period_s
         t2 = clock()
-        self.wrench = self._sense_wrench()
+        self.tau = self.servo.command(now, self.q, self.qd, sensor)
         t3 = clock()
-        self.tau = self.servo.command(now, self.q, self.qd, self.wrench)
-        t4 = clock()
         end = now + self._servo_period_s - self._eps_s
         record_ns = 0
         while plant.time_s < end:
@@ -170,11 +175,11 @@ class Runtime:
                 self._record()
                 self._next_state_s += self._state_period_s
                 record_ns += clock() - r0
-        t5 = clock()
-        phases["sense"] += t1 - t0 + t3 - t2
+        t4 = clock()
+        phases["sense"] += t1 - t0
         phases["parameters"] += t2 - t1
-        phases["servo"] += t4 - t3
-        phases["physics"] += t5 - t4 - record_ns
+        phases["servo"] += t3 - t2
+        phases["physics"] += t4 - t3 - record_ns
         phases["record"] += record_ns
         self.phases.ticks += 1
 

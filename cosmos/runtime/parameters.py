@@ -11,30 +11,22 @@ current selection and gains into the few matrices the servo level multiplies
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import pinocchio as pin
 
 from cosmos.osc.dynamics import OperationalDynamics, operational_dynamics
-from cosmos.osc.force import Selection
 from cosmos.osc.limits import joint_limit_torque
-from cosmos.osc.unified import ForceGains, ServoMatrices, servo_matrices
 from cosmos.robot_model import RobotModel
+from cosmos.runtime.parameter_kernel import symmetric_from_upper, wrist_geometry
 from cosmos.workcell import TOOL
 
 FloatArray = np.ndarray
 
 
-_LOWER = np.tril_indices(6, -1)
 _NO_TORQUE = np.zeros(6)
 _NO_TORQUE.setflags(write=False)
-
-
-def _symmetric(upper: FloatArray) -> FloatArray:
-    """The symmetric matrix whose upper triangle is given (np.triu costs ~20 us here)."""
-    full = upper.copy()
-    full[_LOWER] = upper.T[_LOWER]
-    return full
 
 
 @dataclass(frozen=True)
@@ -59,8 +51,10 @@ class Evaluation:
         sensor_to_com_m: Tool centre of mass minus sensor origin, world axes, in [m]. # (3,)
         jacobian: Tool-point Jacobian, rows ``[linear; angular]``, world axes. # (6, 6)
         inertia: Joint-space kinetic energy matrix A(q) with rotor inertia. # (6, 6)
+        inertia_inv: Its inverse. # (6, 6)
         gravity: g(q), in [N m]. # (6,)
-        dynamics: Lambda, mu, p, Jbar of eq. 27-28.
+        bias: b(q, qd), Coriolis and centrifugal, in [N m]. # (6,)
+        jdot_qdot: h = Jdot qd of eq. 14. # (6,)
         joint_limit_torque: Section 6's joint-limit repulsion, in [N m]. # (6,)
     """
 
@@ -72,9 +66,18 @@ class Evaluation:
     sensor_to_com_m: FloatArray
     jacobian: FloatArray
     inertia: FloatArray
+    inertia_inv: FloatArray
     gravity: FloatArray
-    dynamics: OperationalDynamics
+    bias: FloatArray
+    jdot_qdot: FloatArray
     joint_limit_torque: FloatArray
+
+    @cached_property
+    def dynamics(self) -> OperationalDynamics:
+        """Lambda, mu, p, Jbar of eq. 27-28 (computed when first asked; the servo folds its own)."""
+        return operational_dynamics(
+            self.inertia, self.jacobian, self.bias, self.gravity, self.jdot_qdot, inertia_inv=self.inertia_inv
+        )
 
 
 class ParameterLevel:
@@ -85,61 +88,60 @@ class ParameterLevel:
         self._model = robot.model
         self._data = robot.model.createData()
         self._limit_field = limit_field
-        self._sensor_to_com_in_flange = TOOL.com_in_flange - TOOL.sensor_position_in_flange
+        self._q_lower = robot.q_lower_rad.tolist()
+        self._q_upper = robot.q_upper_rad.tolist()
+        # The sensor, the flange and the tool point are fixed on link 6: their offsets are
+        # constant in tool axes.
+        frames = robot.model.frames
+        tool_in_joint = frames[robot.tool_frame].placement
+        sensor_in_tool = tool_in_joint.actInv(frames[robot.sensor_frame].placement)
+        flange_in_tool = tool_in_joint.actInv(frames[robot.flange_frame].placement)
+        com_from_sensor_in_flange = TOOL.com_in_flange - TOOL.sensor_position_in_flange
+        self._rotation_sensor_to_tool = np.ascontiguousarray(sensor_in_tool.rotation)
+        self._tool_from_sensor_in_tool = -sensor_in_tool.translation
+        self._com_from_sensor_in_tool = flange_in_tool.rotation.dot(com_from_sensor_in_flange)
 
     def _joint_limit_torque(self, q: FloatArray) -> FloatArray:
         """Section 6's joint-limit repulsion; zero (and cheap) when every joint is far from its limits."""
-        robot, field = self._robot, self._limit_field
-        margin = min(float((q - robot.q_lower_rad).min()), float((robot.q_upper_rad - q).min()))
+        field, values = self._limit_field, q.tolist()
+        margin = min(
+            min(map(float.__sub__, values, self._q_lower)), min(map(float.__sub__, self._q_upper, values))
+        )
         if margin >= field.rho_0_rad:
             return _NO_TORQUE
+        robot = self._robot
         return joint_limit_torque(
             q, robot.q_lower_rad, robot.q_upper_rad, field.rho_0_rad, field.eta, field.torque_cap_nm
         )
 
     def evaluate(self, q: FloatArray, qd: FloatArray) -> Evaluation:
-        """Evaluate J, A, b, g, h and the operational dynamics at ``(q, qd)``."""
-        model, data, robot = self._model, self._data, self._robot
-        pin.computeAllTerms(model, data, q, qd)  # A (upper), nle, J, dJ, placements
-        pin.updateFramePlacements(model, data)
-        inertia = _symmetric(data.M)  # Pinocchio fills the upper triangle only
-        inertia_inv = _symmetric(pin.computeMinverse(model, data, q))
-        jacobian = pin.getFrameJacobian(model, data, robot.tool_frame, pin.LOCAL_WORLD_ALIGNED)
-        jdot = pin.getFrameJacobianTimeVariation(model, data, robot.tool_frame, pin.LOCAL_WORLD_ALIGNED)
+        """Evaluate the placements, J, A, A^-1, b, g and h = Jdot qd at ``(q, qd)``."""
+        model, data, frame = self._model, self._data, self._robot.tool_frame
+        pin.computeAllTerms(model, data, q, qd)  # A (upper), nle, joint Jacobians, dJ, placements
+        tool = pin.updateFramePlacement(model, data, frame)
+        jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
+        jdot = pin.getFrameJacobianTimeVariation(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
+        inertia_inv = symmetric_from_upper(pin.computeMinverse(model, data, q))
         gravity = pin.computeGeneralizedGravity(model, data, q).copy()
-        bias = data.nle - gravity  # b(q, qd) of eq. 12
-        dynamics = operational_dynamics(
-            inertia, jacobian, bias, gravity, jdot.dot(qd), inertia_inv=inertia_inv
+        rotation_tool = tool.rotation
+        rotation_sensor, sensor_to_tool, sensor_to_com = wrist_geometry(
+            rotation_tool,
+            self._rotation_sensor_to_tool,
+            self._tool_from_sensor_in_tool,
+            self._com_from_sensor_in_tool,
         )
-        tool = data.oMf[robot.tool_frame]
-        sensor = data.oMf[robot.sensor_frame]
-        rotation_sensor = sensor.rotation.copy()
-        rotation_flange = data.oMf[robot.flange_frame].rotation
         return Evaluation(
             q=q.copy(),
-            position=tool.translation.copy(),
-            rotation_tool_to_world=tool.rotation.copy(),
+            position=tool.translation,
+            rotation_tool_to_world=rotation_tool,
             rotation_sensor_to_world=rotation_sensor,
-            sensor_to_tool_m=tool.translation - sensor.translation,
-            sensor_to_com_m=rotation_flange.dot(self._sensor_to_com_in_flange),
+            sensor_to_tool_m=sensor_to_tool,
+            sensor_to_com_m=sensor_to_com,
             jacobian=jacobian,
-            inertia=inertia,
+            inertia=symmetric_from_upper(data.M),
+            inertia_inv=inertia_inv,
             gravity=gravity,
-            dynamics=dynamics,
+            bias=data.nle - gravity,  # b(q, qd) of eq. 12
+            jdot_qdot=jdot.dot(qd),
             joint_limit_torque=self._joint_limit_torque(q),
         )
-
-
-def fold_for_servo(
-    evaluation: Evaluation, selection: Selection, gains: ForceGains, xi_q: float
-) -> tuple[ServoMatrices, FloatArray]:
-    """The servo's matrices (eq. 29) and the null-space damping matrix of eq. 34.
-
-    Returns:
-        ``(matrices, null_damping)`` where ``null_damping @ qd`` is
-        ``-xi_q A (I - Jbar J) qd``. # (6, 6)
-    """
-    dynamics = evaluation.dynamics
-    j = dynamics.jacobian
-    null_damping = -xi_q * (evaluation.inertia - j.T.dot(dynamics.lambda_).dot(j))
-    return servo_matrices(dynamics, selection, gains), null_damping

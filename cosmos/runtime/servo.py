@@ -8,6 +8,9 @@ command on the force-controlled ones (setpoint fed forward, PI on the force
 error, velocity damping), and maps them to joint torques with the folded
 matrices of eq. 29, adding the null-space damping of eq. 34, the joint-limit
 potential of section 6 and friction compensation, saturated to the drives.
+
+The arithmetic is compiled (:mod:`cosmos.runtime.servo_kernel`,
+:mod:`cosmos.runtime.parameter_kernel`); this class keeps the buffers it works in.
 """
 
 from __future__ import annotations
@@ -16,17 +19,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cosmos.osc.dynamics import DEFAULT_POLICY, SingularityPolicy
 from cosmos.osc.force import Selection, selection
-from cosmos.osc.limits import saturate_torque
-from cosmos.osc.motion import goal_command, tracking_command
 from cosmos.osc.orientation import pose_error
-from cosmos.osc.unified import (
-    ForceGains,
-    ServoMatrices,
-    force_feedback,
-    integrate_force_error,
-)
-from cosmos.runtime.parameters import Evaluation, fold_for_servo
+from cosmos.osc.unified import ForceGains
+from cosmos.runtime import servo_kernel as kernel
+from cosmos.runtime.parameter_kernel import fold_servo
+from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 FloatArray = np.ndarray
@@ -57,13 +56,7 @@ class ServoGains:
     coulomb_filter_s: float = 0.005
 
 
-_NO_FORCE = np.zeros(6)
-_NO_FORCE.setflags(write=False)
-_ONE = np.ones(1)
-
-
-def _rotate_blocks(rotation: FloatArray, vector: FloatArray) -> FloatArray:
-    return np.concatenate((rotation.dot(vector[:3]), rotation.dot(vector[3:])))
+_MODES = {MotionMode.HOLD: kernel.MODE_HOLD, MotionMode.GOAL: kernel.MODE_GOAL}
 
 
 class ServoLevel:
@@ -76,32 +69,65 @@ class ServoLevel:
         viscous: FloatArray,
         coulomb: FloatArray,
         servo_dt_s: float,
+        tool_weight_z_n: float,
+        policy: SingularityPolicy = DEFAULT_POLICY,
     ):
+        """Set up the buffers.
+
+        Args:
+            gains: Gains that hold for every segment.
+            torque_limits: Drive limits, symmetric, in [N m]. # (6,)
+            viscous: Viscous friction per joint, in [N m s/rad]. # (6,)
+            coulomb: Coulomb friction per joint, in [N m]. # (6,)
+            servo_dt_s: Servo period, in [s].
+            tool_weight_z_n: World z component of the weight below the wrist sensor, in [N].
+            policy: Section 5's singularity thresholds.
+        """
         self.gains = gains
-        self._torque_limits = torque_limits
-        self._viscous = viscous
-        self._coulomb = coulomb
-        self._dt_s = servo_dt_s
-        self._coulomb_blend = min(1.0, servo_dt_s / gains.coulomb_filter_s)
-        self._coulomb_torque = np.zeros(6)
-        self._intent_scale = 1.0 / gains.coulomb_velocity_rad_s
-        self._integral = np.zeros(6)
+        self._policy = policy
+        self._viscous = np.array(viscous, dtype=float)
+        scalars = np.zeros(kernel.SCALARS)
+        scalars[kernel.K_F] = gains.force.k_f
+        scalars[kernel.K_I] = gains.force.k_i
+        scalars[kernel.INTEGRAL_LIMIT] = gains.force.integral_limit
+        scalars[kernel.CONTACT_THRESHOLD_N] = gains.contact_threshold_n
+        scalars[kernel.DT_S] = servo_dt_s
+        scalars[kernel.INTENT_SCALE] = 1.0 / gains.coulomb_velocity_rad_s
+        scalars[kernel.COULOMB_BLEND] = min(1.0, servo_dt_s / gains.coulomb_filter_s)
+        scalars[kernel.TOOL_WEIGHT_Z_N] = tool_weight_z_n
+        self._scalars = scalars
+        self._vectors = np.zeros((kernel.VECTORS, 6))
+        self._vectors[kernel.COULOMB_NM] = coulomb
+        self._vectors[kernel.TORQUE_MAX] = torque_limits
+        self._matrices = np.zeros((kernel.MATRICES, 6, 6))
+        self._state = np.zeros((kernel.STATE_ROWS, 6))
         self._setpoint: ServoSetpoint | None = None
         self._evaluation: Evaluation | None = None
         self._selection: Selection | None = None
-        self._touching = False
-        self._has_force_axes = False
-        self._force_to_acceleration = np.zeros((6, 6))  # Lambda^-1 Omega_bar
-        self._base_error = np.zeros(6)
-        self.last_error = np.zeros(6)  # x - x_d of the last tick, world, [m, rad]
-        self.last_displacement = np.zeros(6)  # J (q - q_e): motion since the evaluation
-        self.last_velocity = np.zeros(6)  # J qd of the last tick, world, [m/s, rad/s]
         self._field_torque = np.zeros(6)
-        self._matrices: ServoMatrices | None = None
         # (6, 25): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
         self._stacked = np.zeros((6, 25))
-        self._jbar_lookahead = np.zeros((6, 6))
+
+    @property
+    def wrench(self) -> FloatArray:
+        """The wrench the tool applied to the environment at the last tick, world [N, N m]. # (6,)."""
+        return self._state[kernel.WRENCH]
+
+    @property
+    def last_error(self) -> FloatArray:
+        """``x - x_d`` of the last tick, world, [m, rad]. # (6,)."""
+        return self._state[kernel.ERROR]
+
+    @property
+    def last_velocity(self) -> FloatArray:
+        """``J qd`` of the last tick, world, [m/s, rad/s]. # (6,)."""
+        return self._state[kernel.VELOCITY]
+
+    @property
+    def last_displacement(self) -> FloatArray:
+        """``J (q - q_e)``: the motion since the evaluation, world, [m, rad]. # (6,)."""
+        return self._state[kernel.DISPLACEMENT]
 
     @property
     def field_torque(self) -> FloatArray:
@@ -110,9 +136,8 @@ class ServoLevel:
 
     @field_torque.setter
     def field_torque(self, torque: FloatArray) -> None:
+        self._stacked[:, 18] += torque - self._field_torque
         self._field_torque = torque
-        if self._evaluation is not None and self._matrices is not None:
-            self._stacked[:, 18] = self._matrices.bias_torque + self._evaluation.joint_limit_torque + torque
 
     @property
     def selection(self) -> Selection | None:
@@ -122,15 +147,32 @@ class ServoLevel:
     def set_setpoint(self, setpoint: ServoSetpoint) -> None:
         """Start a segment; the force integral restarts when the selection changes."""
         previous = self._setpoint
+        state = self._state
         if previous is None or (
             previous.motion_axes != setpoint.motion_axes
             or not np.array_equal(previous.rotation_task_to_world, setpoint.rotation_task_to_world)
         ):
-            self._integral = np.zeros(6)
+            state[kernel.INTEGRAL] = 0.0
             self._selection = selection(setpoint.motion_axes, setpoint.rotation_task_to_world)
-            self._has_force_axes = not all(setpoint.motion_axes)
+        state[kernel.FLAGS, kernel.TOUCHING] = 0.0  # latched by the first push felt on a force axis
+        scalars, vectors = self._scalars, self._vectors
+        tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None
+        scalars[kernel.MODE] = (
+            kernel.MODE_TRAJECTORY if tracking else _MODES.get(setpoint.mode, kernel.MODE_HOLD)
+        )
+        scalars[kernel.UNIFORM] = float(setpoint.uniform_gains)
+        scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes))
+        scalars[kernel.MAX_SPEED] = setpoint.max_speed
+        scalars[kernel.MAX_ANGULAR_SPEED] = setpoint.max_angular_speed
+        scalars[kernel.START_S] = setpoint.start_s
+        scalars[kernel.RAMP_S] = setpoint.ramp_s
+        vectors[kernel.KP] = setpoint.kp_task
+        vectors[kernel.KV] = setpoint.kv_task
+        vectors[kernel.FORCE_WORLD] = setpoint.force_world
+        vectors[kernel.FORCE_START] = setpoint.force_start_world
+        vectors[kernel.REFERENCE_VELOCITY : kernel.REFERENCE_ACCELERATION + 1] = 0.0
+        self._matrices[kernel.ROTATION_TASK, :3, :3] = setpoint.rotation_task_to_world
         self._setpoint = setpoint
-        self._touching = False  # latched by the first push felt on a force axis
         self._refold()
 
     def set_evaluation(self, evaluation: Evaluation) -> None:
@@ -142,141 +184,63 @@ class ServoLevel:
         ev, sp, sel = self._evaluation, self._setpoint, self._selection
         if ev is None or sp is None or sel is None:
             return
-        self._force_to_acceleration = ev.dynamics.lambda_inv.dot(sel.omega_bar)
-        matrices, null_damping = fold_for_servo(ev, sel, self.gains.force, self.gains.xi_q)
-        self._matrices = matrices
-        # Per-tick joint-space terms folded in too: null-space damping (eq. 34) with the
-        # viscous friction, and the potentials held since the last evaluation.
-        stacked = np.empty((6, 25))
-        stacked[:, :19] = matrices.stacked
-        stacked[:, 18] += ev.joint_limit_torque + self._field_torque
-        stacked[:, 19:] = null_damping
-        stacked[:, 19:] += np.diag(self._viscous)
-        self._stacked = stacked
-        self._jbar_lookahead = self.gains.coulomb_lookahead_s * ev.dynamics.jbar
-        self._base_error = pose_error(
+        policy, gains, vectors, matrices = self._policy, self.gains, self._vectors, self._matrices
+        fold_servo(
+            ev.inertia,
+            ev.inertia_inv,
+            ev.jacobian,
+            ev.bias,
+            ev.gravity,
+            ev.jdot_qdot,
+            ev.joint_limit_torque + self._field_torque,
+            sel.omega,
+            sel.omega_bar,
+            gains.force.k_vf,
+            gains.xi_q,
+            self._viscous,
+            gains.coulomb_lookahead_s,
+            policy.max_effective_mass_kg,
+            policy.blend_width,
+            policy.length_scale_m,
+            self._stacked,
+            matrices[kernel.FORCE_TO_ACCELERATION],
+            matrices[kernel.JBAR_LOOKAHEAD],
+        )
+        matrices[kernel.JACOBIAN] = ev.jacobian
+        matrices[kernel.OMEGA_BAR] = sel.omega_bar
+        matrices[kernel.ROTATION_SENSOR, :3, :3] = ev.rotation_sensor_to_world
+        vectors[kernel.EVALUATION_Q] = ev.q
+        vectors[kernel.GRAVITY] = ev.gravity
+        vectors[kernel.SENSOR_OFFSETS, :3] = ev.sensor_to_tool_m
+        vectors[kernel.SENSOR_OFFSETS, 3:] = ev.sensor_to_com_m
+        vectors[kernel.REFERENCE_ERROR] = pose_error(
             ev.position, ev.rotation_tool_to_world, sp.position, sp.rotation_to_world
         )
 
-    def command(self, t_s: float, q: FloatArray, qd: FloatArray, wrench_env: FloatArray) -> FloatArray:
+    def command(self, t_s: float, q: FloatArray, qd: FloatArray, sensor: FloatArray) -> FloatArray:
         """Joint torques for this tick.
 
         Args:
             t_s: Simulated time, in [s].
             q: Joint positions from the encoders, in [rad]. # (6,)
             qd: Joint velocities, in [rad/s]. # (6,)
-            wrench_env: Sensed wrench the tool applies to the environment, world, [N, N m]. # (6,)
+            sensor: The wrist sensor's raw reading, sensor frame, [N, N m]. # (6,)
 
         Returns:
-            Joint torques within the drive limits, in [N m]. # (6,)
+            Joint torques within the drive limits, in [N m]; a buffer rewritten every tick. # (6,)
         """
-        ev, sp, matrices, sel = self._evaluation, self._setpoint, self._matrices, self._selection
-        if ev is None or sp is None or matrices is None or sel is None:
+        ev, sp = self._evaluation, self._setpoint
+        if ev is None or sp is None:
             raise RuntimeError("servo level used before a setpoint and an evaluation were given")
-        jacobian = ev.jacobian
-        velocity = jacobian.dot(qd)
-        displacement = jacobian.dot(q - ev.q)
-        self.last_velocity, self.last_displacement = velocity, displacement
-        motion = self._motion_command(t_s, sp, ev, displacement, velocity)
-        acceleration = motion
-        if self._has_force_axes:
-            feedback = self._force_feedback(t_s, sp, sel, wrench_env)
-            if not self._touching:
-                acceleration = motion + self._force_to_acceleration.dot(feedback)
-        else:
-            feedback = _NO_FORCE
-        torque = self._stacked.dot(np.concatenate((motion, feedback, velocity, _ONE, qd)))
-        # Coulomb friction is compensated in the direction the joint is moving or, from rest,
-        # is being told to move: qd plus the commanded joint acceleration (Jbar F*_m, and in
-        # free space Jbar Lambda^-1 F_a on the force axes) over a short look-ahead, so a joint
-        # starting to move is not held back by its friction. In contact the force loop's
-        # integral takes up the friction instead: switching friction torques on the sensed
-        # force would chatter.
-        intent = (qd + self._jbar_lookahead.dot(acceleration)) * self._intent_scale
-        # Low-passed, so that a new segment's setpoint (or a sign change) never steps it.
-        target = self._coulomb * np.minimum(np.maximum(intent, -1.0), 1.0)
-        self._coulomb_torque += self._coulomb_blend * (target - self._coulomb_torque)
-        torque += self._coulomb_torque
-        saturated, _ = saturate_torque(torque, self._torque_limits, keep=ev.gravity)
-        return saturated
-
-    def _force_feedback(
-        self, t_s: float, sp: ServoSetpoint, sel: Selection, wrench_env: FloatArray
-    ) -> FloatArray:
-        """F_d + k_f (F_d - F_s) + k_i integral: the setpoint ramped from the sensed force."""
-        elapsed = t_s - sp.start_s
-        if elapsed >= sp.ramp_s:
-            force_setpoint = sp.force_world
-        else:
-            force_setpoint = sp.force_start_world + (elapsed / sp.ramp_s) * (
-                sp.force_world - sp.force_start_world
-            )
-        gains = self.gains.force
-        # Integral action only once something pushes back (latched for the segment): in
-        # free space the force error cannot be closed and would wind up into an impact.
-        if not self._touching:
-            pushed = float(np.abs(sel.omega_bar.dot(wrench_env)).max())
-            self._touching = pushed > self.gains.contact_threshold_n
-        if self._touching:
-            self._integral = integrate_force_error(
-                self._integral, force_setpoint, wrench_env, sel.omega_bar, self._dt_s, gains.integral_limit
-            )
-        return force_feedback(force_setpoint, wrench_env, self._integral, gains)
-
-    def _motion_command(
-        self,
-        t_s: float,
-        sp: ServoSetpoint,
-        ev: Evaluation,
-        displacement: FloatArray,
-        velocity: FloatArray,
-    ) -> FloatArray:
-        velocity_desired = acceleration_desired = None
-        if sp.mode is MotionMode.TRAJECTORY and sp.trajectory is not None:
+        if sp.trajectory is not None and sp.mode is MotionMode.TRAJECTORY:
             sample = sp.trajectory.sample(t_s - sp.start_s)
-            error = pose_error(
+            vectors = self._vectors
+            vectors[kernel.REFERENCE_ERROR] = pose_error(
                 ev.position, ev.rotation_tool_to_world, sample.position, sample.rotation_to_world
             )
-            error += displacement
-            self.last_error = error
-            velocity_desired, acceleration_desired = sample.velocity, sample.acceleration
-        else:
-            error = self._base_error + displacement
-        self.last_error = error
-        if sp.uniform_gains:
-            return self._unit_mass_command(
-                sp,
-                error,
-                velocity,
-                velocity_desired,
-                acceleration_desired,
-                sp.kp_task[0],
-                sp.kv_task[0],
-            )
-        r_t = sp.rotation_task_to_world.T
-        command_task = self._unit_mass_command(
-            sp,
-            _rotate_blocks(r_t, error),
-            _rotate_blocks(r_t, velocity),
-            None if velocity_desired is None else _rotate_blocks(r_t, velocity_desired),
-            None if acceleration_desired is None else _rotate_blocks(r_t, acceleration_desired),
-            sp.kp_task,
-            sp.kv_task,
+            vectors[kernel.REFERENCE_VELOCITY] = sample.velocity
+            vectors[kernel.REFERENCE_ACCELERATION] = sample.acceleration
+        kernel.servo_tick(
+            t_s, q, qd, sensor, self._scalars, self._vectors, self._matrices, self._stacked, self._state
         )
-        return _rotate_blocks(sp.rotation_task_to_world, command_task)
-
-    @staticmethod
-    def _unit_mass_command(
-        sp: ServoSetpoint,
-        error: FloatArray,
-        velocity: FloatArray,
-        velocity_desired: FloatArray | None,
-        acceleration_desired: FloatArray | None,
-        kp: float | FloatArray,
-        kv: float | FloatArray,
-    ) -> FloatArray:
-        if sp.mode is MotionMode.GOAL:
-            return goal_command(error, velocity, kp, kv, sp.max_speed, sp.max_angular_speed)
-        if velocity_desired is None or acceleration_desired is None:
-            return -kp * error - kv * velocity  # eq. 19 with a constant x_d
-        return tracking_command(error, velocity, velocity_desired, acceleration_desired, kp, kv)
+        return self._state[kernel.TORQUE]

@@ -1,0 +1,152 @@
+"""The parameter level's folding, compiled (numba): one call per evaluation or new selection.
+
+From the joint-space model at one configuration it forms the operational
+dynamics of eq. 27-28 (with section 5's blended inverse near singular
+directions) and folds them with the selection (Figure 2) and the gains into the
+matrices the servo multiplies every tick (eq. 29 and 34). The readable
+reference is :func:`cosmos.osc.dynamics.operational_dynamics`,
+:func:`cosmos.osc.unified.servo_matrices` and
+:func:`cosmos.runtime.parameters.fold_for_servo`;
+``tests/runtime/test_fold_kernel.py`` checks this against them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+FloatArray = np.ndarray
+
+
+@njit(cache=True)
+def lambda_from_inverse(
+    lambda_inv: FloatArray, max_effective_mass_kg: float, blend_width: float, length_scale_m: float
+) -> FloatArray:
+    """Lambda from Lambda^-1, singular directions removed (section 5). # (6, 6).
+
+    The plain inverse where the trace of Lambda (row-scaled: rotations count as
+    masses at ``length_scale_m``) proves every effective mass is below
+    ``max / (1 + blend_width)``; otherwise the eigen-directions of the scaled
+    Lambda^-1 are inverted with a smoothstep weight that drops the heavy ones.
+    """
+    scale = np.array((1.0, 1.0, 1.0, length_scale_m, length_scale_m, length_scale_m))
+    limit = max_effective_mass_kg / (1.0 + blend_width)
+    exact = True
+    try:
+        lambda_ = np.linalg.inv(lambda_inv)
+    except Exception:  # singular: numba raises on a zero pivot
+        exact = False
+        lambda_ = np.empty((6, 6))
+    if exact:
+        trace = 0.0
+        for i in range(6):
+            trace += lambda_[i, i] / (scale[i] * scale[i])
+        if 0.0 < trace <= limit:
+            return lambda_
+    outer = np.outer(scale, scale)
+    eigenvalues, eigenvectors = np.linalg.eigh(lambda_inv * outer)
+    s_lo = 1.0 / max_effective_mass_kg
+    weights = np.empty(6)
+    for i in range(6):
+        u = min(max((eigenvalues[i] - s_lo) / (blend_width * s_lo), 0.0), 1.0)
+        weights[i] = u * u * (3.0 - 2.0 * u) / max(eigenvalues[i], s_lo)
+    return (eigenvectors * weights).dot(eigenvectors.T) * outer
+
+
+@njit(cache=True)
+def fold_servo(
+    inertia: FloatArray,
+    inertia_inv: FloatArray,
+    jacobian: FloatArray,
+    bias: FloatArray,
+    gravity: FloatArray,
+    jdot_qdot: FloatArray,
+    held_torque: FloatArray,
+    omega: FloatArray,
+    omega_bar: FloatArray,
+    k_vf: float,
+    xi_q: float,
+    viscous: FloatArray,
+    lookahead_s: float,
+    max_effective_mass_kg: float,
+    blend_width: float,
+    length_scale_m: float,
+    stacked: FloatArray,
+    force_to_acceleration: FloatArray,
+    jbar_lookahead: FloatArray,
+) -> None:
+    """Eq. 27-29 and 34 folded for the servo; results written into the last three arrays.
+
+    Args:
+        inertia: A(q). # (6, 6)
+        inertia_inv: A^-1. # (6, 6)
+        jacobian: J(q), world axes. # (6, 6)
+        bias: b(q, qd), in [N m]. # (6,)
+        gravity: g(q), in [N m]. # (6,)
+        jdot_qdot: h = Jdot qd (eq. 14). # (6,)
+        held_torque: Joint torques held until the next evaluation (potentials), [N m]. # (6,)
+        omega: Motion-controlled projector, world. # (6, 6)
+        omega_bar: Force-controlled projector, world. # (6, 6)
+        k_vf: Velocity damping of the force-controlled axes, in [1/s].
+        xi_q: Null-space damping of eq. 34, in [1/s].
+        viscous: Viscous friction per joint, compensated, in [N m s/rad]. # (6,)
+        lookahead_s: Look-ahead of the Coulomb compensation, in [s].
+        max_effective_mass_kg: Section 5's threshold (SingularityPolicy).
+        blend_width: Section 5's blend width (SingularityPolicy).
+        length_scale_m: Section 5's length scale (SingularityPolicy).
+        stacked: Out: ``[J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda
+            Omega_bar | b + g - J^T Lambda h + held | -xi_q (A - J^T Lambda J) + diag(viscous)]``. # (6, 25)
+        force_to_acceleration: Out: ``Lambda^-1 Omega_bar``. # (6, 6)
+        jbar_lookahead: Out: ``lookahead_s Jbar``. # (6, 6)
+    """
+    j_t = jacobian.T.copy()
+    a_inv_jt = inertia_inv.dot(j_t)
+    lambda_inv = jacobian.dot(a_inv_jt)  # eq. 27
+    lambda_ = lambda_from_inverse(lambda_inv, max_effective_mass_kg, blend_width, length_scale_m)
+    jbar = a_inv_jt.dot(lambda_)  # eq. 28
+    force_to_torque = j_t.dot(omega_bar)
+    stacked[:, 0:6] = j_t.dot(lambda_).dot(omega)
+    stacked[:, 6:12] = force_to_torque
+    stacked[:, 12:18] = -k_vf * force_to_torque.dot(lambda_).dot(omega_bar)
+    stacked[:, 18] = bias + gravity - j_t.dot(lambda_.dot(jdot_qdot)) + held_torque
+    stacked[:, 19:25] = -xi_q * (inertia - j_t.dot(lambda_).dot(jacobian))
+    for i in range(6):
+        stacked[i, 19 + i] += viscous[i]
+    force_to_acceleration[:, :] = lambda_inv.dot(omega_bar)
+    jbar_lookahead[:, :] = lookahead_s * jbar
+
+
+@njit(cache=True)
+def symmetric_from_upper(upper: FloatArray) -> FloatArray:
+    """The symmetric matrix whose upper triangle is given (Pinocchio fills only that). # (n, n)."""
+    n = upper.shape[0]
+    full = np.empty((n, n))
+    for i in range(n):
+        for j in range(i, n):
+            full[i, j] = full[j, i] = upper[i, j]
+    return full
+
+
+@njit(cache=True)
+def wrist_geometry(
+    rotation_tool_to_world: FloatArray,
+    rotation_sensor_to_tool: FloatArray,
+    tool_in_sensor_tool_axes: FloatArray,
+    com_in_sensor_tool_axes: FloatArray,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The wrist sensor's orientation and its offsets to the tool point and tool centre of mass.
+
+    The sensor, the tool point and the tool's centre of mass are fixed on link 6, so
+    their offsets are constant in tool axes.
+
+    Args:
+        rotation_tool_to_world: Tool orientation. # (3, 3)
+        rotation_sensor_to_tool: Sensor orientation in tool axes (constant). # (3, 3)
+        tool_in_sensor_tool_axes: Tool point minus sensor origin, tool axes, [m]. # (3,)
+        com_in_sensor_tool_axes: Tool centre of mass minus sensor origin, tool axes, [m]. # (3,)
+
+    Returns:
+        ``(rotation_sensor_to_world, sensor_to_tool_m, sensor_to_com_m)``, world axes.
+    """
+    r = np.ascontiguousarray(rotation_tool_to_world)
+    return r.dot(rotation_sensor_to_tool), r.dot(tool_in_sensor_tool_axes), r.dot(com_in_sensor_tool_axes)

@@ -1,0 +1,284 @@
+"""The servo level's per-tick arithmetic, compiled (numba): one call per servo tick.
+
+The maths are those of :mod:`cosmos.osc` (which stays the readable reference,
+and against which ``tests/runtime/test_servo_kernel.py`` checks these on random
+inputs): the wrench the tool applies to the environment from the wrist sensor
+(:mod:`cosmos.runtime.wrench`), the estimator ``x = x_e + J (q - q_e)``
+(section 3), the motion command (eq. 19, eq. 20-21 with the speed limit applied
+to translation and rotation separately), the active force command (F_d fed
+forward, PI on the force error with its anti-windup clamp, eq. 17-18 and
+Figure 2), eq. 29's single product with the folded matrix, Coulomb friction
+compensation and the saturation that scales the command about gravity
+(:mod:`cosmos.osc.limits`). In NumPy this is some 40 small-array calls of
+about a microsecond each; compiled it is one call.
+
+Array arguments are written in place (``state``, ``out``), so a tick allocates
+nothing.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+FloatArray = np.ndarray
+
+# The kernel's inputs travel in a few packed arrays (a compiled call costs about 0.1 us per
+# argument); these are their layouts.
+
+# ``scalars``: segment and constant scalars.
+MODE, UNIFORM, HAS_FORCE, MAX_SPEED, MAX_ANGULAR_SPEED, START_S, RAMP_S = range(7)
+K_F, K_I, INTEGRAL_LIMIT, CONTACT_THRESHOLD_N, DT_S, INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(
+    7, 15
+)
+SCALARS = 15
+MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = 0.0, 1.0, 2.0
+
+# ``vectors``, rows of six. REFERENCE_*: ``x_e - x_d`` at the evaluation (tracking: at this
+# tick's trajectory sample), ``xd_d`` and ``xdd_d``. SENSOR_OFFSETS: tool point then tool
+# centre of mass, minus the sensor origin, world, [m].
+KP, KV, FORCE_WORLD, FORCE_START, REFERENCE_ERROR, REFERENCE_VELOCITY, REFERENCE_ACCELERATION = range(7)
+EVALUATION_Q, GRAVITY, SENSOR_OFFSETS, COULOMB_NM, TORQUE_MAX = range(7, 12)
+VECTORS = 12
+
+# ``matrices``, (6, 6) each; rotations in the top-left (3, 3).
+JACOBIAN, FORCE_TO_ACCELERATION, JBAR_LOOKAHEAD, OMEGA_BAR, ROTATION_TASK, ROTATION_SENSOR = range(6)
+MATRICES = 6
+
+# Rows of the servo's state and outputs (``state``, (8, 6)).
+WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS = range(8)
+STATE_ROWS = 8
+TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
+
+
+@njit(cache=True)
+def matvec(matrix: FloatArray, vector: FloatArray) -> FloatArray:
+    """``matrix @ vector`` in plain loops (BLAS costs more than the product at this size)."""
+    rows, cols = matrix.shape
+    out = np.zeros(rows)
+    for i in range(rows):
+        acc = 0.0
+        for k in range(cols):
+            acc += matrix[i, k] * vector[k]
+        out[i] = acc
+    return out
+
+
+@njit(cache=True)
+def environment_wrench_into(
+    out: FloatArray,
+    sensor: FloatArray,
+    rotation_sensor_to_world: FloatArray,
+    sensor_to_tool_m: FloatArray,
+    sensor_to_com_m: FloatArray,
+    weight_z_n: float,
+) -> None:
+    """:func:`cosmos.runtime.wrench.environment_wrench`, written into ``out``. # (6,)."""
+    r = rotation_sensor_to_world
+    fx, fy, fz, mx, my, mz = sensor[0], sensor[1], sensor[2], sensor[3], sensor[4], sensor[5]
+    ex = r[0, 0] * fx + r[0, 1] * fy + r[0, 2] * fz
+    ey = r[1, 0] * fx + r[1, 1] * fy + r[1, 2] * fz
+    ez = r[2, 0] * fx + r[2, 1] * fy + r[2, 2] * fz + weight_z_n
+    sx = r[0, 0] * mx + r[0, 1] * my + r[0, 2] * mz
+    sy = r[1, 0] * mx + r[1, 1] * my + r[1, 2] * mz
+    sz = r[2, 0] * mx + r[2, 1] * my + r[2, 2] * mz
+    tx, ty, tz = sensor_to_tool_m[0], sensor_to_tool_m[1], sensor_to_tool_m[2]
+    cx, cy = sensor_to_com_m[0], sensor_to_com_m[1]
+    out[0], out[1], out[2] = ex, ey, ez
+    out[3] = sx - (ty * ez - tz * ey) + cy * weight_z_n
+    out[4] = sy - (tz * ex - tx * ez) - cx * weight_z_n
+    out[5] = sz - (tx * ey - ty * ex)
+
+
+@njit(cache=True)
+def _rotate_blocks(rotation: FloatArray, vector: FloatArray, transpose: bool) -> FloatArray:
+    """``(R v[:3], R v[3:])``, or with R^T. # (6,)."""
+    out = np.empty(6)
+    for block in range(2):
+        o = 3 * block
+        for i in range(3):
+            acc = 0.0
+            for k in range(3):
+                acc += (rotation[k, i] if transpose else rotation[i, k]) * vector[o + k]
+            out[o + i] = acc
+    return out
+
+
+@njit(cache=True)
+def unit_mass_command(
+    mode: float,
+    error: FloatArray,
+    velocity: FloatArray,
+    velocity_desired: FloatArray,
+    acceleration_desired: FloatArray,
+    kp: FloatArray,
+    kv: FloatArray,
+    max_speed: float,
+    max_angular_speed: float,
+) -> FloatArray:
+    """F*_m of a unit mass: eq. 20-21 (GOAL), eq. 19 (TRAJECTORY) or eq. 19 with x_d fixed (HOLD). # (6,).
+
+    Gains are per axis of the frame ``error`` and ``velocity`` are written in.
+    """
+    command = np.empty(6)
+    if mode == MODE_GOAL:
+        desired = np.empty(6)
+        for i in range(6):
+            desired[i] = -kp[i] / kv[i] * error[i]
+        # Eq. 21's nu, applied to the linear and the angular part separately.
+        for o, limit in ((0, max_speed), (3, max_angular_speed)):
+            norm = math.sqrt(desired[o] ** 2 + desired[o + 1] ** 2 + desired[o + 2] ** 2)
+            nu = 1.0 if norm <= limit else limit / norm
+            for i in range(o, o + 3):
+                command[i] = kv[i] * (nu * desired[i] - velocity[i])
+    elif mode == MODE_TRAJECTORY:
+        for i in range(6):
+            command[i] = (
+                acceleration_desired[i] - kp[i] * error[i] - kv[i] * (velocity[i] - velocity_desired[i])
+            )
+    else:
+        for i in range(6):
+            command[i] = -kp[i] * error[i] - kv[i] * velocity[i]
+    return command
+
+
+@njit(cache=True)
+def saturate_about(torque: FloatArray, torque_max: FloatArray, keep: FloatArray) -> None:
+    """:func:`cosmos.osc.limits.saturate_torque` in place: scale ``torque - keep`` into the limits."""
+    n = torque.shape[0]
+    inside = True
+    for i in range(n):
+        if abs(torque[i]) > torque_max[i]:
+            inside = False
+    if inside:
+        return
+    scale = 1.0
+    kept = np.empty(n)
+    for i in range(n):
+        kept[i] = min(max(keep[i], -torque_max[i]), torque_max[i])
+        delta = torque[i] - kept[i]
+        if delta != 0.0:
+            scale = min(scale, (math.copysign(torque_max[i], delta) - kept[i]) / delta)
+    scale = max(0.0, scale)
+    for i in range(n):
+        torque[i] = kept[i] + scale * (torque[i] - kept[i])
+
+
+@njit(cache=True)
+def servo_tick(
+    t_s: float,
+    q: FloatArray,
+    qd: FloatArray,
+    sensor: FloatArray,
+    scalars: FloatArray,
+    vectors: FloatArray,
+    matrices: FloatArray,
+    stacked: FloatArray,
+    state: FloatArray,
+) -> None:
+    """One servo tick: sensed wrench, estimate, motion and force commands, joint torques.
+
+    Args:
+        t_s: Simulated time, in [s].
+        q: Joint positions from the encoders, in [rad]. # (6,)
+        qd: Joint velocities, in [rad/s]. # (6,)
+        sensor: Raw wrist sensor reading (sensor frame), [N, N m]. # (6,)
+        scalars: Segment and constant scalars at MODE ... TOOL_WEIGHT_Z_N. # (SCALARS,)
+        vectors: Gains, setpoints, reference and the evaluation's vectors at KP ... # (VECTORS, 6)
+        matrices: J, Lambda^-1 Omega_bar, look-ahead Jbar, Omega_bar and rotations. # (MATRICES, 6, 6)
+        stacked: Eq. 29 folded: ``Gamma = stacked @ (F*_m, F_fb, xd, 1, qd)``. # (6, 25)
+        state: Integral, friction filter and flags in; this tick's wrench, error,
+            velocity, displacement and torque out (rows WRENCH ... FLAGS). # (STATE_ROWS, 6)
+    """
+    wrench = state[WRENCH]
+    offsets = vectors[SENSOR_OFFSETS]
+    environment_wrench_into(
+        wrench, sensor, matrices[ROTATION_SENSOR], offsets[:3], offsets[3:], scalars[TOOL_WEIGHT_Z_N]
+    )
+    jacobian = matrices[JACOBIAN]
+    velocity = matvec(jacobian, qd)
+    displacement = matvec(jacobian, q - vectors[EVALUATION_Q])
+    state[VELOCITY] = velocity
+    state[DISPLACEMENT] = displacement
+    error = vectors[REFERENCE_ERROR] + displacement  # x - x_d with x = x_e + J (q - q_e)
+    state[ERROR] = error
+
+    mode, kp, kv = scalars[MODE], vectors[KP], vectors[KV]
+    velocity_desired, acceleration_desired = vectors[REFERENCE_VELOCITY], vectors[REFERENCE_ACCELERATION]
+    max_speed, max_angular_speed = scalars[MAX_SPEED], scalars[MAX_ANGULAR_SPEED]
+    if scalars[UNIFORM] != 0.0:
+        motion = unit_mass_command(
+            mode,
+            error,
+            velocity,
+            velocity_desired,
+            acceleration_desired,
+            kp,
+            kv,
+            max_speed,
+            max_angular_speed,
+        )
+    else:  # per-axis gains are along the task frame's axes
+        r = matrices[ROTATION_TASK]
+        motion_task = unit_mass_command(
+            mode,
+            _rotate_blocks(r, error, True),
+            _rotate_blocks(r, velocity, True),
+            _rotate_blocks(r, velocity_desired, True),
+            _rotate_blocks(r, acceleration_desired, True),
+            kp,
+            kv,
+            max_speed,
+            max_angular_speed,
+        )
+        motion = _rotate_blocks(r, motion_task, False)
+
+    feedback = np.zeros(6)
+    acceleration = motion
+    if scalars[HAS_FORCE] != 0.0:
+        elapsed = t_s - scalars[START_S]
+        ramp = scalars[RAMP_S]
+        fraction = 1.0 if elapsed >= ramp else elapsed / ramp
+        start = vectors[FORCE_START]
+        setpoint = start + fraction * (vectors[FORCE_WORLD] - start)
+        omega_bar = matrices[OMEGA_BAR]
+        flags = state[FLAGS]
+        # Integral action only once something pushes back (latched for the segment): in
+        # free space the force error cannot be closed and would wind up into an impact.
+        if flags[TOUCHING] == 0.0 and np.abs(matvec(omega_bar, wrench)).max() > scalars[CONTACT_THRESHOLD_N]:
+            flags[TOUCHING] = 1.0
+        integral = state[INTEGRAL]
+        if flags[TOUCHING] != 0.0:
+            limit = scalars[INTEGRAL_LIMIT]
+            step = matvec(omega_bar, setpoint - wrench) * scalars[DT_S]
+            for i in range(6):
+                integral[i] = min(max(integral[i] + step[i], -limit), limit)
+        k_f = scalars[K_F]
+        feedback = (1.0 + k_f) * setpoint - k_f * wrench + scalars[K_I] * integral  # F_a without damping
+        if flags[TOUCHING] == 0.0:
+            acceleration = motion + matvec(matrices[FORCE_TO_ACCELERATION], feedback)
+
+    torque = state[TORQUE]
+    for i in range(6):
+        acc = stacked[i, 18]
+        for k in range(6):
+            acc += (
+                stacked[i, k] * motion[k]
+                + stacked[i, 6 + k] * feedback[k]
+                + stacked[i, 12 + k] * velocity[k]
+                + stacked[i, 19 + k] * qd[k]
+            )
+        torque[i] = acc
+    # Coulomb friction is compensated in the direction the joint is moving or, from rest,
+    # is being told to move (qd plus Jbar times the commanded acceleration over a short
+    # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
+    intent = (qd + matvec(matrices[JBAR_LOOKAHEAD], acceleration)) * scalars[INTENT_SCALE]
+    coulomb, coulomb_nm = state[COULOMB], vectors[COULOMB_NM]
+    blend = scalars[COULOMB_BLEND]
+    for i in range(6):
+        target = coulomb_nm[i] * min(max(intent[i], -1.0), 1.0)
+        coulomb[i] += blend * (target - coulomb[i])
+        torque[i] += coulomb[i]
+    saturate_about(torque, vectors[TORQUE_MAX], vectors[GRAVITY])
