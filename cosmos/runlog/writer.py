@@ -165,6 +165,7 @@ class RunLog:
         self._segments = [0] * _BATCH
         self._lines = [0] * _BATCH
         self._pending = 0
+        self._pending_tf: list[tuple[int, bytes]] = []  # /tf messages waiting with the states
 
         record = {
             "program": program,
@@ -269,7 +270,7 @@ class RunLog:
 
     def _write_states(self) -> None:
         n = self._pending
-        if n == 0:
+        if n == 0 and not self._pending_tf:
             return
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
@@ -280,6 +281,9 @@ class RunLog:
         rows_exact = cast(list[bool], exact.all(axis=1).tolist())
         add_message, channel = self._writer.add_message, self._state
         times, segments, lines = self._times, self._segments, self._lines
+        # /tf messages are batched with the states; each goes right after the state of its time.
+        tf_queue, self._pending_tf = self._pending_tf, []
+        tf_next, tf_channel = 0, self._tf
         t_ns = 0
         for i in range(n):
             t = times[i]
@@ -289,6 +293,12 @@ class RunLog:
                 text = self._state_json(t, rows[i], segments[i], lines[i])
             t_ns = round(t * 1e9)
             add_message(channel, t_ns, text.encode(), t_ns)
+            while tf_next < len(tf_queue) and tf_queue[tf_next][0] <= t_ns:
+                add_message(tf_channel, tf_queue[tf_next][0], tf_queue[tf_next][1], tf_queue[tf_next][0])
+                tf_next += 1
+        for tf_ns, data in tf_queue[tf_next:]:
+            add_message(tf_channel, tf_ns, data, tf_ns)
+            t_ns = max(t_ns, tf_ns)
         self._last_ns = t_ns
 
     @staticmethod
@@ -411,8 +421,9 @@ class RunLog:
         t_ns = _ns(t)
         data = self._transforms.encode(t_ns, positions, quats_wxyz)
         if data is not None:
-            self._write_states()
-            self._write(self._tf, t_ns, data)
+            if self._closed:
+                raise ValueError(f"{self.path}: the run log is closed")
+            self._pending_tf.append((t_ns, data))
 
     def scene(self, t: float, add: Sequence[Primitive] = (), remove: Sequence[str] = ()) -> None:
         """Show, move or remove fixtures and obstacles on ``/scene`` (``foxglove.SceneUpdate``).

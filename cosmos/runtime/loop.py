@@ -23,8 +23,8 @@ from cosmos.robot_model import GRAVITY, RobotModel
 from cosmos.runtime.parameters import Evaluation, ParameterLevel
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.servo import ServoGains, ServoLevel
+from cosmos.runtime.servo_kernel import environment_wrench_into
 from cosmos.runtime.setpoint import ServoSetpoint
-from cosmos.runtime.wrench import environment_wrench
 from cosmos.workcell import TOOL
 
 FloatArray = np.ndarray
@@ -85,6 +85,7 @@ class Runtime:
     ):
         self.plant = plant
         self.robot = robot
+        self._tool_weight_z_n = float(GRAVITY[2]) * TOOL.mass_kg
         self.rates = rates
         self.parameters = ParameterLevel(robot)
         self.servo = ServoLevel(
@@ -93,7 +94,7 @@ class Runtime:
             robot.viscous_nms_per_rad,
             robot.coulomb_nm,
             1.0 / rates.servo_hz,
-            float(GRAVITY[2]) * TOOL.mass_kg,
+            self._tool_weight_z_n,
         )
         self.recorder = recorder
         self.fields: list[PotentialField] = []
@@ -140,13 +141,16 @@ class Runtime:
 
     def _sense_wrench(self) -> FloatArray:
         ev = self.evaluation
-        return environment_wrench(
+        wrench = np.empty(6)
+        environment_wrench_into(
+            wrench,
             self.plant.read_wrench_sensor(),
             ev.rotation_sensor_to_world,
             ev.sensor_to_tool_m,
             ev.sensor_to_com_m,
-            TOOL.mass_kg,
+            self._tool_weight_z_n,
         )
+        return wrench
 
     def tick(self) -> None:
         """One servo period: sense, evaluate if due, command, step the physics, record."""
