@@ -12,10 +12,16 @@ reference is :func:`cosmos.osc.dynamics.operational_dynamics`,
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
+from cosmos.runtime import servo_kernel as sk
+
 FloatArray = np.ndarray
+SMALL_ANGLE = 1e-4  # rad: as in cosmos.osc.orientation
+NEAR_PI = 1e-2
 
 
 @njit(cache=True)
@@ -150,3 +156,132 @@ def wrist_geometry(
     """
     r = np.ascontiguousarray(rotation_tool_to_world)
     return r.dot(rotation_sensor_to_tool), r.dot(tool_in_sensor_tool_axes), r.dot(com_in_sensor_tool_axes)
+
+
+@njit(cache=True)
+def rotation_log(r: FloatArray) -> FloatArray:
+    """:func:`cosmos.osc.orientation.so3_log` of a rotation matrix: axis times angle in [0, pi]. # (3,)."""
+    ax, ay, az = r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]
+    c = 0.5 * (r[0, 0] + r[1, 1] + r[2, 2] - 1.0)
+    s = 0.5 * math.sqrt(ax * ax + ay * ay + az * az)
+    theta = math.atan2(s, c)
+    out = np.empty(3)
+    if theta < SMALL_ANGLE or s > NEAR_PI or c > 0.0:
+        k = 0.5 + theta * theta / 12.0 if theta < SMALL_ANGLE else 0.5 * theta / s
+        out[0], out[1], out[2] = k * ax, k * ay, k * az
+        return out
+    # Near pi the antisymmetric part vanishes; use (R + R^T)/2 = c I + (1 - c) n n^T from
+    # its largest diagonal entry, and the sign of n from the antisymmetric part.
+    d = 1.0 - c
+    i = 0
+    for j in (1, 2):
+        if r[j, j] > r[i, i]:
+            i = j
+    n = np.empty(3)
+    n[i] = math.sqrt(max((r[i, i] - c) / d, 0.0))
+    for j in range(3):
+        if j != i:
+            n[j] = (r[i, j] + r[j, i]) / (2.0 * d * n[i])
+    if n[0] * ax + n[1] * ay + n[2] * az < 0.0:
+        theta = -theta
+    return theta * n
+
+
+@njit(cache=True)
+def refold(
+    evaluation_q: FloatArray,
+    position: FloatArray,
+    rotation_tool_to_world: FloatArray,
+    rotation_sensor_to_world: FloatArray,
+    sensor_to_tool_m: FloatArray,
+    sensor_to_com_m: FloatArray,
+    inertia: FloatArray,
+    inertia_inv: FloatArray,
+    jacobian: FloatArray,
+    bias: FloatArray,
+    gravity: FloatArray,
+    jdot_qdot: FloatArray,
+    held_torque: FloatArray,
+    omega: FloatArray,
+    omega_bar: FloatArray,
+    goal_position: FloatArray,
+    goal_rotation_to_world: FloatArray,
+    constants: FloatArray,
+    viscous: FloatArray,
+    stacked: FloatArray,
+    vectors: FloatArray,
+    matrices: FloatArray,
+) -> None:
+    """Everything the servo kernel needs from one evaluation and the segment's selection and goal.
+
+    :func:`fold_servo` into ``stacked`` and ``matrices``, the evaluation's J, q, g and
+    wrist geometry copied into the servo's blocks, and the reference error
+    ``x_e - x_d = (p - p_d, log(R R_d^T))`` (eq. 19, 21). ``constants`` holds k_vf,
+    xi_q, the Coulomb look-ahead and section 5's three policy values, in that order.
+    Block layouts: :mod:`cosmos.runtime.servo_kernel`.
+    """
+    fold_servo(
+        inertia,
+        inertia_inv,
+        jacobian,
+        bias,
+        gravity,
+        jdot_qdot,
+        held_torque,
+        omega,
+        omega_bar,
+        constants[0],
+        constants[1],
+        viscous,
+        constants[2],
+        constants[3],
+        constants[4],
+        constants[5],
+        stacked,
+        matrices[sk.FORCE_TO_ACCELERATION],
+        matrices[sk.JBAR_LOOKAHEAD],
+    )
+    matrices[sk.JACOBIAN] = jacobian
+    matrices[sk.OMEGA_BAR] = omega_bar
+    matrices[sk.ROTATION_SENSOR, :3, :3] = rotation_sensor_to_world
+    vectors[sk.EVALUATION_Q] = evaluation_q
+    vectors[sk.GRAVITY] = gravity
+    vectors[sk.SENSOR_OFFSETS, :3] = sensor_to_tool_m
+    vectors[sk.SENSOR_OFFSETS, 3:] = sensor_to_com_m
+    error = vectors[sk.REFERENCE_ERROR]
+    error[:3] = position - goal_position
+    error[3:] = rotation_log(np.ascontiguousarray(rotation_tool_to_world).dot(goal_rotation_to_world.T))
+
+
+@njit(cache=True)
+def complete_evaluation(
+    inertia_upper: FloatArray,
+    inertia_inv_upper: FloatArray,
+    nle: FloatArray,
+    gravity: FloatArray,
+    jdot: FloatArray,
+    qd: FloatArray,
+    rotation_tool_to_world: FloatArray,
+    rotation_sensor_to_tool: FloatArray,
+    tool_in_sensor_tool_axes: FloatArray,
+    com_in_sensor_tool_axes: FloatArray,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """From Pinocchio's outputs to an evaluation's arrays, in one call.
+
+    Returns:
+        ``(A, A^-1, b, h, rotation_sensor_to_world, sensor_to_tool_m, sensor_to_com_m)``:
+        A and A^-1 made whole from their upper triangles, ``b = nle - g`` (eq. 12),
+        ``h = Jdot qd`` (eq. 14) and :func:`wrist_geometry`.
+    """
+    rotation_sensor, sensor_to_tool, sensor_to_com = wrist_geometry(
+        rotation_tool_to_world, rotation_sensor_to_tool, tool_in_sensor_tool_axes, com_in_sensor_tool_axes
+    )
+    return (
+        symmetric_from_upper(inertia_upper),
+        symmetric_from_upper(inertia_inv_upper),
+        nle - gravity,
+        np.ascontiguousarray(jdot).dot(qd),
+        rotation_sensor,
+        sensor_to_tool,
+        sensor_to_com,
+    )

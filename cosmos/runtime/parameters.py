@@ -19,7 +19,7 @@ import pinocchio as pin
 from cosmos.osc.dynamics import OperationalDynamics, operational_dynamics
 from cosmos.osc.limits import joint_limit_torque
 from cosmos.robot_model import RobotModel
-from cosmos.runtime.parameter_kernel import symmetric_from_upper, wrist_geometry
+from cosmos.runtime.parameter_kernel import complete_evaluation
 from cosmos.workcell import TOOL
 
 FloatArray = np.ndarray
@@ -121,14 +121,22 @@ class ParameterLevel:
         tool = pin.updateFramePlacement(model, data, frame)
         jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
         jdot = pin.getFrameJacobianTimeVariation(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
-        inertia_inv = symmetric_from_upper(pin.computeMinverse(model, data, q))
+        minv = pin.computeMinverse(model, data, q)
         gravity = pin.computeGeneralizedGravity(model, data, q).copy()
         rotation_tool = tool.rotation
-        rotation_sensor, sensor_to_tool, sensor_to_com = wrist_geometry(
-            rotation_tool,
-            self._rotation_sensor_to_tool,
-            self._tool_from_sensor_in_tool,
-            self._com_from_sensor_in_tool,
+        inertia, inertia_inv, bias, jdot_qdot, rotation_sensor, sensor_to_tool, sensor_to_com = (
+            complete_evaluation(
+                data.M,
+                minv,
+                data.nle,
+                gravity,
+                jdot,
+                qd,
+                rotation_tool,
+                self._rotation_sensor_to_tool,
+                self._tool_from_sensor_in_tool,
+                self._com_from_sensor_in_tool,
+            )
         )
         return Evaluation(
             q=q.copy(),
@@ -138,10 +146,10 @@ class ParameterLevel:
             sensor_to_tool_m=sensor_to_tool,
             sensor_to_com_m=sensor_to_com,
             jacobian=jacobian,
-            inertia=symmetric_from_upper(data.M),
+            inertia=inertia,
             inertia_inv=inertia_inv,
             gravity=gravity,
-            bias=data.nle - gravity,  # b(q, qd) of eq. 12
-            jdot_qdot=jdot.dot(qd),
+            bias=bias,
+            jdot_qdot=jdot_qdot,
             joint_limit_torque=self._joint_limit_torque(q),
         )

@@ -24,7 +24,7 @@ from cosmos.osc.force import Selection, selection
 from cosmos.osc.orientation import pose_error
 from cosmos.osc.unified import ForceGains
 from cosmos.runtime import servo_kernel as kernel
-from cosmos.runtime.parameter_kernel import fold_servo
+from cosmos.runtime.parameter_kernel import refold
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -84,7 +84,16 @@ class ServoLevel:
             policy: Section 5's singularity thresholds.
         """
         self.gains = gains
-        self._policy = policy
+        self._fold_constants = np.array(
+            (
+                gains.force.k_vf,
+                gains.xi_q,
+                gains.coulomb_lookahead_s,
+                policy.max_effective_mass_kg,
+                policy.blend_width,
+                policy.length_scale_m,
+            )
+        )
         self._viscous = np.array(viscous, dtype=float)
         scalars = np.zeros(kernel.SCALARS)
         scalars[kernel.K_F] = gains.force.k_f
@@ -184,8 +193,13 @@ class ServoLevel:
         ev, sp, sel = self._evaluation, self._setpoint, self._selection
         if ev is None or sp is None or sel is None:
             return
-        policy, gains, vectors, matrices = self._policy, self.gains, self._vectors, self._matrices
-        fold_servo(
+        refold(
+            ev.q,
+            ev.position,
+            ev.rotation_tool_to_world,
+            ev.rotation_sensor_to_world,
+            ev.sensor_to_tool_m,
+            ev.sensor_to_com_m,
             ev.inertia,
             ev.inertia_inv,
             ev.jacobian,
@@ -195,26 +209,13 @@ class ServoLevel:
             ev.joint_limit_torque + self._field_torque,
             sel.omega,
             sel.omega_bar,
-            gains.force.k_vf,
-            gains.xi_q,
+            sp.position,
+            sp.rotation_to_world,
+            self._fold_constants,
             self._viscous,
-            gains.coulomb_lookahead_s,
-            policy.max_effective_mass_kg,
-            policy.blend_width,
-            policy.length_scale_m,
             self._stacked,
-            matrices[kernel.FORCE_TO_ACCELERATION],
-            matrices[kernel.JBAR_LOOKAHEAD],
-        )
-        matrices[kernel.JACOBIAN] = ev.jacobian
-        matrices[kernel.OMEGA_BAR] = sel.omega_bar
-        matrices[kernel.ROTATION_SENSOR, :3, :3] = ev.rotation_sensor_to_world
-        vectors[kernel.EVALUATION_Q] = ev.q
-        vectors[kernel.GRAVITY] = ev.gravity
-        vectors[kernel.SENSOR_OFFSETS, :3] = ev.sensor_to_tool_m
-        vectors[kernel.SENSOR_OFFSETS, 3:] = ev.sensor_to_com_m
-        vectors[kernel.REFERENCE_ERROR] = pose_error(
-            ev.position, ev.rotation_tool_to_world, sp.position, sp.rotation_to_world
+            self._vectors,
+            self._matrices,
         )
 
     def command(self, t_s: float, q: FloatArray, qd: FloatArray, sensor: FloatArray) -> FloatArray:
