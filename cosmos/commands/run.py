@@ -62,7 +62,8 @@ class TerminalProgress:
         from rich.console import Console
 
         self.console = Console(stderr=True)
-        self.status = self.console.status("starting")
+        # numba compiles the servo kernels on first use, then caches them.
+        self.status = self.console.status("starting (a first run compiles the controller, ~30 s)")
         self.started = time.perf_counter()
 
     def __call__(self, progress: Progress) -> None:
