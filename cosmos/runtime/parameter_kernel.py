@@ -6,8 +6,8 @@ directions) and folds them with the selection (Figure 2) and the gains into the
 matrices the servo multiplies every tick (eq. 29 and 34). The readable
 reference is :func:`cosmos.osc.dynamics.operational_dynamics`,
 :func:`cosmos.osc.unified.servo_matrices` and
-:func:`cosmos.runtime.parameters.fold_for_servo`;
-``tests/runtime/test_fold_kernel.py`` checks this against them.
+:func:`cosmos.osc.dynamics.null_space_damping`;
+``tests/runtime/test_parameter_kernel.py`` checks this against them.
 """
 
 from __future__ import annotations
