@@ -48,7 +48,7 @@ def lambda_from_inverse(
         for i in range(6):
             trace += lambda_[i, i] / (scale[i] * scale[i])
         if 0.0 < trace <= limit:
-            return lambda_
+            return np.ascontiguousarray(lambda_)
     outer = np.outer(scale, scale)
     eigenvalues, eigenvectors = np.linalg.eigh(lambda_inv * outer)
     s_lo = 1.0 / max_effective_mass_kg
