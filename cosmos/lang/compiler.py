@@ -19,6 +19,7 @@ from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.checker import check_statement
+from cosmos.lang.gc_pause import gc_paused
 from cosmos.lang.motion import MotionBuilder
 from cosmos.lang.parser import parse_program
 from cosmos.lang.rotations import IDENTITY, readonly
@@ -168,7 +169,7 @@ class _Run:
                 self.warn(
                     f"SPEED {speed:g} m/s is faster than the PUMA 560 moves its tool", statement.value.span
                 )
-            return replace(state, default_speed_mps=speed)
+            return state.with_speed(speed)
         if isinstance(statement, ast.Comply):
             return self._comply(statement, state, evaluator)
         if isinstance(statement, ast.Let | ast.FrameDef):
@@ -207,7 +208,7 @@ class _Run:
 
     def _comply(self, statement: ast.Comply, state: CompileState, evaluator: Evaluator) -> CompileState:
         if not statement.axes:
-            return replace(state, compliance=(None,) * 6)
+            return state.with_compliance((None,) * 6)
         clauses = {c.kind: c for c in statement.clauses if isinstance(c, ast.ValueClause)}
         rotations = {ref.axis.is_rotation for ref in statement.axes}
         if len(rotations) > 1 and clauses:
@@ -232,7 +233,7 @@ class _Run:
         compliance = list(state.compliance)
         for ref in statement.axes:
             compliance[ref.axis.value] = AxisCompliance(stiffness, damping, statement.span)
-        return replace(state, compliance=tuple(compliance))
+        return state.with_compliance(tuple(compliance))
 
     # --------------------------------------------------------------- scene
 
@@ -474,6 +475,10 @@ class Compiler:
         Raises:
             ProgramError: A syntax or check error (all errors, as :class:`ProgramErrors`).
         """
+        with gc_paused():
+            return self._compile_text(text, state, file)
+
+    def _compile_text(self, text: str, state: CompileState, file: str) -> StatementResult:
         program = parse_program(text, file)
         steps: list[plan.Step] = []
         warnings: list[plan.Diagnostic] = []

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -130,11 +130,8 @@ class MotionBuilder:
             state = self._insert(statement)
         else:
             state = self._wait(statement)
-        state = replace(
-            state,
-            statement_count=self.state.statement_count + 1,
-            segment_count=self.state.segment_count + len(self._segments),
-        )
+        segments = self.state.segment_count + len(self._segments)
+        state = state.with_counts(self.state.statement_count + 1, segments)
         return tuple(self._segments), state
 
     # ------------------------------------------------------------ statements
@@ -205,7 +202,7 @@ class MotionBuilder:
             timeout=timeout,
         )
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
-        return replace(self.state, contact=None, contact_released_by=released)
+        return self.state.with_contact(None, released)
 
     def _contact(self, statement: ast.Contact) -> CompileState:
         clauses = _Clauses.of(statement.clauses)
@@ -251,7 +248,7 @@ class MotionBuilder:
         )
         contact = HeldContact(direction_world, force, frame, statement.span)
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
-        return replace(self.state, contact=contact, contact_released_by=released)
+        return self.state.with_contact(contact, released)
 
     def _slide(self, statement: ast.Slide) -> CompileState:
         clauses = _Clauses.of(statement.clauses)

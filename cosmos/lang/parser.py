@@ -10,9 +10,8 @@ node's span runs from its first token to its last.
 from __future__ import annotations
 
 import contextvars
-import math
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -24,6 +23,8 @@ from lark.lexer import PatternStr
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
+from cosmos.lang.fastparse import GiveUp, Tables, Tok, build_tables, parse
+from cosmos.lang.gc_pause import gc_paused
 from cosmos.lang.syntax import MAX_NESTING, check_nesting, syntax_error
 
 _FILE: contextvars.ContextVar[str] = contextvars.ContextVar("cosmos_source_file", default="<input>")
@@ -50,41 +51,75 @@ class _WordsEverywhere:
         return stream
 
 
-def _bounds(item: Any) -> tuple[tuple[int, int], tuple[int, int]] | None:
-    """(start, end) as (line, column) of a token, a node or a sequence of them."""
-    if isinstance(item, Token):
-        if item.type == "_NL" or item.line is None:
-            return None
-        return (item.line, item.column), (item.end_line, item.end_column)  # type: ignore[return-value]
+_TOKENS = (Token, Tok)
+"""Token classes: Lark's (when Lark parses) and the fast path's."""
+
+
+def _place(item: Any) -> Any:
+    """What holds the item's line, column, end_line and end_column, or None.
+
+    A token is its own place (a line break has none), a node's is its span, a
+    sequence's runs from its first placed item to its last one.
+    """
+    kind = type(item)
+    if kind is Tok or kind is Token:
+        return None if item.type == "_NL" or item.line is None else item
+    if item is None:
+        return None
     span = getattr(item, "span", None)
-    if isinstance(span, Span):
-        return (span.line, span.column), (span.end_line, span.end_column)
-    if isinstance(item, tuple | list):
-        found = [b for b in map(_bounds, item) if b is not None]
-        if found:
-            return found[0][0], found[-1][1]
+    if span is not None:
+        return span
+    if kind is tuple or kind is list:
+        first, last = _ends(item)
+        if first is not None:
+            return Span(_FILE.get(), first.line, first.column, last.end_line, last.end_column)
     return None
 
 
-def _span(children: Iterable[Any]) -> Span:
-    """The span from the first to the last positioned child."""
-    found = [b for b in map(_bounds, children) if b is not None]
-    if not found:
+def _ends(items: Sequence[Any]) -> tuple[Any, Any]:
+    """The places of the first and the last placed items (None, None if none is)."""
+    for item in items:
+        first = _place(item)
+        if first is not None:
+            break
+    else:
+        return None, None
+    for item in reversed(items):
+        last = _place(item)
+        if last is not None:
+            return first, last
+    return first, first  # not reached: the first placed item is also found from the end
+
+
+def _span(children: Sequence[Any]) -> Span:
+    """The span from the first to the last placed child: O(1) for a node's children.
+
+    Only the ends are looked at (a child's span already covers its own children).
+    """
+    first, last = _ends(children)
+    if first is None:
         return Span(_FILE.get(), 1, 1, 1, 1)
-    (line, column), (end_line, end_column) = found[0][0], found[-1][1]
-    return Span(_FILE.get(), line, column, end_line, end_column)
+    return Span(_FILE.get(), first.line, first.column, last.end_line, last.end_column)
+
+
+def _between(first: Any, last: Any) -> Span:
+    """The span from the start of ``first`` to the end of ``last`` (tokens or spans)."""
+    return Span(_FILE.get(), first.line, first.column, last.end_line, last.end_column)
 
 
 def _nodes(children: Iterable[Any]) -> tuple[Any, ...]:
     """The children that are not tokens or placeholders."""
-    return tuple(c for c in children if c is not None and not isinstance(c, Token))
+    return tuple(c for c in children if c is not None and not isinstance(c, _TOKENS))
 
 
-def _ident(token: Token) -> ast.Ident:
-    return ast.Ident(str(token), _span([token]))
+def _ident(token: Token | Tok) -> ast.Ident:
+    return ast.Ident(token.value, _span([token]))
 
 
-_QUANTITY = re.compile(r"(?P<number>(?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(?P<unit>.*)", re.I | re.S)
+_QUANTITY = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(.*)", re.I | re.S)
+"""A QUANTITY token: the number, then the unit as written (the terminal ends in the unit)."""
+_CLAUSE_KINDS = {kind.name: kind for kind in ast.ClauseKind}
+_AXES = {axis.name: axis for axis in ast.Axis}
 
 
 class _Builder(Transformer):
@@ -159,7 +194,7 @@ class _Builder(Transformer):
 
     def value_clause(self, children: list[Any]) -> ast.ValueClause:
         keyword, value = children
-        return ast.ValueClause(ast.ClauseKind[keyword.type], value, _span(children))
+        return ast.ValueClause(_CLAUSE_KINDS[keyword.type], value, _between(keyword, value.span))
 
     def via_clause(self, children: list[Any]) -> ast.ViaClause:
         return ast.ViaClause(_nodes(children), _span(children))
@@ -174,13 +209,14 @@ class _Builder(Transformer):
         return tuple(child for child in children if isinstance(child, ast.AxisRef))
 
     def axis(self, children: list[Token]) -> ast.AxisRef:
-        return ast.AxisRef(ast.Axis[children[0].type], _span(children))
+        token = children[0]
+        return ast.AxisRef(_AXES[token.type], _between(token, token))
 
     def direction(self, children: list[Any]) -> ast.Direction:
         last = children[-1]
-        if isinstance(last, Token):  # UP or DOWN
+        if isinstance(last, _TOKENS):  # UP or DOWN
             return ast.Direction(ast.Axis.Z, 1 if last.type == "UP" else -1, _span(children))
-        sign = -1 if isinstance(children[0], Token) and children[0].type == "MINUS" else 1
+        sign = -1 if isinstance(children[0], _TOKENS) and children[0].type == "MINUS" else 1
         return ast.Direction(last.axis, sign, _span(children))
 
     # --------------------------------------------------------- conditions
@@ -197,7 +233,7 @@ class _Builder(Transformer):
 
     def comparison(self, children: list[Any]) -> ast.Comparison:
         (_, sensed, direction), op, value = children
-        return ast.Comparison(sensed, direction, str(op), value, _span(children))
+        return ast.Comparison(sensed, direction, op.value, value, _span(children))
 
     def sensed(self, children: list[Any]) -> tuple[Token, ast.Sensed, ast.Direction | None]:
         direction = children[1] if len(children) > 1 else None
@@ -210,13 +246,16 @@ class _Builder(Transformer):
         return position if rpy is None else ast.Pose(position, rpy, _span(children))
 
     def add(self, children: list[Any]) -> ast.Binary:
-        return ast.Binary("+", children[0], children[2], _span(children))
+        left, _, right = children
+        return ast.Binary("+", left, right, _between(left.span, right.span))
 
     def subtract(self, children: list[Any]) -> ast.Binary:
-        return ast.Binary("-", children[0], children[2], _span(children))
+        left, _, right = children
+        return ast.Binary("-", left, right, _between(left.span, right.span))
 
     def multiply(self, children: list[Any]) -> ast.Binary:
-        return ast.Binary("*", children[0], children[2], _span(children))
+        left, _, right = children
+        return ast.Binary("*", left, right, _between(left.span, right.span))
 
     def negate(self, children: list[Any]) -> ast.Unary:
         return ast.Unary("-", children[1], _span(children))
@@ -229,21 +268,21 @@ class _Builder(Transformer):
         return children[1]
 
     def vector(self, children: list[Any]) -> ast.Vector:
-        return ast.Vector(_nodes(children), _span(children))
+        return ast.Vector(tuple(children[1:-1:2]), _between(children[0], children[-1]))
 
     def quantity(self, children: list[Token]) -> ast.Number:
-        match = _QUANTITY.fullmatch(str(children[0]))
+        token = children[0]
+        match = _QUANTITY.fullmatch(token.value)
         assert match is not None  # the QUANTITY terminal has this shape
-        value = float(match["number"])
-        if not math.isfinite(value):
-            value = math.inf
-        return ast.Number(value, match["unit"].strip() or None, _span(children))
+        number, unit = match.groups()
+        return ast.Number(float(number), unit or None, _between(token, token))
 
     def name(self, children: list[Token]) -> ast.Name:
-        return ast.Name(str(children[0]), _span(children))
+        token = children[0]
+        return ast.Name(token.value, _between(token, token))
 
 
-def _tag(token: Token | None) -> str | None:
+def _tag(token: Token | Tok | None) -> str | None:
     return None if token is None else token.type
 
 
@@ -289,6 +328,19 @@ def keywords() -> frozenset[str]:
     return frozenset(word.upper() for word in _keywords().values())
 
 
+@cache
+def _tables() -> Tables:
+    return build_tables(lark_parser(), _Builder())
+
+
+def _fast_parse(text: str) -> Any:
+    """What :func:`_raw_parse` gives, faster; None where Lark is to decide (errors)."""
+    try:
+        return parse(text if text.endswith("\n") else text + "\n", _tables())
+    except GiveUp:
+        return None
+
+
 def _raw_parse(text: str) -> Any:
     """Parse without error mapping (used by match_examples)."""
     return lark_parser().parse(text if text.endswith("\n") else text + "\n")
@@ -308,7 +360,10 @@ def parse_program(source: str, file: str = "<input>") -> ast.Program:
         check_nesting(source, file)
         token = _FILE.set(file)
         try:
-            statements = _raw_parse(source)
+            with gc_paused():
+                statements = _fast_parse(source)
+            if statements is None:  # not accepted as is: Lark parses it and says why
+                statements = _raw_parse(source)
         finally:
             _FILE.reset(token)
     except UnexpectedInput as error:

@@ -160,3 +160,26 @@ class CompileState:
     def bind(self, key: str, binding: Binding) -> CompileState:
         """A state with ``key`` bound."""
         return replace(self, names=frozen_map({**self.names, key: binding}))
+
+    # The hot changes, without dataclasses.replace's per-call look at the fields.
+
+    def with_speed(self, speed_mps: float) -> CompileState:
+        """A state with the default speed set [m/s]."""
+        return _changed(self, {"default_speed_mps": speed_mps})
+
+    def with_compliance(self, compliance: tuple[AxisCompliance | None, ...]) -> CompileState:
+        """A state with the COMPLY settings of X..RZ set."""
+        return _changed(self, {"compliance": compliance})
+
+    def with_contact(self, contact: HeldContact | None, released_by: Span | None) -> CompileState:
+        """A state with the held contact, and what released the last one, set."""
+        return _changed(self, {"contact": contact, "contact_released_by": released_by})
+
+    def with_counts(self, statement_count: int, segment_count: int) -> CompileState:
+        """A state with the motion statement and segment counts set."""
+        return _changed(self, {"statement_count": statement_count, "segment_count": segment_count})
+
+
+def _changed(state: CompileState, changes: dict[str, object]) -> CompileState:
+    """``dataclasses.replace(state, **changes)``, for field names known to be right."""
+    return CompileState(**{**state.__dict__, **changes})

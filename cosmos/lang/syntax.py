@@ -165,6 +165,8 @@ def check_nesting(source: str, file: str) -> None:
     Raises:
         ProgramError: At the first parenthesis past the limit.
     """
+    if source.count("(") <= MAX_NESTING:  # cannot nest deeper
+        return
     depth = 0
     for line_number, line in enumerate(source.splitlines(), start=1):
         for column, char in enumerate(line.split("#", 1)[0], start=1):

@@ -96,6 +96,19 @@ def parse_unit(text: str) -> Unit:
     Raises:
         UnknownUnit: The text is not a known unit.
     """
+    unit = _parsed.get(text)
+    if unit is None:
+        unit = _parse_unit(text)
+        if len(_parsed) < 1024:  # a program writes few distinct units
+            _parsed[text] = unit
+    return unit
+
+
+_parsed: dict[str, Unit] = {}
+"""Units parsed so far, by their text (a Unit is immutable)."""
+
+
+def _parse_unit(text: str) -> Unit:
     compact = "".join(ch for ch in text.casefold() if ch not in " \t.*")
     numerator, _, denominator = compact.partition("/")
     num = _NUMERATORS.get(numerator)

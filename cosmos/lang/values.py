@@ -108,20 +108,33 @@ class Evaluator:
             ProgramError: An unknown name, a unit or kind mismatch, or a number
                 too large to represent.
         """
-        value = self._evaluate(expr)
-        if isinstance(expr, ast.Number | ast.Binary | ast.Unary) and not _finite(value):
+        kind = type(expr)
+        if kind is ast.Number:
+            value: Value = self._number(expr)  # type: ignore[arg-type]
+        elif kind is ast.Name:
+            return self._lookup(expr)  # type: ignore[arg-type]
+        elif kind is ast.Vector:
+            return self._vector(expr)  # type: ignore[arg-type]
+        else:
+            value = self._evaluate(expr)
+            if kind is not ast.Binary and kind is not ast.Unary:
+                return value
+        if not _finite(value):
             raise ProgramError("this number is too large", expr.span)
         return value
 
+    def _number(self, expr: ast.Number) -> Scalar:
+        if expr.unit is None:
+            return Scalar(expr.value, None)
+        try:
+            unit = units.parse_unit(expr.unit)
+        except units.UnknownUnit as error:
+            raise ProgramError(str(error), expr.span) from None
+        return Scalar(expr.value * unit.factor, unit.dim)
+
     def _evaluate(self, expr: ast.Expr) -> Value:
         if isinstance(expr, ast.Number):
-            if expr.unit is None:
-                return Scalar(expr.value, None)
-            try:
-                unit = units.parse_unit(expr.unit)
-            except units.UnknownUnit as error:
-                raise ProgramError(str(error), expr.span) from None
-            return Scalar(expr.value * unit.factor, unit.dim)
+            return self._number(expr)
         if isinstance(expr, ast.Name):
             return self._lookup(expr)
         if isinstance(expr, ast.Vector):
