@@ -41,6 +41,9 @@ MAX_CALL_DEPTH = 32
 MAX_ERRORS = 20
 """Errors reported before the compiler stops looking for more."""
 
+_MOTIONS = (ast.Move, ast.Contact, ast.Slide, ast.Insert, ast.Wait)
+_DEFINITIONS = (ast.Let, ast.FrameDef)
+
 
 class ProgramErrors(ProgramError):
     """Several program errors; renders each, and reads as the first one.
@@ -150,7 +153,7 @@ class _Run:
 
     def _statement(self, statement: ast.Statement, state: CompileState) -> CompileState:
         evaluator = Evaluator(state.names, self.text_of)
-        if isinstance(statement, ast.Move | ast.Contact | ast.Slide | ast.Insert | ast.Wait):
+        if isinstance(statement, _MOTIONS):
             builder = MotionBuilder(
                 defaults=self.compiler.defaults,
                 state=state,
@@ -172,7 +175,7 @@ class _Run:
             return state.with_speed(speed)
         if isinstance(statement, ast.Comply):
             return self._comply(statement, state, evaluator)
-        if isinstance(statement, ast.Let | ast.FrameDef):
+        if isinstance(statement, _DEFINITIONS):
             return self._define(statement, state, evaluator)
         if isinstance(statement, ast.Obstacle):
             return self._obstacle(statement, state, evaluator)
@@ -508,6 +511,10 @@ class Compiler:
         Raises:
             ProgramError: Syntax or check errors (several as :class:`ProgramErrors`).
         """
+        with gc_paused():
+            return self._compile_program(source, file)
+
+    def _compile_program(self, source: str, file: str) -> plan.Plan:
         result = self.compile_text(source, self.initial_state(), file)
         warnings = list(result.warnings)
         for key, entry in result.state.procedures.items():
@@ -527,7 +534,7 @@ class Compiler:
 
 def _poison(statement: ast.Statement, state: CompileState) -> CompileState:
     """After a failed definition, mark the name so later uses are not reported again."""
-    if isinstance(statement, ast.Let | ast.FrameDef):
+    if isinstance(statement, _DEFINITIONS):
         kind = BindingKind.LET if isinstance(statement, ast.Let) else BindingKind.FRAME
         return state.bind(statement.name.key, Binding(None, kind, statement.name.span))
     return state

@@ -179,6 +179,10 @@ def _reducer(rule: Rule, builder: Any) -> Reduce | None:
         return filtered
 
     if inline:
+        if plain:
+            return list  # a copy of the popped values, made in C
+        if trailing == 0 and include[0][1] and not any(before for _, _, before in include):
+            return _extender([expand for _, expand, _ in include[1:]])
         return shape
     if expand_one:
 
@@ -190,6 +194,40 @@ def _reducer(rule: Rule, builder: Any) -> Reduce | None:
     if plain:
         return method
     return lambda children: method(shape(children))
+
+
+def _extender(expands: list[bool]) -> Reduce:
+    """The reduction of a ``_rule`` whose first symbol is a ``_rule`` (``x*``, ``x+``, a list).
+
+    Its list grows in place, as Lark's does, so a long list is never copied.
+    """
+    if expands == [True]:
+
+        def extend_one(children: list[Any]) -> Any:
+            items = children[0]
+            items += children[1]
+            return items
+
+        return extend_one
+    if not any(expands):
+
+        def append_rest(children: list[Any]) -> Any:
+            items = children[0]
+            items += children[1:]
+            return items
+
+        return append_rest
+
+    def extend(children: list[Any]) -> Any:
+        items = children[0]
+        for child, expand in zip(children[1:], expands, strict=True):
+            if expand:
+                items += child
+            else:
+                items.append(child)
+        return items
+
+    return extend
 
 
 def build_tables(lark: Lark, builder: Any) -> Tables:
@@ -316,7 +354,13 @@ def parse(text: str, tables: Tables) -> Any:
                 else:
                     children = []
                 values.append(reduce(children))
-                state = actions[states[-1]][origin]
+                below = states[-1]
+                state = actions[below][origin]
+                # Rules that pass the value through (?expr: sum) need only the goto.
+                step = actions[state].get(kind, 0)
+                while step < 0 and rules[~step][2] is None:
+                    state = actions[below][rules[~step][1]]
+                    step = actions[state].get(kind, 0)
                 states.append(state)
                 if state == end:
                     return values[-1]

@@ -393,8 +393,8 @@ class MotionBuilder:
 
     def _axes(self, forces: dict[int, float], free: set[int]) -> _Axes:
         """Axis setup: COMPLY in force, then zero-force axes ``free``, then ``forces``."""
-        motion = np.ones(6, dtype=bool)
-        force = np.zeros(6)
+        motion = [True] * 6
+        force = [0.0] * 6
         stiffness: list[float | None] = [None] * 6
         damping: list[float | None] = [None] * 6
         for i, compliance in enumerate(self.state.compliance):
@@ -411,8 +411,9 @@ class MotionBuilder:
             motion[i] = False
             force[i] = value
             stiffness[i] = 0.0
-        motion.flags.writeable = False
-        return _Axes(motion, readonly(force), tuple(stiffness), tuple(damping))
+        motion_array = np.array(motion, dtype=bool)
+        motion_array.flags.writeable = False
+        return _Axes(motion_array, readonly(force), tuple(stiffness), tuple(damping))
 
     def _no_compliance(self, axis: int, what: str, span: Span) -> None:
         compliance = self.state.compliance[axis]

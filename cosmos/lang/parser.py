@@ -272,7 +272,10 @@ class _Builder(Transformer):
 
     def quantity(self, children: list[Token]) -> ast.Number:
         token = children[0]
-        match = _QUANTITY.fullmatch(token.value)
+        text = token.value
+        if not text[-1].isalpha():  # a bare number (a unit ends in a letter)
+            return ast.Number(float(text), None, _between(token, token))
+        match = _QUANTITY.fullmatch(text)
         assert match is not None  # the QUANTITY terminal has this shape
         number, unit = match.groups()
         return ast.Number(float(number), unit or None, _between(token, token))

@@ -17,7 +17,8 @@ FloatArray = NDArray[np.float64]
 
 def readonly(values: object) -> FloatArray:
     """A float64 copy of ``values`` that cannot be written to."""
-    array = np.array(values, dtype=np.float64) + 0.0  # + 0.0 turns -0.0 into 0.0
+    array = np.array(values, dtype=np.float64)
+    array += 0.0  # turns -0.0 into 0.0
     array.flags.writeable = False
     return array
 

@@ -159,13 +159,26 @@ def _match_example(error: UnexpectedToken, parse: Callable[[str], Any]) -> str |
     return candidate
 
 
+_COMMENT = re.compile("#[^\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029]*")
+"""A comment, to the end of its line as ``str.splitlines`` ends lines."""
+_PARENS = re.compile(r"[()]")
+
+
 def check_nesting(source: str, file: str) -> None:
     """Refuse parentheses nested deeper than :data:`MAX_NESTING` (before parsing).
 
     Raises:
         ProgramError: At the first parenthesis past the limit.
     """
-    if source.count("(") <= MAX_NESTING:  # cannot nest deeper
+    depth = 0
+    for paren in _PARENS.findall(_COMMENT.sub("", source)):  # a quick look first
+        if paren == ")":
+            depth = max(depth - 1, 0)
+            continue
+        depth += 1
+        if depth > MAX_NESTING:
+            break
+    else:
         return
     depth = 0
     for line_number, line in enumerate(source.splitlines(), start=1):
