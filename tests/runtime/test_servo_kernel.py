@@ -1,0 +1,576 @@
+"""The compiled servo kernel (cosmos.runtime.servo_kernel) against the readable NumPy maths of cosmos.osc.
+
+Every check draws seeded random inputs, runs the numba kernel and compares it
+with the reference functions (each citing Khatib's equations), to ~1e-9
+relative. The reference never calls the kernel module's arithmetic.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
+from cosmos.osc.force import Selection, selection
+from cosmos.osc.limits import saturate_torque
+from cosmos.osc.motion import goal_command, tracking_command
+from cosmos.osc.orientation import so3_exp
+from cosmos.osc.unified import (
+    ForceGains,
+    force_command,
+    force_feedback,
+    integrate_force_error,
+    servo_matrices,
+    unified_torque,
+)
+from cosmos.robot_model import GRAVITY
+from cosmos.runtime import servo_kernel as sk
+from cosmos.runtime.wrench import environment_wrench
+
+RTOL = 1e-9
+MOTION_AXES_Z_FORCE = (True, True, False, True, True, True)
+
+
+def assert_close(actual: np.ndarray, expected: np.ndarray, rtol: float = RTOL) -> None:
+    """Elementwise within ``rtol`` of the largest entry of ``expected`` (entries near zero included)."""
+    scale = float(np.max(np.abs(expected))) if np.size(expected) else 0.0
+    np.testing.assert_allclose(actual, expected, rtol=rtol, atol=rtol * max(scale, 1e-12))
+
+
+def random_rotation(rng: np.random.Generator) -> np.ndarray:
+    return so3_exp(rng.uniform(-3.0, 3.0, 3))
+
+
+def block_rotation(rotation: np.ndarray) -> np.ndarray:
+    """``blkdiag(R, R)``: a (3, 3) rotation acting on ``[linear; angular]``. # (6, 6)."""
+    out = np.zeros((6, 6))
+    out[:3, :3] = rotation
+    out[3:, 3:] = rotation
+    return out
+
+
+def padded(rotation: np.ndarray) -> np.ndarray:
+    """A rotation in the top-left of a (6, 6) block, as the kernel's ``matrices`` hold them."""
+    out = np.zeros((6, 6))
+    out[:3, :3] = rotation
+    return out
+
+
+# --- environment_wrench_into -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_environment_wrench_matches_the_wrench_module(seed: int) -> None:
+    """Catches a transposed rotation, a wrong cross-product sign or a dropped weight term."""
+    rng = np.random.default_rng(seed)
+    sensor = rng.normal(0.0, 20.0, 6)
+    rotation = random_rotation(rng)
+    to_tool, to_com = rng.normal(0.0, 0.2, 3), rng.normal(0.0, 0.1, 3)
+    mass_kg = rng.uniform(0.2, 3.0)
+    expected = environment_wrench(sensor, rotation, to_tool, to_com, mass_kg)
+    out = np.full(6, np.nan)  # every entry must be written
+    sk.environment_wrench_into(out, sensor, rotation, to_tool, to_com, float(GRAVITY[2]) * mass_kg)
+    assert_close(out, expected)
+
+
+# --- matvec -------------------------------------------------------------------------------------
+
+
+def test_matvec_is_the_matrix_product() -> None:
+    """Catches swapped indices (``M^T v``) or a dropped column in the hand-written product."""
+    rng = np.random.default_rng(7)
+    for rows, cols in ((6, 6), (3, 6), (6, 3)):
+        matrix, vector = rng.normal(size=(rows, cols)), rng.normal(size=cols)
+        assert_close(sk.matvec(matrix, vector), matrix @ vector)
+
+
+# --- unit_mass_command -------------------------------------------------------------------------
+
+
+def _gains(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    return rng.uniform(100.0, 900.0, 6), rng.uniform(10.0, 60.0, 6)
+
+
+def _desired_speeds(error: np.ndarray, kp: np.ndarray, kv: np.ndarray) -> tuple[float, float]:
+    desired = -kp / kv * error
+    return float(np.linalg.norm(desired[:3])), float(np.linalg.norm(desired[3:]))
+
+
+@pytest.mark.parametrize(
+    ("linear_binds", "angular_binds"), [(False, False), (True, False), (False, True), (True, True)]
+)
+def test_goal_command_matches_eq_20_21(linear_binds: bool, angular_binds: bool) -> None:
+    """Catches one nu for both parts, the speed limit applied to the wrong part, or a missing nu."""
+    rng = np.random.default_rng(11 + 2 * linear_binds + angular_binds)
+    kp, kv = _gains(rng)
+    error = rng.normal(0.0, 0.05, 6)
+    velocity = rng.normal(0.0, 0.2, 6)
+    linear, angular = _desired_speeds(error, kp, kv)
+    # Put each limit on the chosen side of the unlimited desired speed.
+    max_speed = 0.4 * linear if linear_binds else 2.0 * linear
+    max_angular_speed = 0.3 * angular if angular_binds else 1.5 * angular
+    expected = goal_command(error, velocity, kp, kv, max_speed, max_angular_speed)
+    got = sk.unit_mass_command(
+        sk.MODE_GOAL, error, velocity, np.zeros(6), np.zeros(6), kp, kv, max_speed, max_angular_speed
+    )
+    assert_close(got, expected)
+    # The case does what it says: the limited desired velocity has the limit's norm.
+    limited = got / kv + velocity
+    assert np.isclose(np.linalg.norm(limited[:3]), max_speed) == linear_binds
+    assert np.isclose(np.linalg.norm(limited[3:]), max_angular_speed) == angular_binds
+
+
+def test_trajectory_command_matches_eq_19() -> None:
+    """Catches a dropped feed-forward xdd_d or a velocity error taken without xd_d."""
+    rng = np.random.default_rng(21)
+    kp, kv = _gains(rng)
+    error, velocity, velocity_d, accel_d = (rng.normal(0.0, 0.3, 6) for _ in range(4))
+    expected = tracking_command(error, velocity, velocity_d, accel_d, kp, kv)
+    got = sk.unit_mass_command(sk.MODE_TRAJECTORY, error, velocity, velocity_d, accel_d, kp, kv, 0.1, 0.1)
+    assert_close(got, expected)
+
+
+def test_hold_command_is_a_spring_and_damper() -> None:
+    """Catches HOLD using the trajectory's xd_d / xdd_d (stale after a move) or the speed limit."""
+    rng = np.random.default_rng(22)
+    kp, kv = _gains(rng)
+    error, velocity, velocity_d, accel_d = (rng.normal(0.0, 0.3, 6) for _ in range(4))
+    got = sk.unit_mass_command(sk.MODE_HOLD, error, velocity, velocity_d, accel_d, kp, kv, 1e-3, 1e-3)
+    assert_close(got, -kp * error - kv * velocity)
+
+
+# --- saturate_about ----------------------------------------------------------------------------
+
+
+def _saturated(torque: np.ndarray, torque_max: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    out = torque.copy()
+    sk.saturate_about(out, torque_max, keep)
+    return out
+
+
+def test_saturation_leaves_a_feasible_command_alone() -> None:
+    """Catches scaling (or clipping to the kept part) a command that is already within the limits."""
+    rng = np.random.default_rng(31)
+    torque_max = rng.uniform(10.0, 100.0, 6)
+    torque = rng.uniform(-0.99, 0.99, 6) * torque_max
+    keep = rng.normal(0.0, 5.0, 6)
+    expected, scale = saturate_torque(torque, torque_max, keep=keep)
+    assert scale == 1.0
+    assert_close(_saturated(torque, torque_max, keep), expected)
+    limit_exactly = torque_max * np.sign(rng.normal(size=6))
+    assert np.array_equal(_saturated(limit_exactly, torque_max, keep), limit_exactly)
+
+
+def test_saturation_scales_about_gravity() -> None:
+    """Catches scaling the whole command (gravity sags), clipping per joint (direction bent), or
+    dividing by zero on a joint whose command equals its kept part."""
+    rng = np.random.default_rng(32)
+    torque_max = rng.uniform(10.0, 100.0, 6)
+    keep = rng.uniform(-0.5, 0.5, 6) * torque_max
+    torque = keep + rng.normal(0.0, 1.0, 6) * torque_max
+    torque[3] = keep[3]  # delta == 0 on one joint
+    assert np.any(np.abs(torque) > torque_max)
+    expected, scale = saturate_torque(torque, torque_max, keep=keep)
+    assert 0.0 < scale < 1.0
+    got = _saturated(torque, torque_max, keep)
+    assert_close(got, expected)
+    assert np.all(np.abs(got) <= torque_max * (1.0 + 1e-12))
+    assert_close(got - keep, scale * (torque - keep))  # same direction about the kept part
+
+
+def test_saturation_when_the_kept_part_itself_exceeds_a_limit() -> None:
+    """Catches keeping an infeasible gravity torque instead of clipping it to the drive's limit."""
+    rng = np.random.default_rng(33)
+    torque_max = rng.uniform(10.0, 100.0, 6)
+    keep = rng.uniform(-0.5, 0.5, 6) * torque_max
+    keep[1] = 1.5 * torque_max[1]
+    keep[4] = -1.2 * torque_max[4]
+    for torque in (keep + rng.normal(0.0, 0.3, 6) * torque_max, keep.copy()):
+        expected, _ = saturate_torque(torque, torque_max, keep=keep)
+        got = _saturated(torque, torque_max, keep)
+        assert_close(got, expected)
+        assert np.all(np.abs(got) <= torque_max * (1.0 + 1e-12))
+
+
+# --- servo_tick --------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class TickCase:
+    """One servo tick: a GOAL segment with task z force-controlled unless ``force`` is False.
+
+    Attributes:
+        touching: The latch before the tick.
+        force_axis_n: Sensed force along the task's force-controlled z, [N].
+        uniform: Same gains on every axis (no rotation into the task frame).
+        ramp_fraction: Where in the setpoint's ramp the tick falls (>= 1: ramp done).
+        integral_at_limit: Start the integral just short of its clamp, so the step clamps.
+        saturate: Torque limits tight enough to bind.
+        mode: The motion mode (kernel's MODE_* value).
+        force: Task z force-controlled; otherwise every axis is motion-controlled.
+    """
+
+    touching: bool
+    force_axis_n: float
+    uniform: bool
+    ramp_fraction: float
+    integral_at_limit: bool = False
+    saturate: bool = False
+    mode: float = sk.MODE_GOAL
+    force: bool = True
+
+
+TICK_CASES = {
+    "free space, a push below the threshold": TickCase(False, 0.5, False, 0.4),
+    "free space, uniform gains": TickCase(False, -0.8, True, 0.7, saturate=True),
+    "the tick that latches the touch": TickCase(False, 3.0, True, 1.5),
+    "touching, light push": TickCase(True, 0.2, False, 2.0, saturate=True),
+    "touching, integral clamped": TickCase(True, -2.0, False, 0.9, integral_at_limit=True),
+    "trajectory, motion only": TickCase(False, 3.0, False, 0.5, mode=sk.MODE_TRAJECTORY, force=False),
+    "hold, motion only": TickCase(True, 3.0, False, 0.5, saturate=True, mode=sk.MODE_HOLD, force=False),
+}
+
+CONTACT_THRESHOLD_N = 1.0
+FORCE_GAINS = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
+XI_Q = 20.0
+LOOKAHEAD_S = 0.02
+DT_S = 1e-3
+INTENT_SCALE = 1.0 / 0.5  # gentler than the runtime's 1/0.01, so the intent is not all clipped
+COULOMB_BLEND = 0.2
+TOOL_MASS_KG = 0.65
+
+
+def _random_model(
+    rng: np.random.Generator,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A, J, b, g, h of a well-conditioned arm (Lambda in section 5's exact zone)."""
+    m = rng.normal(size=(6, 6))
+    inertia = 0.3 * (m @ m.T) + np.diag(rng.uniform(0.5, 3.0, 6))  # (6, 6) SPD, [kg m^2]
+    jacobian = np.eye(6) * 0.6 + rng.normal(0.0, 0.1, (6, 6))  # (6, 6)
+    return inertia, jacobian, rng.normal(0.0, 2.0, 6), rng.normal(0.0, 20.0, 6), rng.normal(0.0, 0.5, 6)
+
+
+def _sensor_reading(
+    wrench: np.ndarray, rotation: np.ndarray, to_tool: np.ndarray, to_com: np.ndarray, weight_z_n: float
+) -> np.ndarray:
+    """The raw sensor reading for which the tool applies ``wrench`` to the environment (inverse of
+    the quasi-static balance in cosmos.runtime.wrench)."""
+    force, moment = wrench[:3], wrench[3:]
+    weight = np.array((0.0, 0.0, weight_z_n))
+    moment_sensor = moment + np.cross(to_tool, force) - np.cross(to_com, weight)
+    return np.concatenate((rotation.T @ (force - weight), rotation.T @ moment_sensor))
+
+
+@dataclass(frozen=True)
+class TickInputs:
+    t_s: float
+    q: np.ndarray
+    qd: np.ndarray
+    sensor: np.ndarray
+    scalars: np.ndarray
+    vectors: np.ndarray
+    matrices: np.ndarray
+    stacked: np.ndarray
+    state: np.ndarray
+    inertia: np.ndarray
+    dynamics: OperationalDynamics
+    selection: Selection
+    held: np.ndarray
+    viscous: np.ndarray
+
+
+def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
+    rng = np.random.default_rng(seed)
+    inertia, jacobian, bias, gravity, h = _random_model(rng)
+    inertia_inv = np.linalg.inv(inertia)
+    dynamics = operational_dynamics(inertia, jacobian, bias, gravity, h, inertia_inv=inertia_inv)
+    assert dynamics.eigenvectors.shape[1] == 0, "want section 5's exact regime here"
+    rotation_task = random_rotation(rng)
+    sel = selection(MOTION_AXES_Z_FORCE if case.force else (True,) * 6, rotation_task)
+    held = rng.normal(0.0, 1.0, 6)
+    viscous = rng.uniform(0.5, 5.0, 6)
+
+    # The folded matrices, from the reference (eq. 29 with the null-space damping of eq. 34).
+    stacked = np.zeros((6, 25))
+    stacked[:, :19] = servo_matrices(dynamics, sel, FORCE_GAINS).stacked
+    stacked[:, 18] += held
+    stacked[:, 19:] = np.column_stack([null_space_damping(dynamics, inertia, e, XI_Q) for e in np.eye(6)])
+    stacked[:, 19:] += np.diag(viscous)
+
+    # The wrench the tool applies: large on motion axes, ``force_axis_n`` along task z.
+    normal = rotation_task[:, 2]
+    tangent = rotation_task[:, 0]
+    wrench = np.concatenate((25.0 * tangent + case.force_axis_n * normal, rng.normal(0.0, 2.0, 3)))
+    rotation_sensor = random_rotation(rng)
+    to_tool, to_com = rng.normal(0.0, 0.15, 3), rng.normal(0.0, 0.05, 3)
+    weight_z_n = float(GRAVITY[2]) * TOOL_MASS_KG
+    sensor = _sensor_reading(wrench, rotation_sensor, to_tool, to_com, weight_z_n)
+
+    force_task = np.array((0.0, 0.0, -10.0, 0.0, 0.0, 0.0))
+    force_world = np.concatenate((rotation_task @ force_task[:3], rotation_task @ force_task[3:]))
+    start_s, ramp_s = 1.0, 0.2
+    t_s = start_s + case.ramp_fraction * ramp_s
+
+    scalars = np.zeros(sk.SCALARS)
+    scalars[sk.MODE] = case.mode
+    scalars[sk.UNIFORM] = float(case.uniform)
+    scalars[sk.HAS_FORCE] = float(case.force)
+    scalars[sk.MAX_SPEED] = 0.25
+    scalars[sk.MAX_ANGULAR_SPEED] = 1.0
+    scalars[sk.START_S] = start_s
+    scalars[sk.RAMP_S] = ramp_s
+    scalars[sk.K_F] = FORCE_GAINS.k_f
+    scalars[sk.K_I] = FORCE_GAINS.k_i
+    scalars[sk.INTEGRAL_LIMIT] = FORCE_GAINS.integral_limit
+    scalars[sk.CONTACT_THRESHOLD_N] = CONTACT_THRESHOLD_N
+    scalars[sk.DT_S] = DT_S
+    scalars[sk.INTENT_SCALE] = INTENT_SCALE
+    scalars[sk.COULOMB_BLEND] = COULOMB_BLEND
+    scalars[sk.TOOL_WEIGHT_Z_N] = weight_z_n
+
+    vectors = np.zeros((sk.VECTORS, 6))
+    vectors[sk.KP], vectors[sk.KV] = (np.full(6, 400.0), np.full(6, 40.0)) if case.uniform else _gains(rng)
+    vectors[sk.FORCE_WORLD] = force_world
+    vectors[sk.FORCE_START] = 0.3 * force_world
+    vectors[sk.REFERENCE_ERROR] = rng.normal(0.0, 0.01, 6)
+    vectors[sk.REFERENCE_VELOCITY] = rng.normal(0.0, 0.1, 6)  # used in TRAJECTORY mode only
+    vectors[sk.REFERENCE_ACCELERATION] = rng.normal(0.0, 1.0, 6)  # used in TRAJECTORY mode only
+    q_e = rng.uniform(-2.0, 2.0, 6)
+    vectors[sk.EVALUATION_Q] = q_e
+    vectors[sk.GRAVITY] = gravity
+    vectors[sk.SENSOR_OFFSETS, :3] = to_tool
+    vectors[sk.SENSOR_OFFSETS, 3:] = to_com
+    vectors[sk.COULOMB_NM] = rng.uniform(1.0, 8.0, 6)
+    vectors[sk.TORQUE_MAX] = 1e6  # replaced below when the case saturates
+
+    matrices = np.zeros((sk.MATRICES, 6, 6))
+    matrices[sk.JACOBIAN] = jacobian
+    matrices[sk.FORCE_TO_ACCELERATION] = dynamics.lambda_inv @ sel.omega_bar
+    matrices[sk.JBAR_LOOKAHEAD] = LOOKAHEAD_S * dynamics.jbar
+    matrices[sk.OMEGA_BAR] = sel.omega_bar
+    matrices[sk.ROTATION_TASK] = padded(rotation_task)
+    matrices[sk.ROTATION_SENSOR] = padded(rotation_sensor)
+
+    state = np.full((sk.STATE_ROWS, 6), np.nan)  # output rows must all be written
+    state[sk.FLAGS] = 0.0
+    state[sk.FLAGS, sk.TOUCHING] = float(case.touching)
+    if case.integral_at_limit:
+        # Along the force axis, its largest world component 1 mN s short of the clamp, on the
+        # side the error drives it (F_d - F_s is negative along the normal): this step clamps.
+        along = np.concatenate((normal, np.zeros(3)))
+        state[sk.INTEGRAL] = -(FORCE_GAINS.integral_limit - 1e-3) * along / np.max(np.abs(normal))
+    else:
+        state[sk.INTEGRAL] = sel.omega_bar @ rng.normal(0.0, 0.3, 6)
+    state[sk.COULOMB] = rng.uniform(-1.0, 1.0, 6)
+
+    q = q_e + rng.normal(0.0, 0.01, 6)
+    qd = rng.normal(0.0, 2e-3, 6)
+    inputs = TickInputs(
+        t_s, q, qd, sensor, scalars, vectors, matrices, stacked, state, inertia, dynamics, sel, held, viscous
+    )
+    if case.saturate:
+        unsaturated = _reference_tick(inputs).torque_unsaturated
+        limits = np.maximum(0.6 * np.abs(unsaturated), np.abs(gravity) + 1.0)
+        vectors[sk.TORQUE_MAX] = limits
+        assert np.any(np.abs(unsaturated) > limits), "the case should saturate"
+    return inputs
+
+
+@dataclass(frozen=True)
+class ReferenceTick:
+    """The reference's tick: state rows keyed by the kernel's row indices, the latch, Gamma unsaturated."""
+
+    rows: dict[int, np.ndarray]
+    touching: bool
+    torque_unsaturated: np.ndarray
+
+
+def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None = None) -> ReferenceTick:
+    """One tick composed from cosmos.osc and cosmos.runtime.wrench.
+
+    ``force_acceleration_always`` overrides the rule "Lambda^-1 Omega_bar F_fb counts toward the
+    Coulomb intent only while not touching" (used to show the test can tell them apart).
+    """
+    sc, vec, mat, st = inputs.scalars, inputs.vectors, inputs.matrices, inputs.state
+    dyn, sel = inputs.dynamics, inputs.selection
+    rotation_sensor = mat[sk.ROTATION_SENSOR, :3, :3]
+    wrench = environment_wrench(
+        inputs.sensor,
+        rotation_sensor,
+        vec[sk.SENSOR_OFFSETS, :3],
+        vec[sk.SENSOR_OFFSETS, 3:],
+        TOOL_MASS_KG,
+    )
+    jacobian = dyn.jacobian
+    velocity = jacobian @ inputs.qd
+    displacement = jacobian @ (inputs.q - vec[sk.EVALUATION_Q])
+    error = vec[sk.REFERENCE_ERROR] + displacement  # section 3's estimator: x = x_e + J (q - q_e)
+
+    # Eq. 19 or 20-21 with gains per task axis: the command in task axes, turned back to world.
+    kp, kv = vec[sk.KP], vec[sk.KV]
+    rotation = block_rotation(mat[sk.ROTATION_TASK, :3, :3])
+    error_task, velocity_task = rotation.T @ error, rotation.T @ velocity
+    if sc[sk.MODE] == sk.MODE_GOAL:
+        speeds = sc[sk.MAX_SPEED], sc[sk.MAX_ANGULAR_SPEED]
+        motion_task = goal_command(error_task, velocity_task, kp, kv, *speeds)
+    elif sc[sk.MODE] == sk.MODE_TRAJECTORY:
+        velocity_d, accel_d = (
+            rotation.T @ vec[sk.REFERENCE_VELOCITY],
+            rotation.T @ vec[sk.REFERENCE_ACCELERATION],
+        )
+        motion_task = tracking_command(error_task, velocity_task, velocity_d, accel_d, kp, kv)
+    else:
+        motion_task = -kp * error_task - kv * velocity_task
+    motion = rotation @ motion_task
+    if not sc[sk.HAS_FORCE]:  # every axis motion-controlled: no force loop, latch and integral kept
+        torque = unified_torque(dyn, sel, motion, np.zeros(6)) + inputs.held
+        torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
+        return _finish_tick(inputs, wrench, error, velocity, displacement, motion, torque)
+
+    # Figure 2's force loop: ramped setpoint, integral latched on the first push.
+    fraction = min(1.0, (inputs.t_s - sc[sk.START_S]) / sc[sk.RAMP_S])
+    start = vec[sk.FORCE_START]
+    setpoint = start + fraction * (vec[sk.FORCE_WORLD] - start)
+    touching = bool(st[sk.FLAGS, sk.TOUCHING]) or np.max(np.abs(sel.omega_bar @ wrench)) > CONTACT_THRESHOLD_N
+    integral = st[sk.INTEGRAL].copy()
+    if touching:
+        integral = integrate_force_error(
+            integral, setpoint, wrench, sel.omega_bar, DT_S, FORCE_GAINS.integral_limit
+        )
+    feedback = force_feedback(setpoint, wrench, integral, FORCE_GAINS)
+    f_a = force_command(setpoint, wrench, integral, velocity, dyn.lambda_, sel.omega_bar, FORCE_GAINS)
+
+    # Eq. 29 with the held potentials, eq. 34's null-space damping and viscous friction.
+    torque = unified_torque(dyn, sel, motion, f_a) + inputs.held
+    torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
+
+    with_force = not touching if force_acceleration_always is None else force_acceleration_always
+    acceleration = motion + (dyn.lambda_inv @ (sel.omega_bar @ feedback) if with_force else 0.0)
+    return _finish_tick(
+        inputs,
+        wrench,
+        error,
+        velocity,
+        displacement,
+        acceleration,
+        torque,
+        integral=integral,
+        touching=touching,
+    )
+
+
+def _finish_tick(
+    inputs: TickInputs,
+    wrench: np.ndarray,
+    error: np.ndarray,
+    velocity: np.ndarray,
+    displacement: np.ndarray,
+    acceleration: np.ndarray,
+    torque: np.ndarray,
+    integral: np.ndarray | None = None,
+    touching: bool | None = None,
+) -> ReferenceTick:
+    """Coulomb compensation toward ``qd + Jbar a`` (low-passed) and the saturation about g."""
+    vec, st = inputs.vectors, inputs.state
+    intent = (inputs.qd + LOOKAHEAD_S * inputs.dynamics.jbar @ acceleration) * INTENT_SCALE
+    target = vec[sk.COULOMB_NM] * np.clip(intent, -1.0, 1.0)
+    coulomb = st[sk.COULOMB] + COULOMB_BLEND * (target - st[sk.COULOMB])
+    torque = torque + coulomb
+    saturated, _ = saturate_torque(torque, vec[sk.TORQUE_MAX], keep=vec[sk.GRAVITY])
+    rows = {
+        sk.WRENCH: wrench,
+        sk.ERROR: error,
+        sk.VELOCITY: velocity,
+        sk.DISPLACEMENT: displacement,
+        sk.INTEGRAL: st[sk.INTEGRAL] if integral is None else integral,
+        sk.COULOMB: coulomb,
+        sk.TORQUE: saturated,
+    }
+    latched = bool(st[sk.FLAGS, sk.TOUCHING]) if touching is None else touching
+    return ReferenceTick(rows, latched, torque)
+
+
+def _run_kernel(inputs: TickInputs) -> np.ndarray:
+    state = inputs.state.copy()
+    sk.servo_tick(
+        inputs.t_s,
+        inputs.q,
+        inputs.qd,
+        inputs.sensor,
+        inputs.scalars,
+        inputs.vectors,
+        inputs.matrices,
+        inputs.stacked,
+        state,
+    )
+    return state
+
+
+ROW_NAMES = {
+    sk.WRENCH: "WRENCH",
+    sk.ERROR: "ERROR",
+    sk.VELOCITY: "VELOCITY",
+    sk.DISPLACEMENT: "DISPLACEMENT",
+    sk.INTEGRAL: "INTEGRAL",
+    sk.COULOMB: "COULOMB",
+    sk.TORQUE: "TORQUE",
+}
+
+
+@pytest.mark.parametrize("name", list(TICK_CASES))
+def test_servo_tick_matches_the_osc_composition(name: str) -> None:
+    """A whole tick against sensor -> estimator -> eq. 20-21 -> Figure 2 -> eq. 29, 34 -> Coulomb ->
+    saturation composed from cosmos.osc. Catches a misplaced block of ``stacked``, a wrong packed
+    index, the task-frame rotation transposed, the ramp, the latch (integral moving in free space,
+    or not once touching), the anti-windup clamp, the Coulomb look-ahead and the saturation."""
+    case = TICK_CASES[name]
+    inputs = _tick_inputs(case, seed=sorted(TICK_CASES).index(name) + 100)
+    expected = _reference_tick(inputs)
+    state = _run_kernel(inputs)
+    for row, row_name in ROW_NAMES.items():
+        try:
+            assert_close(state[row], expected.rows[row])
+        except AssertionError as failure:
+            raise AssertionError(f"state row {row_name} differs") from failure
+    assert state[sk.FLAGS, sk.TOUCHING] == float(expected.touching)
+
+
+@pytest.mark.parametrize("name", list(TICK_CASES))
+def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
+    """Guards the cases above: each touches the latch, the integral and the Coulomb intent the way
+    its name says, so a kernel that got those wrong could not pass by accident."""
+    case = TICK_CASES[name]
+    inputs = _tick_inputs(case, seed=sorted(TICK_CASES).index(name) + 100)
+    reference = _reference_tick(inputs)
+    expected, latched = reference.rows, reference.touching
+    integral_before = inputs.state[sk.INTEGRAL]
+    if not case.force:  # no force loop: the latch and the integral are left as they were
+        assert latched == case.touching and np.array_equal(expected[sk.INTEGRAL], integral_before)
+        return
+    assert latched == (case.touching or abs(case.force_axis_n) > CONTACT_THRESHOLD_N)
+    if latched:
+        assert not np.array_equal(expected[sk.INTEGRAL], integral_before)
+    else:
+        assert np.array_equal(expected[sk.INTEGRAL], integral_before)
+        # Were it integrating, it would have moved: the latch is what holds it.
+        sel = inputs.selection
+        moved = integrate_force_error(
+            integral_before,
+            inputs.vectors[sk.FORCE_WORLD],
+            expected[sk.WRENCH],
+            sel.omega_bar,
+            DT_S,
+            FORCE_GAINS.integral_limit,
+        )
+        assert np.max(np.abs(moved - integral_before)) > 1e-3
+    if case.integral_at_limit:
+        assert np.isclose(np.max(np.abs(expected[sk.INTEGRAL])), FORCE_GAINS.integral_limit)
+    # The free-space acceleration from the force loop changes the Coulomb term of this tick.
+    other = _reference_tick(inputs, force_acceleration_always=latched).rows
+    assert np.max(np.abs(other[sk.COULOMB] - expected[sk.COULOMB])) > 1e-6
+    intent_unclipped = np.abs(expected[sk.COULOMB] - (1 - COULOMB_BLEND) * inputs.state[sk.COULOMB]) < (
+        COULOMB_BLEND * inputs.vectors[sk.COULOMB_NM] * (1 - 1e-9)
+    )
+    assert intent_unclipped.any(), "every joint's Coulomb intent is clipped: the look-ahead goes untested"
