@@ -123,7 +123,7 @@ class ParameterLevel:
         jdot = pin.getFrameJacobianTimeVariation(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
         minv = pin.computeMinverse(model, data, q)
         gravity = pin.computeGeneralizedGravity(model, data, q).copy()
-        rotation_tool = tool.rotation
+        rotation_tool = np.ascontiguousarray(tool.rotation)  # Eigen is column-major; the kernels take C order
         inertia, inertia_inv, bias, jdot_qdot, rotation_sensor, sensor_to_tool, sensor_to_com = (
             complete_evaluation(
                 data.M,

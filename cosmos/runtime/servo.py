@@ -210,7 +210,7 @@ class ServoLevel:
             sel.omega,
             sel.omega_bar,
             sp.position,
-            sp.rotation_to_world,
+            np.ascontiguousarray(sp.rotation_to_world),
             self._fold_constants,
             self._viscous,
             self._stacked,

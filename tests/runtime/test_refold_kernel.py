@@ -93,7 +93,16 @@ def test_complete_evaluation_matches_pinocchio() -> None:
     minv = pin.computeMinverse(model, data, q).copy()
     gravity = pin.computeGeneralizedGravity(model, data, q).copy()
     inertia, inertia_inv, bias, h, *_ = complete_evaluation(
-        data.M, minv, data.nle, gravity, jdot, qd, tool.rotation, np.eye(3), np.zeros(3), np.zeros(3)
+        data.M,
+        minv,
+        data.nle,
+        gravity,
+        jdot,
+        qd,
+        np.ascontiguousarray(tool.rotation),
+        np.eye(3),
+        np.zeros(3),
+        np.zeros(3),
     )
     upper = np.triu(pin.crba(model, model.createData(), q))
     assert np.allclose(inertia, upper + np.triu(upper, 1).T, atol=1e-12)
