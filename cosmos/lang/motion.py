@@ -75,6 +75,19 @@ class _Clauses:
         return None if clause is None else clause.value
 
 
+_NO_COMPLIANCE = (None,) * 6
+
+
+def _all_motion() -> _Axes:
+    """Every axis under motion control (no COMPLY, no force); its arrays are read-only."""
+    motion = np.ones(6, dtype=bool)
+    motion.flags.writeable = False
+    return _Axes(motion, readonly(np.zeros(6)), (None,) * 6, (None,) * 6)
+
+
+_ALL_MOTION = _all_motion()
+
+
 def _axis_list(axes: list[int] | set[int]) -> str:
     return " ".join(_AXIS_NAMES[i] for i in sorted(axes))
 
@@ -172,7 +185,7 @@ class MotionBuilder:
                 for p in (self._position(point, "VIA") for point in clauses.via.points)
             )
         axes = self._axes({}, set())
-        floating = [i for i in range(6) if not axes.motion[i]]
+        floating = [] if axes.motion.all() else [i for i in range(6) if not axes.motion[i]]
         if floating:
             comply = self.state.compliance[floating[0]]
             assert comply is not None
@@ -393,6 +406,8 @@ class MotionBuilder:
 
     def _axes(self, forces: dict[int, float], free: set[int]) -> _Axes:
         """Axis setup: COMPLY in force, then zero-force axes ``free``, then ``forces``."""
+        if not forces and not free and self.state.compliance == _NO_COMPLIANCE:
+            return _ALL_MOTION
         motion = [True] * 6
         force = [0.0] * 6
         stiffness: list[float | None] = [None] * 6

@@ -181,5 +181,17 @@ class CompileState:
 
 
 def _changed(state: CompileState, changes: dict[str, object]) -> CompileState:
-    """``dataclasses.replace(state, **changes)``, for field names known to be right."""
-    return CompileState(**{**state.__dict__, **changes})
+    """``dataclasses.replace(state, **changes)``, for field names known to be right.
+
+    CompileState has no ``__post_init__``, so a copy of its fields with some
+    changed is what ``replace`` makes; this skips the frozen ``__setattr__`` of
+    each of the ten fields (it runs for every statement compiled).
+    """
+    copy = _object_new(CompileState)
+    fields = copy.__dict__
+    fields.update(state.__dict__)
+    fields.update(changes)
+    return copy
+
+
+_object_new = object.__new__

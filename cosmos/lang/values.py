@@ -110,31 +110,36 @@ class Evaluator:
         """
         kind = type(expr)
         if kind is ast.Number:
-            value: Value = self._number(expr)  # type: ignore[arg-type]
-        elif kind is ast.Name:
+            number, dim = self._number_value(expr)  # type: ignore[arg-type]
+            return Scalar(number, dim)
+        if kind is ast.Name:
             return self._lookup(expr)  # type: ignore[arg-type]
-        elif kind is ast.Vector:
+        if kind is ast.Vector:
             return self._vector(expr)  # type: ignore[arg-type]
-        else:
-            value = self._evaluate(expr)
-            if kind is not ast.Binary and kind is not ast.Unary:
-                return value
+        value = self._evaluate(expr)
+        if kind is not ast.Binary and kind is not ast.Unary:
+            return value
         if not _finite(value):
             raise ProgramError("this number is too large", expr.span)
         return value
 
-    def _number(self, expr: ast.Number) -> Scalar:
+    def _number_value(self, expr: ast.Number) -> tuple[float, Dim | None]:
+        """The number in SI and its dimension (None for a bare number); finite."""
         if expr.unit is None:
-            return Scalar(expr.value, None)
-        try:
-            unit = units.parse_unit(expr.unit)
-        except units.UnknownUnit as error:
-            raise ProgramError(str(error), expr.span) from None
-        return Scalar(expr.value * unit.factor, unit.dim)
+            number, dim = expr.value, None
+        else:
+            try:
+                unit = units.parse_unit(expr.unit)
+            except units.UnknownUnit as error:
+                raise ProgramError(str(error), expr.span) from None
+            number, dim = expr.value * unit.factor, unit.dim
+        if not math.isfinite(number):
+            raise ProgramError("this number is too large", expr.span)
+        return number, dim
 
     def _evaluate(self, expr: ast.Expr) -> Value:
         if isinstance(expr, ast.Number):
-            return self._number(expr)
+            return Scalar(*self._number_value(expr))
         if isinstance(expr, ast.Name):
             return self._lookup(expr)
         if isinstance(expr, ast.Vector):
@@ -161,23 +166,27 @@ class Evaluator:
         dim: Dim | None = None
         first_with_dim: ast.Expr | None = None
         for item in expr.items:
-            value = self.evaluate(item)
-            if not isinstance(value, Scalar):
-                raise ProgramError(
-                    f"a vector's components must be numbers; this is {kind_of(value)}", item.span
-                )
-            if value.dim is not None:
+            if type(item) is ast.Number:  # most components: no Scalar made
+                number, item_dim = self._number_value(item)
+            else:
+                value = self.evaluate(item)
+                if not isinstance(value, Scalar):
+                    raise ProgramError(
+                        f"a vector's components must be numbers; this is {kind_of(value)}", item.span
+                    )
+                number, item_dim = value.value, value.dim
+            if item_dim is not None:
                 if dim is None:
-                    dim, first_with_dim = value.dim, item
-                elif value.dim != dim:
+                    dim, first_with_dim = item_dim, item
+                elif item_dim != dim:
                     assert first_with_dim is not None
                     raise ProgramError(
                         f"the components of a vector must be of one kind: "
                         f"{self.text_of(first_with_dim.span)} is {units.describe(dim)}, "
-                        f"{self.text_of(item.span)} is {units.describe(value.dim)}",
+                        f"{self.text_of(item.span)} is {units.describe(item_dim)}",
                         item.span,
                     )
-            values.append(value.value)
+            values.append(number)
         return Vec(tuple(values), dim)
 
     def _scale(self, value: Value, factor: float, span: Span) -> Value:
