@@ -5,7 +5,9 @@ evaluation, it estimates the operational position (the seed's estimator:
 ``x = x_e + J (q - q_e)`` between evaluations), forms the motion command
 F*_m (eq. 19 or 20-21) on the motion-controlled axes and the active force
 command on the force-controlled ones (setpoint fed forward, PI on the force
-error, velocity damping), and maps them to joint torques with the folded
+error, velocity damping; on force-controlled moment axes, once in contact,
+admittance control: the moment error sets a rotation speed that a velocity
+servo tracks), and maps them to joint torques with the folded
 matrices of eq. 29, adding the null-space damping of eq. 34, the joint-limit
 potential of section 6 and friction compensation, saturated to the drives.
 
@@ -46,6 +48,11 @@ class ServoGains:
         coulomb_lookahead_s: How far ahead the commanded joint acceleration counts
             toward the direction of motion, in [s].
         coulomb_filter_s: Time constant of the low-pass on the Coulomb compensation, [s].
+        admittance_gain: On force-controlled moment axes, rotation speed per N m of
+            moment error, in [rad/s / N m] (admittance control; see servo_kernel).
+        admittance_max_speed_rad_s: Bound on that speed, in [rad/s].
+        admittance_kv: Velocity gain of the unit-mass servo that tracks it, in [1/s].
+        moment_filter_s: Time constant of the low-pass on the sensed moment there, [s].
     """
 
     force: ForceGains = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
@@ -54,6 +61,10 @@ class ServoGains:
     coulomb_velocity_rad_s: float = 0.01
     coulomb_lookahead_s: float = 0.02
     coulomb_filter_s: float = 0.005
+    admittance_gain: float = 30.0
+    admittance_max_speed_rad_s: float = 0.3
+    admittance_kv: float = 40.0
+    moment_filter_s: float = 0.02
 
 
 _MODES = {MotionMode.HOLD: kernel.MODE_HOLD, MotionMode.GOAL: kernel.MODE_GOAL}
@@ -104,6 +115,11 @@ class ServoLevel:
         scalars[kernel.INTENT_SCALE] = 1.0 / gains.coulomb_velocity_rad_s
         scalars[kernel.COULOMB_BLEND] = min(1.0, servo_dt_s / gains.coulomb_filter_s)
         scalars[kernel.TOOL_WEIGHT_Z_N] = tool_weight_z_n
+        scalars[kernel.ADMITTANCE_GAIN] = gains.admittance_gain
+        scalars[kernel.ADMITTANCE_MAX_SPEED] = gains.admittance_max_speed_rad_s
+        scalars[kernel.ADMITTANCE_KV] = gains.admittance_kv
+        scalars[kernel.MOMENT_BLEND] = min(1.0, servo_dt_s / gains.moment_filter_s)
+        scalars[kernel.LOOKAHEAD_S] = gains.coulomb_lookahead_s
         self._scalars = scalars
         self._vectors = np.zeros((kernel.VECTORS, 6))
         self._vectors[kernel.COULOMB_NM] = coulomb
@@ -112,7 +128,8 @@ class ServoLevel:
         self._state = np.zeros((kernel.STATE_ROWS, 6))
         self._setpoint: ServoSetpoint | None = None
         self._evaluation: Evaluation | None = None
-        self._selection: Selection | None = None
+        self._selection: Selection | None = None  # as the plan says
+        self._servo_selection: Selection | None = None  # moment axes counted as motion (admittance)
         self._field_torque = np.zeros(6)
         # (6, 25): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
@@ -163,14 +180,24 @@ class ServoLevel:
         ):
             state[kernel.INTEGRAL] = 0.0
             self._selection = selection(setpoint.motion_axes, setpoint.rotation_task_to_world)
+            # Force-controlled moment axes run admittance control: for the servo they are
+            # motion axes whose speed the moment error sets (servo_kernel.servo_tick).
+            axes = tuple(setpoint.motion_axes[:3]) + (True, True, True)
+            self._servo_selection = selection(axes, setpoint.rotation_task_to_world)
+            self._matrices[kernel.OMEGA_ADMITTANCE] = (
+                self._selection.omega_bar - self._servo_selection.omega_bar
+            )
+        state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]
         state[kernel.FLAGS, kernel.TOUCHING] = 0.0  # latched by the first push felt on a force axis
+        state[kernel.FLAGS, kernel.ADMITTING] = 0.0  # latched by the first contact force
         scalars, vectors = self._scalars, self._vectors
         tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None
         scalars[kernel.MODE] = (
             kernel.MODE_TRAJECTORY if tracking else _MODES.get(setpoint.mode, kernel.MODE_HOLD)
         )
         scalars[kernel.UNIFORM] = float(setpoint.uniform_gains)
-        scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes))
+        scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes[:3]))
+        scalars[kernel.ADMITTANCE] = float(not all(setpoint.motion_axes[3:]))
         scalars[kernel.MAX_SPEED] = setpoint.max_speed
         scalars[kernel.MAX_ANGULAR_SPEED] = setpoint.max_angular_speed
         scalars[kernel.START_S] = setpoint.start_s
@@ -190,7 +217,7 @@ class ServoLevel:
         self._refold()
 
     def _refold(self) -> None:
-        ev, sp, sel = self._evaluation, self._setpoint, self._selection
+        ev, sp, sel = self._evaluation, self._setpoint, self._servo_selection
         if ev is None or sp is None or sel is None:
             return
         refold(

@@ -7,7 +7,8 @@ inputs): the wrench the tool applies to the environment from the wrist sensor
 (section 3), the motion command (eq. 19, eq. 20-21 with the speed limit applied
 to translation and rotation separately), the active force command (F_d fed
 forward, PI on the force error with its anti-windup clamp, eq. 17-18 and
-Figure 2), eq. 29's single product with the folded matrix, Coulomb friction
+Figure 2) or, on force-controlled moment axes in contact, admittance control,
+eq. 29's single product with the folded matrix, Coulomb friction
 compensation and the saturation that scales the command about gravity
 (:mod:`cosmos.osc.limits`). In NumPy this is some 40 small-array calls of
 about a microsecond each; compiled it is one call.
@@ -30,10 +31,10 @@ FloatArray = np.ndarray
 
 # ``scalars``: segment and constant scalars.
 MODE, UNIFORM, HAS_FORCE, MAX_SPEED, MAX_ANGULAR_SPEED, START_S, RAMP_S = range(7)
-K_F, K_I, INTEGRAL_LIMIT, CONTACT_THRESHOLD_N, DT_S, INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(
-    7, 15
-)
-SCALARS = 15
+K_F, K_I, INTEGRAL_LIMIT, CONTACT_THRESHOLD_N, DT_S = range(7, 12)
+INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(12, 15)
+ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, LOOKAHEAD_S = range(15, 21)
+SCALARS = 21
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = 0.0, 1.0, 2.0
 
 # ``vectors``, rows of six. REFERENCE_*: ``x_e - x_d`` at the evaluation (tracking: at this
@@ -45,12 +46,14 @@ VECTORS = 12
 
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3).
 JACOBIAN, FORCE_TO_ACCELERATION, JBAR_LOOKAHEAD, OMEGA_BAR, ROTATION_TASK, ROTATION_SENSOR = range(6)
-MATRICES = 6
+OMEGA_ADMITTANCE = 6  # the moment axes under admittance control (world), see servo_tick
+MATRICES = 7
 
 # Rows of the servo's state and outputs (``state``, (8, 6)).
-WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS = range(8)
-STATE_ROWS = 8
+WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
+STATE_ROWS = 9
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
+ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 
 
 @njit(cache=True)
@@ -208,6 +211,24 @@ def servo_tick(
     mode, kp, kv = scalars[MODE], vectors[KP], vectors[KV]
     velocity_desired, acceleration_desired = vectors[REFERENCE_VELOCITY], vectors[REFERENCE_ACCELERATION]
     max_speed, max_angular_speed = scalars[MAX_SPEED], scalars[MAX_ANGULAR_SPEED]
+    admittance = False
+    if scalars[ADMITTANCE] != 0.0:
+        # Compliant moment axes give way to contact moments: from the first contact force
+        # on (latched for the segment) they run admittance control; in free space, where
+        # there is nothing to comply with, they hold the segment's orientation.
+        moment = state[MOMENT_FILTERED]
+        moment += scalars[MOMENT_BLEND] * (wrench - moment)
+        flags = state[FLAGS]
+        if flags[ADMITTING] == 0.0:
+            push = math.sqrt(wrench[0] ** 2 + wrench[1] ** 2 + wrench[2] ** 2)
+            if push > scalars[CONTACT_THRESHOLD_N]:
+                flags[ADMITTING] = 1.0
+        admittance = flags[ADMITTING] != 0.0
+    if admittance:  # no position goal on the moment axes under admittance control
+        omega_admittance = matrices[OMEGA_ADMITTANCE]
+        error = error - matvec(omega_admittance, error)
+        velocity_desired = velocity_desired - matvec(omega_admittance, velocity_desired)
+        acceleration_desired = acceleration_desired - matvec(omega_admittance, acceleration_desired)
     if scalars[UNIFORM] != 0.0:
         motion = unit_mass_command(
             mode,
@@ -236,13 +257,27 @@ def servo_tick(
         motion = _rotate_blocks(r, motion_task, False)
 
     feedback = np.zeros(6)
+    commanded_speed = np.zeros(6)  # the admittance speed, [rad/s]
+    elapsed = t_s - scalars[START_S]
+    ramp = scalars[RAMP_S]
+    fraction = 1.0 if elapsed >= ramp else elapsed / ramp
+    start = vectors[FORCE_START]
+    setpoint = start + fraction * (vectors[FORCE_WORLD] - start)
+    if admittance:
+        # Moment axes: admittance control. The moment error (sensor low-passed) sets a
+        # rotation speed, bounded, which a unit-mass velocity servo tracks, and toward which
+        # the joints' Coulomb friction is compensated (below). The seed's force loop would
+        # leave a contact's aligning moment (0.02 N m for the round tip on the slope) to
+        # fight the wrist's friction (~1 N m); a speed servo does not.
+        speed = matvec(omega_admittance, setpoint - state[MOMENT_FILTERED]) * scalars[ADMITTANCE_GAIN]
+        norm = math.sqrt(speed[3] ** 2 + speed[4] ** 2 + speed[5] ** 2)
+        if norm > scalars[ADMITTANCE_MAX_SPEED]:
+            speed *= scalars[ADMITTANCE_MAX_SPEED] / norm
+        servo = scalars[ADMITTANCE_KV] * (speed - matvec(omega_admittance, velocity))
+        motion = motion - matvec(omega_admittance, motion) + servo
+        commanded_speed = speed
     acceleration = motion
     if scalars[HAS_FORCE] != 0.0:
-        elapsed = t_s - scalars[START_S]
-        ramp = scalars[RAMP_S]
-        fraction = 1.0 if elapsed >= ramp else elapsed / ramp
-        start = vectors[FORCE_START]
-        setpoint = start + fraction * (vectors[FORCE_WORLD] - start)
         omega_bar = matrices[OMEGA_BAR]
         flags = state[FLAGS]
         # Integral action only once something pushes back (latched for the segment): in
@@ -274,6 +309,8 @@ def servo_tick(
     # Coulomb friction is compensated in the direction the joint is moving or, from rest,
     # is being told to move (qd plus Jbar times the commanded acceleration over a short
     # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
+    if admittance:  # the admittance speed counts as itself: Jbar xd_d, however slow
+        acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
     intent = (qd + matvec(matrices[JBAR_LOOKAHEAD], acceleration)) * scalars[INTENT_SCALE]
     coulomb, coulomb_nm = state[COULOMB], vectors[COULOMB_NM]
     blend = scalars[COULOMB_BLEND]

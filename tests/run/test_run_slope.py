@@ -47,23 +47,12 @@ def test_tool_touches_the_plate_20_deg_off_its_normal(slope_run: ProgramRun) -> 
     at_touch = int(np.searchsorted(slope_run.log.state.t, touch[0].t))
     angle = float(axis_to_normal_deg(slope_run)[at_touch])
     assert angle == pytest.approx(np.degrees(SLOPE_TILT_RAD), abs=0.5)
-    force = slope_run.log.state.wrench[settled_index(slope_run), :3]
-    assert float(-force[2]) == pytest.approx(5.0, rel=0.1), "it presses on the plate with 5 N"
+    state, end = slope_run.log.state, settled_index(slope_run)
+    last = (state.t > state.t[end] - 0.5) & (state.t <= state.t[end])
+    press = float(-state.wrench[last, 2].mean())  # a mean: the flat tip chatters (std ~0.8 N)
+    assert press == pytest.approx(5.0, rel=0.1), "it presses on the plate with 5 N"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason=(
-        "controller: the round tip does give an aligning moment about the tool point, "
-        "r f sin(theta) = 9.6 mm x 5.4 N x sin 20 deg = 0.018 N m (logged My = -0.0177 N m), "
-        "but the wrist joints' Coulomb friction (0.55-1.07 N m, joints 4-6) holds the wrist: the "
-        "servo compensates friction only toward commanded motion (intent = qd + 0.02 s Jbar F*_m, "
-        "zero on force-controlled RX RY) and joint 5 gets -0.2..-0.36 N m; only the force integral "
-        "(+0.21 N m/s) frees it, ~11 s into the WAIT: 20.0 -> 19.98 deg after 3 s; with WAIT 25 s "
-        "it breaks loose at 15 s, jumps off the plate (contact lost ~0.5 s), reaches 8.9 deg at "
-        "20 s and drifts back to 17.5 deg (wound-up integral on RX)"
-    ),
-)
 def test_tool_settles_flat_against_the_plate(slope_run: ProgramRun) -> None:
     """At the end of the WAIT the tool's axis is within 2 deg of the plate's inward normal."""
     angle = float(axis_to_normal_deg(slope_run)[settled_index(slope_run)])
