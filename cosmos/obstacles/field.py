@@ -39,6 +39,7 @@ import numpy as np
 import pinocchio as pin
 
 from cosmos.errors import CosmosError
+from cosmos.obstacles import field_kernel as fk
 from cosmos.obstacles.capsules import LINK_BODIES, arm_capsules, joint_reach_m
 from cosmos.obstacles.geometry import ProximityModel
 from cosmos.obstacles.obstacle import Obstacle
@@ -109,13 +110,13 @@ class ObstacleField:
     """
 
     def __init__(self, robot: RobotModel, parameters: FieldParameters = FieldParameters()) -> None:
+        self._kernel_parameters = np.zeros(fk.PARAMETERS)  # PARAMETER_*
         self.parameters = parameters
         self.enabled = True
         """When False, :meth:`torque` is zero (the obstacles are still tracked)."""
-        self._model = robot.model
-        self._data = robot.model.createData()
         self._capsules = arm_capsules(robot)
-        self._reach = joint_reach_m(robot, self._capsules).tolist()
+        self._chain = chain_table(robot, joint_reach_m(robot, self._capsules))
+        self._frames = np.zeros((6, fk.FRAMES))
         self._obstacles: dict[str, Obstacle] = {}
         self._geometry: ProximityModel | None = None
         self._obstacle_speed = 0.0
@@ -123,8 +124,22 @@ class ObstacleField:
         self._speed_bound = 0.0
         self._evaluated_s = -np.inf
         self._torque = np.zeros(6)
-        self._acting: dict[int, list] = {}  # obstacle index -> [distance, link, strongest force]
+        self._acting = np.zeros((0, fk.ACTING))  # per obstacle at the last evaluation (ACTING_*)
         self._influences: tuple[Influence, ...] | None = ()
+
+    @property
+    def parameters(self) -> FieldParameters:
+        """Default rho_0 (taken when the obstacles change), eta, damping and cap."""
+        return self._parameters
+
+    @parameters.setter
+    def parameters(self, parameters: FieldParameters) -> None:
+        self._parameters = parameters
+        self._kernel_parameters[: fk.PARAMETER_ENABLED] = (
+            parameters.eta,
+            parameters.damping_ns_per_m,
+            parameters.force_cap_n,
+        )
 
     @property
     def influences(self) -> tuple[Influence, ...]:
@@ -132,8 +147,9 @@ class ObstacleField:
         if self._influences is None:
             obstacles = self._geometry.obstacles if self._geometry is not None else ()
             self._influences = tuple(
-                Influence(obstacles[j].name, LINK_BODIES[k], distance, force)
-                for j, (distance, k, force) in sorted(self._acting.items())
+                Influence(obstacles[j].name, LINK_BODIES[int(link)], distance, force)
+                for j, (flag, distance, link, force) in enumerate(self._acting.tolist())
+                if flag
             )
         return self._influences
 
@@ -151,7 +167,7 @@ class ObstacleField:
         if obstacle.name in self._obstacles:
             raise CosmosError(f"obstacle '{obstacle.name}' is already in the scene; remove it first")
         self._obstacles[obstacle.name] = obstacle
-        self._geometry, self._acting, self._influences = None, {}, ()
+        self._geometry, self._influences = None, ()
         self._evaluated_s = -np.inf
 
     def remove(self, name: str) -> None:
@@ -163,88 +179,91 @@ class ObstacleField:
         if self._obstacles.pop(name, None) is None:
             present = ", ".join(self._obstacles) or "none"
             raise CosmosError(f"no obstacle '{name}' in the scene (present: {present})")
-        self._geometry, self._acting, self._influences = None, {}, ()
+        self._geometry, self._influences = None, ()
         self._evaluated_s = -np.inf
 
     def torque(self, q: FloatArray, qd: FloatArray, t_s: float) -> FloatArray:
         """Joint torques of the field at ``(q, qd)`` and simulated time ``t_s``, in [N m]. # (6,)."""
-        if t_s - self._evaluated_s < self.parameters.period_s - 1e-9:
+        if t_s - self._evaluated_s < self._parameters.period_s - 1e-9:
             return self._torque
         self._evaluated_s = t_s
         torque = self._torque = np.zeros(6)
-        if not self._obstacles:
-            self._acting, self._influences = {}, None
-            return torque
         geometry = self._geometry
         if geometry is None:
-            default = self.parameters.influence_m
-            influence = [default if o.influence_m is None else o.influence_m for o in self.obstacles]
-            geometry = self._geometry = ProximityModel(self._capsules, self.obstacles, influence)
+            if not self._obstacles:
+                self._influences = ()
+                return torque
+            geometry = self._geometry = ProximityModel(
+                self._capsules, self.obstacles, obstacle_table(self.obstacles, self._parameters)
+            )
+            self._acting = np.zeros((len(self._obstacles), fk.ACTING))
             self._evaluations = 0
             self._obstacle_speed = max(float(np.linalg.norm(o.velocity_world_mps)) for o in self.obstacles)
-        model, data = self._model, self._data
-        pin.computeJointJacobians(model, data, q)
-        jacobian = data.J  # (6, 6) world: spatial velocity of joint k's body at the origin
-        columns = jacobian.T.tolist()  # row j: joint j's spatial axis at the origin
-        rates = qd.tolist()
-        twists = np.cumsum(jacobian * qd, axis=1).T.tolist()  # row k: twist of joint k's body
+        frames = self._frames
         # |velocity| of any arm point <= sum |qd_j| * (its distance to axis j) <= sum |qd_j| reach_j.
-        speed = sum([abs(rate) * reach for rate, reach in zip(rates, self._reach, strict=True)])
-        speed += self._obstacle_speed
+        speed = fk.chain_kinematics_into(frames, self._chain, q, qd) + self._obstacle_speed
         self._speed_bound = max(self._speed_bound, speed)
-        if self._evaluations % self.parameters.geometry_every == 0:
-            placements = np.array([data.oMi[i].homogeneous for i in range(1, 7)])  # (6, 4, 4)
-            near = geometry.measure(placements[:, :3, :3], placements[:, :3, 3], t_s, self._speed_bound)
+        if self._evaluations % self._parameters.geometry_every == 0:
+            count = geometry.measure(frames, t_s, self._speed_bound)
             self._speed_bound = speed
         else:
-            near = geometry.estimate(twists, t_s)
+            count = geometry.estimate(frames, t_s)
         self._evaluations += 1
-        if not near:
-            self._acting, self._influences = {}, None
-            return torque
-        wrenches = [[0.0] * 6 for _ in range(6)]  # row k: wrench about the origin on link k
-        acting: dict[int, list] = {}  # obstacle -> [distance, link, strongest force]
-        obstacles, influence, velocities = geometry.obstacles, geometry.influence_m, geometry.velocities
-        par = self.parameters
-        for k, j, distance, (px, py, pz), (nx, ny, nz) in near:
-            vx, vy, vz, wx, wy, wz = twists[k]
-            ux, uy, uz = velocities[j]
-            # The point's velocity v + w x p relative to the obstacle, along -n: > 0 when closing in.
-            approach = -(
-                nx * (vx + wy * pz - wz * py - ux)
-                + ny * (vy + wz * px - wx * pz - uy)
-                + nz * (vz + wx * py - wy * px - uz)
-            )
-            scale = obstacles[j].gain_scale
-            magnitude = repulsion_magnitude(
-                distance,
-                influence[j],
-                scale * par.eta,
-                scale * par.damping_ns_per_m,
-                par.force_cap_n,
-                approach,
-            )
-            fx, fy, fz = magnitude * nx, magnitude * ny, magnitude * nz
-            w = wrenches[k]
-            w[0] += fx
-            w[1] += fy
-            w[2] += fz
-            w[3] += py * fz - pz * fy
-            w[4] += pz * fx - px * fz
-            w[5] += px * fy - py * fx
-            seen = acting.setdefault(j, [distance, k, magnitude])
-            if distance < seen[0]:
-                seen[0], seen[1] = distance, k
-            seen[2] = max(seen[2], magnitude)
-        self._acting, self._influences = acting, None
-        if not self.enabled:
-            return torque
-        # Gamma_j = J_j . (sum of the wrenches on links k >= j): joint j carries the links beyond it.
-        carried = [0.0] * 6
-        for j in range(5, -1, -1):
-            carried = [c + w for c, w in zip(carried, wrenches[j], strict=True)]
-            torque[j] = sum([a * c for a, c in zip(columns[j], carried, strict=True)])
+        self._kernel_parameters[fk.PARAMETER_ENABLED] = 1.0 if self.enabled else 0.0
+        fk.field_torque_into(
+            torque, self._acting, geometry.approaches, count, frames, geometry.table, self._kernel_parameters
+        )
+        self._influences = None
         return torque
+
+
+def obstacle_table(obstacles: tuple[Obstacle, ...], parameters: FieldParameters) -> FloatArray:
+    """Per obstacle its centre, velocity, time added, rho_0 and gain (``OBSTACLE_*`` of the field kernel).
+
+    Args:
+        obstacles: The obstacles, in the order their indices refer to.
+        parameters: The field's defaults (rho_0 where an obstacle sets none).
+
+    Returns:
+        The packed table. # (k, OBSTACLE)
+    """
+    table = np.zeros((len(obstacles), fk.OBSTACLE))
+    for j, o in enumerate(obstacles):
+        table[j, fk.OBSTACLE_CENTER : fk.OBSTACLE_CENTER + 3] = o.position_world
+        table[j, fk.OBSTACLE_VELOCITY : fk.OBSTACLE_VELOCITY + 3] = o.velocity_world_mps
+        table[j, fk.OBSTACLE_ADDED_S] = o.added_s
+        table[j, fk.OBSTACLE_RHO_0] = parameters.influence_m if o.influence_m is None else o.influence_m
+        table[j, fk.OBSTACLE_GAIN] = o.gain_scale
+    return table
+
+
+def chain_table(robot: RobotModel, reach_m: FloatArray) -> FloatArray:
+    """The arm's kinematic chain for :func:`cosmos.obstacles.field_kernel.chain_kinematics_into`.
+
+    Args:
+        robot: The controller's model: six revolute joints in a serial chain.
+        reach_m: Per joint, the bound of :func:`cosmos.obstacles.capsules.joint_reach_m`, in [m]. # (6,)
+
+    Returns:
+        Per joint its placement in its parent's frame, its axis in its own frame and its reach. # (6, CHAIN)
+
+    Raises:
+        CosmosError: If the model is not a serial chain of six one-degree-of-freedom joints.
+    """
+    model = robot.model
+    if model.njoints != 7 or list(model.parents) != [0, 0, 1, 2, 3, 4, 5] or model.nq != 6 or model.nv != 6:
+        raise CosmosError("the obstacle field needs a serial chain of six revolute joints")
+    data = model.createData()
+    pin.computeJointJacobians(model, data, pin.neutral(model))
+    chain = np.zeros((6, fk.CHAIN))
+    for k in range(6):
+        placement = model.jointPlacements[k + 1]
+        chain[k, fk.CHAIN_ROTATION : fk.CHAIN_ROTATION + 9] = placement.rotation.reshape(9)
+        chain[k, fk.CHAIN_TRANSLATION : fk.CHAIN_TRANSLATION + 3] = placement.translation
+        # The joint's axis in its own frame: the angular part of its Jacobian column at q = 0.
+        chain[k, fk.CHAIN_AXIS : fk.CHAIN_AXIS + 3] = data.oMi[k + 1].rotation.T.dot(data.J[3:, k])
+        chain[k, fk.CHAIN_REACH] = reach_m[k]
+    return chain
 
 
 def repulsion_magnitude(

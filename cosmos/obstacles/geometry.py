@@ -17,11 +17,12 @@ the signed distance and its points do not define a normal.
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import mujoco
 import numpy as np
 
+from cosmos.obstacles import distance_kernel as dk
+from cosmos.obstacles import field_kernel as fk
+from cosmos.obstacles import geometry_kernel as gk
 from cosmos.obstacles.capsules import LinkCapsules
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.obstacles.proximity import capsule_proximity
@@ -37,6 +38,13 @@ _GEOM_TYPE = {
     ObstacleShape.PLANE: mujoco.mjtGeom.mjGEOM_PLANE,
 }
 
+_KIND = {
+    ObstacleShape.SPHERE: dk.KIND_SPHERE,
+    ObstacleShape.CYLINDER: dk.KIND_CYLINDER,
+    ObstacleShape.BOX: dk.KIND_BOX,
+    ObstacleShape.PLANE: dk.KIND_PLANE,
+}
+
 
 def _frame_with_z(direction: FloatArray) -> FloatArray:
     """A rotation whose z axis is ``direction`` (unit), columns x, y, z. # (3, 3)."""
@@ -47,56 +55,50 @@ def _frame_with_z(direction: FloatArray) -> FloatArray:
     return np.column_stack((x, np.cross(z, x), z))
 
 
-_NORMAL_FROM_POINTS_M = 1e-4  # below this distance the normal comes from firas, not the two points
+def capsule_table(capsules: LinkCapsules) -> FloatArray:
+    """The capsules as the private model's geoms, in their joints' frames (``CAPSULE_*``). # (n, CAPSULE).
+
+    A geom's frame has its origin at the segment's midpoint and its z axis along
+    the segment; a segment of no length is a sphere geom (half length 0).
+    """
+    n = len(capsules)
+    axes = capsules.b_in_joint - capsules.a_in_joint  # (n, 3)
+    half_lengths = 0.5 * np.linalg.norm(axes, axis=1)
+    rotations = [_frame_with_z(a) if h > 1e-9 else np.eye(3) for a, h in zip(axes, half_lengths, strict=True)]
+    table = np.zeros((n, gk.CAPSULE))
+    table[:, gk.CAPSULE_JOINT] = capsules.joint
+    table[:, gk.CAPSULE_MID : gk.CAPSULE_MID + 3] = 0.5 * (capsules.a_in_joint + capsules.b_in_joint)
+    table[:, gk.CAPSULE_ROTATION : gk.CAPSULE_ROTATION + 9] = np.array(rotations).reshape(n, 9)
+    table[:, gk.CAPSULE_HALF] = np.where(half_lengths > 1e-9, half_lengths, 0.0)
+    table[:, gk.CAPSULE_RADIUS] = capsules.radius_m
+    table[:, gk.CAPSULE_BOUND] = capsules.bound_m
+    return table
+
+
 CANDIDATE_MARGIN_M = 0.03
 """Slack of the candidate list: it is rebuilt once the arm and obstacles may have moved this much."""
-
-
-class Nearest(NamedTuple):
-    """A link's closest approach to an obstacle within the obstacle's influence distance."""
-
-    link: int  # joint index 0..5 of the link
-    obstacle: int  # index in the model's obstacles
-    capsule: int  # index in the capsules
-    distance: float  # [m], MuJoCo's: a penetration depth (<= 0) when touching
-    fromto: list[float]  # the capsule's point then the obstacle's, world, [m]
-
-
-_Vec = tuple[float, float, float]
-
-
-def _triple(vector: FloatArray) -> _Vec:
-    x, y, z = vector.tolist()
-    return (x, y, z)
-
-
-class Approach(NamedTuple):
-    """Where and how close one link comes to one obstacle (inside its rho_0)."""
-
-    link: int  # joint index 0..5 of the link
-    obstacle: int  # index in the model's obstacles
-    distance: float  # [m] between the surfaces, negative when penetrating
-    point: tuple[float, float, float]  # the link's closest point, world, [m]
-    normal: tuple[float, float, float]  # unit, world, pointing away from the obstacle
 
 
 class ProximityModel:
     """Capsules and obstacles as geoms of a private MuJoCo model; their near pairs.
 
+    The arithmetic is compiled (:mod:`cosmos.obstacles.geometry_kernel`); the
+    results are packed arrays: :attr:`approaches` holds, after :meth:`measure`
+    or :meth:`estimate`, one row per (link, obstacle) within that obstacle's
+    rho_0 (layout ``APPROACH_*`` of :mod:`cosmos.obstacles.field_kernel`).
+
     Args:
         capsules: The arm's capsules (in joint frames).
         obstacles: The obstacles, in the order their indices refer to.
-        influence_m: rho_0 of each obstacle, in [m].
+        table: Per obstacle its centre, velocity, time added, rho_0 and gain factor
+            (layout ``OBSTACLE_*`` of :mod:`cosmos.obstacles.field_kernel`). # (k, OBSTACLE)
     """
 
-    def __init__(
-        self, capsules: LinkCapsules, obstacles: tuple[Obstacle, ...], influence_m: list[float]
-    ) -> None:
+    def __init__(self, capsules: LinkCapsules, obstacles: tuple[Obstacle, ...], table: FloatArray) -> None:
         spec = mujoco.MjSpec()
-        axes = capsules.b_in_joint - capsules.a_in_joint  # (n, 3)
-        half_lengths = 0.5 * np.linalg.norm(axes, axis=1)
-        for radius, half in zip(capsules.radius_m.tolist(), half_lengths.tolist(), strict=True):
-            if half > 1e-9:
+        self._capsule_table = capsule_table(capsules)
+        for radius, half in self._capsule_table[:, [gk.CAPSULE_RADIUS, gk.CAPSULE_HALF]].tolist():
+            if half > 0.0:
                 spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[radius, half, 0.0])
             else:
                 spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[radius, 0.0, 0.0])
@@ -105,41 +107,41 @@ class ProximityModel:
             spec.worldbody.add_geom(type=_GEOM_TYPE[obstacle.shape], size=size)
         self._model = spec.compile()
         self._data = mujoco.MjData(self._model)
-        self._n = len(capsules)
+        self._n = n = len(capsules)
         self.obstacles = obstacles
-        self.influence_m = list(influence_m)
-        # Capsule frames in their joint's frame: z along the segment, origin at the midpoint.
-        self._rotation_in_joint = np.array(
-            [_frame_with_z(a) if h > 1e-9 else np.eye(3) for a, h in zip(axes, half_lengths, strict=True)]
-        )  # (n, 3, 3)
-        self._mid_in_joint = 0.5 * (capsules.a_in_joint + capsules.b_in_joint)  # (n, 3)
-        self._joint = capsules.joint
-        self._joint_list = capsules.joint.tolist()
-        self._capsule_bounds = capsules.bound_m
-        self._centers = np.array([o.position_world for o in obstacles]).reshape(-1, 3)  # (k, 3)
-        self._velocities = np.array([o.velocity_world_mps for o in obstacles]).reshape(-1, 3)  # (k, 3)
-        self._added_s = np.array([o.added_s for o in obstacles])  # (k,)
-        self._obstacle_bounds = np.array(
-            [0.0 if o.shape is ObstacleShape.PLANE else o.bounding_radius_m for o in obstacles]
-        )
-        self._planes = [
-            (j, o.rotation_world[:, 2]) for j, o in enumerate(obstacles) if o.shape is ObstacleShape.PLANE
-        ]
-        self._moving = [j for j, o in enumerate(obstacles) if o.moving]
-        self._rho_0 = np.array(self.influence_m)
+        self.table = table
+        """Per obstacle its centre, velocity, time added, rho_0 and gain factor. # (k, OBSTACLE)"""
+        self._centers = table[:, fk.OBSTACLE_CENTER : fk.OBSTACLE_CENTER + 3]  # (k, 3)
+        self._velocities = table[:, fk.OBSTACLE_VELOCITY : fk.OBSTACLE_VELOCITY + 3]  # (k, 3)
+        self._added_s = table[:, fk.OBSTACLE_ADDED_S]  # (k,)
+        self._rho_0 = table[:, fk.OBSTACLE_RHO_0]  # (k,)
+        self._shapes = np.zeros((len(obstacles), dk.SHAPE))
+        for j, o in enumerate(obstacles):
+            self._shapes[j, dk.SHAPE_KIND] = _KIND[o.shape]
+            self._shapes[j, dk.SHAPE_ROTATION : dk.SHAPE_ROTATION + 9] = o.rotation_world.reshape(9)
+            self._shapes[j, dk.SHAPE_HALF : dk.SHAPE_HALF + 3] = o.half_extents_m
+        self._moving = any(o.moving for o in obstacles)
         xmat, xpos = self._data.geom_xmat, self._data.geom_xpos
         for j, obstacle in enumerate(obstacles):
-            xmat[self._n + j] = np.ascontiguousarray(obstacle.rotation_world).reshape(9)
-            xpos[self._n + j] = obstacle.position_world
-        self._fromto = np.zeros(6)
-        self._candidates: list[list] | None = None  # [capsule, obstacle, distance, travel then]
+            xmat[n + j] = np.ascontiguousarray(obstacle.rotation_world).reshape(9)
+            xpos[n + j] = obstacle.position_world
+        # The candidate pairs (rows of ``_candidates``), their last answers, and what a MuJoCo query
+        # of each needs from Python: capsule, obstacle geom, distmax, the row of ``_fromtos``.
+        self._candidates = np.zeros((0, gk.CANDIDATE))
+        self._distances = np.zeros(0)
+        self._fromtos = np.zeros((0, 6))
+        self._queries: list[tuple[int, int, float, FloatArray]] = []
+        self._queue = np.zeros(0, dtype=np.int64)
+        self._remote = np.zeros(0, dtype=np.int64)
+        self._rebuild = True
         self._travel_m = 0.0
         self._last_s: float | None = None
         self._capsules = capsules
-        # Per approach: link, obstacle, the link's point, the obstacle's point, normal, time; world.
-        self._held: list[tuple[int, int, _Vec, _Vec, _Vec, float]] = []
-        self.velocities = [_triple(o.velocity_world_mps) for o in obstacles]
-        """Each obstacle's velocity, world, in [m/s]."""
+        pairs = 6 * len(obstacles)  # at most one approach per (link, obstacle)
+        self._held = np.zeros((pairs, gk.HELD))
+        self._held_count = 0
+        self.approaches = np.zeros((pairs, fk.APPROACH))
+        """One row per (link, obstacle) within rho_0, the first ``count`` rows valid. # (6 k, APPROACH)"""
 
     def centers(self, t_s: float) -> FloatArray:
         """The obstacles' centres at simulated time ``t_s``, world, in [m]. # (k, 3)."""
@@ -147,7 +149,7 @@ class ProximityModel:
             return self._centers
         return self._centers + (t_s - self._added_s)[:, None] * self._velocities
 
-    def estimate(self, twists: list[list[float]], t_s: float) -> list[Approach]:
+    def estimate(self, frames: FloatArray, t_s: float) -> int:
         """The approaches of the last :meth:`measure`, carried forward to ``t_s`` to first order.
 
         As the seed's servo level estimates the end effector between two
@@ -156,120 +158,135 @@ class ProximityModel:
         the distance is their separation along the held normal.
 
         Args:
-            twists: Per link k, ``(v, w)`` of its body at the world origin (J qd over
-                joints 0..k), world, in [m/s, rad/s]. # 6 x (6,)
+            frames: The arm's joint frames and link twists now (``FRAME_*`` of
+                :mod:`cosmos.obstacles.field_kernel`). # (6, FRAMES)
             t_s: Simulated time, in [s].
-        """
-        out = []
-        for k, j, (px, py, pz), (ox, oy, oz), (nx, ny, nz), held_s in self._held:
-            dt = t_s - held_s
-            vx, vy, vz, wx, wy, wz = twists[k]
-            px, py, pz = (
-                px + (vx + wy * pz - wz * py) * dt,
-                py + (vy + wz * px - wx * pz) * dt,
-                pz + (vz + wx * py - wy * px) * dt,
-            )
-            ux, uy, uz = self.velocities[j]
-            distance = nx * (px - ox - ux * dt) + ny * (py - oy - uy * dt) + nz * (pz - oz - uz * dt)
-            if distance < self.influence_m[j]:
-                out.append(Approach(k, j, distance, (px, py, pz), (nx, ny, nz)))
-        return out
 
-    def measure(
-        self, rotations: FloatArray, origins: FloatArray, t_s: float, speed_mps: float
-    ) -> list[Approach]:
+        Returns:
+            How many rows of :attr:`approaches` are valid.
+        """
+        return int(gk.estimate_into(self.approaches, self._held, self._held_count, frames, self.table, t_s))
+
+    def measure(self, frames: FloatArray, t_s: float, speed_mps: float) -> int:
         """Each link's closest approach to each obstacle within rho_0 (firas where the link touches).
-
-        Args:
-            rotations: Rotation of each joint's frame to world. # (6, 3, 3)
-            origins: Origin of each joint's frame, world, in [m]. # (6, 3)
-            t_s: Simulated time, in [s].
-            speed_mps: Bound on the relative speed of arm and obstacles since the last call, in [m/s].
-        """
-        caps, out, self._held = self._capsules, [], []
-        for pair in self.nearest(rotations, origins, t_s, speed_mps):
-            k, j, i, distance = pair.link, pair.obstacle, pair.capsule, pair.distance
-            px, py, pz, ox, oy, oz = pair.fromto
-            if distance > _NORMAL_FROM_POINTS_M:
-                point, other = (px, py, pz), (ox, oy, oz)
-                normal = ((px - ox) / distance, (py - oy) / distance, (pz - oz) / distance)
-            else:  # touching or penetrating: the signed distance and normal of firas
-                a = rotations[k].dot(caps.a_in_joint[i]) + origins[k]
-                b = rotations[k].dot(caps.b_in_joint[i]) + origins[k]
-                center = self.centers(t_s)[j]
-                exact = capsule_proximity(a, b, float(caps.radius_m[i]), self.obstacles[j], center)
-                distance, point, normal = exact.distance, _triple(exact.point), _triple(exact.normal)
-                other = _triple(exact.point - exact.distance * exact.normal)
-            self._held.append((k, j, point, other, normal, t_s))
-            out.append(Approach(k, j, distance, point, normal))
-        return out
-
-    def nearest(
-        self, rotations: FloatArray, origins: FloatArray, t_s: float, speed_mps: float
-    ) -> list[Nearest]:
-        """For each (link, obstacle) within the obstacle's rho_0, the link's closest capsule.
 
         The (capsule, obstacle) pairs worth a distance query are those within
         ``rho_0 + CANDIDATE_MARGIN_M`` of each other (bounding spheres first, then
         the exact distance); the list is kept until the surfaces may have closed
         that margin (``speed_mps`` bounds how fast any point of the arm
         approaches any obstacle), then rebuilt. A listed pair is queried again
-        only once it may have come within rho_0 since its last query.
+        only once it may have come within rho_0 since its last query. Of a
+        link's capsules near an obstacle, the closest one's point counts.
 
         Args:
-            rotations: Rotation of each joint's frame to world. # (6, 3, 3)
-            origins: Origin of each joint's frame, world, in [m]. # (6, 3)
-            t_s: Simulated time, in [s] (moving obstacles).
+            frames: The arm's joint frames (``FRAME_*``, :mod:`cosmos.obstacles.field_kernel`). # (6, FRAMES)
+            t_s: Simulated time, in [s].
             speed_mps: Bound on the relative speed of arm and obstacles since the last call, in [m/s].
 
         Returns:
-            The near pairs, in no particular order.
+            How many rows of :attr:`approaches` are valid.
         """
-        joint, n, data = self._joint, self._n, self._data
-        rotation = rotations[joint]  # (n, 3, 3)
-        midpoints = np.matmul(rotation, self._mid_in_joint[:, :, None])[:, :, 0] + origins[joint]
-        data.geom_xmat[:n] = np.matmul(rotation, self._rotation_in_joint).reshape(n, 9)
-        data.geom_xpos[:n] = midpoints
-        if self._moving:
-            centers = self.centers(t_s)
-            for j in self._moving:
-                data.geom_xpos[n + j] = centers[j]
+        data = self._data
+        xpos, xmat = data.geom_xpos, data.geom_xmat
+        gk.place_geoms_into(xpos, xmat, frames, self._capsule_table, self.table, t_s)
         if self._last_s is not None:
             self._travel_m += speed_mps * abs(t_s - self._last_s)
         self._last_s = t_s
-        if self._candidates is None or self._travel_m >= CANDIDATE_MARGIN_M:
-            self._candidates = self._candidate_pairs(midpoints, self.centers(t_s))
+        if self._rebuild or self._travel_m >= CANDIDATE_MARGIN_M:
             self._travel_m = 0.0
-        rho_0, links, travel = self.influence_m, self._joint_list, self._travel_m
-        model, fromto, distance_of = self._model, self._fromto, mujoco.mj_geomDistance
-        best: dict[tuple[int, int], Nearest] = {}
-        for candidate in self._candidates:
-            i, j, last_m, travel_then_m = candidate
-            limit = rho_0[j]
-            if last_m - (travel - travel_then_m) >= limit:
-                continue  # it was farther than it can have come since
-            distance = distance_of(model, data, i, n + j, limit + CANDIDATE_MARGIN_M, fromto)
-            candidate[2], candidate[3] = distance, travel
-            if distance >= limit:
-                continue
-            key = (links[i], j)
-            seen = best.get(key)
-            if seen is None or distance < seen.distance:
-                best[key] = Nearest(links[i], j, i, distance, fromto.tolist())
-        return list(best.values())
+            self._candidate_pairs(t_s)  # every pair queried already
+            queued = len(self._queries)
+        else:
+            queue, distances, queries, remote = self._queue, self._distances, self._queries, self._remote
+            queued, remotes = gk.select_queries(
+                queue, remote, self._candidates, len(queries), self.table, self._travel_m
+            )
+            model, distance_of = self._model, mujoco.mj_geomDistance
+            for c in remote[:remotes].tolist():
+                capsule, geom, reach, fromto = queries[c]
+                distances[c] = distance_of(model, data, capsule, geom, reach, fromto)
+        count = gk.nearest_into(
+            self.approaches,
+            self._held,
+            self._candidates,
+            self._queue,
+            queued,
+            self._distances,
+            self._fromtos,
+            xpos,
+            xmat,
+            self._capsule_table,
+            self._shapes,
+            self.table,
+            CANDIDATE_MARGIN_M,
+            self._travel_m,
+            t_s,
+        )
+        self._held_count = count
+        for s in range(count):
+            if self.approaches[s, fk.APPROACH_DISTANCE] <= gk.NORMAL_FROM_POINTS_M:
+                self._touching(s, frames, t_s)
+        return count
 
-    def _candidate_pairs(self, midpoints: FloatArray, centers: FloatArray) -> list[list]:
-        """``[capsule, obstacle, distance, travel]`` of the pairs within rho_0 + margin (spheres first)."""
-        offsets = midpoints[:, None, :] - centers[None]  # (n, k, 3)
-        gaps = np.sqrt(np.einsum("ijk,ijk->ij", offsets, offsets)) - self._obstacle_bounds[None]
-        for j, normal in self._planes:
-            gaps[:, j] = offsets[:, j].dot(normal)
-        gaps -= self._capsule_bounds[:, None]
-        n, model, data, fromto = self._n, self._model, self._data, self._fromto
-        pairs = []
-        for i, j in np.argwhere(gaps < self._rho_0[None] + CANDIDATE_MARGIN_M).tolist():
-            reach = self.influence_m[j] + CANDIDATE_MARGIN_M
-            distance = mujoco.mj_geomDistance(model, data, i, n + j, reach, fromto)
-            if distance < reach:
-                pairs.append([i, j, -np.inf, 0.0])  # measured again right away
-        return pairs
+    def _touching(self, s: int, frames: FloatArray, t_s: float) -> None:
+        """Approach ``s`` touches or penetrates: the signed distance, point and normal of firas."""
+        held, caps = self._held[s], self._capsules
+        k, j, i = int(held[gk.HELD_LINK]), int(held[gk.HELD_OBSTACLE]), int(held[gk.HELD_CAPSULE])
+        rotation = frames[k, fk.FRAME_ROTATION : fk.FRAME_ROTATION + 9].reshape(3, 3)
+        origin = frames[k, fk.FRAME_ORIGIN : fk.FRAME_ORIGIN + 3]
+        a = rotation.dot(caps.a_in_joint[i]) + origin
+        b = rotation.dot(caps.b_in_joint[i]) + origin
+        center = self.centers(t_s)[j]
+        exact = capsule_proximity(a, b, float(caps.radius_m[i]), self.obstacles[j], center)
+        held[gk.HELD_POINT : gk.HELD_POINT + 3] = exact.point
+        held[gk.HELD_OTHER : gk.HELD_OTHER + 3] = exact.point - exact.distance * exact.normal
+        held[gk.HELD_NORMAL : gk.HELD_NORMAL + 3] = exact.normal
+        approach = self.approaches[s]
+        approach[fk.APPROACH_DISTANCE] = exact.distance
+        approach[fk.APPROACH_POINT : fk.APPROACH_POINT + 3] = exact.point
+        approach[fk.APPROACH_NORMAL : fk.APPROACH_NORMAL + 3] = exact.normal
+
+    def _candidate_pairs(self, t_s: float) -> None:
+        """The pairs within rho_0 + margin (a lower bound first, then the distance), with their answers.
+
+        A kept pair's answer is the one this measurement would get (same poses,
+        same ``distmax``), so it is kept as the pair's first query; the queue
+        lists them all.
+        """
+        n, k, model, data = self._n, len(self.obstacles), self._model, self._data
+        candidates, distances, fromtos = (
+            np.empty((n * k, gk.CANDIDATE)),
+            np.empty(n * k),
+            np.zeros((n * k, 6)),
+        )
+        found = gk.candidate_pairs_into(
+            candidates,
+            distances,
+            fromtos,
+            data.geom_xpos,
+            data.geom_xmat,
+            self._capsule_table,
+            self._shapes,
+            self.table,
+            t_s,
+            CANDIDATE_MARGIN_M,
+        )
+        keep = []
+        for c, (i, j, analytic) in enumerate(
+            candidates[:found, [gk.CANDIDATE_CAPSULE, gk.CANDIDATE_OBSTACLE, gk.CANDIDATE_ANALYTIC]].tolist()
+        ):
+            if not analytic:  # a box or a cylinder: MuJoCo
+                reach = float(self._rho_0[int(j)]) + CANDIDATE_MARGIN_M
+                distances[c] = mujoco.mj_geomDistance(model, data, int(i), n + int(j), reach, fromtos[c])
+                if distances[c] >= reach:
+                    continue
+            keep.append(c)
+        self._candidates, self._distances, self._fromtos = candidates[keep], distances[keep], fromtos[keep]
+        self._queries = [
+            (int(i), n + int(j), float(self._rho_0[int(j)]) + CANDIDATE_MARGIN_M, self._fromtos[c])
+            for c, (i, j) in enumerate(self._candidates[:, :2].tolist())
+        ]
+        count = len(keep)
+        self._queue = np.arange(count, dtype=np.int64)
+        self._remote = np.zeros(count, dtype=np.int64)
+        self._rebuild = False

@@ -1,0 +1,145 @@
+"""Compiled closed-form distances: a capsule to a sphere or a plane, a point to any obstacle.
+
+The proximity model (:mod:`cosmos.obstacles.geometry`) asks MuJoCo's
+``mj_geomDistance`` for the distance between a capsule and a box or a finite
+cylinder; for a sphere and a plane MuJoCo's own collision functions are
+closed form (``mjc_SphereCapsule``, ``mjc_PlaneCapsule``), and these are the
+same formulas, answered the same way (distance capped at ``distmax``, the
+segment from the capsule's surface to the obstacle's), without a call from
+Python per pair. ``tests/obstacles/test_obstacles_distance_kernel.py`` checks
+them against ``mj_geomDistance`` and :func:`cosmos.obstacles.proximity.signed_distances`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+FloatArray = np.ndarray
+
+# ``shapes`` (k, SHAPE): per obstacle, its primitive (KIND_*), shape frame to world (row-major) and
+# half extents [m] (as :class:`cosmos.obstacles.obstacle.Obstacle`).
+SHAPE_KIND, SHAPE_ROTATION, SHAPE_HALF = 0, 1, 10
+SHAPE = 13
+KIND_SPHERE, KIND_CYLINDER, KIND_BOX, KIND_PLANE = 0.0, 1.0, 2.0, 3.0
+
+
+@njit(cache=True)
+def signed_distance(
+    x: float, y: float, z: float, shape: FloatArray, cx: float, cy: float, cz: float
+) -> float:
+    """:func:`cosmos.obstacles.proximity.signed_distances` of one point, the obstacle centred on c; [m]."""
+    dx, dy, dz = x - cx, y - cy, z - cz
+    r = SHAPE_ROTATION
+    # The point in the shape's frame: R^T (p - c).
+    lx = dx * shape[r] + dy * shape[r + 3] + dz * shape[r + 6]
+    ly = dx * shape[r + 1] + dy * shape[r + 4] + dz * shape[r + 7]
+    lz = dx * shape[r + 2] + dy * shape[r + 5] + dz * shape[r + 8]
+    kind = shape[SHAPE_KIND]
+    hx, hy, hz = shape[SHAPE_HALF], shape[SHAPE_HALF + 1], shape[SHAPE_HALF + 2]
+    if kind == KIND_SPHERE:
+        return math.sqrt(lx * lx + ly * ly + lz * lz) - hx
+    if kind == KIND_PLANE:
+        return lz
+    if kind == KIND_CYLINDER:
+        radial = math.hypot(lx, ly) - hx
+        axial = abs(lz) - hz
+        return math.hypot(max(radial, 0.0), max(axial, 0.0)) + min(max(radial, axial), 0.0)
+    qx, qy, qz = abs(lx) - hx, abs(ly) - hy, abs(lz) - hz
+    ox, oy, oz = max(qx, 0.0), max(qy, 0.0), max(qz, 0.0)
+    return math.sqrt(ox * ox + oy * oy + oz * oz) + min(max(qx, max(qy, qz)), 0.0)
+
+
+@njit(cache=True)
+def capsule_sphere(
+    fromto: FloatArray,
+    mid: FloatArray,
+    axis: FloatArray,
+    half_m: float,
+    radius_m: float,
+    center: FloatArray,
+    sphere_radius_m: float,
+    distmax_m: float,
+) -> float:
+    """Surface distance of a capsule and a sphere, as ``mj_geomDistance(capsule, sphere)``, in [m].
+
+    The sphere's centre is projected on the capsule's segment (``mid +- half_m
+    axis``, ``axis`` unit); the two surface points lie on the line through the
+    projection and the centre.
+
+    Args:
+        fromto: Written: the capsule's closest point, then the sphere's, world, in [m]
+            (zeros when the distance is ``distmax_m`` or more). # (6,)
+        mid: The segment's midpoint, world, in [m]. # (3,)
+        axis: The segment's unit direction, world. # (3,)
+        half_m: Half the segment's length, in [m].
+        radius_m: The capsule's radius, in [m].
+        center: The sphere's centre, world, in [m]. # (3,)
+        sphere_radius_m: Its radius, in [m].
+        distmax_m: The distance returned, capped, when the surfaces are this far apart or more.
+    """
+    ax, ay, az = axis[0] * half_m, axis[1] * half_m, axis[2] * half_m
+    vx, vy, vz = center[0] - mid[0], center[1] - mid[1], center[2] - mid[2]
+    length2 = ax * ax + ay * ay + az * az
+    x = 0.0 if length2 <= 0.0 else min(1.0, max(-1.0, (ax * vx + ay * vy + az * vz) / length2))
+    sx, sy, sz = mid[0] + x * ax, mid[1] + x * ay, mid[2] + x * az
+    dx, dy, dz = center[0] - sx, center[1] - sy, center[2] - sz
+    gap = math.sqrt(dx * dx + dy * dy + dz * dz)
+    distance = gap - radius_m - sphere_radius_m
+    fromto[:] = 0.0
+    if distance >= distmax_m:
+        return distmax_m
+    if gap > 0.0:
+        ux, uy, uz = dx / gap, dy / gap, dz / gap
+    else:  # the centre on the segment: any direction
+        ux, uy, uz = 1.0, 0.0, 0.0
+    fromto[0], fromto[1], fromto[2] = sx + radius_m * ux, sy + radius_m * uy, sz + radius_m * uz
+    fromto[3] = center[0] - sphere_radius_m * ux
+    fromto[4] = center[1] - sphere_radius_m * uy
+    fromto[5] = center[2] - sphere_radius_m * uz
+    return distance
+
+
+@njit(cache=True)
+def capsule_plane(
+    fromto: FloatArray,
+    mid: FloatArray,
+    axis: FloatArray,
+    half_m: float,
+    radius_m: float,
+    point: FloatArray,
+    normal: FloatArray,
+    distmax_m: float,
+) -> float:
+    """Height of a capsule above a plane, as ``mj_geomDistance(capsule, plane)``, in [m].
+
+    The lower of the segment's two ends (the ``+axis`` end first on a tie, as
+    MuJoCo's ``mjc_PlaneCapsule``) minus the radius.
+
+    Args:
+        fromto: Written: the capsule's lowest point, then its projection on the plane, world, in [m]
+            (zeros when the distance is ``distmax_m`` or more). # (6,)
+        mid: The segment's midpoint, world, in [m]. # (3,)
+        axis: The segment's unit direction, world. # (3,)
+        half_m: Half the segment's length, in [m].
+        radius_m: The capsule's radius, in [m].
+        point: A point of the plane, world, in [m]. # (3,)
+        normal: The plane's unit outward normal, world. # (3,)
+        distmax_m: The distance returned, capped, when the surfaces are this far apart or more.
+    """
+    nx, ny, nz = normal[0], normal[1], normal[2]
+    fromto[:] = 0.0
+    best = distmax_m
+    for sign in (1.0, -1.0):
+        ex = mid[0] + sign * half_m * axis[0]
+        ey = mid[1] + sign * half_m * axis[1]
+        ez = mid[2] + sign * half_m * axis[2]
+        height = nx * (ex - point[0]) + ny * (ey - point[1]) + nz * (ez - point[2])
+        distance = height - radius_m
+        if distance < best:
+            best = distance
+            fromto[0], fromto[1], fromto[2] = ex - radius_m * nx, ey - radius_m * ny, ez - radius_m * nz
+            fromto[3], fromto[4], fromto[5] = ex - height * nx, ey - height * ny, ez - height * nz
+    return best

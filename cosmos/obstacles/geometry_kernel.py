@@ -1,0 +1,374 @@
+"""The proximity model's arithmetic around MuJoCo's distance queries, compiled (numba).
+
+:class:`cosmos.obstacles.geometry.ProximityModel` places the capsules and the
+moving obstacles in its private MuJoCo model, picks the candidate pairs worth a
+distance query, answers those with a sphere or a plane in closed form
+(:mod:`cosmos.obstacles.distance_kernel`) and asks ``mj_geomDistance`` for the
+others (from Python: one call a pair), and keeps, per (link, obstacle) within
+rho_0, the link's closest capsule and its point and normal. Between
+measurements it carries those points forward to first order with the links'
+twists (as the seed's servo level estimates the end effector between
+evaluations of the model). Everything but MuJoCo's queries is here;
+``tests/obstacles/test_obstacles_geometry_kernel.py`` checks it against
+Pinocchio's kinematics, brute-force distances (:mod:`cosmos.osc.firas`) and
+first-order motion by finite differences.
+
+Layouts of the packed arrays are below; the frames, obstacles and approaches are
+those of :mod:`cosmos.obstacles.field_kernel`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from cosmos.obstacles import distance_kernel as dk
+from cosmos.obstacles.field_kernel import (
+    APPROACH_DISTANCE,
+    APPROACH_LINK,
+    APPROACH_NORMAL,
+    APPROACH_OBSTACLE,
+    APPROACH_POINT,
+    FRAME_ORIGIN,
+    FRAME_ROTATION,
+    FRAME_TWIST,
+    OBSTACLE_ADDED_S,
+    OBSTACLE_CENTER,
+    OBSTACLE_RHO_0,
+    OBSTACLE_VELOCITY,
+)
+
+FloatArray = np.ndarray
+
+# ``capsules`` (n, CAPSULE): per capsule, the joint (= link) carrying it; its geom's frame in the
+# joint's frame (origin at the segment's midpoint [m], rotation with z along the segment); half its
+# segment's length and its radius [m] (as the private model's geom) and the radius of a sphere about
+# the midpoint that holds it [m].
+CAPSULE_JOINT, CAPSULE_MID, CAPSULE_ROTATION, CAPSULE_HALF, CAPSULE_RADIUS, CAPSULE_BOUND = (
+    0,
+    1,
+    4,
+    13,
+    14,
+    15,
+)
+CAPSULE = 16
+
+# ``candidates`` (m, CANDIDATE): a (capsule, obstacle) pair within rho_0 + margin, the distance at
+# its last query [m] (-inf: never queried), the travel bound [m] at that query, and 1.0 when the
+# obstacle is a sphere or a plane (closed form; else MuJoCo's query). Each candidate's last answer
+# (distance and the segment from the capsule to the obstacle) is kept in parallel arrays.
+CANDIDATE_CAPSULE, CANDIDATE_OBSTACLE, CANDIDATE_LAST_M, CANDIDATE_TRAVEL_M, CANDIDATE_ANALYTIC = range(5)
+CANDIDATE = 5
+
+# ``held`` (m, HELD): per approach measured, link, obstacle, capsule, the link's point and the
+# obstacle's point [m], the unit normal pointing away from the obstacle, world, and the time [s].
+HELD_LINK, HELD_OBSTACLE, HELD_CAPSULE, HELD_POINT, HELD_OTHER, HELD_NORMAL, HELD_S = 0, 1, 2, 3, 6, 9, 12
+HELD = 13
+
+NORMAL_FROM_POINTS_M = 1e-4
+"""Below this distance MuJoCo's two points do not define the normal: firas gives it (in Python)."""
+
+
+@njit(cache=True)
+def place_geoms_into(
+    geom_xpos: FloatArray,
+    geom_xmat: FloatArray,
+    frames: FloatArray,
+    capsules: FloatArray,
+    obstacles: FloatArray,
+    t_s: float,
+) -> None:
+    """World poses of the capsule geoms (0..n-1) and of the moving obstacles' geoms (n + j) at ``t_s``.
+
+    A capsule's geom is ``R_k (R_in_joint, mid_in_joint) + p_k`` of its joint
+    k; a moving obstacle's centre is ``c + v (t - t_added)``. Static obstacles
+    keep the pose written when the model was built.
+    """
+    n = capsules.shape[0]
+    for i in range(n):
+        c = capsules[i]
+        f = frames[int(c[CAPSULE_JOINT])]
+        for row in range(3):
+            r0 = f[FRAME_ROTATION + 3 * row]
+            r1 = f[FRAME_ROTATION + 3 * row + 1]
+            r2 = f[FRAME_ROTATION + 3 * row + 2]
+            geom_xpos[i, row] = (r0 * c[CAPSULE_MID] + r1 * c[CAPSULE_MID + 1] + r2 * c[CAPSULE_MID + 2]) + f[
+                FRAME_ORIGIN + row
+            ]
+            for col in range(3):
+                geom_xmat[i, 3 * row + col] = (
+                    r0 * c[CAPSULE_ROTATION + col]
+                    + r1 * c[CAPSULE_ROTATION + 3 + col]
+                    + r2 * c[CAPSULE_ROTATION + 6 + col]
+                )
+    for j in range(obstacles.shape[0]):
+        o = obstacles[j]
+        vx, vy, vz = o[OBSTACLE_VELOCITY], o[OBSTACLE_VELOCITY + 1], o[OBSTACLE_VELOCITY + 2]
+        if vx == 0.0 and vy == 0.0 and vz == 0.0:
+            continue
+        dt = t_s - o[OBSTACLE_ADDED_S]
+        geom_xpos[n + j, 0] = o[OBSTACLE_CENTER] + dt * vx
+        geom_xpos[n + j, 1] = o[OBSTACLE_CENTER + 1] + dt * vy
+        geom_xpos[n + j, 2] = o[OBSTACLE_CENTER + 2] + dt * vz
+
+
+@njit(cache=True)
+def analytic_distance(
+    fromto: FloatArray,
+    geom_xpos: FloatArray,
+    geom_xmat: FloatArray,
+    capsules: FloatArray,
+    i: int,
+    shapes: FloatArray,
+    j: int,
+    distmax_m: float,
+) -> float:
+    """Capsule ``i`` to obstacle ``j`` (a sphere or a plane), closed form, as ``mj_geomDistance``; in [m].
+
+    The geoms' poses are read from ``geom_xpos`` and ``geom_xmat`` (capsules
+    first, then the obstacles), as MuJoCo would; ``fromto`` gets the segment
+    from the capsule to the obstacle. # (6,)
+    """
+    n = capsules.shape[0]
+    c, shape = capsules[i], shapes[j]
+    axis = np.empty(3)
+    axis[0], axis[1], axis[2] = geom_xmat[i, 2], geom_xmat[i, 5], geom_xmat[i, 8]
+    if shape[dk.SHAPE_KIND] == dk.KIND_SPHERE:
+        return dk.capsule_sphere(
+            fromto,
+            geom_xpos[i],
+            axis,
+            c[CAPSULE_HALF],
+            c[CAPSULE_RADIUS],
+            geom_xpos[n + j],
+            shape[dk.SHAPE_HALF],
+            distmax_m,
+        )
+    normal = np.empty(3)
+    r = dk.SHAPE_ROTATION
+    normal[0], normal[1], normal[2] = shape[r + 2], shape[r + 5], shape[r + 8]
+    return dk.capsule_plane(
+        fromto, geom_xpos[i], axis, c[CAPSULE_HALF], c[CAPSULE_RADIUS], geom_xpos[n + j], normal, distmax_m
+    )
+
+
+@njit(cache=True)
+def candidate_pairs_into(
+    candidates: FloatArray,
+    distances: FloatArray,
+    fromtos: FloatArray,
+    geom_xpos: FloatArray,
+    geom_xmat: FloatArray,
+    capsules: FloatArray,
+    shapes: FloatArray,
+    obstacles: FloatArray,
+    t_s: float,
+    margin_m: float,
+) -> int:
+    """The (capsule, obstacle) pairs that may be within ``rho_0 + margin_m``, capsule-major, as candidates.
+
+    A capsule lies within ``bound`` of its midpoint (``geom_xpos``, placed by
+    :func:`place_geoms_into`), so its distance to an obstacle is at least the
+    midpoint's signed distance minus ``bound``: the pairs where that lower bound
+    is below ``rho_0 + margin_m`` pass. A sphere's or a plane's pair is then
+    answered in closed form (:func:`analytic_distance`, into ``distances`` and
+    ``fromtos``) and dropped if ``rho_0 + margin_m`` or more apart; a box's or
+    a cylinder's distance is left NaN, for MuJoCo. Each written candidate is
+    marked never queried. # candidates: (n k, CANDIDATE)
+
+    Returns:
+        How many rows were written.
+    """
+    n, k = capsules.shape[0], shapes.shape[0]
+    count = 0
+    for i in range(n):
+        x, y, z = geom_xpos[i, 0], geom_xpos[i, 1], geom_xpos[i, 2]
+        for j in range(k):
+            o = obstacles[j]
+            dt = t_s - o[OBSTACLE_ADDED_S]
+            cx = o[OBSTACLE_CENTER] + dt * o[OBSTACLE_VELOCITY]
+            cy = o[OBSTACLE_CENTER + 1] + dt * o[OBSTACLE_VELOCITY + 1]
+            cz = o[OBSTACLE_CENTER + 2] + dt * o[OBSTACLE_VELOCITY + 2]
+            reach = o[OBSTACLE_RHO_0] + margin_m
+            if dk.signed_distance(x, y, z, shapes[j], cx, cy, cz) - capsules[i, CAPSULE_BOUND] >= reach:
+                continue
+            kind = shapes[j, dk.SHAPE_KIND]
+            analytic = kind == dk.KIND_SPHERE or kind == dk.KIND_PLANE
+            if analytic:
+                distance = analytic_distance(
+                    fromtos[count], geom_xpos, geom_xmat, capsules, i, shapes, j, reach
+                )
+                if distance >= reach:
+                    continue
+            else:
+                distance = np.nan
+            row = candidates[count]
+            row[CANDIDATE_CAPSULE], row[CANDIDATE_OBSTACLE] = i, j
+            row[CANDIDATE_LAST_M], row[CANDIDATE_TRAVEL_M] = -np.inf, 0.0
+            row[CANDIDATE_ANALYTIC] = 1.0 if analytic else 0.0
+            distances[count] = distance
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def select_queries(
+    queue: np.ndarray,
+    remote: np.ndarray,
+    candidates: FloatArray,
+    count: int,
+    obstacles: FloatArray,
+    travel_m: float,
+) -> tuple[int, int]:
+    """The candidates that may have come within rho_0 since their last query, into ``queue``.
+
+    A pair ``last_m`` apart at its last query, when the travel bound was
+    ``travel_then``, can have closed at most ``travel_m - travel_then`` since.
+    Those that need MuJoCo (box, cylinder) are also listed in ``remote``.
+
+    Returns:
+        How many were written to ``queue`` and to ``remote``.
+    """
+    queued, remotes = 0, 0
+    for c in range(count):
+        row = candidates[c]
+        limit = obstacles[int(row[CANDIDATE_OBSTACLE]), OBSTACLE_RHO_0]
+        if row[CANDIDATE_LAST_M] - (travel_m - row[CANDIDATE_TRAVEL_M]) >= limit:
+            continue  # it was farther than it can have come since
+        queue[queued] = c
+        queued += 1
+        if row[CANDIDATE_ANALYTIC] == 0.0:
+            remote[remotes] = c
+            remotes += 1
+    return queued, remotes
+
+
+@njit(cache=True)
+def nearest_into(
+    approaches: FloatArray,
+    held: FloatArray,
+    candidates: FloatArray,
+    queue: np.ndarray,
+    queued: int,
+    distances: FloatArray,
+    fromtos: FloatArray,
+    geom_xpos: FloatArray,
+    geom_xmat: FloatArray,
+    capsules: FloatArray,
+    shapes: FloatArray,
+    obstacles: FloatArray,
+    margin_m: float,
+    travel_m: float,
+    t_s: float,
+) -> int:
+    """Per (link, obstacle) within rho_0, the link's closest capsule among the queued candidates.
+
+    The queued candidates with a sphere or a plane are answered here (closed
+    form, up to ``rho_0 + margin_m``); the others' ``distances[c]`` and
+    ``fromtos[c]`` are MuJoCo's answers (the distance, then the capsule's
+    closest point and the obstacle's). They become each candidate's last query.
+    The approaches are written in the order their (link, obstacle) first
+    appears in the queue, with the normal from the obstacle's point to the
+    link's; a pair closer than :data:`NORMAL_FROM_POINTS_M` keeps the distance
+    and points, for the caller to replace (firas).
+
+    Returns:
+        How many approaches (and held rows) were written.
+    """
+    slots = np.full((6, obstacles.shape[0]), -1)
+    best = np.empty(queued, dtype=np.int64)
+    count = 0
+    for q in range(queued):
+        c = queue[q]
+        row = candidates[c]
+        i, j = int(row[CANDIDATE_CAPSULE]), int(row[CANDIDATE_OBSTACLE])
+        limit = obstacles[j, OBSTACLE_RHO_0]
+        if row[CANDIDATE_ANALYTIC] != 0.0:
+            distances[c] = analytic_distance(
+                fromtos[c], geom_xpos, geom_xmat, capsules, i, shapes, j, limit + margin_m
+            )
+        distance = distances[c]
+        row[CANDIDATE_LAST_M], row[CANDIDATE_TRAVEL_M] = distance, travel_m
+        if distance >= limit:
+            continue
+        k = int(capsules[i, CAPSULE_JOINT])
+        slot = slots[k, j]
+        if slot < 0:
+            slots[k, j] = count
+            best[count] = c
+            count += 1
+        elif distance < distances[best[slot]]:
+            best[slot] = c
+    for s in range(count):
+        c = best[s]
+        row = candidates[c]
+        i, j = int(row[CANDIDATE_CAPSULE]), int(row[CANDIDATE_OBSTACLE])
+        distance = distances[c]
+        f = fromtos[c]
+        px, py, pz, ox, oy, oz = f[0], f[1], f[2], f[3], f[4], f[5]
+        if distance > NORMAL_FROM_POINTS_M:
+            nx, ny, nz = (px - ox) / distance, (py - oy) / distance, (pz - oz) / distance
+        else:
+            nx, ny, nz = 0.0, 0.0, 0.0  # replaced by the caller
+        h = held[s]
+        h[HELD_LINK], h[HELD_OBSTACLE], h[HELD_CAPSULE] = capsules[i, CAPSULE_JOINT], j, i
+        h[HELD_POINT], h[HELD_POINT + 1], h[HELD_POINT + 2] = px, py, pz
+        h[HELD_OTHER], h[HELD_OTHER + 1], h[HELD_OTHER + 2] = ox, oy, oz
+        h[HELD_NORMAL], h[HELD_NORMAL + 1], h[HELD_NORMAL + 2] = nx, ny, nz
+        h[HELD_S] = t_s
+        a = approaches[s]
+        a[APPROACH_LINK], a[APPROACH_OBSTACLE], a[APPROACH_DISTANCE] = h[HELD_LINK], j, distance
+        a[APPROACH_POINT], a[APPROACH_POINT + 1], a[APPROACH_POINT + 2] = px, py, pz
+        a[APPROACH_NORMAL], a[APPROACH_NORMAL + 1], a[APPROACH_NORMAL + 2] = nx, ny, nz
+    return count
+
+
+@njit(cache=True)
+def estimate_into(
+    approaches: FloatArray,
+    held: FloatArray,
+    count: int,
+    frames: FloatArray,
+    obstacles: FloatArray,
+    t_s: float,
+) -> int:
+    """The first ``count`` held approaches carried forward to ``t_s`` to first order.
+
+    Each held closest point moves with its link's current twist ``(v, w)`` at
+    the world origin (``p + (v + w x p) dt``), the obstacle's point with the
+    obstacle's velocity, and the distance is their separation along the held
+    normal; the pairs still within rho_0 are written to ``approaches``.
+
+    Returns:
+        How many approaches were written.
+    """
+    out = 0
+    for s in range(count):
+        h = held[s]
+        k, j = int(h[HELD_LINK]), int(h[HELD_OBSTACLE])
+        dt = t_s - h[HELD_S]
+        px, py, pz = h[HELD_POINT], h[HELD_POINT + 1], h[HELD_POINT + 2]
+        f = frames[k]
+        vx, vy, vz = f[FRAME_TWIST], f[FRAME_TWIST + 1], f[FRAME_TWIST + 2]
+        wx, wy, wz = f[FRAME_TWIST + 3], f[FRAME_TWIST + 4], f[FRAME_TWIST + 5]
+        px, py, pz = (
+            px + (vx + wy * pz - wz * py) * dt,
+            py + (vy + wz * px - wx * pz) * dt,
+            pz + (vz + wx * py - wy * px) * dt,
+        )
+        o = obstacles[j]
+        ux, uy, uz = o[OBSTACLE_VELOCITY], o[OBSTACLE_VELOCITY + 1], o[OBSTACLE_VELOCITY + 2]
+        nx, ny, nz = h[HELD_NORMAL], h[HELD_NORMAL + 1], h[HELD_NORMAL + 2]
+        distance = (
+            nx * (px - h[HELD_OTHER] - ux * dt)
+            + ny * (py - h[HELD_OTHER + 1] - uy * dt)
+            + nz * (pz - h[HELD_OTHER + 2] - uz * dt)
+        )
+        if distance < o[OBSTACLE_RHO_0]:
+            a = approaches[out]
+            a[APPROACH_LINK], a[APPROACH_OBSTACLE], a[APPROACH_DISTANCE] = k, j, distance
+            a[APPROACH_POINT], a[APPROACH_POINT + 1], a[APPROACH_POINT + 2] = px, py, pz
+            a[APPROACH_NORMAL], a[APPROACH_NORMAL + 1], a[APPROACH_NORMAL + 2] = nx, ny, nz
+            out += 1
+    return out
