@@ -25,6 +25,20 @@ SHAPE_KIND, SHAPE_ROTATION, SHAPE_HALF = 0, 1, 10
 SHAPE = 13
 KIND_SPHERE, KIND_CYLINDER, KIND_BOX, KIND_PLANE = 0.0, 1.0, 2.0, 3.0
 
+# ``capsules`` (n, CAPSULE): per capsule, the joint (= link) carrying it; its geom's frame in the
+# joint's frame (origin at the segment's midpoint [m], rotation with z along the segment); half its
+# segment's length and its radius [m] (as the private model's geom) and the radius of a sphere about
+# the midpoint that holds it [m].
+CAPSULE_JOINT, CAPSULE_MID, CAPSULE_ROTATION, CAPSULE_HALF, CAPSULE_RADIUS, CAPSULE_BOUND = (
+    0,
+    1,
+    4,
+    13,
+    14,
+    15,
+)
+CAPSULE = 16
+
 
 @njit(cache=True)
 def signed_distance(
@@ -143,3 +157,43 @@ def capsule_plane(
             fromto[0], fromto[1], fromto[2] = ex - radius_m * nx, ey - radius_m * ny, ez - radius_m * nz
             fromto[3], fromto[4], fromto[5] = ex - height * nx, ey - height * ny, ez - height * nz
     return best
+
+
+@njit(cache=True)
+def analytic_distance(
+    fromto: FloatArray,
+    geom_xpos: FloatArray,
+    geom_xmat: FloatArray,
+    capsules: FloatArray,
+    i: int,
+    shapes: FloatArray,
+    j: int,
+    distmax_m: float,
+) -> float:
+    """Capsule ``i`` to obstacle ``j`` (a sphere or a plane), closed form, as ``mj_geomDistance``; in [m].
+
+    The geoms' poses are read from ``geom_xpos`` and ``geom_xmat`` (capsules
+    first, then the obstacles), as MuJoCo would; ``fromto`` gets the segment
+    from the capsule to the obstacle. # (6,)
+    """
+    n = capsules.shape[0]
+    c, shape = capsules[i], shapes[j]
+    axis = np.empty(3)
+    axis[0], axis[1], axis[2] = geom_xmat[i, 2], geom_xmat[i, 5], geom_xmat[i, 8]
+    if shape[SHAPE_KIND] == KIND_SPHERE:
+        return capsule_sphere(
+            fromto,
+            geom_xpos[i],
+            axis,
+            c[CAPSULE_HALF],
+            c[CAPSULE_RADIUS],
+            geom_xpos[n + j],
+            shape[SHAPE_HALF],
+            distmax_m,
+        )
+    normal = np.empty(3)
+    r = SHAPE_ROTATION
+    normal[0], normal[1], normal[2] = shape[r + 2], shape[r + 5], shape[r + 8]
+    return capsule_plane(
+        fromto, geom_xpos[i], axis, c[CAPSULE_HALF], c[CAPSULE_RADIUS], geom_xpos[n + j], normal, distmax_m
+    )

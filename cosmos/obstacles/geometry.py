@@ -65,13 +65,13 @@ def capsule_table(capsules: LinkCapsules) -> FloatArray:
     axes = capsules.b_in_joint - capsules.a_in_joint  # (n, 3)
     half_lengths = 0.5 * np.linalg.norm(axes, axis=1)
     rotations = [_frame_with_z(a) if h > 1e-9 else np.eye(3) for a, h in zip(axes, half_lengths, strict=True)]
-    table = np.zeros((n, gk.CAPSULE))
-    table[:, gk.CAPSULE_JOINT] = capsules.joint
-    table[:, gk.CAPSULE_MID : gk.CAPSULE_MID + 3] = 0.5 * (capsules.a_in_joint + capsules.b_in_joint)
-    table[:, gk.CAPSULE_ROTATION : gk.CAPSULE_ROTATION + 9] = np.array(rotations).reshape(n, 9)
-    table[:, gk.CAPSULE_HALF] = np.where(half_lengths > 1e-9, half_lengths, 0.0)
-    table[:, gk.CAPSULE_RADIUS] = capsules.radius_m
-    table[:, gk.CAPSULE_BOUND] = capsules.bound_m
+    table = np.zeros((n, dk.CAPSULE))
+    table[:, dk.CAPSULE_JOINT] = capsules.joint
+    table[:, dk.CAPSULE_MID : dk.CAPSULE_MID + 3] = 0.5 * (capsules.a_in_joint + capsules.b_in_joint)
+    table[:, dk.CAPSULE_ROTATION : dk.CAPSULE_ROTATION + 9] = np.array(rotations).reshape(n, 9)
+    table[:, dk.CAPSULE_HALF] = np.where(half_lengths > 1e-9, half_lengths, 0.0)
+    table[:, dk.CAPSULE_RADIUS] = capsules.radius_m
+    table[:, dk.CAPSULE_BOUND] = capsules.bound_m
     return table
 
 
@@ -97,7 +97,7 @@ class ProximityModel:
     def __init__(self, capsules: LinkCapsules, obstacles: tuple[Obstacle, ...], table: FloatArray) -> None:
         spec = mujoco.MjSpec()
         self._capsule_table = capsule_table(capsules)
-        for radius, half in self._capsule_table[:, [gk.CAPSULE_RADIUS, gk.CAPSULE_HALF]].tolist():
+        for radius, half in self._capsule_table[:, [dk.CAPSULE_RADIUS, dk.CAPSULE_HALF]].tolist():
             if half > 0.0:
                 spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[radius, half, 0.0])
             else:
@@ -125,22 +125,24 @@ class ProximityModel:
         for j, obstacle in enumerate(obstacles):
             xmat[n + j] = np.ascontiguousarray(obstacle.rotation_world).reshape(9)
             xpos[n + j] = obstacle.position_world
-        # The candidate pairs (rows of ``_candidates``), their last answers, and what a MuJoCo query
-        # of each needs from Python: capsule, obstacle geom, distmax, the row of ``_fromtos``.
-        self._candidates = np.zeros((0, gk.CANDIDATE))
-        self._distances = np.zeros(0)
-        self._fromtos = np.zeros((0, 6))
-        self._queries: list[tuple[int, int, float, FloatArray]] = []
-        self._queue = np.zeros(0, dtype=np.int64)
-        self._remote = np.zeros(0, dtype=np.int64)
-        self._rebuild = True
+        # The candidate pairs (the first ``_count`` rows; -1: to be built), their last answers (the
+        # distance, the segment from the capsule to the obstacle), and the lists of one measurement.
+        pairs = n * len(obstacles)
+        self._candidates = np.zeros((pairs, gk.CANDIDATE))
+        self._count = -1
+        self._distances = np.zeros(pairs)
+        self._fromtos = np.zeros((pairs, 6))
+        self._lists = np.zeros((pairs, gk.LISTS), dtype=np.int64)
+        self._xpos, self._xmat = self._data.geom_xpos, self._data.geom_xmat  # views of MuJoCo's arrays
+        # distmax of a query, by the obstacle's geom: rho_0 + margin.
+        self._reach = [0.0] * n + [float(rho_0) + CANDIDATE_MARGIN_M for rho_0 in self._rho_0.tolist()]
         self._travel_m = 0.0
         self._last_s: float | None = None
         self._capsules = capsules
-        pairs = 6 * len(obstacles)  # at most one approach per (link, obstacle)
-        self._held = np.zeros((pairs, gk.HELD))
+        links = 6 * len(obstacles)  # at most one approach per (link, obstacle)
+        self._held = np.zeros((links, gk.HELD))
         self._held_count = 0
-        self.approaches = np.zeros((pairs, fk.APPROACH))
+        self.approaches = np.zeros((links, fk.APPROACH))
         """One row per (link, obstacle) within rho_0, the first ``count`` rows valid. # (6 k, APPROACH)"""
 
     def centers(self, t_s: float) -> FloatArray:
@@ -186,33 +188,38 @@ class ProximityModel:
         Returns:
             How many rows of :attr:`approaches` are valid.
         """
-        data = self._data
-        xpos, xmat = data.geom_xpos, data.geom_xmat
+        xpos, xmat = self._xpos, self._xmat
         gk.place_geoms_into(xpos, xmat, frames, self._capsule_table, self.table, t_s)
         if self._last_s is not None:
             self._travel_m += speed_mps * abs(t_s - self._last_s)
         self._last_s = t_s
-        if self._rebuild or self._travel_m >= CANDIDATE_MARGIN_M:
-            self._travel_m = 0.0
-            self._candidate_pairs(t_s)  # every pair queried already
-            queued = len(self._queries)
-        else:
-            queue, distances, queries, remote = self._queue, self._distances, self._queries, self._remote
-            queued, remotes = gk.select_queries(
-                queue, remote, self._candidates, len(queries), self.table, self._travel_m
-            )
-            model, distance_of = self._model, mujoco.mj_geomDistance
-            for c in remote[:remotes].tolist():
-                capsule, geom, reach, fromto = queries[c]
-                distances[c] = distance_of(model, data, capsule, geom, reach, fromto)
+        count = self._count
+        if count < 0 or self._travel_m >= CANDIDATE_MARGIN_M:
+            self._travel_m, count = 0.0, -1  # rebuild the candidates
+        lists, distances, fromtos = self._lists, self._distances, self._fromtos
+        self._count, queued, remotes = gk.select_queries(
+            lists,
+            self._candidates,
+            count,
+            xpos,
+            self._capsule_table,
+            self._shapes,
+            self.table,
+            t_s,
+            self._travel_m,
+            CANDIDATE_MARGIN_M,
+        )
+        model, data, reach, distance_of = self._model, self._data, self._reach, mujoco.mj_geomDistance
+        for c, capsule, geom in lists[:remotes, gk.LIST_REMOTE :].tolist():
+            distances[c] = distance_of(model, data, capsule, geom, reach[geom], fromtos[c])
         count = gk.nearest_into(
             self.approaches,
             self._held,
             self._candidates,
-            self._queue,
+            distances,
+            fromtos,
+            lists,
             queued,
-            self._distances,
-            self._fromtos,
             xpos,
             xmat,
             self._capsule_table,
@@ -245,48 +252,3 @@ class ProximityModel:
         approach[fk.APPROACH_DISTANCE] = exact.distance
         approach[fk.APPROACH_POINT : fk.APPROACH_POINT + 3] = exact.point
         approach[fk.APPROACH_NORMAL : fk.APPROACH_NORMAL + 3] = exact.normal
-
-    def _candidate_pairs(self, t_s: float) -> None:
-        """The pairs within rho_0 + margin (a lower bound first, then the distance), with their answers.
-
-        A kept pair's answer is the one this measurement would get (same poses,
-        same ``distmax``), so it is kept as the pair's first query; the queue
-        lists them all.
-        """
-        n, k, model, data = self._n, len(self.obstacles), self._model, self._data
-        candidates, distances, fromtos = (
-            np.empty((n * k, gk.CANDIDATE)),
-            np.empty(n * k),
-            np.zeros((n * k, 6)),
-        )
-        found = gk.candidate_pairs_into(
-            candidates,
-            distances,
-            fromtos,
-            data.geom_xpos,
-            data.geom_xmat,
-            self._capsule_table,
-            self._shapes,
-            self.table,
-            t_s,
-            CANDIDATE_MARGIN_M,
-        )
-        keep = []
-        for c, (i, j, analytic) in enumerate(
-            candidates[:found, [gk.CANDIDATE_CAPSULE, gk.CANDIDATE_OBSTACLE, gk.CANDIDATE_ANALYTIC]].tolist()
-        ):
-            if not analytic:  # a box or a cylinder: MuJoCo
-                reach = float(self._rho_0[int(j)]) + CANDIDATE_MARGIN_M
-                distances[c] = mujoco.mj_geomDistance(model, data, int(i), n + int(j), reach, fromtos[c])
-                if distances[c] >= reach:
-                    continue
-            keep.append(c)
-        self._candidates, self._distances, self._fromtos = candidates[keep], distances[keep], fromtos[keep]
-        self._queries = [
-            (int(i), n + int(j), float(self._rho_0[int(j)]) + CANDIDATE_MARGIN_M, self._fromtos[c])
-            for c, (i, j) in enumerate(self._candidates[:, :2].tolist())
-        ]
-        count = len(keep)
-        self._queue = np.arange(count, dtype=np.int64)
-        self._remote = np.zeros(count, dtype=np.int64)
-        self._rebuild = False

@@ -40,26 +40,17 @@ from cosmos.obstacles.field_kernel import (
 
 FloatArray = np.ndarray
 
-# ``capsules`` (n, CAPSULE): per capsule, the joint (= link) carrying it; its geom's frame in the
-# joint's frame (origin at the segment's midpoint [m], rotation with z along the segment); half its
-# segment's length and its radius [m] (as the private model's geom) and the radius of a sphere about
-# the midpoint that holds it [m].
-CAPSULE_JOINT, CAPSULE_MID, CAPSULE_ROTATION, CAPSULE_HALF, CAPSULE_RADIUS, CAPSULE_BOUND = (
-    0,
-    1,
-    4,
-    13,
-    14,
-    15,
-)
-CAPSULE = 16
-
 # ``candidates`` (m, CANDIDATE): a (capsule, obstacle) pair within rho_0 + margin, the distance at
 # its last query [m] (-inf: never queried), the travel bound [m] at that query, and 1.0 when the
 # obstacle is a sphere or a plane (closed form; else MuJoCo's query). Each candidate's last answer
 # (distance and the segment from the capsule to the obstacle) is kept in parallel arrays.
 CANDIDATE_CAPSULE, CANDIDATE_OBSTACLE, CANDIDATE_LAST_M, CANDIDATE_TRAVEL_M, CANDIDATE_ANALYTIC = range(5)
 CANDIDATE = 5
+
+# ``lists`` (m, LISTS), integers: the queue of candidates to answer, and those of them MuJoCo answers
+# with their capsule's and their obstacle's geom.
+LIST_QUEUE, LIST_REMOTE, LIST_REMOTE_CAPSULE, LIST_REMOTE_GEOM = range(4)
+LISTS = 4
 
 # ``held`` (m, HELD): per approach measured, link, obstacle, capsule, the link's point and the
 # obstacle's point [m], the unit normal pointing away from the obstacle, world, and the time [s].
@@ -88,19 +79,19 @@ def place_geoms_into(
     n = capsules.shape[0]
     for i in range(n):
         c = capsules[i]
-        f = frames[int(c[CAPSULE_JOINT])]
+        f = frames[int(c[dk.CAPSULE_JOINT])]
         for row in range(3):
             r0 = f[FRAME_ROTATION + 3 * row]
             r1 = f[FRAME_ROTATION + 3 * row + 1]
             r2 = f[FRAME_ROTATION + 3 * row + 2]
-            geom_xpos[i, row] = (r0 * c[CAPSULE_MID] + r1 * c[CAPSULE_MID + 1] + r2 * c[CAPSULE_MID + 2]) + f[
-                FRAME_ORIGIN + row
-            ]
+            geom_xpos[i, row] = (
+                r0 * c[dk.CAPSULE_MID] + r1 * c[dk.CAPSULE_MID + 1] + r2 * c[dk.CAPSULE_MID + 2]
+            ) + f[FRAME_ORIGIN + row]
             for col in range(3):
                 geom_xmat[i, 3 * row + col] = (
-                    r0 * c[CAPSULE_ROTATION + col]
-                    + r1 * c[CAPSULE_ROTATION + 3 + col]
-                    + r2 * c[CAPSULE_ROTATION + 6 + col]
+                    r0 * c[dk.CAPSULE_ROTATION + col]
+                    + r1 * c[dk.CAPSULE_ROTATION + 3 + col]
+                    + r2 * c[dk.CAPSULE_ROTATION + 6 + col]
                 )
     for j in range(obstacles.shape[0]):
         o = obstacles[j]
@@ -114,134 +105,68 @@ def place_geoms_into(
 
 
 @njit(cache=True)
-def analytic_distance(
-    fromto: FloatArray,
-    geom_xpos: FloatArray,
-    geom_xmat: FloatArray,
-    capsules: FloatArray,
-    i: int,
-    shapes: FloatArray,
-    j: int,
-    distmax_m: float,
-) -> float:
-    """Capsule ``i`` to obstacle ``j`` (a sphere or a plane), closed form, as ``mj_geomDistance``; in [m].
-
-    The geoms' poses are read from ``geom_xpos`` and ``geom_xmat`` (capsules
-    first, then the obstacles), as MuJoCo would; ``fromto`` gets the segment
-    from the capsule to the obstacle. # (6,)
-    """
-    n = capsules.shape[0]
-    c, shape = capsules[i], shapes[j]
-    axis = np.empty(3)
-    axis[0], axis[1], axis[2] = geom_xmat[i, 2], geom_xmat[i, 5], geom_xmat[i, 8]
-    if shape[dk.SHAPE_KIND] == dk.KIND_SPHERE:
-        return dk.capsule_sphere(
-            fromto,
-            geom_xpos[i],
-            axis,
-            c[CAPSULE_HALF],
-            c[CAPSULE_RADIUS],
-            geom_xpos[n + j],
-            shape[dk.SHAPE_HALF],
-            distmax_m,
-        )
-    normal = np.empty(3)
-    r = dk.SHAPE_ROTATION
-    normal[0], normal[1], normal[2] = shape[r + 2], shape[r + 5], shape[r + 8]
-    return dk.capsule_plane(
-        fromto, geom_xpos[i], axis, c[CAPSULE_HALF], c[CAPSULE_RADIUS], geom_xpos[n + j], normal, distmax_m
-    )
-
-
-@njit(cache=True)
-def candidate_pairs_into(
+def select_queries(
+    lists: np.ndarray,
     candidates: FloatArray,
-    distances: FloatArray,
-    fromtos: FloatArray,
+    count: int,
     geom_xpos: FloatArray,
-    geom_xmat: FloatArray,
     capsules: FloatArray,
     shapes: FloatArray,
     obstacles: FloatArray,
     t_s: float,
-    margin_m: float,
-) -> int:
-    """The (capsule, obstacle) pairs that may be within ``rho_0 + margin_m``, capsule-major, as candidates.
-
-    A capsule lies within ``bound`` of its midpoint (``geom_xpos``, placed by
-    :func:`place_geoms_into`), so its distance to an obstacle is at least the
-    midpoint's signed distance minus ``bound``: the pairs where that lower bound
-    is below ``rho_0 + margin_m`` pass. A sphere's or a plane's pair is then
-    answered in closed form (:func:`analytic_distance`, into ``distances`` and
-    ``fromtos``) and dropped if ``rho_0 + margin_m`` or more apart; a box's or
-    a cylinder's distance is left NaN, for MuJoCo. Each written candidate is
-    marked never queried. # candidates: (n k, CANDIDATE)
-
-    Returns:
-        How many rows were written.
-    """
-    n, k = capsules.shape[0], shapes.shape[0]
-    count = 0
-    for i in range(n):
-        x, y, z = geom_xpos[i, 0], geom_xpos[i, 1], geom_xpos[i, 2]
-        for j in range(k):
-            o = obstacles[j]
-            dt = t_s - o[OBSTACLE_ADDED_S]
-            cx = o[OBSTACLE_CENTER] + dt * o[OBSTACLE_VELOCITY]
-            cy = o[OBSTACLE_CENTER + 1] + dt * o[OBSTACLE_VELOCITY + 1]
-            cz = o[OBSTACLE_CENTER + 2] + dt * o[OBSTACLE_VELOCITY + 2]
-            reach = o[OBSTACLE_RHO_0] + margin_m
-            if dk.signed_distance(x, y, z, shapes[j], cx, cy, cz) - capsules[i, CAPSULE_BOUND] >= reach:
-                continue
-            kind = shapes[j, dk.SHAPE_KIND]
-            analytic = kind == dk.KIND_SPHERE or kind == dk.KIND_PLANE
-            if analytic:
-                distance = analytic_distance(
-                    fromtos[count], geom_xpos, geom_xmat, capsules, i, shapes, j, reach
-                )
-                if distance >= reach:
-                    continue
-            else:
-                distance = np.nan
-            row = candidates[count]
-            row[CANDIDATE_CAPSULE], row[CANDIDATE_OBSTACLE] = i, j
-            row[CANDIDATE_LAST_M], row[CANDIDATE_TRAVEL_M] = -np.inf, 0.0
-            row[CANDIDATE_ANALYTIC] = 1.0 if analytic else 0.0
-            distances[count] = distance
-            count += 1
-    return count
-
-
-@njit(cache=True)
-def select_queries(
-    queue: np.ndarray,
-    remote: np.ndarray,
-    candidates: FloatArray,
-    count: int,
-    obstacles: FloatArray,
     travel_m: float,
-) -> tuple[int, int]:
-    """The candidates that may have come within rho_0 since their last query, into ``queue``.
+    margin_m: float,
+) -> tuple[int, int, int]:
+    """The candidates that may have come within rho_0 since their last query (rebuilt first if asked).
 
-    A pair ``last_m`` apart at its last query, when the travel bound was
-    ``travel_then``, can have closed at most ``travel_m - travel_then`` since.
-    Those that need MuJoCo (box, cylinder) are also listed in ``remote``.
+    With ``count`` < 0 the list is rebuilt: a capsule lies within ``bound`` of
+    its midpoint (``geom_xpos``, placed by :func:`place_geoms_into`), so its
+    distance to an obstacle is at least the midpoint's signed distance minus
+    ``bound``, and the pairs where that lower bound is below ``rho_0 +
+    margin_m`` become the candidates (capsule-major, never queried). Then a
+    pair ``last_m`` apart at its last query, when the travel bound was
+    ``travel_then``, can have closed at most ``travel_m - travel_then`` since:
+    those that may be within rho_0 are queued (``lists[:, LIST_QUEUE]``), and
+    those needing MuJoCo (box, cylinder) listed with their capsule and the
+    obstacle's geom (``lists[:, LIST_REMOTE:]``).
 
     Returns:
-        How many were written to ``queue`` and to ``remote``.
+        The number of candidates, of queued ones and of remote ones.
     """
+    n = capsules.shape[0]
+    if count < 0:
+        count = 0
+        for i in range(n):
+            x, y, z = geom_xpos[i, 0], geom_xpos[i, 1], geom_xpos[i, 2]
+            for j in range(shapes.shape[0]):
+                o = obstacles[j]
+                dt = t_s - o[OBSTACLE_ADDED_S]
+                cx = o[OBSTACLE_CENTER] + dt * o[OBSTACLE_VELOCITY]
+                cy = o[OBSTACLE_CENTER + 1] + dt * o[OBSTACLE_VELOCITY + 1]
+                cz = o[OBSTACLE_CENTER + 2] + dt * o[OBSTACLE_VELOCITY + 2]
+                gap = dk.signed_distance(x, y, z, shapes[j], cx, cy, cz) - capsules[i, dk.CAPSULE_BOUND]
+                if gap >= o[OBSTACLE_RHO_0] + margin_m:
+                    continue
+                kind = shapes[j, dk.SHAPE_KIND]
+                row = candidates[count]
+                row[CANDIDATE_CAPSULE], row[CANDIDATE_OBSTACLE] = i, j
+                row[CANDIDATE_LAST_M], row[CANDIDATE_TRAVEL_M] = -np.inf, 0.0
+                row[CANDIDATE_ANALYTIC] = 1.0 if kind == dk.KIND_SPHERE or kind == dk.KIND_PLANE else 0.0
+                count += 1
     queued, remotes = 0, 0
     for c in range(count):
         row = candidates[c]
-        limit = obstacles[int(row[CANDIDATE_OBSTACLE]), OBSTACLE_RHO_0]
-        if row[CANDIDATE_LAST_M] - (travel_m - row[CANDIDATE_TRAVEL_M]) >= limit:
+        j = int(row[CANDIDATE_OBSTACLE])
+        if row[CANDIDATE_LAST_M] - (travel_m - row[CANDIDATE_TRAVEL_M]) >= obstacles[j, OBSTACLE_RHO_0]:
             continue  # it was farther than it can have come since
-        queue[queued] = c
+        lists[queued, LIST_QUEUE] = c
         queued += 1
         if row[CANDIDATE_ANALYTIC] == 0.0:
-            remote[remotes] = c
+            lists[remotes, LIST_REMOTE] = c
+            lists[remotes, LIST_REMOTE_CAPSULE] = int(row[CANDIDATE_CAPSULE])
+            lists[remotes, LIST_REMOTE_GEOM] = n + j
             remotes += 1
-    return queued, remotes
+    return count, queued, remotes
 
 
 @njit(cache=True)
@@ -249,10 +174,10 @@ def nearest_into(
     approaches: FloatArray,
     held: FloatArray,
     candidates: FloatArray,
-    queue: np.ndarray,
-    queued: int,
     distances: FloatArray,
     fromtos: FloatArray,
+    lists: np.ndarray,
+    queued: int,
     geom_xpos: FloatArray,
     geom_xmat: FloatArray,
     capsules: FloatArray,
@@ -280,19 +205,19 @@ def nearest_into(
     best = np.empty(queued, dtype=np.int64)
     count = 0
     for q in range(queued):
-        c = queue[q]
+        c = lists[q, LIST_QUEUE]
         row = candidates[c]
         i, j = int(row[CANDIDATE_CAPSULE]), int(row[CANDIDATE_OBSTACLE])
         limit = obstacles[j, OBSTACLE_RHO_0]
         if row[CANDIDATE_ANALYTIC] != 0.0:
-            distances[c] = analytic_distance(
+            distances[c] = dk.analytic_distance(
                 fromtos[c], geom_xpos, geom_xmat, capsules, i, shapes, j, limit + margin_m
             )
         distance = distances[c]
         row[CANDIDATE_LAST_M], row[CANDIDATE_TRAVEL_M] = distance, travel_m
         if distance >= limit:
             continue
-        k = int(capsules[i, CAPSULE_JOINT])
+        k = int(capsules[i, dk.CAPSULE_JOINT])
         slot = slots[k, j]
         if slot < 0:
             slots[k, j] = count
@@ -312,7 +237,7 @@ def nearest_into(
         else:
             nx, ny, nz = 0.0, 0.0, 0.0  # replaced by the caller
         h = held[s]
-        h[HELD_LINK], h[HELD_OBSTACLE], h[HELD_CAPSULE] = capsules[i, CAPSULE_JOINT], j, i
+        h[HELD_LINK], h[HELD_OBSTACLE], h[HELD_CAPSULE] = capsules[i, dk.CAPSULE_JOINT], j, i
         h[HELD_POINT], h[HELD_POINT + 1], h[HELD_POINT + 2] = px, py, pz
         h[HELD_OTHER], h[HELD_OTHER + 1], h[HELD_OTHER + 2] = ox, oy, oz
         h[HELD_NORMAL], h[HELD_NORMAL + 1], h[HELD_NORMAL + 2] = nx, ny, nz

@@ -141,7 +141,7 @@ class ObstacleScene:
         self._slot_geom = [int(model.body_geomadr[b]) for b in self._slot_body]
         self._slot_name = [model.body(b).name for b in self._slot_body]
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
-        self._moving: list[tuple[int, tuple[float, ...], tuple[float, ...], float]] = []
+        self._moving: list[tuple[np.ndarray, float, float, float, float, float, float, float]] = []
 
     @property
     def capacity(self) -> int:
@@ -202,19 +202,20 @@ class ObstacleScene:
 
     def update(self, t_s: float) -> None:
         """Move the ``MOVING`` obstacles to their positions at simulated time ``t_s`` (each servo tick)."""
-        mocap_pos = self._plant.data.mocap_pos
-        for mocap, (x, y, z), (vx, vy, vz), added_s in self._moving:
+        for position, x, y, z, vx, vy, vz, added_s in self._moving:
             dt = t_s - added_s
-            mocap_pos[mocap] = (x + vx * dt, y + vy * dt, z + vz * dt)
+            position[0] = x + vx * dt
+            position[1] = y + vy * dt
+            position[2] = z + vz * dt
 
     def _track_moving(self) -> None:
-        """Cache what :meth:`update` needs per tick, as plain floats."""
-        body_mocapid = self._plant.model.body_mocapid
+        """Cache what :meth:`update` needs per tick: the mocap body's row of ``mocap_pos``, plain floats."""
+        body_mocapid, mocap_pos = self._plant.model.body_mocapid, self._plant.data.mocap_pos
         self._moving = [
             (
-                int(body_mocapid[self._slot_body[slot]]),
-                tuple(obstacle.position_world.tolist()),
-                tuple(obstacle.velocity_world_mps.tolist()),
+                mocap_pos[int(body_mocapid[self._slot_body[slot]])],  # a view: writes reach MuJoCo
+                *obstacle.position_world.tolist(),
+                *obstacle.velocity_world_mps.tolist(),
                 obstacle.added_s,
             )
             for slot, obstacle in self._by_name.values()

@@ -9,6 +9,7 @@ import pinocchio as pin
 import pytest
 
 from cosmos.obstacles import arm_capsules
+from cosmos.obstacles import distance_kernel as dk
 from cosmos.obstacles import field_kernel as fk
 from cosmos.obstacles import geometry_kernel as gk
 from cosmos.obstacles.bench import bench_scene
@@ -61,7 +62,7 @@ def test_capsule_geoms_are_placed_where_pinocchio_puts_the_segments() -> None:
         gk.place_geoms_into(xpos, xmat, frames, table, obstacle_table(obstacles, FieldParameters()), t_s)
         a, b = _ends(q)
         np.testing.assert_allclose(xpos[:n], 0.5 * (a + b), atol=1e-12)
-        half_axes = xmat[:n, [2, 5, 8]] * table[:, gk.CAPSULE_HALF, None]
+        half_axes = xmat[:n, [2, 5, 8]] * table[:, dk.CAPSULE_HALF, None]
         np.testing.assert_allclose(half_axes, 0.5 * (b - a), atol=1e-12)
         for j, obstacle in enumerate(obstacles):
             if obstacle.moving:
