@@ -197,3 +197,52 @@ def analytic_distance(
     return capsule_plane(
         fromto, geom_xpos[i], axis, c[CAPSULE_HALF], c[CAPSULE_RADIUS], geom_xpos[n + j], normal, distmax_m
     )
+
+
+@njit(cache=True)
+def segment_lower_bound(
+    mid: FloatArray, axis: FloatArray, half_m: float, shape: FloatArray, cx: float, cy: float, cz: float
+) -> float:
+    """A lower bound on the distance from a segment to a box or a cylinder centred on ``c``, in [m].
+
+    Along each axis of a box, and along a cylinder's axis and across it, the
+    segment's extent and the obstacle's are intervals: the gap between them
+    bounds every distance between a point of one and a point of the other
+    (a separating axis). The largest gap is returned (at most 0 when none
+    separates); for a sphere or a plane, the midpoint's signed distance less
+    ``half_m``.
+
+    Args:
+        mid: The segment's midpoint, world, in [m]. # (3,)
+        axis: Its unit direction, world. # (3,)
+        half_m: Half its length, in [m].
+        shape: The obstacle's row of ``shapes`` (``SHAPE_*``). # (SHAPE,)
+        cx: The obstacle's centre, world x, in [m].
+        cy: Its y, in [m].
+        cz: Its z, in [m].
+    """
+    kind = shape[SHAPE_KIND]
+    if kind == KIND_SPHERE or kind == KIND_PLANE:
+        return signed_distance(mid[0], mid[1], mid[2], shape, cx, cy, cz) - half_m
+    r = SHAPE_ROTATION
+    dx, dy, dz = mid[0] - cx, mid[1] - cy, mid[2] - cz
+    # Midpoint and half-axis in the shape's frame: R^T (p - c), R^T a half.
+    local = np.empty(3)
+    extent = np.empty(3)
+    for k in range(3):
+        local[k] = dx * shape[r + k] + dy * shape[r + 3 + k] + dz * shape[r + 6 + k]
+        extent[k] = half_m * (
+            axis[0] * shape[r + k] + axis[1] * shape[r + 3 + k] + axis[2] * shape[r + 6 + k]
+        )
+    if kind == KIND_BOX:
+        gap = -np.inf
+        for k in range(3):
+            gap = max(gap, abs(local[k]) - abs(extent[k]) - shape[SHAPE_HALF + k])
+        return gap
+    axial = abs(local[2]) - abs(extent[2]) - shape[SHAPE_HALF + 2]
+    # Distance from the cylinder's axis to the segment's projection across it.
+    ex, ey = extent[0], extent[1]
+    length2 = ex * ex + ey * ey
+    t = 0.0 if length2 <= 0.0 else min(1.0, max(-1.0, -(local[0] * ex + local[1] * ey) / length2))
+    radial = math.hypot(local[0] + t * ex, local[1] + t * ey) - shape[SHAPE_HALF]
+    return max(axial, radial)

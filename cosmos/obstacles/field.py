@@ -16,18 +16,22 @@ continuous at the edge of the influence zone. The magnitude is capped. An
 obstacle's ``gain_scale`` multiplies both eta and c.
 
 The force acts on the arm through the point's Jacobian, ``Gamma = J_p^T F``.
-With Pinocchio's world Jacobian ``J`` (spatial velocities of the joints'
-bodies at the world origin, columns 0..k for link k), ``J_p = J_v + J_w x p``
+With the world Jacobian ``J`` (spatial velocities of the joints' bodies at the
+world origin, columns 0..k for link k, as Pinocchio's ``data.J``), ``J_p = J_v + J_w x p``
 column by column, so ``Gamma = J[:, :k+1]^T (F, p x F)``: the force becomes a
 wrench about the world origin, summed per link, and joint j carries the links
 beyond it, ``Gamma_j = J_j . sum_{k >= j} W_k``.
 
 Cost: the runtime asks for the field at the parameter rate; it evaluates
 itself every ``period_s`` (8 ms) and holds its torque in between. The closest
-points come from the controller's own geometric model (:mod:`cosmos.obstacles.geometry`: candidate
-lists, MuJoCo's ``mj_geomDistance``, :mod:`cosmos.osc.firas` where a link
-touches), measured every ``geometry_every`` evaluations and estimated to first
-order in between. docs/obstacles.md has the figures.
+points come from the controller's own geometric model (:mod:`cosmos.obstacles.geometry`:
+candidate lists, closed forms for spheres and planes, MuJoCo's ``mj_geomDistance``
+for boxes and cylinders, :mod:`cosmos.osc.firas` where a link touches), measured
+every ``geometry_every`` evaluations and estimated to first order in between.
+The arithmetic (the arm's kinematics, the bookkeeping of the closest points,
+the forces and torques) is compiled: :mod:`cosmos.obstacles.field_kernel` and
+:mod:`cosmos.obstacles.geometry_kernel`; :func:`repulsion_magnitude` below is
+the readable reference. docs/obstacles.md has the figures.
 """
 
 from __future__ import annotations
@@ -261,7 +265,10 @@ def chain_table(robot: RobotModel, reach_m: FloatArray) -> FloatArray:
         chain[k, fk.CHAIN_ROTATION : fk.CHAIN_ROTATION + 9] = placement.rotation.reshape(9)
         chain[k, fk.CHAIN_TRANSLATION : fk.CHAIN_TRANSLATION + 3] = placement.translation
         # The joint's axis in its own frame: the angular part of its Jacobian column at q = 0.
-        chain[k, fk.CHAIN_AXIS : fk.CHAIN_AXIS + 3] = data.oMi[k + 1].rotation.T.dot(data.J[3:, k])
+        axis = data.oMi[k + 1].rotation.T.dot(data.J[3:, k])
+        if abs(float(np.linalg.norm(axis)) - 1.0) > 1e-9:
+            raise CosmosError(f"the obstacle field needs revolute joints; joint {k + 1} is not one")
+        chain[k, fk.CHAIN_AXIS : fk.CHAIN_AXIS + 3] = axis
         chain[k, fk.CHAIN_REACH] = reach_m[k]
     return chain
 

@@ -8,8 +8,12 @@ too slow for ten obstacles). This module keeps a small MuJoCo model of its own
 (not the plant's: the controller never reads the simulator) holding one geom
 per capsule and one per obstacle, writes their world poses into it directly
 (``geom_xpos``, ``geom_xmat``; no kinematics is run) and asks MuJoCo's
-``mj_geomDistance`` (about 2 us a pair) for the distance and the two closest
-points. :func:`cosmos.obstacles.proximity.capsule_proximity` (firas) remains the
+``mj_geomDistance`` (2 to 4 us a pair, called from Python) for the distance and
+the two closest points of a capsule and a box or a cylinder; a sphere's and a
+plane's are MuJoCo's closed forms, compiled (:mod:`cosmos.obstacles.distance_kernel`).
+The candidate lists, the choice of each link's closest capsule and the
+estimate between measurements are compiled too (:mod:`cosmos.obstacles.geometry_kernel`).
+:func:`cosmos.obstacles.proximity.capsule_proximity` (firas) remains the
 reference, checked against it in the tests, and is used when the capsule
 penetrates the obstacle, where MuJoCo returns a penetration depth rather than
 the signed distance and its points do not define a normal.
@@ -20,6 +24,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from cosmos.obstacles import candidates_kernel as ck
 from cosmos.obstacles import distance_kernel as dk
 from cosmos.obstacles import field_kernel as fk
 from cosmos.obstacles import geometry_kernel as gk
@@ -128,11 +133,11 @@ class ProximityModel:
         # The candidate pairs (the first ``_count`` rows; -1: to be built), their last answers (the
         # distance, the segment from the capsule to the obstacle), and the lists of one measurement.
         pairs = n * len(obstacles)
-        self._candidates = np.zeros((pairs, gk.CANDIDATE))
+        self._candidates = np.zeros((pairs, ck.CANDIDATE))
         self._count = -1
         self._distances = np.zeros(pairs)
         self._fromtos = np.zeros((pairs, 6))
-        self._lists = np.zeros((pairs, gk.LISTS), dtype=np.int64)
+        self._lists = np.zeros((pairs, ck.LISTS), dtype=np.int64)
         self._xpos, self._xmat = self._data.geom_xpos, self._data.geom_xmat  # views of MuJoCo's arrays
         # distmax of a query, by the obstacle's geom: rho_0 + margin.
         self._reach = [0.0] * n + [float(rho_0) + CANDIDATE_MARGIN_M for rho_0 in self._rho_0.tolist()]
@@ -172,13 +177,15 @@ class ProximityModel:
     def measure(self, frames: FloatArray, t_s: float, speed_mps: float) -> int:
         """Each link's closest approach to each obstacle within rho_0 (firas where the link touches).
 
-        The (capsule, obstacle) pairs worth a distance query are those within
-        ``rho_0 + CANDIDATE_MARGIN_M`` of each other (bounding spheres first, then
-        the exact distance); the list is kept until the surfaces may have closed
-        that margin (``speed_mps`` bounds how fast any point of the arm
-        approaches any obstacle), then rebuilt. A listed pair is queried again
-        only once it may have come within rho_0 since its last query. Of a
-        link's capsules near an obstacle, the closest one's point counts.
+        The (capsule, obstacle) pairs worth a distance query are those that may
+        be within ``rho_0 + CANDIDATE_MARGIN_M`` of each other (the signed
+        distance of the capsule's midpoint less its bounding radius is below);
+        the list is kept until the surfaces may have closed that margin
+        (``speed_mps`` bounds how fast any point of the arm approaches any
+        obstacle), then rebuilt. A listed pair is queried only while it may be
+        within rho_0 (at the rebuild, then once it may have come that close
+        since its last query). Of a link's capsules near an obstacle, the
+        closest one's point counts.
 
         Args:
             frames: The arm's joint frames (``FRAME_*``, :mod:`cosmos.obstacles.field_kernel`). # (6, FRAMES)
@@ -197,11 +204,12 @@ class ProximityModel:
         if count < 0 or self._travel_m >= CANDIDATE_MARGIN_M:
             self._travel_m, count = 0.0, -1  # rebuild the candidates
         lists, distances, fromtos = self._lists, self._distances, self._fromtos
-        self._count, queued, remotes = gk.select_queries(
+        self._count, queued, remotes = ck.select_queries(
             lists,
             self._candidates,
             count,
             xpos,
+            xmat,
             self._capsule_table,
             self._shapes,
             self.table,
@@ -210,7 +218,7 @@ class ProximityModel:
             CANDIDATE_MARGIN_M,
         )
         model, data, reach, distance_of = self._model, self._data, self._reach, mujoco.mj_geomDistance
-        for c, capsule, geom in lists[:remotes, gk.LIST_REMOTE :].tolist():
+        for c, capsule, geom in lists[:remotes, ck.LIST_REMOTE :].tolist():
             distances[c] = distance_of(model, data, capsule, geom, reach[geom], fromtos[c])
         count = gk.nearest_into(
             self.approaches,

@@ -1,20 +1,21 @@
 """The proximity model's arithmetic around MuJoCo's distance queries, compiled (numba).
 
 :class:`cosmos.obstacles.geometry.ProximityModel` places the capsules and the
-moving obstacles in its private MuJoCo model, picks the candidate pairs worth a
-distance query, answers those with a sphere or a plane in closed form
+moving obstacles in its private MuJoCo model (here), picks the candidate pairs
+worth a distance query (:mod:`cosmos.obstacles.candidates_kernel`), answers
+those with a sphere or a plane in closed form
 (:mod:`cosmos.obstacles.distance_kernel`) and asks ``mj_geomDistance`` for the
 others (from Python: one call a pair), and keeps, per (link, obstacle) within
-rho_0, the link's closest capsule and its point and normal. Between
+rho_0, the link's closest capsule and its point and normal (here). Between
 measurements it carries those points forward to first order with the links'
-twists (as the seed's servo level estimates the end effector between
-evaluations of the model). Everything but MuJoCo's queries is here;
-``tests/obstacles/test_obstacles_geometry_kernel.py`` checks it against
-Pinocchio's kinematics, brute-force distances (:mod:`cosmos.osc.firas`) and
-first-order motion by finite differences.
+twists, as the seed's servo level estimates the end effector between
+evaluations of the model (here). ``tests/obstacles/test_obstacles_geometry_kernel.py``
+checks it against Pinocchio's kinematics, brute-force distances
+(:mod:`cosmos.osc.firas`) and first-order motion by finite differences.
 
 Layouts of the packed arrays are below; the frames, obstacles and approaches are
-those of :mod:`cosmos.obstacles.field_kernel`.
+those of :mod:`cosmos.obstacles.field_kernel`, the candidates and lists those of
+:mod:`cosmos.obstacles.candidates_kernel`.
 """
 
 from __future__ import annotations
@@ -23,6 +24,14 @@ import numpy as np
 from numba import njit
 
 from cosmos.obstacles import distance_kernel as dk
+from cosmos.obstacles.candidates_kernel import (
+    CANDIDATE_ANALYTIC,
+    CANDIDATE_CAPSULE,
+    CANDIDATE_LAST_M,
+    CANDIDATE_OBSTACLE,
+    CANDIDATE_TRAVEL_M,
+    LIST_QUEUE,
+)
 from cosmos.obstacles.field_kernel import (
     APPROACH_DISTANCE,
     APPROACH_LINK,
@@ -39,18 +48,6 @@ from cosmos.obstacles.field_kernel import (
 )
 
 FloatArray = np.ndarray
-
-# ``candidates`` (m, CANDIDATE): a (capsule, obstacle) pair within rho_0 + margin, the distance at
-# its last query [m] (-inf: never queried), the travel bound [m] at that query, and 1.0 when the
-# obstacle is a sphere or a plane (closed form; else MuJoCo's query). Each candidate's last answer
-# (distance and the segment from the capsule to the obstacle) is kept in parallel arrays.
-CANDIDATE_CAPSULE, CANDIDATE_OBSTACLE, CANDIDATE_LAST_M, CANDIDATE_TRAVEL_M, CANDIDATE_ANALYTIC = range(5)
-CANDIDATE = 5
-
-# ``lists`` (m, LISTS), integers: the queue of candidates to answer, and those of them MuJoCo answers
-# with their capsule's and their obstacle's geom.
-LIST_QUEUE, LIST_REMOTE, LIST_REMOTE_CAPSULE, LIST_REMOTE_GEOM = range(4)
-LISTS = 4
 
 # ``held`` (m, HELD): per approach measured, link, obstacle, capsule, the link's point and the
 # obstacle's point [m], the unit normal pointing away from the obstacle, world, and the time [s].
@@ -102,71 +99,6 @@ def place_geoms_into(
         geom_xpos[n + j, 0] = o[OBSTACLE_CENTER] + dt * vx
         geom_xpos[n + j, 1] = o[OBSTACLE_CENTER + 1] + dt * vy
         geom_xpos[n + j, 2] = o[OBSTACLE_CENTER + 2] + dt * vz
-
-
-@njit(cache=True)
-def select_queries(
-    lists: np.ndarray,
-    candidates: FloatArray,
-    count: int,
-    geom_xpos: FloatArray,
-    capsules: FloatArray,
-    shapes: FloatArray,
-    obstacles: FloatArray,
-    t_s: float,
-    travel_m: float,
-    margin_m: float,
-) -> tuple[int, int, int]:
-    """The candidates that may have come within rho_0 since their last query (rebuilt first if asked).
-
-    With ``count`` < 0 the list is rebuilt: a capsule lies within ``bound`` of
-    its midpoint (``geom_xpos``, placed by :func:`place_geoms_into`), so its
-    distance to an obstacle is at least the midpoint's signed distance minus
-    ``bound``, and the pairs where that lower bound is below ``rho_0 +
-    margin_m`` become the candidates (capsule-major, never queried). Then a
-    pair ``last_m`` apart at its last query, when the travel bound was
-    ``travel_then``, can have closed at most ``travel_m - travel_then`` since:
-    those that may be within rho_0 are queued (``lists[:, LIST_QUEUE]``), and
-    those needing MuJoCo (box, cylinder) listed with their capsule and the
-    obstacle's geom (``lists[:, LIST_REMOTE:]``).
-
-    Returns:
-        The number of candidates, of queued ones and of remote ones.
-    """
-    n = capsules.shape[0]
-    if count < 0:
-        count = 0
-        for i in range(n):
-            x, y, z = geom_xpos[i, 0], geom_xpos[i, 1], geom_xpos[i, 2]
-            for j in range(shapes.shape[0]):
-                o = obstacles[j]
-                dt = t_s - o[OBSTACLE_ADDED_S]
-                cx = o[OBSTACLE_CENTER] + dt * o[OBSTACLE_VELOCITY]
-                cy = o[OBSTACLE_CENTER + 1] + dt * o[OBSTACLE_VELOCITY + 1]
-                cz = o[OBSTACLE_CENTER + 2] + dt * o[OBSTACLE_VELOCITY + 2]
-                gap = dk.signed_distance(x, y, z, shapes[j], cx, cy, cz) - capsules[i, dk.CAPSULE_BOUND]
-                if gap >= o[OBSTACLE_RHO_0] + margin_m:
-                    continue
-                kind = shapes[j, dk.SHAPE_KIND]
-                row = candidates[count]
-                row[CANDIDATE_CAPSULE], row[CANDIDATE_OBSTACLE] = i, j
-                row[CANDIDATE_LAST_M], row[CANDIDATE_TRAVEL_M] = -np.inf, 0.0
-                row[CANDIDATE_ANALYTIC] = 1.0 if kind == dk.KIND_SPHERE or kind == dk.KIND_PLANE else 0.0
-                count += 1
-    queued, remotes = 0, 0
-    for c in range(count):
-        row = candidates[c]
-        j = int(row[CANDIDATE_OBSTACLE])
-        if row[CANDIDATE_LAST_M] - (travel_m - row[CANDIDATE_TRAVEL_M]) >= obstacles[j, OBSTACLE_RHO_0]:
-            continue  # it was farther than it can have come since
-        lists[queued, LIST_QUEUE] = c
-        queued += 1
-        if row[CANDIDATE_ANALYTIC] == 0.0:
-            lists[remotes, LIST_REMOTE] = c
-            lists[remotes, LIST_REMOTE_CAPSULE] = int(row[CANDIDATE_CAPSULE])
-            lists[remotes, LIST_REMOTE_GEOM] = n + j
-            remotes += 1
-    return count, queued, remotes
 
 
 @njit(cache=True)

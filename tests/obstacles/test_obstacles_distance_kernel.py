@@ -8,7 +8,7 @@ import pytest
 
 from cosmos.obstacles import distance_kernel as dk
 from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
-from cosmos.obstacles.proximity import signed_distances
+from cosmos.obstacles.proximity import capsule_proximity, signed_distances
 from cosmos.plan import ObstacleShape
 
 _KIND = {
@@ -140,3 +140,50 @@ def test_point_signed_distance_is_the_numpy_one(shape: Obstacle) -> None:
         np.testing.assert_allclose(got, expected, atol=1e-12)
         inside += int((expected < 0.0).sum())
     assert inside > 20  # points inside the shape were tested too
+
+
+@pytest.mark.parametrize(
+    "shape",
+    [
+        box("b", (0.0, 0.1, 0.2), (0.3, 0.02, 0.2)),
+        cylinder("c", (0.05, 0, 0.1), 0.05, 0.3),
+        sphere("s", (0, 0, 0), 0.1),
+    ],
+    ids=["box", "cylinder", "sphere"],
+)
+def test_segment_lower_bound_never_exceeds_the_distance(shape: Obstacle) -> None:
+    """The separating-axis bound is at most the segment's firas distance, and exact for a face-parallel one.
+
+    Catches ``R`` for ``R^T``, a segment extent without its absolute value, or a
+    cylinder's radial gap taken from the midpoint only: any of them drops pairs
+    that are within rho_0.
+    """
+    rng = np.random.default_rng(9)
+    separated = 0
+    for _ in range(150):
+        obstacle = _turned(shape, _random_rotation(rng))
+        center = obstacle.position_world
+        row = np.zeros(dk.SHAPE)
+        row[dk.SHAPE_KIND] = _KIND[obstacle.shape]
+        row[dk.SHAPE_ROTATION : dk.SHAPE_ROTATION + 9] = obstacle.rotation_world.reshape(9)
+        row[dk.SHAPE_HALF : dk.SHAPE_HALF + 3] = obstacle.half_extents_m
+        mid = center + rng.uniform(-0.4, 0.4, 3)
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        half = float(rng.uniform(0.0, 0.2))
+        exact = capsule_proximity(mid - half * axis, mid + half * axis, 0.0, obstacle, center).distance
+        bound = dk.segment_lower_bound(mid, axis, half, row, *center.tolist())
+        assert bound <= exact + 1e-6
+        separated += bound > 0.0
+    assert separated > 50  # the bound is not trivially low
+    # A segment parallel to the box's large face, 5 cm off it: the bound is the distance.
+    if shape.shape is ObstacleShape.BOX:
+        row = np.zeros(dk.SHAPE)
+        row[dk.SHAPE_KIND] = dk.KIND_BOX
+        row[dk.SHAPE_ROTATION : dk.SHAPE_ROTATION + 9] = np.eye(3).reshape(9)
+        row[dk.SHAPE_HALF : dk.SHAPE_HALF + 3] = shape.half_extents_m
+        mid = shape.position_world + np.array((0.0, 0.01 + 0.05, 0.0))
+        bound = dk.segment_lower_bound(
+            mid, np.array((0.0, 0.0, 1.0)), 0.1, row, *shape.position_world.tolist()
+        )
+        assert bound == pytest.approx(0.05)
