@@ -203,21 +203,24 @@ class ObstacleField:
             self._acting = np.zeros((len(self._obstacles), fk.ACTING))
             self._evaluations = 0
             self._obstacle_speed = max(float(np.linalg.norm(o.velocity_world_mps)) for o in self.obstacles)
-        frames = self._frames
+        frames, parameters = self._frames, self._kernel_parameters
+        parameters[fk.PARAMETER_ENABLED] = 1.0 if self.enabled else 0.0
+        measuring = self._evaluations % self._parameters.geometry_every == 0
+        self._evaluations += 1
+        self._influences = None
+        if not measuring:  # one compiled call: kinematics, estimate, torques
+            speed = geometry.estimated_torque(
+                torque, self._acting, self._chain, q, qd, frames, parameters, t_s
+            )
+            self._speed_bound = max(self._speed_bound, speed + self._obstacle_speed)
+            return torque
         # |velocity| of any arm point <= sum |qd_j| * (its distance to axis j) <= sum |qd_j| reach_j.
         speed = fk.chain_kinematics_into(frames, self._chain, q, qd) + self._obstacle_speed
-        self._speed_bound = max(self._speed_bound, speed)
-        if self._evaluations % self._parameters.geometry_every == 0:
-            count = geometry.measure(frames, t_s, self._speed_bound)
-            self._speed_bound = speed
-        else:
-            count = geometry.estimate(frames, t_s)
-        self._evaluations += 1
-        self._kernel_parameters[fk.PARAMETER_ENABLED] = 1.0 if self.enabled else 0.0
+        count = geometry.measure(frames, t_s, max(self._speed_bound, speed))
+        self._speed_bound = speed
         fk.field_torque_into(
-            torque, self._acting, geometry.approaches, count, frames, geometry.table, self._kernel_parameters
+            torque, self._acting, geometry.approaches, count, frames, geometry.table, parameters
         )
-        self._influences = None
         return torque
 
 

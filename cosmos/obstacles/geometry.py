@@ -174,6 +174,49 @@ class ProximityModel:
         """
         return int(gk.estimate_into(self.approaches, self._held, self._held_count, frames, self.table, t_s))
 
+    def estimated_torque(
+        self,
+        torque: FloatArray,
+        acting: FloatArray,
+        chain: FloatArray,
+        q: FloatArray,
+        qd: FloatArray,
+        frames: FloatArray,
+        parameters: FloatArray,
+        t_s: float,
+    ) -> float:
+        """:meth:`estimate` and the field's torques from it, with the kinematics, in one compiled call.
+
+        Args:
+            torque: Written: the field's joint torques, in [N m]. # (6,)
+            acting: Written: per obstacle, whether and how it acted (``ACTING_*``). # (k, ACTING)
+            chain: The arm's chain (``CHAIN_*`` of :mod:`cosmos.obstacles.field_kernel`). # (6, CHAIN)
+            q: Joint angles, in [rad]. # (6,)
+            qd: Joint velocities, in [rad/s]. # (6,)
+            frames: Written: the joint frames and link twists (``FRAME_*``). # (6, FRAMES)
+            parameters: eta, c, the cap and whether the field is enabled (``PARAMETER_*``). # (PARAMETERS,)
+            t_s: Simulated time, in [s].
+
+        Returns:
+            ``sum_j |qd_j| reach_j``, in [m/s].
+        """
+        return float(
+            gk.estimated_torque_into(
+                torque,
+                acting,
+                frames,
+                chain,
+                q,
+                qd,
+                self.approaches,
+                self._held,
+                self._held_count,
+                self.table,
+                parameters,
+                t_s,
+            )
+        )
+
     def measure(self, frames: FloatArray, t_s: float, speed_mps: float) -> int:
         """Each link's closest approach to each obstacle within rho_0 (firas where the link touches).
 

@@ -45,6 +45,8 @@ from cosmos.obstacles.field_kernel import (
     OBSTACLE_CENTER,
     OBSTACLE_RHO_0,
     OBSTACLE_VELOCITY,
+    chain_kinematics_into,
+    field_torque_into,
 )
 
 FloatArray = np.ndarray
@@ -229,3 +231,29 @@ def estimate_into(
             a[APPROACH_NORMAL], a[APPROACH_NORMAL + 1], a[APPROACH_NORMAL + 2] = nx, ny, nz
             out += 1
     return out
+
+
+@njit(cache=True)
+def estimated_torque_into(
+    torque: FloatArray,
+    acting: FloatArray,
+    frames: FloatArray,
+    chain: FloatArray,
+    q: FloatArray,
+    qd: FloatArray,
+    approaches: FloatArray,
+    held: FloatArray,
+    count: int,
+    obstacles: FloatArray,
+    parameters: FloatArray,
+    t_s: float,
+) -> float:
+    """An evaluation between measurements in one call: kinematics, :func:`estimate_into`, the torques.
+
+    Returns:
+        The arm's speed bound, as :func:`~cosmos.obstacles.field_kernel.chain_kinematics_into`.
+    """
+    speed = chain_kinematics_into(frames, chain, q, qd)
+    estimated = estimate_into(approaches, held, count, frames, obstacles, t_s)
+    field_torque_into(torque, acting, approaches, estimated, frames, obstacles, parameters)
+    return speed

@@ -196,3 +196,34 @@ def test_a_ball_coming_at_the_still_arm_is_picked_up_as_soon_as_it_is_within_rho
         if found and first is None:
             first = step
     assert first is not None and 10 < first < 50  # it entered rho_0 during the run
+
+
+def test_the_fused_estimate_evaluation_is_its_three_steps() -> None:
+    """``estimated_torque_into`` equals kinematics, ``estimate_into`` and ``field_torque_into`` called apart.
+
+    Catches the fused call passing the held count instead of the estimated one
+    to the torques, or the kinematics left out (twists of the last call).
+    """
+    obstacles = bench_scene()
+    parameters = FieldParameters()
+    model = ProximityModel(_capsules(), obstacles, obstacle_table(obstacles, parameters))
+    kernel_parameters = np.array((parameters.eta, parameters.damping_ns_per_m, parameters.force_cap_n, 1.0))
+    frames, apart = np.zeros((6, fk.FRAMES)), np.zeros((6, fk.FRAMES))
+    fk.chain_kinematics_into(frames, _chain(), HOME_Q, np.zeros(6))
+    held = model.measure(frames, 0.0, 0.0)
+    assert held >= 3
+    rng = np.random.default_rng(14)
+    for _ in range(5):
+        q, qd = HOME_Q + rng.normal(scale=0.03, size=6), rng.normal(size=6)
+        torque, acting = np.zeros(6), np.zeros((len(obstacles), fk.ACTING))
+        speed = model.estimated_torque(torque, acting, _chain(), q, qd, frames, kernel_parameters, 0.008)
+        expected_speed = fk.chain_kinematics_into(apart, _chain(), q, qd)
+        count = model.estimate(apart, 0.008)
+        expected, expected_acting = np.zeros(6), np.zeros((len(obstacles), fk.ACTING))
+        fk.field_torque_into(
+            expected, expected_acting, model.approaches, count, apart, model.table, kernel_parameters
+        )
+        assert speed == expected_speed
+        np.testing.assert_array_equal(torque, expected)
+        np.testing.assert_array_equal(acting, expected_acting)
+        assert np.any(torque)
