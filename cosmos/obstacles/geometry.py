@@ -239,7 +239,6 @@ class ProximityModel:
             How many rows of :attr:`approaches` are valid.
         """
         xpos, xmat = self._xpos, self._xmat
-        gk.place_geoms_into(xpos, xmat, frames, self._capsule_table, self.table, t_s)
         if self._last_s is not None:
             self._travel_m += speed_mps * abs(t_s - self._last_s)
         self._last_s = t_s
@@ -247,12 +246,13 @@ class ProximityModel:
         if count < 0 or self._travel_m >= CANDIDATE_MARGIN_M:
             self._travel_m, count = 0.0, -1  # rebuild the candidates
         lists, distances, fromtos = self._lists, self._distances, self._fromtos
-        self._count, queued, remotes = ck.select_queries(
+        self._count, queued, remotes = gk.place_and_select(
             lists,
             self._candidates,
             count,
             xpos,
             xmat,
+            frames,
             self._capsule_table,
             self._shapes,
             self.table,
@@ -263,7 +263,7 @@ class ProximityModel:
         model, data, reach, distance_of = self._model, self._data, self._reach, mujoco.mj_geomDistance
         for c, capsule, geom in lists[:remotes, ck.LIST_REMOTE :].tolist():
             distances[c] = distance_of(model, data, capsule, geom, reach[geom], fromtos[c])
-        count = gk.nearest_into(
+        count, touching = gk.nearest_into(
             self.approaches,
             self._held,
             self._candidates,
@@ -281,7 +281,7 @@ class ProximityModel:
             t_s,
         )
         self._held_count = count
-        for s in range(count):
+        for s in range(count if touching else 0):
             if self.approaches[s, fk.APPROACH_DISTANCE] <= gk.NORMAL_FROM_POINTS_M:
                 self._touching(s, frames, t_s)
         return count

@@ -31,6 +31,7 @@ from cosmos.obstacles.candidates_kernel import (
     CANDIDATE_OBSTACLE,
     CANDIDATE_TRAVEL_M,
     LIST_QUEUE,
+    select_queries,
 )
 from cosmos.obstacles.field_kernel import (
     APPROACH_DISTANCE,
@@ -104,6 +105,28 @@ def place_geoms_into(
 
 
 @njit(cache=True)
+def place_and_select(
+    lists: np.ndarray,
+    candidates: FloatArray,
+    count: int,
+    geom_xpos: FloatArray,
+    geom_xmat: FloatArray,
+    frames: FloatArray,
+    capsules: FloatArray,
+    shapes: FloatArray,
+    obstacles: FloatArray,
+    t_s: float,
+    travel_m: float,
+    margin_m: float,
+) -> tuple[int, int, int]:
+    """:func:`place_geoms_into` then :func:`~cosmos.obstacles.candidates_kernel.select_queries`, one call."""
+    place_geoms_into(geom_xpos, geom_xmat, frames, capsules, obstacles, t_s)
+    return select_queries(
+        lists, candidates, count, geom_xpos, geom_xmat, capsules, shapes, obstacles, t_s, travel_m, margin_m
+    )
+
+
+@njit(cache=True)
 def nearest_into(
     approaches: FloatArray,
     held: FloatArray,
@@ -120,7 +143,7 @@ def nearest_into(
     margin_m: float,
     travel_m: float,
     t_s: float,
-) -> int:
+) -> tuple[int, int]:
     """Per (link, obstacle) within rho_0, the link's closest capsule among the queued candidates.
 
     The queued candidates with a sphere or a plane are answered here (closed
@@ -133,11 +156,12 @@ def nearest_into(
     and points, for the caller to replace (firas).
 
     Returns:
-        How many approaches (and held rows) were written.
+        How many approaches (and held rows) were written, and how many of them
+        are that close (touching).
     """
     slots = np.full((6, obstacles.shape[0]), -1)
     best = np.empty(queued, dtype=np.int64)
-    count = 0
+    count, touching = 0, 0
     for q in range(queued):
         c = lists[q, LIST_QUEUE]
         row = candidates[c]
@@ -170,6 +194,7 @@ def nearest_into(
             nx, ny, nz = (px - ox) / distance, (py - oy) / distance, (pz - oz) / distance
         else:
             nx, ny, nz = 0.0, 0.0, 0.0  # replaced by the caller
+            touching += 1
         h = held[s]
         h[HELD_LINK], h[HELD_OBSTACLE], h[HELD_CAPSULE] = capsules[i, dk.CAPSULE_JOINT], j, i
         h[HELD_POINT], h[HELD_POINT + 1], h[HELD_POINT + 2] = px, py, pz
@@ -180,7 +205,7 @@ def nearest_into(
         a[APPROACH_LINK], a[APPROACH_OBSTACLE], a[APPROACH_DISTANCE] = h[HELD_LINK], j, distance
         a[APPROACH_POINT], a[APPROACH_POINT + 1], a[APPROACH_POINT + 2] = px, py, pz
         a[APPROACH_NORMAL], a[APPROACH_NORMAL + 1], a[APPROACH_NORMAL + 2] = nx, ny, nz
-    return count
+    return count, touching
 
 
 @njit(cache=True)

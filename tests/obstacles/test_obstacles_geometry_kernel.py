@@ -16,7 +16,7 @@ from cosmos.obstacles.bench import bench_scene
 from cosmos.obstacles.capsules import LinkCapsules, joint_reach_m
 from cosmos.obstacles.field import FieldParameters, chain_table, obstacle_table
 from cosmos.obstacles.geometry import ProximityModel, capsule_table
-from cosmos.obstacles.obstacle import Obstacle, sphere
+from cosmos.obstacles.obstacle import Obstacle, box, sphere
 from cosmos.obstacles.proximity import capsule_proximity, signed_distances
 from cosmos.workcell import HOME_Q
 from tests.obstacles.obstacle_scenes import robot
@@ -227,3 +227,24 @@ def test_the_fused_estimate_evaluation_is_its_three_steps() -> None:
         np.testing.assert_array_equal(torque, expected)
         np.testing.assert_array_equal(acting, expected_acting)
         assert np.any(torque)
+
+
+def test_a_link_inside_an_obstacle_gets_the_firas_signed_distance_and_normal() -> None:
+    """Penetrating pairs (MuJoCo's depth is no signed distance) take firas' distance, point and normal.
+
+    Catches the touching pairs left with MuJoCo's penetration depth and a zero
+    normal (no force direction), or the fix-up applied to the wrong approach.
+    """
+    obstacles = (sphere("ball", (0.64, -0.15, 0.52), 0.05), box("crate", (0.5, -0.15, 0.6), (0.1, 0.1, 0.1)))
+    model = ProximityModel(_capsules(), obstacles, obstacle_table(obstacles, FieldParameters()))
+    frames = np.zeros((6, fk.FRAMES))
+    fk.chain_kinematics_into(frames, _chain(), HOME_Q, np.zeros(6))
+    count = model.measure(frames, 0.0, 0.0)
+    expected = _brute_force(HOME_Q, 0.0, obstacles, FieldParameters().influence_m)
+    assert min(expected.values()) < 0.0  # the scene does penetrate
+    found = {(int(r[0]), int(r[1])): r for r in model.approaches[:count]}
+    assert set(found) == set(expected)
+    for key, distance in expected.items():
+        row = found[key]
+        assert row[fk.APPROACH_DISTANCE] == pytest.approx(distance, abs=2e-4)
+        assert np.linalg.norm(row[fk.APPROACH_NORMAL :]) == pytest.approx(1.0, abs=1e-9)
