@@ -257,7 +257,11 @@ def servo_tick(
         motion = _rotate_blocks(r, motion_task, False)
 
     feedback = np.zeros(6)
-    commanded_speed = np.zeros(6)  # the admittance speed, [rad/s]
+    # Operational speed commanded outright, world: a tracked trajectory's xd_d on the motion
+    # axes, the admittance speed on compliant moment axes. Friction is compensated toward it.
+    commanded_speed = np.zeros(6)
+    if mode == MODE_TRAJECTORY:
+        commanded_speed = velocity_desired - matvec(matrices[OMEGA_BAR], velocity_desired)
     elapsed = t_s - scalars[START_S]
     ramp = scalars[RAMP_S]
     fraction = 1.0 if elapsed >= ramp else elapsed / ramp
@@ -275,7 +279,7 @@ def servo_tick(
             speed *= scalars[ADMITTANCE_MAX_SPEED] / norm
         servo = scalars[ADMITTANCE_KV] * (speed - matvec(omega_admittance, velocity))
         motion = motion - matvec(omega_admittance, motion) + servo
-        commanded_speed = speed
+        commanded_speed = commanded_speed + speed
     acceleration = motion
     if scalars[HAS_FORCE] != 0.0:
         omega_bar = matrices[OMEGA_BAR]
@@ -309,7 +313,7 @@ def servo_tick(
     # Coulomb friction is compensated in the direction the joint is moving or, from rest,
     # is being told to move (qd plus Jbar times the commanded acceleration over a short
     # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
-    if admittance:  # the admittance speed counts as itself: Jbar xd_d, however slow
+    if admittance or mode == MODE_TRAJECTORY:  # Jbar xd_d: a slow joint is not left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
     intent = (qd + matvec(matrices[JBAR_LOOKAHEAD], acceleration)) * scalars[INTENT_SCALE]
     coulomb, coulomb_nm = state[COULOMB], vectors[COULOMB_NM]

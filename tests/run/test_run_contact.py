@@ -136,18 +136,42 @@ def test_slide_stays_on_its_path(contact_run: ProgramRun) -> None:
     assert drift_m < 1e-3, f"drift {drift_m * 1e3:.3f} mm"
 
 
+def test_shipped_contact_slide_holds_10_n(shipped_run: Callable[[str], ProgramRun]) -> None:
+    """programs/contact_slide.cos (10 N, 10 mm/s): the push within 15 % of 10 N throughout the slide."""
+    _assert_push_in_band(shipped_run("contact_slide.cos"))
+
+
+FAST_LIGHT_SLIDE = """\
+SPEED 0.2 m/s
+MOVE TO table + (-50 mm, 0, 60 mm)
+CONTACT DOWN FORCE 10 N SPEED 20 mm/s TIMEOUT 5 s
+SLIDE +X BY 100 mm SPEED 20 mm/s
+"""
+
+
 @pytest.mark.xfail(
     strict=True,
     reason=(
-        "physics/controller: at 10 N the peg tip sinks only ~0.05-0.4 mm into the table "
-        "(tool contact solref 0.2 s); sliding (3 N friction) sets off a ~40 Hz stick-slip "
-        "that lifts the tip through z = 0.200 m, MuJoCo drops the contact for 2-5 ms "
-        "(true contact force 0) and it comes back with a 17-18 N impact"
+        "physics: at 10 N and 20 mm/s the tip's penetration creeps out while it slides "
+        "(MuJoCo's soft contact with the pyramidal friction cone: 0.02 mm to 0 in ~40 ms at a "
+        "steady 10.4 N), so the contact drops for 2-6 ms every ~0.1-0.2 s and comes back with "
+        "a 16 N impact: 4.3-4.5 % of the slide's samples leave the band (seeds 0-2). At 10 mm/s "
+        "(the shipped program) it never drops (sensed 9.2-10.9 N); the elliptic cone ends the "
+        "creep too but takes the CONTACT overshoot to 48 %"
     ),
 )
-def test_shipped_contact_slide_holds_10_n(shipped_run: Callable[[str], ProgramRun]) -> None:
-    """programs/contact_slide.cos (10 N, 20 mm/s): the push within 15 % of 10 N throughout the slide."""
-    t, _, push, setpoint_n = slide_samples(shipped_run("contact_slide.cos"))
+def test_light_fast_slide_holds_10_n(tmp_path: Path) -> None:
+    """SLIDE at 10 N and 20 mm/s: the push within 15 % of 10 N throughout the slide."""
+    program = write_program(tmp_path, "fast_light_slide", FAST_LIGHT_SLIDE)
+    run = run_in_process(program, tmp_path / "fast_light_slide.mcap")
+    assert run.returncode == 0, run.describe()
+    _assert_push_in_band(run)
+
+
+def _assert_push_in_band(run: ProgramRun) -> None:
+    t, _, push, setpoint_n = slide_samples(run)
+    judged = t >= t[0] + FORCE_RAMP_S  # the SLIDE's own force ramp first
+    t, push = t[judged], push[judged]
     error = np.abs(push - setpoint_n) / setpoint_n
     worst = int(error.argmax())
     assert error[worst] <= 0.15, (

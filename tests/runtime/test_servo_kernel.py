@@ -329,6 +329,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.INTENT_SCALE] = INTENT_SCALE
     scalars[sk.COULOMB_BLEND] = COULOMB_BLEND
     scalars[sk.TOOL_WEIGHT_Z_N] = weight_z_n
+    scalars[sk.LOOKAHEAD_S] = LOOKAHEAD_S
 
     vectors = np.zeros((sk.VECTORS, 6))
     vectors[sk.KP], vectors[sk.KV] = (np.full(6, 400.0), np.full(6, 40.0)) if case.uniform else _gains(rng)
@@ -424,10 +425,13 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     else:
         motion_task = -kp * error_task - kv * velocity_task
     motion = rotation @ motion_task
+    # A tracked trajectory's xd_d on the motion axes counts toward the Coulomb intent as itself.
+    tracked = sc[sk.MODE] == sk.MODE_TRAJECTORY
+    speed = sel.omega @ vec[sk.REFERENCE_VELOCITY] if tracked else np.zeros(6)
     if not sc[sk.HAS_FORCE]:  # every axis motion-controlled: no force loop, latch and integral kept
         torque = unified_torque(dyn, sel, motion, np.zeros(6)) + inputs.held
         torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
-        return _finish_tick(inputs, wrench, error, velocity, displacement, motion, torque)
+        return _finish_tick(inputs, wrench, error, velocity, displacement, motion, torque, speed=speed)
 
     # Figure 2's force loop: ramped setpoint, integral latched on the first push.
     fraction = min(1.0, (inputs.t_s - sc[sk.START_S]) / sc[sk.RAMP_S])
@@ -458,6 +462,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         torque,
         integral=integral,
         touching=touching,
+        speed=speed,
     )
 
 
@@ -471,10 +476,15 @@ def _finish_tick(
     torque: np.ndarray,
     integral: np.ndarray | None = None,
     touching: bool | None = None,
+    speed: np.ndarray | None = None,
 ) -> ReferenceTick:
-    """Coulomb compensation toward ``qd + Jbar a`` (low-passed) and the saturation about g."""
+    """Coulomb compensation toward ``qd + Jbar (L a + xd_d)`` (low-passed) and the saturation about g."""
     vec, st = inputs.vectors, inputs.state
-    intent = (inputs.qd + LOOKAHEAD_S * inputs.dynamics.jbar @ acceleration) * INTENT_SCALE
+    jbar = inputs.dynamics.jbar
+    intent = inputs.qd + LOOKAHEAD_S * jbar @ acceleration
+    if speed is not None:
+        intent = intent + jbar @ speed
+    intent = intent * INTENT_SCALE
     target = vec[sk.COULOMB_NM] * np.clip(intent, -1.0, 1.0)
     coulomb = st[sk.COULOMB] + COULOMB_BLEND * (target - st[sk.COULOMB])
     torque = torque + coulomb
