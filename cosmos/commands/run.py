@@ -63,7 +63,7 @@ class TerminalProgress:
 
         self.console = Console(stderr=True)
         # numba compiles the servo kernels on first use, then caches them.
-        self.status = self.console.status("starting (a first run compiles the controller, ~30 s)")
+        self.status = self.console.status("starting (a first run compiles the controller: up to a minute)")
         self.started = time.perf_counter()
 
     def __call__(self, progress: Progress) -> None:
