@@ -193,6 +193,14 @@ def _reducer(rule: Rule, builder: Any) -> Reduce | None:
         return reduce_one
     if plain:
         return method
+    expanded = [index for index, expand, _ in include if expand]
+    if not any(before for _, _, before in include):
+        if not expanded:  # only placeholders at the end: [x] last
+            padding = [None] * trailing
+            return lambda children: method(children + padding)
+        if len(expanded) == 1 and not trailing:  # one _rule spliced in
+            at = expanded[0]
+            return lambda children: method(children[:at] + children[at] + children[at + 1 :])
     return lambda children: method(shape(children))
 
 

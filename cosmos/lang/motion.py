@@ -185,7 +185,9 @@ class MotionBuilder:
                 for p in (self._position(point, "VIA") for point in clauses.via.points)
             )
         axes = self._axes({}, set())
-        floating = [] if axes.motion.all() else [i for i in range(6) if not axes.motion[i]]
+        floating = (
+            [] if axes is _ALL_MOTION else [i for i, moved in enumerate(axes.motion.tolist()) if not moved]
+        )
         if floating:
             comply = self.state.compliance[floating[0]]
             assert comply is not None
@@ -464,7 +466,7 @@ class MotionBuilder:
 
     def _contact_axis(self, contact: HeldContact, frame: TaskFrame, span: Span) -> tuple[int, int]:
         """The task axis (0..2) and sign along which the contact pushes."""
-        projections = frame.rotation.T @ contact.direction_world
+        projections = (frame.rotation.T @ contact.direction_world).tolist()
         for axis in range(3):
             if abs(projections[axis]) >= _ALIGNED:
                 return axis, 1 if projections[axis] > 0 else -1

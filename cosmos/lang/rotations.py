@@ -15,10 +15,13 @@ from cosmos.osc import orientation
 FloatArray = NDArray[np.float64]
 
 
+_add = np.add
+_FLOAT64 = np.float64
+
+
 def readonly(values: object) -> FloatArray:
     """A float64 copy of ``values`` that cannot be written to."""
-    array = np.array(values, dtype=np.float64)
-    array += 0.0  # turns -0.0 into 0.0
+    array: FloatArray = _add(values, 0.0, dtype=_FLOAT64)  # type: ignore[call-overload]  # new; -0.0 + 0.0 is 0.0
     array.flags.writeable = False
     return array
 

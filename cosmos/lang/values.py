@@ -14,8 +14,6 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
-import numpy as np
-
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.rotations import FloatArray, readonly, rpy_to_matrix
@@ -206,7 +204,8 @@ class Evaluator:
             if isinstance(right, FrameValue) and sign < 0:
                 return Vec(tuple(left.position - right.position), units.LENGTH)
             offset = self.expect_vector(expr.right, right, 3, units.LENGTH, "an offset")
-            return FrameValue(readonly(left.position + sign * offset), left.rotation)
+            moved = [p + sign * o for p, o in zip(left.position.tolist(), offset.tolist(), strict=True)]
+            return FrameValue(readonly(moved), left.rotation)
         if isinstance(right, FrameValue):
             raise ProgramError(
                 f"write the frame first: {self.text_of(expr.right.span)} {expr.op} ...", expr.span
@@ -323,7 +322,7 @@ def _finite(value: Value) -> bool:
         return math.isfinite(value.value)
     if isinstance(value, Vec):
         return all(math.isfinite(v) for v in value.values)
-    return bool(np.all(np.isfinite(value.position)))
+    return all(map(math.isfinite, value.position.tolist()))
 
 
 def suggest(name: str, known: Mapping[str, object]) -> str:
