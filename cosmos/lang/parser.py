@@ -9,10 +9,8 @@ node's span runs from its first token to its last.
 
 from __future__ import annotations
 
-import contextvars
-import dataclasses
 import re
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -26,9 +24,8 @@ from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
 from cosmos.lang.fastparse import GiveUp, Tables, Tok, build_tables, parse
 from cosmos.lang.gc_pause import gc_paused
+from cosmos.lang.spans import FILE, TOKENS, between, span_of
 from cosmos.lang.syntax import MAX_NESTING, check_nesting, syntax_error
-
-_FILE: contextvars.ContextVar[str] = contextvars.ContextVar("cosmos_source_file", default="<input>")
 
 
 def _grammar_text() -> str:
@@ -52,108 +49,13 @@ class _WordsEverywhere:
         return stream
 
 
-_TOKENS = (Token, Tok)
-"""Token classes: Lark's (when Lark parses) and the fast path's."""
-
-
-def _place(item: Any) -> Any:
-    """What holds the item's line, column, end_line and end_column, or None.
-
-    A token is its own place (a line break has none), a node's is its span, a
-    sequence's runs from its first placed item to its last one.
-    """
-    kind = type(item)
-    if kind is Tok or kind is Token:
-        return None if item.type == "_NL" or item.line is None else item
-    if item is None:
-        return None
-    span = getattr(item, "span", None)
-    if span is not None:
-        return span
-    if kind is tuple or kind is list:
-        first, last = _ends(item)
-        if first is not None:
-            return _new_span(_FILE.get(), first.line, first.column, last.end_line, last.end_column)
-    return None
-
-
-def _ends(items: Sequence[Any]) -> tuple[Any, Any]:
-    """The places of the first and the last placed items (None, None if none is)."""
-    for item in items:
-        first = _place(item)
-        if first is not None:
-            break
-    else:
-        return None, None
-    for item in reversed(items):
-        last = _place(item)
-        if last is not None:
-            return first, last
-    return first, first  # not reached: the first placed item is also found from the end
-
-
-def _span(children: Sequence[Any]) -> Span:
-    """The span from the first to the last placed child: O(1) for a node's children.
-
-    Only the ends are looked at (a child's span already covers its own children).
-    """
-    first, last = _ends(children)
-    if first is None:
-        return Span(_FILE.get(), 1, 1, 1, 1)
-    return _new_span(_FILE.get(), first.line, first.column, last.end_line, last.end_column)
-
-
-def _between(first: Any, last: Any) -> Span:
-    """The span from the start of ``first`` to the end of ``last`` (tokens or spans)."""
-    return _new_span(_FILE.get(), first.line, first.column, last.end_line, last.end_column)
-
-
-def _quick_span(file: str, line: int, column: int, end_line: int, end_column: int) -> Span:
-    """``Span(file, line, column, end_line, end_column)``, a third of the time.
-
-    A frozen dataclass sets each field through ``object.__setattr__``; a span
-    is made for every node, so this fills the instance's dictionary directly.
-    Used only where it builds an equal span (checked once, :func:`_span_factory`).
-    """
-    span = _object_new(Span)
-    fields = span.__dict__
-    fields["file"] = file
-    fields["line"] = line
-    fields["column"] = column
-    fields["end_line"] = end_line
-    fields["end_column"] = end_column
-    return span
-
-
-_object_new = object.__new__
-
-
-def _span_factory() -> Callable[[str, int, int, int, int], Span]:
-    """:func:`_quick_span` if Span is still a plain frozen dataclass of those fields, else Span."""
-    try:
-        plain = (
-            [f.name for f in dataclasses.fields(Span)] == ["file", "line", "column", "end_line", "end_column"]
-            and not hasattr(Span, "__post_init__")
-            and not hasattr(Span, "__slots__")
-        )
-        probe = ("f", 1, 2, 3, 4)
-        if plain and _quick_span(*probe) == Span(*probe) and vars(_quick_span(*probe)) == vars(Span(*probe)):
-            return _quick_span
-    except (AttributeError, TypeError):
-        pass
-    return Span
-
-
-_new_span = _span_factory()
-
-
 def _nodes(children: Iterable[Any]) -> tuple[Any, ...]:
     """The children that are not tokens or placeholders."""
-    return tuple(c for c in children if c is not None and not isinstance(c, _TOKENS))
+    return tuple(c for c in children if c is not None and not isinstance(c, TOKENS))
 
 
 def _ident(token: Token | Tok) -> ast.Ident:
-    return ast.Ident(token.value, _span([token]))
+    return ast.Ident(token.value, span_of([token]))
 
 
 _QUANTITY = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(.*)", re.I | re.S)
@@ -184,88 +86,88 @@ class _Builder(Transformer):
 
     def move(self, children: list[Any]) -> ast.Move:
         _, mode, target, *clauses = children
-        return ast.Move(ast.MoveMode[mode.type], target, tuple(clauses), _span(children))
+        return ast.Move(ast.MoveMode[mode.type], target, tuple(clauses), span_of(children))
 
     def contact(self, children: list[Any]) -> ast.Contact:
-        return ast.Contact(children[1], tuple(children[2:]), _span(children))
+        return ast.Contact(children[1], tuple(children[2:]), span_of(children))
 
     def slide(self, children: list[Any]) -> ast.Slide:
-        return ast.Slide(children[1], tuple(children[2:]), _span(children))
+        return ast.Slide(children[1], tuple(children[2:]), span_of(children))
 
     def insert(self, children: list[Any]) -> ast.Insert:
-        return ast.Insert(children[1], tuple(children[2:]), _span(children))
+        return ast.Insert(children[1], tuple(children[2:]), span_of(children))
 
     def wait(self, children: list[Any]) -> ast.Wait:
-        return ast.Wait(children[1], tuple(children[2:]), _span(children))
+        return ast.Wait(children[1], tuple(children[2:]), span_of(children))
 
     def speed(self, children: list[Any]) -> ast.SetSpeed:
-        return ast.SetSpeed(children[1], _span(children))
+        return ast.SetSpeed(children[1], span_of(children))
 
     def comply(self, children: list[Any]) -> ast.Comply:
-        return ast.Comply(children[1], tuple(children[2:]), _span(children))
+        return ast.Comply(children[1], tuple(children[2:]), span_of(children))
 
     def obstacle(self, children: list[Any]) -> ast.Obstacle:
         _, name, shape, *clauses = children
-        return ast.Obstacle(_ident(name), ast.Shape[shape.type], tuple(clauses), _span(children))
+        return ast.Obstacle(_ident(name), ast.Shape[shape.type], tuple(clauses), span_of(children))
 
     def remove_obstacle(self, children: list[Any]) -> ast.RemoveObstacle:
-        return ast.RemoveObstacle(_ident(children[2]), _span(children))
+        return ast.RemoveObstacle(_ident(children[2]), span_of(children))
 
     def let(self, children: list[Any]) -> ast.Let:
-        return ast.Let(_ident(children[1]), children[3], _span(children))
+        return ast.Let(_ident(children[1]), children[3], span_of(children))
 
     def frame(self, children: list[Any]) -> ast.FrameDef:
-        return ast.FrameDef(_ident(children[1]), children[3], _span(children))
+        return ast.FrameDef(_ident(children[1]), children[3], span_of(children))
 
     def proc(self, children: list[Any]) -> ast.ProcDef:
         keyword, name = children[0], children[1]
         body = _nodes(children[2:-2])
-        return ast.ProcDef(_ident(name), body, _tag(children[-1]), _span([keyword, name]))
+        return ast.ProcDef(_ident(name), body, _tag(children[-1]), span_of([keyword, name]))
 
     def repeat(self, children: list[Any]) -> ast.Repeat:
         keyword, count = children[0], children[1]
         body = _nodes(children[2:-2])
-        return ast.Repeat(count, body, _tag(children[-1]), _span([keyword, count]))
+        return ast.Repeat(count, body, _tag(children[-1]), span_of([keyword, count]))
 
     def call(self, children: list[Any]) -> ast.Call:
-        return ast.Call(_ident(children[-1]), _span(children))
+        return ast.Call(_ident(children[-1]), span_of(children))
 
     # ------------------------------------------------------------ clauses
 
     def value_clause(self, children: list[Any]) -> ast.ValueClause:
         keyword, value = children
-        return ast.ValueClause(_CLAUSE_KINDS[keyword.type], value, _between(keyword, value.span))
+        return ast.ValueClause(_CLAUSE_KINDS[keyword.type], value, between(keyword, value.span))
 
     def via_clause(self, children: list[Any]) -> ast.ViaClause:
-        return ast.ViaClause(_nodes(children), _span(children))
+        return ast.ViaClause(_nodes(children), span_of(children))
 
     def until_clause(self, children: list[Any]) -> ast.UntilClause:
-        return ast.UntilClause(children[1], _span(children))
+        return ast.UntilClause(children[1], span_of(children))
 
     def comply_clause(self, children: list[Any]) -> ast.ComplyClause:
-        return ast.ComplyClause(children[1], _span(children))
+        return ast.ComplyClause(children[1], span_of(children))
 
     def axes(self, children: list[Any]) -> tuple[ast.AxisRef, ...]:
         return tuple(child for child in children if isinstance(child, ast.AxisRef))
 
     def axis(self, children: list[Token]) -> ast.AxisRef:
         token = children[0]
-        return ast.AxisRef(_AXES[token.type], _between(token, token))
+        return ast.AxisRef(_AXES[token.type], between(token, token))
 
     def direction(self, children: list[Any]) -> ast.Direction:
         last = children[-1]
-        if isinstance(last, _TOKENS):  # UP or DOWN
-            return ast.Direction(ast.Axis.Z, 1 if last.type == "UP" else -1, _span(children))
-        sign = -1 if isinstance(children[0], _TOKENS) and children[0].type == "MINUS" else 1
-        return ast.Direction(last.axis, sign, _span(children))
+        if isinstance(last, TOKENS):  # UP or DOWN
+            return ast.Direction(ast.Axis.Z, 1 if last.type == "UP" else -1, span_of(children))
+        sign = -1 if isinstance(children[0], TOKENS) and children[0].type == "MINUS" else 1
+        return ast.Direction(last.axis, sign, span_of(children))
 
     # --------------------------------------------------------- conditions
 
     def any_of(self, children: list[Any]) -> ast.AnyOf:
-        return ast.AnyOf(_flatten(_nodes(children), ast.AnyOf), _span(children))
+        return ast.AnyOf(_flatten(_nodes(children), ast.AnyOf), span_of(children))
 
     def all_of(self, children: list[Any]) -> ast.AllOf:
-        return ast.AllOf(_flatten(_nodes(children), ast.AllOf), _span(children))
+        return ast.AllOf(_flatten(_nodes(children), ast.AllOf), span_of(children))
 
     def conjunction(self, children: list[Any]) -> ast.Condition:
         """A parenthesised condition: ``( condition )``."""
@@ -273,7 +175,7 @@ class _Builder(Transformer):
 
     def comparison(self, children: list[Any]) -> ast.Comparison:
         (_, sensed, direction), op, value = children
-        return ast.Comparison(sensed, direction, op.value, value, _span(children))
+        return ast.Comparison(sensed, direction, op.value, value, span_of(children))
 
     def sensed(self, children: list[Any]) -> tuple[Token, ast.Sensed, ast.Direction | None]:
         direction = children[1] if len(children) > 1 else None
@@ -283,46 +185,46 @@ class _Builder(Transformer):
 
     def pose(self, children: list[Any]) -> ast.Expr:
         position, rpy = children[0], children[-1]
-        return position if rpy is None else ast.Pose(position, rpy, _span(children))
+        return position if rpy is None else ast.Pose(position, rpy, span_of(children))
 
     def add(self, children: list[Any]) -> ast.Binary:
         left, _, right = children
-        return ast.Binary("+", left, right, _between(left.span, right.span))
+        return ast.Binary("+", left, right, between(left.span, right.span))
 
     def subtract(self, children: list[Any]) -> ast.Binary:
         left, _, right = children
-        return ast.Binary("-", left, right, _between(left.span, right.span))
+        return ast.Binary("-", left, right, between(left.span, right.span))
 
     def multiply(self, children: list[Any]) -> ast.Binary:
         left, _, right = children
-        return ast.Binary("*", left, right, _between(left.span, right.span))
+        return ast.Binary("*", left, right, between(left.span, right.span))
 
     def negate(self, children: list[Any]) -> ast.Unary:
-        return ast.Unary("-", children[1], _span(children))
+        return ast.Unary("-", children[1], span_of(children))
 
     def plus(self, children: list[Any]) -> ast.Unary:
-        return ast.Unary("+", children[1], _span(children))
+        return ast.Unary("+", children[1], span_of(children))
 
     def unary(self, children: list[Any]) -> ast.Expr:
         """A parenthesised expression: ``( expr )``."""
         return children[1]
 
     def vector(self, children: list[Any]) -> ast.Vector:
-        return ast.Vector(tuple(children[1:-1:2]), _between(children[0], children[-1]))
+        return ast.Vector(tuple(children[1:-1:2]), between(children[0], children[-1]))
 
     def quantity(self, children: list[Token]) -> ast.Number:
         token = children[0]
         text = token.value
         if not text[-1].isalpha():  # a bare number (a unit ends in a letter)
-            return ast.Number(float(text), None, _between(token, token))
+            return ast.Number(float(text), None, between(token, token))
         match = _QUANTITY.fullmatch(text)
         assert match is not None  # the QUANTITY terminal has this shape
         number, unit = match.groups()
-        return ast.Number(float(number), unit or None, _between(token, token))
+        return ast.Number(float(number), unit or None, between(token, token))
 
     def name(self, children: list[Token]) -> ast.Name:
         token = children[0]
-        return ast.Name(token.value, _between(token, token))
+        return ast.Name(token.value, between(token, token))
 
 
 def _tag(token: Token | Tok | None) -> str | None:
@@ -401,14 +303,14 @@ def parse_program(source: str, file: str = "<input>") -> ast.Program:
     """
     try:
         check_nesting(source, file)
-        token = _FILE.set(file)
+        token = FILE.set(file)
         try:
             with gc_paused():
                 statements = _fast_parse(source)
             if statements is None:  # not accepted as is: Lark parses it and says why
                 statements = _raw_parse(source)
         finally:
-            _FILE.reset(token)
+            FILE.reset(token)
     except UnexpectedInput as error:
         raise syntax_error(error, source, file, _raw_parse, keyword_of, keywords()).with_source(
             source

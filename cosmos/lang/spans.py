@@ -1,0 +1,116 @@
+"""Spans of syntax-tree nodes: from the first placed child to the last one.
+
+A node's span starts where its first child that has a place in the text starts
+(a token, or a node's span) and ends where its last one ends; line breaks and
+placeholders have none. Only the two ends are looked at, so a span costs the
+same however large the node. Shared by the fast parser and Lark's tree builder.
+"""
+
+from __future__ import annotations
+
+import contextvars
+import dataclasses
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from lark import Token
+
+from cosmos.errors import Span
+from cosmos.lang.fastparse import Tok
+
+FILE: contextvars.ContextVar[str] = contextvars.ContextVar("cosmos_source_file", default="<input>")
+"""The name the spans being built carry (set around each parse)."""
+
+TOKENS = (Token, Tok)
+"""Token classes: Lark's (when Lark parses) and the fast path's."""
+
+
+def _place(item: Any) -> Any:
+    """What holds the item's line, column, end_line and end_column, or None.
+
+    A token is its own place (a line break has none), a node's is its span, a
+    sequence's runs from its first placed item to its last one.
+    """
+    kind = type(item)
+    if kind is Tok or kind is Token:
+        return None if item.type == "_NL" or item.line is None else item
+    if item is None:
+        return None
+    span = getattr(item, "span", None)
+    if span is not None:
+        return span
+    if kind is tuple or kind is list:
+        first, last = _ends(item)
+        if first is not None:
+            return _new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
+    return None
+
+
+def _ends(items: Sequence[Any]) -> tuple[Any, Any]:
+    """The places of the first and the last placed items (None, None if none is)."""
+    for item in items:
+        first = _place(item)
+        if first is not None:
+            break
+    else:
+        return None, None
+    for item in reversed(items):
+        last = _place(item)
+        if last is not None:
+            return first, last
+    return first, first  # not reached: the first placed item is also found from the end
+
+
+def span_of(children: Sequence[Any]) -> Span:
+    """The span from the first to the last placed child: O(1) for a node's children.
+
+    Only the ends are looked at (a child's span already covers its own children).
+    """
+    first, last = _ends(children)
+    if first is None:
+        return Span(FILE.get(), 1, 1, 1, 1)
+    return _new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
+
+
+def between(first: Any, last: Any) -> Span:
+    """The span from the start of ``first`` to the end of ``last`` (tokens or spans)."""
+    return _new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
+
+
+def _quick_span(file: str, line: int, column: int, end_line: int, end_column: int) -> Span:
+    """``Span(file, line, column, end_line, end_column)``, a third of the time.
+
+    A frozen dataclass sets each field through ``object.__setattr__``; a span
+    is made for every node, so this fills the instance's dictionary directly.
+    Used only where it builds an equal span (checked once, :func:`_span_factory`).
+    """
+    span = _object_new(Span)
+    fields = span.__dict__
+    fields["file"] = file
+    fields["line"] = line
+    fields["column"] = column
+    fields["end_line"] = end_line
+    fields["end_column"] = end_column
+    return span
+
+
+_object_new = object.__new__
+
+
+def _span_factory() -> Callable[[str, int, int, int, int], Span]:
+    """:func:`_quick_span` if Span is still a plain frozen dataclass of those fields, else Span."""
+    try:
+        plain = (
+            [f.name for f in dataclasses.fields(Span)] == ["file", "line", "column", "end_line", "end_column"]
+            and not hasattr(Span, "__post_init__")
+            and not hasattr(Span, "__slots__")
+        )
+        probe = ("f", 1, 2, 3, 4)
+        if plain and _quick_span(*probe) == Span(*probe) and vars(_quick_span(*probe)) == vars(Span(*probe)):
+            return _quick_span
+    except (AttributeError, TypeError):
+        pass
+    return Span
+
+
+_new_span = _span_factory()
