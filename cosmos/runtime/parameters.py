@@ -40,7 +40,7 @@ class JointLimitField:
 
 @dataclass(frozen=True)
 class Evaluation:
-    """One evaluation of the model at the configuration ``q`` (all arrays read-only).
+    """One evaluation of the model at the configuration ``q`` (treat its arrays as read-only).
 
     Attributes:
         q: Joint positions at the evaluation, in [rad]. # (6,)

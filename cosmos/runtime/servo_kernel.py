@@ -13,8 +13,8 @@ compensation and the saturation that scales the command about gravity
 (:mod:`cosmos.osc.limits`). In NumPy this is some 40 small-array calls of
 about a microsecond each; compiled it is one call.
 
-Array arguments are written in place (``state``, ``out``), so a tick allocates
-nothing.
+Results are written in place into the arrays passed (``state``, ``out``), so a
+tick creates no Python objects.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ JACOBIAN, FORCE_TO_ACCELERATION, JBAR_LOOKAHEAD, OMEGA_BAR, ROTATION_TASK, ROTAT
 OMEGA_ADMITTANCE = 6  # the moment axes under admittance control (world), see servo_tick
 MATRICES = 7
 
-# Rows of the servo's state and outputs (``state``, (8, 6)).
+# Rows of the servo's state and outputs (``state``, (STATE_ROWS, 6)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
 STATE_ROWS = 9
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
@@ -188,12 +188,12 @@ def servo_tick(
         q: Joint positions from the encoders, in [rad]. # (6,)
         qd: Joint velocities, in [rad/s]. # (6,)
         sensor: Raw wrist sensor reading (sensor frame), [N, N m]. # (6,)
-        scalars: Segment and constant scalars at MODE ... TOOL_WEIGHT_Z_N. # (SCALARS,)
+        scalars: Segment and constant scalars at MODE ... LOOKAHEAD_S. # (SCALARS,)
         vectors: Gains, setpoints, reference and the evaluation's vectors at KP ... # (VECTORS, 6)
         matrices: J, Lambda^-1 Omega_bar, look-ahead Jbar, Omega_bar and rotations. # (MATRICES, 6, 6)
         stacked: Eq. 29 folded: ``Gamma = stacked @ (F*_m, F_fb, xd, 1, qd)``. # (6, 25)
-        state: Integral, friction filter and flags in; this tick's wrench, error,
-            velocity, displacement and torque out (rows WRENCH ... FLAGS). # (STATE_ROWS, 6)
+        state: Integral, friction and moment filters and flags in; this tick's wrench,
+            error, velocity, displacement and torque out (rows WRENCH ...). # (STATE_ROWS, 6)
     """
     wrench = state[WRENCH]
     offsets = vectors[SENSOR_OFFSETS]
