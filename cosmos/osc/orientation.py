@@ -35,8 +35,8 @@ import numpy as np
 
 from cosmos.osc._types import FloatArray
 
-_SMALL_ANGLE = 1e-4  # rad: below it, Taylor series replace sin(t)/t and friends
-_NEAR_PI = 1e-2  # sin(theta) below it (with cos < 0): the log uses the symmetric part
+SMALL_ANGLE_RAD = 1e-4  # rad: below it, Taylor series replace sin(t)/t and friends
+NEAR_PI_SIN = 1e-2  # sin(theta) below it (with cos < 0): the log uses the symmetric part
 
 _Rows = tuple[tuple[float, float, float], ...] | list[list[float]]
 
@@ -44,7 +44,7 @@ _Rows = tuple[tuple[float, float, float], ...] | list[list[float]]
 def _exp_rows(x: float, y: float, z: float) -> tuple[float, ...]:
     """Rodrigues' formula R = I + A [v]x + B [v]x^2, row-major, from a rotation vector."""
     t2 = x * x + y * y + z * z
-    if t2 < _SMALL_ANGLE * _SMALL_ANGLE:
+    if t2 < SMALL_ANGLE_RAD * SMALL_ANGLE_RAD:
         a = 1.0 - t2 / 6.0
         b = 0.5 - t2 / 24.0
     else:
@@ -67,10 +67,10 @@ def _log_rows(r: _Rows) -> tuple[float, float, float]:
     c = 0.5 * (r00 + r11 + r22 - 1.0)
     s = 0.5 * math.sqrt(ax * ax + ay * ay + az * az)
     theta = math.atan2(s, c)
-    if theta < _SMALL_ANGLE:
+    if theta < SMALL_ANGLE_RAD:
         k = 0.5 + theta * theta / 12.0  # theta / (2 sin theta)
         return k * ax, k * ay, k * az
-    if s > _NEAR_PI or c > 0.0:
+    if s > NEAR_PI_SIN or c > 0.0:
         k = 0.5 * theta / s
         return k * ax, k * ay, k * az
     # Near pi the antisymmetric part vanishes; use (R + R^T)/2 = c I + (1 - c) n n^T
@@ -130,7 +130,7 @@ def so3_left_jacobian(rotation_vector: FloatArray) -> FloatArray:
     """
     x, y, z = rotation_vector.tolist()
     t2 = x * x + y * y + z * z
-    if t2 < _SMALL_ANGLE * _SMALL_ANGLE:
+    if t2 < SMALL_ANGLE_RAD * SMALL_ANGLE_RAD:
         a, b = 0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0
     else:
         t = math.sqrt(t2)
@@ -151,7 +151,7 @@ def so3_left_jacobian_inverse(rotation_vector: FloatArray) -> FloatArray:
     """
     x, y, z = rotation_vector.tolist()
     t2 = x * x + y * y + z * z
-    if t2 < _SMALL_ANGLE * _SMALL_ANGLE:
+    if t2 < SMALL_ANGLE_RAD * SMALL_ANGLE_RAD:
         b = 1.0 / 12.0 + t2 / 720.0
     else:
         t = math.sqrt(t2)

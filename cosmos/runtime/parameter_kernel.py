@@ -17,11 +17,10 @@ import math
 import numpy as np
 from numba import njit
 
+from cosmos.osc.orientation import NEAR_PI_SIN, SMALL_ANGLE_RAD
 from cosmos.runtime import servo_kernel as sk
 
 FloatArray = np.ndarray
-SMALL_ANGLE = 1e-4  # rad: as in cosmos.osc.orientation
-NEAR_PI = 1e-2
 
 
 @njit(cache=True)
@@ -166,8 +165,8 @@ def rotation_log(r: FloatArray) -> FloatArray:
     s = 0.5 * math.sqrt(ax * ax + ay * ay + az * az)
     theta = math.atan2(s, c)
     out = np.empty(3)
-    if theta < SMALL_ANGLE or s > NEAR_PI or c > 0.0:
-        k = 0.5 + theta * theta / 12.0 if theta < SMALL_ANGLE else 0.5 * theta / s
+    if theta < SMALL_ANGLE_RAD or s > NEAR_PI_SIN or c > 0.0:
+        k = 0.5 + theta * theta / 12.0 if theta < SMALL_ANGLE_RAD else 0.5 * theta / s
         out[0], out[1], out[2] = k * ax, k * ay, k * az
         return out
     # Near pi the antisymmetric part vanishes; use (R + R^T)/2 = c I + (1 - c) n n^T from
