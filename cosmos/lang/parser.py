@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
-from functools import cache
+from functools import cache, lru_cache
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -22,9 +22,11 @@ from lark.lexer import PatternStr
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
-from cosmos.lang.fastparse import GiveUp, Tables, Tok, build_tables, parse
+from cosmos.lang.fastparse import GiveUp, Tok, parse
+from cosmos.lang.frozen_new import quick
 from cosmos.lang.gc_pause import gc_paused
-from cosmos.lang.spans import FILE, TOKENS, between, span_of
+from cosmos.lang.lalr_tables import Tables, build_tables
+from cosmos.lang.spans import FILE, TOKENS, between, new_span, span_of
 from cosmos.lang.syntax import MAX_NESTING, check_nesting, syntax_error
 
 
@@ -55,13 +57,45 @@ def _nodes(children: Iterable[Any]) -> tuple[Any, ...]:
 
 
 def _ident(token: Token | Tok) -> ast.Ident:
-    return ast.Ident(token.value, span_of([token]))
+    return _Ident(token.value, new_span(_file(), token.line, token.column, token.end_line, token.end_column))
 
 
 _QUANTITY = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(.*)", re.I | re.S)
 """A QUANTITY token: the number, then the unit as written (the terminal ends in the unit)."""
 _CLAUSE_KINDS = {kind.name: kind for kind in ast.ClauseKind}
 _AXES = {axis.name: axis for axis in ast.Axis}
+
+_file = FILE.get
+# The nodes made most often, made quickly (cosmos/lang/frozen_new.py).
+_Number = quick(ast.Number)
+_Name = quick(ast.Name)
+_Vector = quick(ast.Vector)
+_Binary = quick(ast.Binary)
+_Unary = quick(ast.Unary)
+_Pose = quick(ast.Pose)
+_ValueClause = quick(ast.ValueClause)
+_ViaClause = quick(ast.ViaClause)
+_UntilClause = quick(ast.UntilClause)
+_AxisRef = quick(ast.AxisRef)
+_Direction = quick(ast.Direction)
+_Comparison = quick(ast.Comparison)
+_Move = quick(ast.Move)
+_Contact = quick(ast.Contact)
+_Slide = quick(ast.Slide)
+_Insert = quick(ast.Insert)
+_Let = quick(ast.Let)
+_Ident = quick(ast.Ident)
+
+
+@lru_cache(maxsize=4096)
+def _quantity_parts(text: str) -> tuple[float, str | None]:
+    """The number and the unit as written (None for a bare number) of a QUANTITY's text."""
+    if not text[-1].isalpha():  # a bare number (a unit ends in a letter)
+        return float(text), None
+    match = _QUANTITY.fullmatch(text)
+    assert match is not None  # the QUANTITY terminal has this shape
+    number, unit = match.groups()
+    return float(number), unit or None
 
 
 class _Builder(Transformer):
@@ -85,17 +119,19 @@ class _Builder(Transformer):
     # --------------------------------------------------------- statements
 
     def move(self, children: list[Any]) -> ast.Move:
-        _, mode, target, *clauses = children
-        return ast.Move(ast.MoveMode[mode.type], target, tuple(clauses), span_of(children))
+        first = children[0]
+        last = children[-1].span  # the target or a clause
+        span = new_span(_file(), first.line, first.column, last.end_line, last.end_column)
+        return _Move(ast.MoveMode[children[1].type], children[2], tuple(children[3:]), span)
 
     def contact(self, children: list[Any]) -> ast.Contact:
-        return ast.Contact(children[1], tuple(children[2:]), span_of(children))
+        return _Contact(children[1], tuple(children[2:]), _keyword_to_node(children))
 
     def slide(self, children: list[Any]) -> ast.Slide:
-        return ast.Slide(children[1], tuple(children[2:]), span_of(children))
+        return _Slide(children[1], tuple(children[2:]), _keyword_to_node(children))
 
     def insert(self, children: list[Any]) -> ast.Insert:
-        return ast.Insert(children[1], tuple(children[2:]), span_of(children))
+        return _Insert(children[1], tuple(children[2:]), _keyword_to_node(children))
 
     def wait(self, children: list[Any]) -> ast.Wait:
         return ast.Wait(children[1], tuple(children[2:]), span_of(children))
@@ -114,7 +150,7 @@ class _Builder(Transformer):
         return ast.RemoveObstacle(_ident(children[2]), span_of(children))
 
     def let(self, children: list[Any]) -> ast.Let:
-        return ast.Let(_ident(children[1]), children[3], span_of(children))
+        return _Let(_ident(children[1]), children[3], _keyword_to_node(children))
 
     def frame(self, children: list[Any]) -> ast.FrameDef:
         return ast.FrameDef(_ident(children[1]), children[3], span_of(children))
@@ -136,13 +172,15 @@ class _Builder(Transformer):
 
     def value_clause(self, children: list[Any]) -> ast.ValueClause:
         keyword, value = children
-        return ast.ValueClause(_CLAUSE_KINDS[keyword.type], value, between(keyword, value.span))
+        last = value.span
+        span = new_span(_file(), keyword.line, keyword.column, last.end_line, last.end_column)
+        return _ValueClause(_CLAUSE_KINDS[keyword.type], value, span)
 
     def via_clause(self, children: list[Any]) -> ast.ViaClause:
-        return ast.ViaClause(_nodes(children), span_of(children))
+        return _ViaClause(_nodes(children), _keyword_to_node(children))
 
     def until_clause(self, children: list[Any]) -> ast.UntilClause:
-        return ast.UntilClause(children[1], span_of(children))
+        return _UntilClause(children[1], _keyword_to_node(children))
 
     def comply_clause(self, children: list[Any]) -> ast.ComplyClause:
         return ast.ComplyClause(children[1], span_of(children))
@@ -152,14 +190,15 @@ class _Builder(Transformer):
 
     def axis(self, children: list[Token]) -> ast.AxisRef:
         token = children[0]
-        return ast.AxisRef(_AXES[token.type], between(token, token))
+        span = new_span(_file(), token.line, token.column, token.end_line, token.end_column)
+        return _AxisRef(_AXES[token.type], span)
 
     def direction(self, children: list[Any]) -> ast.Direction:
         last = children[-1]
         if isinstance(last, TOKENS):  # UP or DOWN
-            return ast.Direction(ast.Axis.Z, 1 if last.type == "UP" else -1, span_of(children))
+            return _Direction(ast.Axis.Z, 1 if last.type == "UP" else -1, span_of(children))
         sign = -1 if isinstance(children[0], TOKENS) and children[0].type == "MINUS" else 1
-        return ast.Direction(last.axis, sign, span_of(children))
+        return _Direction(last.axis, sign, span_of(children))
 
     # --------------------------------------------------------- conditions
 
@@ -174,8 +213,10 @@ class _Builder(Transformer):
         return children[1]
 
     def comparison(self, children: list[Any]) -> ast.Comparison:
-        (_, sensed, direction), op, value = children
-        return ast.Comparison(sensed, direction, op.value, value, span_of(children))
+        (first, sensed, direction), op, value = children
+        last = value.span
+        span = new_span(_file(), first.line, first.column, last.end_line, last.end_column)
+        return _Comparison(sensed, direction, op.value, value, span)
 
     def sensed(self, children: list[Any]) -> tuple[Token, ast.Sensed, ast.Direction | None]:
         direction = children[1] if len(children) > 1 else None
@@ -185,46 +226,52 @@ class _Builder(Transformer):
 
     def pose(self, children: list[Any]) -> ast.Expr:
         position, rpy = children[0], children[-1]
-        return position if rpy is None else ast.Pose(position, rpy, span_of(children))
+        return position if rpy is None else _Pose(position, rpy, between(position.span, rpy.span))
 
     def add(self, children: list[Any]) -> ast.Binary:
         left, _, right = children
-        return ast.Binary("+", left, right, between(left.span, right.span))
+        return _Binary("+", left, right, between(left.span, right.span))
 
     def subtract(self, children: list[Any]) -> ast.Binary:
         left, _, right = children
-        return ast.Binary("-", left, right, between(left.span, right.span))
+        return _Binary("-", left, right, between(left.span, right.span))
 
     def multiply(self, children: list[Any]) -> ast.Binary:
         left, _, right = children
-        return ast.Binary("*", left, right, between(left.span, right.span))
+        return _Binary("*", left, right, between(left.span, right.span))
 
     def negate(self, children: list[Any]) -> ast.Unary:
-        return ast.Unary("-", children[1], span_of(children))
+        return _Unary("-", children[1], _keyword_to_node(children))
 
     def plus(self, children: list[Any]) -> ast.Unary:
-        return ast.Unary("+", children[1], span_of(children))
+        return _Unary("+", children[1], _keyword_to_node(children))
 
     def unary(self, children: list[Any]) -> ast.Expr:
         """A parenthesised expression: ``( expr )``."""
         return children[1]
 
     def vector(self, children: list[Any]) -> ast.Vector:
-        return ast.Vector(tuple(children[1:-1:2]), between(children[0], children[-1]))
+        first, last = children[0], children[-1]
+        span = new_span(_file(), first.line, first.column, last.end_line, last.end_column)
+        return _Vector(tuple(children[1:-1:2]), span)
 
     def quantity(self, children: list[Token]) -> ast.Number:
         token = children[0]
-        text = token.value
-        if not text[-1].isalpha():  # a bare number (a unit ends in a letter)
-            return ast.Number(float(text), None, between(token, token))
-        match = _QUANTITY.fullmatch(text)
-        assert match is not None  # the QUANTITY terminal has this shape
-        number, unit = match.groups()
-        return ast.Number(float(number), unit or None, between(token, token))
+        number, unit = _quantity_parts(token.value)
+        span = new_span(_file(), token.line, token.column, token.end_line, token.end_column)
+        return _Number(number, unit, span)
 
     def name(self, children: list[Token]) -> ast.Name:
         token = children[0]
-        return ast.Name(token.value, between(token, token))
+        span = new_span(_file(), token.line, token.column, token.end_line, token.end_column)
+        return _Name(token.value, span)
+
+
+def _keyword_to_node(children: list[Any]) -> Span:
+    """The span of children that start with a token and end with a node."""
+    first = children[0]
+    last = children[-1].span
+    return new_span(_file(), first.line, first.column, last.end_line, last.end_column)
 
 
 def _tag(token: Token | Tok | None) -> str | None:

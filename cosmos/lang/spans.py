@@ -9,17 +9,20 @@ same however large the node. Shared by the fast parser and Lark's tree builder.
 from __future__ import annotations
 
 import contextvars
-import dataclasses
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 from lark import Token
 
 from cosmos.errors import Span
-from cosmos.lang.fastparse import Tok
+from cosmos.lang.frozen_new import quick
+from cosmos.lang.lalr_run import Tok
 
 FILE: contextvars.ContextVar[str] = contextvars.ContextVar("cosmos_source_file", default="<input>")
 """The name the spans being built carry (set around each parse)."""
+
+new_span = quick(Span)
+"""``Span(file, line, column, end_line, end_column)``, made quickly (:mod:`cosmos.lang.frozen_new`)."""
 
 TOKENS = (Token, Tok)
 """Token classes: Lark's (when Lark parses) and the fast path's."""
@@ -42,7 +45,7 @@ def _place(item: Any) -> Any:
     if kind is tuple or kind is list:
         first, last = _ends(item)
         if first is not None:
-            return _new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
+            return new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
     return None
 
 
@@ -69,48 +72,9 @@ def span_of(children: Sequence[Any]) -> Span:
     first, last = _ends(children)
     if first is None:
         return Span(FILE.get(), 1, 1, 1, 1)
-    return _new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
+    return new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
 
 
 def between(first: Any, last: Any) -> Span:
     """The span from the start of ``first`` to the end of ``last`` (tokens or spans)."""
-    return _new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
-
-
-def _quick_span(file: str, line: int, column: int, end_line: int, end_column: int) -> Span:
-    """``Span(file, line, column, end_line, end_column)``, a third of the time.
-
-    A frozen dataclass sets each field through ``object.__setattr__``; a span
-    is made for every node, so this fills the instance's dictionary directly.
-    Used only where it builds an equal span (checked once, :func:`_span_factory`).
-    """
-    span = _object_new(Span)
-    fields = span.__dict__
-    fields["file"] = file
-    fields["line"] = line
-    fields["column"] = column
-    fields["end_line"] = end_line
-    fields["end_column"] = end_column
-    return span
-
-
-_object_new = object.__new__
-
-
-def _span_factory() -> Callable[[str, int, int, int, int], Span]:
-    """:func:`_quick_span` if Span is still a plain frozen dataclass of those fields, else Span."""
-    try:
-        plain = (
-            [f.name for f in dataclasses.fields(Span)] == ["file", "line", "column", "end_line", "end_column"]
-            and not hasattr(Span, "__post_init__")
-            and not hasattr(Span, "__slots__")
-        )
-        probe = ("f", 1, 2, 3, 4)
-        if plain and _quick_span(*probe) == Span(*probe) and vars(_quick_span(*probe)) == vars(Span(*probe)):
-            return _quick_span
-    except (AttributeError, TypeError):
-        pass
-    return Span
-
-
-_new_span = _span_factory()
+    return new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)

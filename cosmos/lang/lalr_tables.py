@@ -1,0 +1,258 @@
+"""What the fast parser needs from Lark: its terminals, keywords and LALR table.
+
+Built once per parser and builder from the very objects Lark builds from
+``grammar/cosmos.lark``: the terminals' own patterns make one master regular
+expression, the string terminals that WORD matches whole are the keywords (a
+WORD becomes one where the parser state takes it, as Lark's contextual lexer
+with ``_WordsEverywhere`` decides), and each rule gets the reduction Lark's tree
+builder would perform (``_rule`` children spliced in, ``?rule`` with one child
+passed through, ``[x]`` placeholders as None).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from lark import Lark
+from lark.grammar import Rule
+from lark.lexer import PatternStr, TerminalDef, _regexp_has_newline
+from lark.parsers.lalr_analysis import Shift
+
+BAD = "bad"
+"""The lexer's group for a character that no terminal matches (terminal names are upper case)."""
+
+
+Reduce = Callable[[list[Any]], Any]
+
+
+_Rule = tuple[int, str, Reduce | None]
+"""How to reduce one grammar rule: the number of symbols on its right-hand side
+(popped), its nonterminal (for the goto), and what builds the value from the
+popped values (None passes the one value through unchanged: a ``?rule`` of one
+symbol)."""
+
+
+@dataclass(frozen=True)
+class Tables:
+    """What the fast path needs from Lark, built once per parser and builder.
+
+    Attributes:
+        lexer: Lark's patterns of the terminals other than keywords, each a
+            group named for its terminal, then a catch-all group (``BAD``) for a
+            character no terminal matches; blanks before a token are part of its
+            match, outside its group.
+        kinds: The terminal name (or ``BAD``) of each of the lexer's groups, by
+            group number (a match's ``lastindex``); None for groups inside a
+            terminal's own pattern.
+        breaks: Terminal names whose text may hold a line break.
+        ignored: Terminal names that are skipped (comments, continuations).
+        keywords: Terminal name by lower-case keyword text.
+        actions: Per parser state, by symbol name: a shift or goto (the new
+            state, >= 0) or a reduction (``~rule_index``, < 0).
+        rules: The rules, by index.
+        start: The start state.
+        end: The accepting state.
+    """
+
+    lexer: re.Pattern[str]
+    kinds: tuple[str | None, ...]
+    breaks: frozenset[str]
+    ignored: frozenset[str]
+    keywords: dict[str, str]
+    actions: list[dict[str, int]]
+    rules: list[_Rule]
+    start: int
+    end: int
+
+
+def _lark_order(terminal: TerminalDef) -> tuple[int, int, int, str]:
+    """The order in which Lark's lexer tries terminals (lark.lexer.BasicLexer)."""
+    return (-terminal.priority, -terminal.pattern.max_width, -len(terminal.pattern.value), terminal.name)
+
+
+def _keywords(terminals: list[TerminalDef], word: TerminalDef) -> dict[str, str]:
+    """The string terminals that WORD matches whole (Lark lexes them as WORD, then renames)."""
+    found: dict[str, str] = {}
+    word_re = re.compile(word.pattern.to_regexp())
+    for terminal in terminals:
+        pattern = terminal.pattern
+        if not isinstance(pattern, PatternStr) or terminal.priority != word.priority:
+            continue
+        if word_re.fullmatch(pattern.value) is None:
+            continue
+        if not set(pattern.flags) <= set(word.pattern.flags) or "i" not in pattern.flags:
+            raise ValueError(f"keyword {terminal.name} is not case-insensitive like WORD")
+        if not pattern.value.isascii():
+            raise ValueError(f"keyword {terminal.name} is not ASCII")
+        key = pattern.value.lower()
+        if key in found:
+            raise ValueError(f"keywords {found[key]} and {terminal.name} are the same word")
+        found[key] = terminal.name
+    return found
+
+
+def _reducer(rule: Rule, builder: Any) -> Reduce | None:
+    """The reduction of ``rule`` as Lark's tree builder does it (keep_all_tokens, placeholders).
+
+    Children that are ``_rule`` values (lists here) are spliced in; placeholders
+    for absent ``[x]`` are None; a ``?rule`` left with one child is that child;
+    a ``_rule`` is the list of its children; any other rule calls the builder's
+    method of the rule's alias or name.
+    """
+    expansion = rule.expansion
+    size = len(expansion)
+    empty = rule.options.empty_indices
+    if empty:
+        runs = "".join(str(int(flag)) for flag in empty).split("0")
+        nones = [len(run) for run in runs]
+    else:
+        nones = [0] * (size + 1)
+    include = [
+        (index, not symbol.is_term and symbol.name.startswith("_"), nones[index])
+        for index, symbol in enumerate(expansion)
+    ]
+    trailing = nones[size]
+    plain = trailing == 0 and not any(expand or before for _, expand, before in include)
+    expand_one = rule.options.expand1 and not rule.alias
+    name = rule.alias or rule.options.template_source or rule.origin.name
+    inline = name.startswith("_")
+    if plain and expand_one and size == 1:
+        return None
+    found = getattr(builder, name, None)
+
+    def missing(children: list[Any]) -> Any:
+        raise NotImplementedError(f"grammar rule '{name}' has no builder in cosmos/lang/parser.py")
+
+    method: Reduce = missing if found is None else found
+
+    def shape(children: list[Any]) -> list[Any]:
+        if plain:
+            return children
+        filtered: list[Any] = []
+        for index, expand, before in include:
+            if before:
+                filtered += [None] * before
+            if expand:
+                if filtered:
+                    filtered += children[index]
+                else:  # left recursion (x*, x+): extend the list in place, as Lark does
+                    filtered = children[index]
+            else:
+                filtered.append(children[index])
+        if trailing:
+            filtered += [None] * trailing
+        return filtered
+
+    if inline:
+        if plain:
+            return list  # a copy of the popped values, made in C
+        if trailing == 0 and include[0][1] and not any(before for _, _, before in include):
+            return _extender([expand for _, expand, _ in include[1:]])
+        return shape
+    if expand_one:
+
+        def reduce_one(children: list[Any]) -> Any:
+            filtered = shape(children)
+            return filtered[0] if len(filtered) == 1 else method(filtered)
+
+        return reduce_one
+    if plain:
+        return method
+    expanded = [index for index, expand, _ in include if expand]
+    if not any(before for _, _, before in include):
+        if not expanded:  # only placeholders at the end: [x] last
+            padding = [None] * trailing
+            return lambda children: method(children + padding)
+        if len(expanded) == 1 and not trailing:  # one _rule spliced in
+            at = expanded[0]
+            return lambda children: method(children[:at] + children[at] + children[at + 1 :])
+    return lambda children: method(shape(children))
+
+
+def _extender(expands: list[bool]) -> Reduce:
+    """The reduction of a ``_rule`` whose first symbol is a ``_rule`` (``x*``, ``x+``, a list).
+
+    Its list grows in place, as Lark's does, so a long list is never copied.
+    """
+    if expands == [True]:
+
+        def extend_one(children: list[Any]) -> Any:
+            items = children[0]
+            items += children[1]
+            return items
+
+        return extend_one
+    if not any(expands):
+
+        def append_rest(children: list[Any]) -> Any:
+            items = children[0]
+            items += children[1:]
+            return items
+
+        return append_rest
+
+    def extend(children: list[Any]) -> Any:
+        items = children[0]
+        for child, expand in zip(children[1:], expands, strict=True):
+            if expand:
+                items += child
+            else:
+                items.append(child)
+        return items
+
+    return extend
+
+
+def build_tables(lark: Lark, builder: Any) -> Tables:
+    """The lexer, keyword and parse tables of ``lark`` (LALR, contextual lexer).
+
+    Args:
+        lark: The parser built from the grammar.
+        builder: The object whose methods build nodes (named for rules and aliases).
+    """
+    conf = lark.lexer_conf
+    terminals = list(conf.terminals)
+    by_name = {terminal.name: terminal for terminal in terminals}
+    keywords = _keywords(terminals, by_name["WORD"])
+    ignored = frozenset(conf.ignore)
+    # Blanks that hold no line break are matched in front of the next token.
+    blanks = [by_name[n] for n in sorted(ignored) if not _regexp_has_newline(by_name[n].pattern.to_regexp())]
+    lexed = sorted(
+        (t for t in terminals if t.name not in keywords.values() and t not in blanks), key=_lark_order
+    )
+    groups = [f"(?P<{terminal.name}>{terminal.pattern.to_regexp()})" for terminal in lexed]
+    prefix = "|".join([f"(?:{terminal.pattern.to_regexp()})" for terminal in blanks] or ["(?!)"])
+    groups.append(f"(?P<{BAD}>[\\s\\S])")
+    lexer = re.compile(f"(?:{prefix})*(?:{'|'.join(groups)})")
+
+    table = lark.parser.parser.parser.parse_table
+    rules: list[_Rule] = []
+    rule_index: dict[Rule, int] = {}
+    actions: list[dict[str, int]] = [{} for _ in range(max(table.states) + 1)]
+    for state, row in table.states.items():
+        for symbol, (action, argument) in row.items():
+            if action is Shift:
+                actions[state][symbol] = argument
+                continue
+            if argument not in rule_index:
+                rule_index[argument] = len(rules)
+                rules.append((len(argument.expansion), argument.origin.name, _reducer(argument, builder)))
+            actions[state][symbol] = ~rule_index[argument]
+    kinds: list[str | None] = [None] * (lexer.groups + 1)
+    for name, number in lexer.groupindex.items():
+        kinds[number] = name
+    breaks = frozenset(t.name for t in lexed if _regexp_has_newline(t.pattern.to_regexp()))
+    return Tables(
+        lexer=lexer,
+        kinds=tuple(kinds),
+        breaks=breaks,
+        ignored=ignored,
+        keywords=keywords,
+        actions=actions,
+        rules=rules,
+        start=table.start_states["start"],
+        end=table.end_states["start"],
+    )
