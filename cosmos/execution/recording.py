@@ -40,29 +40,42 @@ class LogRecorder:
         self._site_xpos = data.site_xpos[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)]
         self._site_xmat = data.site_xmat[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)]
         bodies = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name) for name in ARM_FRAMES]
-        self._bodies = np.array(bodies)
-        self._data = data
+        self._bodies = np.array(bodies, dtype=np.int64)  # (frames,) rows of xpos, xquat
+        self._xpos = data.xpos  # (nbody, 3) world [m], a view: read at each /tf sample
+        self._xquat = data.xquat  # (nbody, 4) world, w x y z
         self._quat = np.empty(4)
         self._count = 0
 
     def __call__(self, sample: Sample, evaluation: Evaluation) -> None:
         """Record one state sample (the runtime calls this at the state rate)."""
+        self.record(sample.t_s, sample.q, sample.qd, sample.tau, sample.wrench, evaluation)
+
+    def record(
+        self,
+        t_s: float,
+        q: np.ndarray,
+        qd: np.ndarray,
+        tau: np.ndarray,
+        wrench: np.ndarray,
+        evaluation: Evaluation,
+    ) -> None:
+        """Record one state sample: the joint state, the tool pose and twist, the wrench; /tf every 5th.
+
+        Args:
+            t_s: Simulated time since start [s].
+            q: Joint positions [rad]. # (6,)
+            qd: Joint velocities [rad/s]. # (6,)
+            tau: Joint torques being applied [N m]. # (6,)
+            wrench: Wrench the tool applies to the environment, world [N, N m]. # (6,)
+            evaluation: The model's last evaluation (its Jacobian gives the tool twist).
+        """
+        log = self.log
         mujoco.mju_mat2Quat(self._quat, self._site_xmat)
-        self.log.state(
-            sample.t_s,
-            sample.q,
-            sample.qd,
-            sample.tau,
-            self._site_xpos,
-            self._quat,
-            evaluation.jacobian.dot(sample.qd),
-            sample.wrench,
-            self.segment,
-            self.line,
-        )
+        v = evaluation.jacobian.dot(qd)  # (6,) tool twist, world
+        log.state(t_s, q, qd, tau, self._site_xpos, self._quat, v, wrench, self.segment, self.line)
         self._count += 1
         if self._count % TRANSFORM_EVERY == 1:
-            self.log.transforms(sample.t_s, self._data.xpos[self._bodies], self._data.xquat[self._bodies])
+            log.transforms(t_s, self._xpos, self._xquat, self._bodies)
 
 
 def fixture_primitives(plant: Plant) -> list[Primitive]:

@@ -16,9 +16,6 @@ from collections.abc import Sequence
 from enum import IntEnum
 from typing import Any, Final
 
-import numpy as np
-from numpy.typing import ArrayLike
-
 TRANSFORMS_TOPIC: Final = "/tf"
 SCENE_TOPIC: Final = "/scene"
 LOG_TOPIC: Final = "/cosmos/log"
@@ -196,55 +193,27 @@ def stamp(t_ns: int) -> dict[str, int]:
     return {"sec": sec, "nsec": nsec}
 
 
-class TransformsEncoder:
-    """Encodes ``foxglove.FrameTransforms`` messages for a fixed list of frames.
+def frame_transforms_format(child_frames: Sequence[str], parent_frame: str = WORLD_FRAME) -> str:
+    """The ``foxglove.FrameTransforms`` JSON text for a fixed list of frames, as a ``%``-format.
 
-    The JSON text is prepared once per frame list, so a message costs one
-    rounding of the poses and one string format.
+    Per frame, nine ``%d`` holes: the time's ``sec`` and ``nsec``, the
+    translation x y z [m] and the rotation x y z w, both in micro-units (the
+    text ``125730e-6`` is 0.125730). The run log's compiled kernel fills it
+    (:mod:`cosmos.runlog.text_kernel`).
 
     Args:
         child_frames: Names of the frames, in the order their poses are given.
         parent_frame: Frame the poses are expressed in.
     """
-
-    def __init__(self, child_frames: Sequence[str], parent_frame: str = WORLD_FRAME):
-        self.child_frames = tuple(child_frames)
-        item = (
-            '{"timestamp":{"sec":%d,"nsec":%d},'
-            f'"parent_frame_id":{json.dumps(parent_frame)},'
-            '"child_frame_id":%s,'
-            '"translation":{"x":%de-6,"y":%de-6,"z":%de-6},'
-            '"rotation":{"x":%de-6,"y":%de-6,"z":%de-6,"w":%de-6}}'
-        )
-        items = ",".join(
-            item.replace("%s", json.dumps(name).replace("%", "%%")) for name in self.child_frames
-        )
-        self._template = '{"transforms":[' + items + "]}"
-
-    def encode(self, t_ns: int, positions: ArrayLike, quats_wxyz: ArrayLike) -> bytes | None:
-        """The message for poses of the child frames at ``t_ns``, None if one is not finite.
-
-        Args:
-            t_ns: Simulated time [ns].
-            positions: Frame origins in the parent frame [m]. # (n, 3)
-            quats_wxyz: Frame orientations, quaternions w x y z. # (n, 4)
-
-        Raises:
-            ValueError: If the arrays do not hold one pose per child frame.
-        """
-        quats = np.asarray(quats_wxyz, dtype=float)
-        pose = np.empty((len(self.child_frames), 7))
-        pose[:, :3] = positions
-        pose[:, 3:6] = quats[:, 1:]  # x y z
-        pose[:, 6] = quats[:, 0]  # w
-        if not np.all(np.abs(pose) < 1e9):  # also False for NaN
-            return None
-        micro = np.rint(pose * 1e6).astype(np.int64).tolist()
-        sec, nsec = divmod(t_ns, 1_000_000_000)
-        values: list[int] = []
-        for row in micro:
-            values += (sec, nsec, *row)
-        return (self._template % tuple(values)).encode()
+    item = (
+        '{"timestamp":{"sec":%d,"nsec":%d},'
+        f'"parent_frame_id":{json.dumps(parent_frame).replace("%", "%%")},'
+        '"child_frame_id":%s,'
+        '"translation":{"x":%de-6,"y":%de-6,"z":%de-6},'
+        '"rotation":{"x":%de-6,"y":%de-6,"z":%de-6,"w":%de-6}}'
+    )
+    items = ",".join(item.replace("%s", json.dumps(name).replace("%", "%%")) for name in child_frames)
+    return '{"transforms":[' + items + "]}"
 
 
 def scene_update(t_ns: int, entities: Sequence[Entity], removed: Sequence[str] = ()) -> bytes:

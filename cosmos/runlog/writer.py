@@ -23,7 +23,7 @@ from collections.abc import Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
 from types import TracebackType
-from typing import Any, Final, cast
+from typing import Any, Final
 
 import numpy as np
 from foxglove import Channel, Context, Schema, open_mcap
@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike
 
 from cosmos import __version__
 from cosmos.runlog import foxglove
-from cosmos.runlog.foxglove import LogLevel, TransformsEncoder
+from cosmos.runlog.foxglove import LogLevel
 from cosmos.runlog.scene import Primitive, entity
 from cosmos.runlog.schemas import (
     EVENT_SCHEMA,
@@ -51,21 +51,40 @@ from cosmos.runlog.schemas import (
     EventKind,
     schema_bytes,
 )
+from cosmos.runlog.text_kernel import (
+    Template,
+    render_states,
+    render_transforms,
+    stage_state,
+    stage_transform,
+)
 
 DEFAULT_CHUNK_SIZE: Final = 256 * 1024
 """Bytes of messages per chunk; at most this much is lost past the last flush."""
 
 _BATCH: Final = 64  # state samples encoded together
 
+# zstd level 1: on these logs both faster (about 15 % less CPU) and smaller than the
+# compressor's default. Compression runs in the calling thread (compression_threads=0): the
+# Rust writer holds the GIL while it compresses and waits for the chunk at every chunk end,
+# so a worker thread saves no time in the loop (measured: more wall time on the 2-core machine).
+_ZSTD_LEVEL: Final = 1
+
 # JSON text of a state message. Vector components are written as integers with
 # a fixed exponent (125730e-6 is 0.125730): plain JSON, and much cheaper to
-# format than floats.
+# format than floats. The compiled kernels write it (cosmos.runlog.text_kernel);
+# this format string is its definition.
 _STATE_TEMPLATE: Final = (
     '{"t":%.9f,'
     + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in STATE_VECTORS)
     + ',"segment":%d,"line":%d}'
 )
-_MICRO_LIMIT: Final = 1e12  # |value| below this is written exactly as micro-units in int64
+# The staging kernels take contiguous float64 arrays only and raise TypeError for anything
+# else; the callers try them with what they were given and convert on that error.
+_stage_state: Any = stage_state
+_stage_transform: Any = stage_transform
+_STATE_TEXT: Final = Template.from_format(_STATE_TEMPLATE.replace("%.9f", "%d"))  # t: first hole
+_TIME_FORMAT: Final = "%.9f,"  # the text of t in a state message, comma-terminated
 
 _EVENT_LEVELS: Final = {
     EventKind.FAILED: LogLevel.ERROR,
@@ -155,7 +174,10 @@ class RunLog:
         # a third of the pure-Python one's); each log has its own context and channels.
         self._context = Context()
         options = MCAPWriteOptions(
-            compression=MCAPCompression.Zstd, chunk_size=chunk_size, compression_threads=0
+            compression=MCAPCompression.Zstd,
+            compression_level=_ZSTD_LEVEL,
+            chunk_size=chunk_size,
+            compression_threads=0,
         )
         self._writer = open_mcap(
             self.path, allow_overwrite=True, context=self._context, writer_options=options
@@ -177,15 +199,26 @@ class RunLog:
             foxglove.SCENE_TOPIC, foxglove.SCENE_UPDATE_SCHEMA_NAME, foxglove.SCENE_UPDATE_SCHEMA
         )
         self._log = channel(foxglove.LOG_TOPIC, foxglove.LOG_SCHEMA_NAME, foxglove.LOG_SCHEMA)
-        self._transforms = TransformsEncoder(frames)
+        # Rust-side log calls of the channels (the Python wrapper re-checks the type per message).
+        self._log_state = self._state.base.log
+        self._log_tf = self._tf.base.log
 
         # State samples wait here and are encoded _BATCH at a time.
         self._rows = np.empty((_BATCH, STATE_WIDTH))  # (batch, 37)
-        self._times = [0.0] * _BATCH
-        self._segments = [0] * _BATCH
-        self._lines = [0] * _BATCH
+        self._times = np.empty(_BATCH)  # (batch,) s
+        self._labels = np.empty((_BATCH, 2), dtype=np.int64)  # (batch, 2): segment, line
         self._pending = 0
-        self._pending_tf: list[tuple[int, bytes]] = []  # /tf messages waiting with the states
+        self._exact = np.empty(_BATCH, dtype=np.bool_)  # (batch,): row written by the kernel
+        self._offsets = np.empty(_BATCH + 1, dtype=np.int64)
+        self._times_ns = np.empty(_BATCH, dtype=np.int64)
+        # /tf samples wait with the states, in micro-units; the buffers grow if a batch holds more.
+        self._tf_text = Template.from_format(foxglove.frame_transforms_format(frames))
+        self._frame_rows = np.arange(len(frames), dtype=np.int64)  # (frames,)
+        self._tf_poses = np.empty((_BATCH, len(frames), 7), dtype=np.int64)  # (capacity, frames, 7)
+        self._tf_ns = np.empty(_BATCH, dtype=np.int64)
+        self._tf_offsets = np.empty(_BATCH + 1, dtype=np.int64)
+        self._pending_tf = 0
+        self._text = np.empty(0, dtype=np.uint8)  # JSON text of a batch, grown as needed
 
         record = {
             "program": program,
@@ -275,52 +308,73 @@ class RunLog:
             line: Source line of the statement being executed.
         """
         i = self._pending
-        row = self._rows[i]
-        row[0:6] = q
-        row[6:12] = qd
-        row[12:18] = tau
-        row[18:21] = x
-        row[21:25] = quat
-        row[25:31] = v
-        row[31:37] = wrench
-        self._times[i] = t
-        self._segments[i] = segment
-        self._lines[i] = line
+        try:
+            _stage_state(
+                self._rows, self._times, self._labels, i, t, q, qd, tau, x, quat, v, wrench, segment, line
+            )
+        except TypeError:  # not contiguous float64 vectors: convert, then the same kernel
+            vectors = [
+                np.ascontiguousarray(a, dtype=float).reshape(-1) for a in (q, qd, tau, x, quat, v, wrench)
+            ]
+            _stage_state(
+                self._rows, self._times, self._labels, i, float(t), *vectors, int(segment), int(line)
+            )
         self._pending = i + 1
         if i + 1 == _BATCH:
             self._write_states()
 
     def _write_states(self) -> None:
-        n = self._pending
-        if n == 0 and not self._pending_tf:
+        """Encode and write the pending states and /tf samples, each /tf right after its state."""
+        n, m = self._pending, self._pending_tf
+        if n == 0 and m == 0:
             return
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
-        self._pending = 0
-        rows = self._rows[:n]
-        exact = np.abs(rows) < _MICRO_LIMIT  # False for NaN and inf
-        micro = np.rint(np.where(exact, rows, 0.0) * 1e6).astype(np.int64).tolist()
-        rows_exact = cast(list[bool], exact.all(axis=1).tolist())
-        log_state, log_tf = self._state.log, self._tf.log
-        times, segments, lines = self._times, self._segments, self._lines
-        # /tf messages are batched with the states; each goes right after the state of its time.
-        tf_queue, self._pending_tf = self._pending_tf, []
+        self._pending = self._pending_tf = 0
+        times = self._times[:n].tolist()
+        times_text = np.frombuffer((_TIME_FORMAT * n % tuple(times)).encode(), dtype=np.uint8)
+        size = len(times_text) + n * _STATE_TEXT.max_bytes + m * self._tf_text.max_bytes
+        if len(self._text) < size:
+            self._text = np.empty(2 * size, dtype=np.uint8)
+        text, state_text, tf_text = self._text, _STATE_TEXT, self._tf_text
+        end = render_states(
+            text,
+            self._rows,
+            self._labels,
+            n,
+            times_text,
+            state_text.literals,
+            state_text.bounds,
+            self._exact,
+            self._offsets,
+            self._times_ns,
+            self._times,
+        )
+        end = render_transforms(
+            text, end, self._tf_poses, self._tf_ns, m, tf_text.literals, tf_text.bounds, self._tf_offsets
+        )
+        blob = text[:end].tobytes()
+        offsets = self._offsets[: n + 1].tolist()
+        times_ns = self._times_ns[:n].tolist()
+        tf_offsets = self._tf_offsets[: m + 1].tolist()
+        tf_ns = self._tf_ns[:m].tolist()
+        rows_exact = self._exact[:n].tolist()
+        log_state, log_tf = self._log_state, self._log_tf
         tf_next = 0
         t_ns = 0
         for i in range(n):
-            t = times[i]
+            t_ns = times_ns[i]
             if rows_exact[i]:
-                text = _STATE_TEMPLATE % (t, *micro[i], segments[i], lines[i])
+                log_state(blob[offsets[i] : offsets[i + 1]], t_ns, None)
             else:
-                text = self._state_json(t, rows[i], segments[i], lines[i])
-            t_ns = round(t * 1e9)
-            log_state(text.encode(), log_time=t_ns)
-            while tf_next < len(tf_queue) and tf_queue[tf_next][0] <= t_ns:
-                log_tf(tf_queue[tf_next][1], log_time=tf_queue[tf_next][0])
+                labels = self._labels[i].tolist()
+                log_state(self._state_json(times[i], self._rows[i], *labels).encode(), t_ns, None)
+            while tf_next < m and tf_ns[tf_next] <= t_ns:
+                log_tf(blob[tf_offsets[tf_next] : tf_offsets[tf_next + 1]], tf_ns[tf_next], None)
                 tf_next += 1
-        for tf_ns, data in tf_queue[tf_next:]:
-            log_tf(data, log_time=tf_ns)
-            t_ns = max(t_ns, tf_ns)
+        for k in range(tf_next, m):
+            log_tf(blob[tf_offsets[k] : tf_offsets[k + 1]], tf_ns[k], None)
+            t_ns = max(t_ns, tf_ns[k])
         self._last_ns = t_ns
 
     @staticmethod
@@ -430,22 +484,71 @@ class RunLog:
         level = _EVENT_LEVELS.get(kind, LogLevel.INFO)
         self._write(self._log, t_ns, foxglove.log_message(t_ns, level, text, self.program, line))
 
-    def transforms(self, t: float, positions: ArrayLike, quats_wxyz: ArrayLike) -> None:
+    def transforms(
+        self, t: float, positions: ArrayLike, quats_wxyz: ArrayLike, rows: np.ndarray | None = None
+    ) -> None:
         """Record the poses of the arm's frames on ``/tf`` (``foxglove.FrameTransforms``).
 
-        A sample with a non-finite value is skipped.
+        A sample with a non-finite value is skipped. Samples wait with the
+        states and are written with them.
 
         Args:
             t: Simulated time [s].
             positions: Origins of the frames given at construction, world frame [m]. # (n, 3)
             quats_wxyz: Their orientations, world frame, w x y z. # (n, 4)
+            rows: Where the frames are in ``positions`` and ``quats_wxyz``
+                (e.g. body ids in MuJoCo's ``xpos``, ``xquat``); None: rows 0..n-1.
+                # (frames,) int64
+
+        Raises:
+            ValueError: If the arrays do not hold one pose per frame.
         """
         t_ns = _ns(t)
-        data = self._transforms.encode(t_ns, positions, quats_wxyz)
-        if data is not None:
+        j = self._pending_tf
+        if j == len(self._tf_ns):
+            self._grow_transforms()
+        try:
+            staged = _stage_transform(
+                self._tf_poses,
+                self._tf_ns,
+                j,
+                t_ns,
+                positions,
+                quats_wxyz,
+                self._frame_rows if rows is None else rows,
+            )
+        except TypeError:  # not contiguous float64 arrays: convert, then the same kernel
+            staged = self._stage_converted(j, t_ns, positions, quats_wxyz, rows)
+        if staged:
             if self._closed:
                 raise ValueError(f"{self.path}: the run log is closed")
-            self._pending_tf.append((t_ns, data))
+            self._pending_tf = j + 1
+
+    def _stage_converted(
+        self, j: int, t_ns: int, positions: ArrayLike, quats_wxyz: ArrayLike, rows: ArrayLike | None
+    ) -> bool:
+        if rows is None:
+            n = len(self._frame_rows)
+            positions = np.broadcast_to(np.asarray(positions, dtype=float), (n, 3))
+            quats_wxyz = np.broadcast_to(np.asarray(quats_wxyz, dtype=float), (n, 4))
+            rows = self._frame_rows
+        return bool(
+            _stage_transform(
+                self._tf_poses,
+                self._tf_ns,
+                j,
+                t_ns,
+                np.ascontiguousarray(positions, dtype=float),
+                np.ascontiguousarray(quats_wxyz, dtype=float),
+                np.ascontiguousarray(rows, dtype=np.int64),
+            )
+        )
+
+    def _grow_transforms(self) -> None:
+        """Twice the room for /tf samples waiting in this batch."""
+        self._tf_poses = np.concatenate((self._tf_poses, np.empty_like(self._tf_poses)))
+        self._tf_ns = np.concatenate((self._tf_ns, np.empty_like(self._tf_ns)))
+        self._tf_offsets = np.empty(len(self._tf_ns) + 1, dtype=np.int64)
 
     def scene(self, t: float, add: Sequence[Primitive] = (), remove: Sequence[str] = ()) -> None:
         """Show, move or remove fixtures and obstacles on ``/scene`` (``foxglove.SceneUpdate``).

@@ -1,0 +1,336 @@
+"""JSON text of the run log's numeric messages, written by compiled kernels (numba).
+
+A message's text is a fixed template with holes for integers: the vectors of
+a state message and the poses of a ``/tf`` message are written as micro-units
+with a fixed exponent (``125730e-6`` is 0.125730). :class:`Template` holds the
+literal pieces between the holes; the kernels write a whole batch of messages
+into one byte buffer, with the same digits Python's ``%d`` writes: the
+template, read as a ``%``-format string, is the reference (checked in
+``tests/runlog/test_runlog_text_kernel.py``).
+
+The staging kernels copy one sample's vectors into the rows waiting for the
+next batch: one compiled call where NumPy takes one call per vector.
+
+Rounding: a value ``v`` becomes ``int64(rint(v * 1e6))`` (half to even), as
+``np.rint(v * 1e6).astype(np.int64)`` does.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Final
+
+import numpy as np
+from numba import njit
+
+FloatArray = np.ndarray
+IntArray = np.ndarray
+ByteArray = np.ndarray
+
+STATE_MICRO_LIMIT: Final = 1e12
+"""A state value with ``|v|`` below this (and finite) is written as micro-units; others are not."""
+
+POSE_LIMIT: Final = 1e9
+"""A ``/tf`` sample is written only if every coordinate has ``|v|`` below this (and is finite)."""
+
+INT_DIGITS: Final = 20  # an int64 in decimal, sign included
+POSE_WIDTH: Final = 7  # x y z, then the quaternion x y z w
+COMMA: Final = 44
+
+
+@dataclass(frozen=True)
+class Template:
+    """JSON text with integer holes: ``literal 0, int 0, literal 1, ..., int k-1, literal k``.
+
+    Attributes:
+        literals: The literal pieces, concatenated, as bytes. # (total,) uint8
+        bounds: Where literal ``i`` starts; literal ``i`` is
+            ``literals[bounds[i]:bounds[i + 1]]``. # (holes + 2,) int64
+    """
+
+    literals: ByteArray
+    bounds: IntArray
+
+    @property
+    def holes(self) -> int:
+        """Number of integers a message takes."""
+        return len(self.bounds) - 2
+
+    @property
+    def max_bytes(self) -> int:
+        """An upper bound on the length of one message."""
+        return len(self.literals) + INT_DIGITS * self.holes
+
+    @classmethod
+    def from_format(cls, text: str) -> Template:
+        """The template of a ``%``-format string whose only directives are ``%d`` (and ``%%``).
+
+        Raises:
+            ValueError: If ``text`` has another directive.
+        """
+        pieces = text.split("%d")
+        for piece in pieces:
+            if re.search(r"%[^%]", piece.replace("%%", "")):
+                raise ValueError(f"only %d directives are supported, got {piece!r}")
+        encoded = [piece.replace("%%", "%").encode() for piece in pieces]
+        bounds = np.cumsum([0] + [len(p) for p in encoded], dtype=np.int64)
+        literals = np.frombuffer(b"".join(encoded), dtype=np.uint8).copy()
+        return cls(literals=literals, bounds=bounds)
+
+
+@njit(cache=True)
+def _put_int(out: ByteArray, pos: int, value: int) -> int:
+    """Write ``value`` in decimal (as ``%d``) at ``out[pos]``; return the position after it."""
+    if value < 0:
+        out[pos] = 45  # "-"
+        pos += 1
+        value = -value
+    rest = np.uint64(value)  # unsigned: division without Python's floor fix-ups
+    ten = np.uint64(10)
+    digits = 1
+    bound = np.uint64(10)
+    while rest >= bound and digits < 19:
+        digits += 1
+        bound *= ten
+    if rest >= bound:
+        digits += 1
+    end = pos + digits
+    for k in range(end - 1, pos - 1, -1):
+        out[k] = np.uint8(np.uint64(48) + rest % ten)
+        rest //= ten
+    return end
+
+
+@njit(cache=True)
+def _put_literal(out: ByteArray, pos: int, literals: ByteArray, bounds: IntArray, index: int) -> int:
+    """Write literal ``index`` of a template at ``out[pos]``; return the position after it."""
+    for k in range(bounds[index], bounds[index + 1]):
+        out[pos] = literals[k]
+        pos += 1
+    return pos
+
+
+@njit(cache=True)
+def _micro(value: float) -> int:
+    """``value`` in integer micro-units, rounded half to even."""
+    return int(np.rint(value * 1e6))
+
+
+@njit(cache=True)
+def render_states(
+    out: ByteArray,
+    rows: FloatArray,
+    labels: IntArray,
+    count: int,
+    times_text: ByteArray,
+    literals: ByteArray,
+    bounds: IntArray,
+    exact: np.ndarray,
+    offsets: IntArray,
+    times_ns: IntArray,
+    times: FloatArray,
+) -> int:
+    """Write the first ``count`` state messages into ``out``; return the bytes written.
+
+    A message is ``literal 0``, the time's text, then the template's holes
+    filled with the row in micro-units, then segment and line. A row with a
+    value that is not finite or not below :data:`STATE_MICRO_LIMIT` is not
+    written (``exact[i]`` False, an empty range in ``offsets``).
+
+    Args:
+        out: Output buffer, at least ``count`` messages long. # (capacity,) uint8
+        rows: State vectors. # (batch, 37)
+        labels: Segment and line. # (batch, 2) int64
+        count: Messages to write.
+        times_text: ``"%.9f,"`` of every time, concatenated. # (n,) uint8
+        literals: The template's literals (after the time: ``,"q":[`` ... ``}``).
+        bounds: Their bounds; holes are 37 vector components then segment and line.
+        exact: Out: whether row ``i`` was written. # (batch,) bool
+        offsets: Out: message ``i`` is ``out[offsets[i]:offsets[i + 1]]``. # (batch + 1,) int64
+        times_ns: Out: ``rint(t * 1e9)`` of each time, the MCAP log time. # (batch,) int64
+        times: The times [s]. # (batch,)
+    """
+    width = rows.shape[1]
+    pos = 0
+    cursor = 0  # in times_text
+    for i in range(count):
+        offsets[i] = pos
+        times_ns[i] = np.int64(np.rint(times[i] * 1e9))
+        start = cursor
+        while times_text[cursor] != COMMA:
+            cursor += 1
+        text_stop = cursor
+        cursor += 1
+        ok = True
+        for j in range(width):
+            if not abs(rows[i, j]) < STATE_MICRO_LIMIT:
+                ok = False
+                break
+        exact[i] = ok
+        if not ok:
+            continue
+        pos = _put_literal(out, pos, literals, bounds, 0)
+        for k in range(start, text_stop):
+            out[pos] = times_text[k]
+            pos += 1
+        pos = _put_literal(out, pos, literals, bounds, 1)
+        for j in range(width):
+            pos = _put_int(out, pos, _micro(rows[i, j]))
+            pos = _put_literal(out, pos, literals, bounds, j + 2)
+        pos = _put_int(out, pos, labels[i, 0])
+        pos = _put_literal(out, pos, literals, bounds, width + 2)
+        pos = _put_int(out, pos, labels[i, 1])
+        pos = _put_literal(out, pos, literals, bounds, width + 3)
+    offsets[count] = pos
+    return pos
+
+
+@njit(cache=True)
+def render_transforms(
+    out: ByteArray,
+    pos: int,
+    poses: IntArray,
+    times_ns: IntArray,
+    count: int,
+    literals: ByteArray,
+    bounds: IntArray,
+    offsets: IntArray,
+) -> int:
+    """Write the first ``count`` ``/tf`` messages into ``out`` from ``pos``; return the end.
+
+    Each frame of a message fills nine holes: ``sec``, ``nsec`` of the time,
+    then the pose in micro-units (x y z, quaternion x y z w).
+
+    Args:
+        out: Output buffer. # (capacity,) uint8
+        pos: Where the first message starts.
+        poses: Poses in micro-units, per message and frame. # (capacity, frames, 7) int64
+        times_ns: Time of each message [ns]. # (capacity,) int64
+        count: Messages to write.
+        literals: The template's literals.
+        bounds: Their bounds.
+        offsets: Out: message ``i`` is ``out[offsets[i]:offsets[i + 1]]``. # (capacity + 1,) int64
+    """
+    frames = poses.shape[1]
+    for i in range(count):
+        offsets[i] = pos
+        sec = times_ns[i] // 1_000_000_000
+        nsec = times_ns[i] % 1_000_000_000
+        hole = 0
+        pos = _put_literal(out, pos, literals, bounds, 0)
+        for f in range(frames):
+            pos = _put_int(out, pos, sec)
+            pos = _put_literal(out, pos, literals, bounds, hole + 1)
+            pos = _put_int(out, pos, nsec)
+            pos = _put_literal(out, pos, literals, bounds, hole + 2)
+            hole += 2
+            for c in range(POSE_WIDTH):
+                pos = _put_int(out, pos, poses[i, f, c])
+                pos = _put_literal(out, pos, literals, bounds, hole + 1)
+                hole += 1
+    offsets[count] = pos
+    return pos
+
+
+@njit(
+    "void(float64[:, ::1], float64[::1], int64[:, ::1], int64, float64, float64[::1], float64[::1],"
+    " float64[::1], float64[::1], float64[::1], float64[::1], float64[::1], int64, int64)",
+    cache=True,
+)
+def stage_state(
+    rows: FloatArray,
+    times: FloatArray,
+    labels: IntArray,
+    i: int,
+    t: float,
+    q: FloatArray,
+    qd: FloatArray,
+    tau: FloatArray,
+    x: FloatArray,
+    quat: FloatArray,
+    v: FloatArray,
+    wrench: FloatArray,
+    segment: int,
+    line: int,
+) -> None:
+    """Copy one state sample into row ``i`` (vectors in message order), its time and labels.
+
+    Compiled for contiguous float64 vectors only; other inputs raise TypeError
+    at the call (the caller converts them).
+
+    Raises:
+        ValueError: If a vector has the wrong length (nothing is copied).
+    """
+    if len(q) != 6 or len(qd) != 6 or len(tau) != 6 or len(v) != 6 or len(wrench) != 6:
+        raise ValueError("q, qd, tau, v and wrench must have 6 components each")
+    if len(x) != 3 or len(quat) != 4:
+        raise ValueError("x must have 3 components and quat 4")
+    row = rows[i]
+    for k in range(6):
+        row[k] = q[k]
+        row[6 + k] = qd[k]
+        row[12 + k] = tau[k]
+        row[25 + k] = v[k]
+        row[31 + k] = wrench[k]
+    for k in range(3):
+        row[18 + k] = x[k]
+    for k in range(4):
+        row[21 + k] = quat[k]
+    times[i] = t
+    labels[i, 0] = segment
+    labels[i, 1] = line
+
+
+@njit(
+    "boolean(int64[:, :, ::1], int64[::1], int64, int64, float64[:, ::1], float64[:, ::1], int64[::1])",
+    cache=True,
+)
+def stage_transform(
+    poses: IntArray,
+    times_ns: IntArray,
+    j: int,
+    t_ns: int,
+    positions: FloatArray,
+    quats_wxyz: FloatArray,
+    frame_rows: IntArray,
+) -> bool:
+    """Copy the poses of the frames (rows ``frame_rows`` of the inputs) into slot ``j`` in micro-units.
+
+    Args:
+        poses: Staged poses, x y z then quaternion x y z w. # (capacity, frames, 7) int64
+        times_ns: Staged times [ns]. # (capacity,) int64
+        j: Slot to fill.
+        t_ns: Time of the sample [ns].
+        positions: Frame origins [m]. # (m, 3)
+        quats_wxyz: Frame orientations, w x y z. # (m, 4)
+        frame_rows: Row of each frame in the inputs. # (frames,) int64
+
+    Returns:
+        False, and nothing staged, if a coordinate is not finite or not below :data:`POSE_LIMIT`.
+
+    Raises:
+        ValueError: If the shapes do not match or a row is out of range.
+    """
+    frames = poses.shape[1]
+    if len(frame_rows) != frames or positions.shape[1] != 3 or quats_wxyz.shape[1] != 4:
+        raise ValueError("the poses must be (n, 3) positions and (n, 4) quaternions, one per frame")
+    for f in range(frames):
+        r = frame_rows[f]
+        if r < 0 or r >= positions.shape[0] or r >= quats_wxyz.shape[0]:
+            raise ValueError("a frame's row is outside the pose arrays")
+        for c in range(3):
+            if not abs(positions[r, c]) < POSE_LIMIT:
+                return False
+        for c in range(4):
+            if not abs(quats_wxyz[r, c]) < POSE_LIMIT:
+                return False
+    for f in range(frames):
+        r = frame_rows[f]
+        for c in range(3):
+            poses[j, f, c] = _micro(positions[r, c])
+        for c in range(3):
+            poses[j, f, 3 + c] = _micro(quats_wxyz[r, 1 + c])  # x y z
+        poses[j, f, 6] = _micro(quats_wxyz[r, 0])  # w
+    times_ns[j] = t_ns
+    return True

@@ -1,0 +1,140 @@
+"""The compiled JSON kernels against Python's own ``%`` formatting of the same templates."""
+
+import json
+
+import numpy as np
+import pytest
+
+from cosmos.runlog.foxglove import ARM_FRAMES, frame_transforms_format
+from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
+from cosmos.runlog.text_kernel import (
+    Template,
+    render_states,
+    render_transforms,
+    stage_state,
+    stage_transform,
+)
+
+STATE_FORMAT = (
+    '{"t":%.9f,'
+    + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in STATE_VECTORS)
+    + ',"segment":%d,"line":%d}'
+)
+
+
+def awkward_values(rng: np.random.Generator, n: int) -> np.ndarray:
+    """Values of every size, with exact halves of a micro-unit and integers among them."""
+    scale = 10.0 ** rng.integers(-9, 12, n)
+    values = rng.uniform(-1, 1, n) * scale
+    values[::7] = rng.integers(-3_000_000, 3_000_000, values[::7].size) * 0.5e-6  # ties: half to even
+    values[::11] = 0.0
+    values[1::13] = -0.0
+    values[2::17] = 999_999_999_999.9  # just below the limit
+    return values
+
+
+def render(
+    rows: np.ndarray, times: np.ndarray, labels: np.ndarray
+) -> tuple[list[bytes], np.ndarray, list[int]]:
+    n = len(times)
+    template = Template.from_format(STATE_FORMAT.replace("%.9f", "%d"))
+    times_text = np.frombuffer(("%.9f," * n % tuple(times.tolist())).encode(), dtype=np.uint8)
+    out = np.zeros(len(times_text) + n * template.max_bytes, dtype=np.uint8)
+    exact = np.zeros(n, dtype=bool)
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    times_ns = np.zeros(n, dtype=np.int64)
+    end = render_states(
+        out, rows, labels, n, times_text, template.literals, template.bounds, exact, offsets, times_ns, times
+    )
+    blob = out[:end].tobytes()
+    return [blob[offsets[i] : offsets[i + 1]] for i in range(n)], exact, times_ns.tolist()
+
+
+def test_state_text_is_python_percent_formatting_of_the_template() -> None:
+    rng = np.random.default_rng(3)
+    n = 400
+    rows = awkward_values(rng, n * STATE_WIDTH).reshape(n, STATE_WIDTH)
+    times = np.concatenate(([0.0, 1e-9, 0.0005, 2.5e-10, 7.4999999995], rng.uniform(0, 1e5, n - 5)))
+    labels = rng.integers(0, 10**6, (n, 2)).astype(np.int64)
+    texts, exact, times_ns = render(rows, times, labels)
+    assert exact.all()
+    for i in range(n):
+        micro = np.rint(rows[i] * 1e6).astype(np.int64).tolist()
+        expected = STATE_FORMAT % (times[i], *micro, *labels[i].tolist())
+        assert texts[i] == expected.encode()
+        assert times_ns[i] == round(times[i] * 1e9)
+    assert json.loads(texts[0])["q"][0] == pytest.approx(rows[0, 0], abs=5e-7)
+
+
+def test_rows_with_a_non_finite_or_huge_value_are_left_to_the_caller() -> None:
+    rows = np.zeros((4, STATE_WIDTH))
+    rows[1, 5], rows[2, 36], rows[3, 0] = np.nan, -np.inf, 1e12
+    texts, exact, _ = render(rows, np.arange(4.0), np.zeros((4, 2), dtype=np.int64))
+    assert exact.tolist() == [True, False, False, False]
+    assert texts[1:] == [b"", b"", b""]
+    assert json.loads(texts[0])["wrench"] == [0] * 6
+
+
+def test_transforms_text_is_python_percent_formatting_of_the_template() -> None:
+    rng = np.random.default_rng(4)
+    frames, count = len(ARM_FRAMES), 50
+    fmt = frame_transforms_format(ARM_FRAMES)
+    template = Template.from_format(fmt)
+    bodies = np.array([3, 0, 5, 1, 8, 2, 7], dtype=np.int64)  # rows of the frames in the inputs
+    poses = np.zeros((count, frames, 7), dtype=np.int64)
+    times_ns = np.zeros(count, dtype=np.int64)
+    inputs = []
+    for j in range(count):
+        positions = awkward_values(rng, 9 * 3).reshape(9, 3) % 1e8
+        quats = rng.normal(size=(9, 4))
+        t_ns = int(rng.integers(0, 10**14))
+        assert stage_transform(poses, times_ns, j, t_ns, positions, quats, bodies)
+        inputs.append((t_ns, positions[bodies], quats[bodies]))
+    out = np.zeros(count * template.max_bytes, dtype=np.uint8)
+    offsets = np.zeros(count + 1, dtype=np.int64)
+    end = render_transforms(out, 0, poses, times_ns, count, template.literals, template.bounds, offsets)
+    blob = out[:end].tobytes()
+    for j, (t_ns, positions, quats) in enumerate(inputs):
+        sec, nsec = divmod(t_ns, 1_000_000_000)
+        xyzw = np.concatenate((positions, quats[:, 1:], quats[:, :1]), axis=1)  # (frames, 7)
+        values = []
+        for row in np.rint(xyzw * 1e6).astype(np.int64).tolist():
+            values += [sec, nsec, *row]
+        assert blob[offsets[j] : offsets[j + 1]] == (fmt % tuple(values)).encode()
+    message = json.loads(blob[offsets[0] : offsets[1]])
+    assert [t["child_frame_id"] for t in message["transforms"]] == list(ARM_FRAMES)
+
+
+def test_a_pose_sample_with_a_non_finite_or_huge_value_is_not_staged() -> None:
+    poses = np.full((2, 2, 7), -1, dtype=np.int64)
+    times_ns = np.zeros(2, dtype=np.int64)
+    rows = np.arange(2, dtype=np.int64)
+    positions, quats = np.zeros((2, 3)), np.tile([1.0, 0, 0, 0], (2, 1))
+    quats[1, 2] = np.nan
+    assert not stage_transform(poses, times_ns, 0, 5, positions, quats, rows)
+    quats[1, 2] = 1e9
+    assert not stage_transform(poses, times_ns, 0, 5, positions, quats, rows)
+    assert (poses == -1).all()
+    with pytest.raises(ValueError, match="outside"):
+        stage_transform(poses, times_ns, 0, 5, positions, quats, np.array([0, 2], dtype=np.int64))
+
+
+def test_staging_copies_the_vectors_in_message_order_and_refuses_wrong_lengths() -> None:
+    rows, times = np.zeros((2, STATE_WIDTH)), np.zeros(2)
+    labels = np.zeros((2, 2), dtype=np.int64)
+    sizes = [n for _, n in STATE_VECTORS]
+    vectors = [np.arange(n, dtype=float) + 10 * k for k, n in enumerate(sizes)]
+    stage_state(rows, times, labels, 1, 2.5, *vectors, 4, 9)
+    assert rows[1].tolist() == np.concatenate(vectors).tolist()
+    assert times[1] == 2.5 and labels[1].tolist() == [4, 9]
+    with pytest.raises(ValueError, match="x must have 3"):
+        stage_state(rows, times, labels, 0, 0.0, *vectors[:3], np.zeros(4), *vectors[4:], 0, 0)
+    with pytest.raises(TypeError):  # only contiguous float64 arrays; RunLog.state converts others
+        stage_state(rows, times, labels, 0, 0.0, [0.0] * 6, *vectors[1:], 0, 0)
+    assert not rows[0].any()
+
+
+def test_template_refuses_directives_other_than_d() -> None:
+    assert Template.from_format("a%%b%dc").literals.tobytes() == b"a%bc"
+    with pytest.raises(ValueError, match="only %d"):
+        Template.from_format('{"t":%.9f}')
