@@ -39,7 +39,7 @@ _EXAMPLES = {
 def clause_key(clause: ast.Clause) -> str:
     """The clause's keyword (``"SPEED"``, ``"VIA"``, ...)."""
     if isinstance(clause, ast.ValueClause):
-        return clause.kind.value
+        return clause.kind._value_
     if isinstance(clause, ast.ViaClause):
         return "VIA"
     if isinstance(clause, ast.UntilClause):
@@ -64,7 +64,7 @@ def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str]:
 
 
 def _require(keyword: str, present: set[str], needed: ast.ClauseKind, statement: ast.Statement) -> None:
-    if needed.value not in present:
+    if needed._value_ not in present:
         raise ProgramError(
             f"{keyword} needs {needed.value}, as in {keyword} ... {_EXAMPLES[needed]}",
             statement.span,

@@ -63,7 +63,7 @@ def _quantity(condition: ast.Comparison, frame: TaskFrame) -> tuple[plan.Quantit
         if condition.sensed is ast.Sensed.FORCE:
             return plan.Quantity.FORCE, None
         return plan.Quantity.TORQUE, None
-    axis = direction.axis.value
+    axis = direction.axis._value_
     if condition.sensed is ast.Sensed.FORCE:
         if direction.axis.is_rotation:
             raise ProgramError(

@@ -101,3 +101,31 @@ def quick(cls: type[T]) -> Callable[..., T]:
     if not same or list(vars(quick_one)) != list(vars(slow_one)):
         return cls
     return maker
+
+
+def quick_keywords(cls: type[T]) -> Callable[..., T]:
+    """A constructor of ``cls`` taking every field by keyword (no defaults used).
+
+    The quick one where ``cls`` is a plain frozen dataclass (as for :func:`quick`)
+    and gives the same instance; it passes any other set of keywords to ``cls``.
+    """
+    if not dataclasses.is_dataclass(cls) or hasattr(cls, "__post_init__") or hasattr(cls, "__slots__"):
+        return cls
+    fields = dataclasses.fields(cls)
+    if any(not f.init for f in fields):
+        return cls
+    names = frozenset(f.name for f in fields)
+
+    def make(**values: Any) -> T:
+        if values.keys() != names:  # a default to fill in, or a wrong name: the real __init__
+            return cls(**values)
+        made = _new(cls)
+        made.__dict__.update(values)
+        return made
+
+    probe = {f.name: object() for f in fields}
+    try:
+        same = vars(make(**probe)) == vars(cls(**probe))
+    except (TypeError, ValueError, AttributeError):
+        return cls
+    return make if same else cls

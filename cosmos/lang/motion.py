@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -27,6 +28,7 @@ from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.conditions import comparisons, compile_condition, holds_at_start
+from cosmos.lang.frozen_new import quick_keywords
 from cosmos.lang.rotations import IDENTITY, readonly
 from cosmos.lang.state import WORLD, CompileState, Defaults, HeldContact, TaskFrame
 from cosmos.lang.values import BindingKind, Evaluator, FrameValue, Scalar
@@ -87,6 +89,11 @@ def _all_motion() -> _Axes:
 
 _ALL_MOTION = _all_motion()
 
+_segment = quick_keywords(plan.Segment)
+
+_AXES_SEEN: dict[tuple[object, ...], _Axes] = {}
+"""Axis setups made so far, by (COMPLY settings, forces, free axes)."""
+
 
 def _axis_list(axes: list[int] | set[int]) -> str:
     return " ".join(_AXIS_NAMES[i] for i in sorted(axes))
@@ -94,6 +101,16 @@ def _axis_list(axes: list[int] | set[int]) -> str:
 
 def _vector_text(vector: np.ndarray) -> str:
     return "(" + ", ".join(f"{v:.3g}" if abs(v) > 1e-12 else "0" for v in vector) + ")"
+
+
+@lru_cache(maxsize=16)
+def _goal_reached(defaults: Defaults) -> plan.GoalReached:
+    """The goal tolerances of ``defaults`` (one immutable value per defaults)."""
+    return plan.GoalReached(
+        position_tolerance_m=defaults.position_tolerance_m,
+        orientation_tolerance_rad=defaults.orientation_tolerance_rad,
+        speed_tolerance_mps=defaults.rest_speed_mps,
+    )
 
 
 class MotionBuilder:
@@ -407,9 +424,22 @@ class MotionBuilder:
     # ------------------------------------------------------------------ axes
 
     def _axes(self, forces: dict[int, float], free: set[int]) -> _Axes:
-        """Axis setup: COMPLY in force, then zero-force axes ``free``, then ``forces``."""
-        if not forces and not free and self.state.compliance == _NO_COMPLIANCE:
+        """Axis setup: COMPLY in force, then zero-force axes ``free``, then ``forces``.
+
+        Equal setups share one (read-only) value: a program repeats a few of them.
+        """
+        compliance = self.state.compliance
+        if not forces and not free and compliance == _NO_COMPLIANCE:
             return _ALL_MOTION
+        key = (compliance, tuple(forces.items()), tuple(free))
+        axes = _AXES_SEEN.get(key)
+        if axes is None:
+            axes = self._new_axes(forces, free)
+            if len(_AXES_SEEN) < 1024:
+                _AXES_SEEN[key] = axes
+        return axes
+
+    def _new_axes(self, forces: dict[int, float], free: set[int]) -> _Axes:
         motion = [True] * 6
         force = [0.0] * 6
         stiffness: list[float | None] = [None] * 6
@@ -484,7 +514,7 @@ class MotionBuilder:
                 f"not {direction.axis.name}",
                 direction.span,
             )
-        return direction.axis.value, direction.sign
+        return direction.axis._value_, direction.sign
 
     # ---------------------------------------------------------------- values
 
@@ -570,11 +600,7 @@ class MotionBuilder:
         return condition
 
     def _goal_reached(self) -> plan.GoalReached:
-        return plan.GoalReached(
-            position_tolerance_m=self.defaults.position_tolerance_m,
-            orientation_tolerance_rad=self.defaults.orientation_tolerance_rad,
-            speed_tolerance_mps=self.defaults.rest_speed_mps,
-        )
+        return _goal_reached(self.defaults)
 
     # --------------------------------------------------------------- warnings
 
@@ -648,7 +674,7 @@ class MotionBuilder:
         jam_check: plan.JamCheck | None = None,
     ) -> None:
         self._segments.append(
-            plan.Segment(
+            _segment(
                 index=self.state.segment_count + len(self._segments),
                 kind=kind,
                 statement_index=self.state.statement_count,

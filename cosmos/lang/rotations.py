@@ -28,6 +28,22 @@ def readonly(values: object) -> FloatArray:
 
 IDENTITY = readonly(np.eye(3))
 
+_SHARED: dict[tuple[float, ...], FloatArray] = {}
+"""Read-only arrays made from tuples of numbers, by the tuple (equal tuples, equal arrays)."""
+
+
+def readonly_of(values: tuple[float, ...]) -> FloatArray:
+    """``readonly(values)``, one array shared by equal tuples (it cannot be written to).
+
+    A long program repeats its vectors (offsets, setpoints); each array is made once.
+    """
+    array = _SHARED.get(values)
+    if array is None:
+        array = readonly(values)
+        if len(_SHARED) < 4096:
+            _SHARED[values] = array
+    return array
+
 
 def rpy_to_matrix(roll_rad: float, pitch_rad: float, yaw_rad: float) -> FloatArray:
     """Roll, pitch, yaw about the fixed world axes x, then y, then z (read-only).

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.rotations import FloatArray, readonly, rpy_to_matrix
+from cosmos.lang.frozen_new import quick
+from cosmos.lang.rotations import FloatArray, readonly_of, rpy_to_matrix
 from cosmos.lang.units import Dim
 
 
@@ -52,6 +53,9 @@ class FrameValue:
 
 
 Value = Scalar | Vec | FrameValue
+
+_scalar = quick(Scalar)
+_vec = quick(Vec)
 
 
 class BindingKind(enum.Enum):
@@ -109,7 +113,7 @@ class Evaluator:
         kind = type(expr)
         if kind is ast.Number:
             number, dim = self._number_value(expr)  # type: ignore[arg-type]
-            return Scalar(number, dim)
+            return _scalar(number, dim)
         if kind is ast.Name:
             return self._lookup(expr)  # type: ignore[arg-type]
         if kind is ast.Vector:
@@ -137,7 +141,7 @@ class Evaluator:
 
     def _evaluate(self, expr: ast.Expr) -> Value:
         if isinstance(expr, ast.Number):
-            return Scalar(*self._number_value(expr))
+            return _scalar(*self._number_value(expr))
         if isinstance(expr, ast.Name):
             return self._lookup(expr)
         if isinstance(expr, ast.Vector):
@@ -185,7 +189,7 @@ class Evaluator:
                         item.span,
                     )
             values.append(number)
-        return Vec(tuple(values), dim)
+        return _vec(tuple(values), dim)
 
     def _scale(self, value: Value, factor: float, span: Span) -> Value:
         if isinstance(value, Scalar):
@@ -205,7 +209,7 @@ class Evaluator:
                 return Vec(tuple(left.position - right.position), units.LENGTH)
             offset = self.expect_vector(expr.right, right, 3, units.LENGTH, "an offset")
             moved = [p + sign * o for p, o in zip(left.position.tolist(), offset.tolist(), strict=True)]
-            return FrameValue(readonly(moved), left.rotation)
+            return FrameValue(readonly_of(tuple(moved)), left.rotation)
         if isinstance(right, FrameValue):
             raise ProgramError(
                 f"write the frame first: {self.text_of(expr.right.span)} {expr.op} ...", expr.span
@@ -219,14 +223,14 @@ class Evaluator:
         dim = self._common_dim(left.dim, right.dim, expr)
         if isinstance(left, Scalar):
             assert isinstance(right, Scalar)
-            return Scalar(left.value + sign * right.value, dim)
+            return _scalar(left.value + sign * right.value, dim)
         assert isinstance(left, Vec) and isinstance(right, Vec)
         if len(left.values) != len(right.values):
             raise ProgramError(
                 f"cannot combine vectors of {len(left.values)} and {len(right.values)} components",
                 expr.span,
             )
-        return Vec(tuple(a + sign * b for a, b in zip(left.values, right.values, strict=True)), dim)
+        return _vec(tuple(a + sign * b for a, b in zip(left.values, right.values, strict=True)), dim)
 
     def _common_dim(self, a: Dim | None, b: Dim | None, expr: ast.Binary) -> Dim | None:
         if a is None or b is None or a == b:
@@ -247,8 +251,8 @@ class Evaluator:
         if left.dim is not None or right.dim is not None:
             dim = units.multiply(left.dim or units.DIMENSIONLESS, right.dim or units.DIMENSIONLESS)
         if isinstance(right, Scalar):
-            return Scalar(left.value * right.value, dim)
-        return Vec(tuple(left.value * v for v in right.values), dim)
+            return _scalar(left.value * right.value, dim)
+        return _vec(tuple(left.value * v for v in right.values), dim)
 
     def _pose(self, expr: ast.Pose) -> FrameValue:
         position = self.expect_position(expr.position, "a pose's position")
@@ -297,7 +301,7 @@ class Evaluator:
                 f"{self.text_of(expr.span)} holds {units.plural(value.dim)}",
                 expr.span,
             )
-        return readonly(value.values)
+        return readonly_of(value.values)
 
     def expect_vector3(self, expr: ast.Expr, dim: Dim, what: str) -> FloatArray:
         """Evaluate ``expr`` as a vector of 3 components of dimension ``dim``."""
