@@ -35,8 +35,14 @@ POSE_LIMIT: Final = 1e9
 """A ``/tf`` sample is written only if every coordinate has ``|v|`` below this (and is finite)."""
 
 INT_DIGITS: Final = 20  # an int64 in decimal, sign included
+TIME_LIMIT_S: Final = 1e6
+"""The kernel writes ``%.9f`` of times in ``[0, TIME_LIMIT_S)``; the caller formats others."""
+
+STATE_WRITTEN: Final = 0
+STATE_NOT_EXACT: Final = 1  # a vector value not finite or not below STATE_MICRO_LIMIT
+STATE_TIME_OUTSIDE: Final = 2  # the time is outside [0, TIME_LIMIT_S) (or -0.0)
 POSE_WIDTH: Final = 7  # x y z, then the quaternion x y z w
-COMMA: Final = 44
+_SPLIT: Final = 134217729.0  # 2**27 + 1, Dekker's splitting constant
 
 
 @dataclass(frozen=True)
@@ -112,6 +118,44 @@ def _put_literal(out: ByteArray, pos: int, literals: ByteArray, bounds: IntArray
 
 
 @njit(cache=True)
+def time_nanoseconds(t: float) -> int:
+    """``t * 1e9`` rounded half to even from its exact value (what ``"%.9f" % t`` rounds).
+
+    ``t * 1e9`` in floating point may round across a half; the exact product is
+    ``p + err`` (Dekker's product: 1e9 has 21 significant bits, so the halves of
+    ``t`` times 1e9 are exact). Only a tie of ``p`` can then round differently.
+
+    Args:
+        t: Time [s], in ``[0, TIME_LIMIT_S)``.
+    """
+    p = t * 1e9
+    big = t * _SPLIT
+    t_hi = big - (big - t)
+    t_lo = t - t_hi
+    err = (t_hi * 1e9 - p) + t_lo * 1e9
+    n = np.rint(p)
+    d = p - n  # exact; |d| <= 0.5, and a tie only if |d| == 0.5
+    if d == 0.5 and err > 0.0:
+        n += 1.0
+    elif d == -0.5 and err < 0.0:
+        n -= 1.0
+    return int(n)
+
+
+@njit(cache=True)
+def _put_time(out: ByteArray, pos: int, t: float) -> int:
+    """Write ``"%.9f" % t`` for ``t`` in ``[0, TIME_LIMIT_S)``; return the position after it."""
+    ns = time_nanoseconds(t)
+    pos = _put_int(out, pos, ns // 1_000_000_000)
+    out[pos] = 46  # "."
+    frac = ns % 1_000_000_000
+    for k in range(pos + 9, pos, -1):
+        out[k] = 48 + frac % 10
+        frac //= 10
+    return pos + 10
+
+
+@njit(cache=True)
 def _micro(value: float) -> int:
     """``value`` in integer micro-units, rounded half to even."""
     return int(np.rint(value * 1e6))
@@ -121,59 +165,53 @@ def _micro(value: float) -> int:
 def render_states(
     out: ByteArray,
     rows: FloatArray,
+    times: FloatArray,
     labels: IntArray,
     count: int,
-    times_text: ByteArray,
     literals: ByteArray,
     bounds: IntArray,
-    exact: np.ndarray,
+    status: IntArray,
     offsets: IntArray,
     times_ns: IntArray,
-    times: FloatArray,
 ) -> int:
     """Write the first ``count`` state messages into ``out``; return the bytes written.
 
-    A message is ``literal 0``, the time's text, then the template's holes
-    filled with the row in micro-units, then segment and line. A row with a
-    value that is not finite or not below :data:`STATE_MICRO_LIMIT` is not
-    written (``exact[i]`` False, an empty range in ``offsets``).
+    A message is the template's holes filled with ``"%.9f"`` of the time, the
+    row in micro-units, then segment and line. A row with a vector value that
+    is not finite or not below :data:`STATE_MICRO_LIMIT`, or with a time
+    outside ``[0, TIME_LIMIT_S)``, is not written (its ``status``, an empty
+    range in ``offsets``): the caller writes it.
 
     Args:
         out: Output buffer, at least ``count`` messages long. # (capacity,) uint8
         rows: State vectors. # (batch, 37)
+        times: The times [s]. # (batch,)
         labels: Segment and line. # (batch, 2) int64
         count: Messages to write.
-        times_text: ``"%.9f,"`` of every time, concatenated. # (n,) uint8
-        literals: The template's literals (after the time: ``,"q":[`` ... ``}``).
-        bounds: Their bounds; holes are 37 vector components then segment and line.
-        exact: Out: whether row ``i`` was written. # (batch,) bool
+        literals: The template's literals.
+        bounds: Their bounds; holes are the time, 37 vector components, segment and line.
+        status: Out: STATE_WRITTEN, STATE_NOT_EXACT or STATE_TIME_OUTSIDE per row. # (batch,) int64
         offsets: Out: message ``i`` is ``out[offsets[i]:offsets[i + 1]]``. # (batch + 1,) int64
-        times_ns: Out: ``rint(t * 1e9)`` of each time, the MCAP log time. # (batch,) int64
-        times: The times [s]. # (batch,)
+        times_ns: Out: ``rint(t * 1e9)``, the MCAP log time (as ``round(t * 1e9)``). # (batch,) int64
     """
     width = rows.shape[1]
     pos = 0
-    cursor = 0  # in times_text
     for i in range(count):
         offsets[i] = pos
-        times_ns[i] = np.int64(np.rint(times[i] * 1e9))
-        start = cursor
-        while times_text[cursor] != COMMA:
-            cursor += 1
-        text_stop = cursor
-        cursor += 1
-        ok = True
+        t = times[i]
+        times_ns[i] = int(np.rint(t * 1e9))
+        state = STATE_WRITTEN
         for j in range(width):
             if not abs(rows[i, j]) < STATE_MICRO_LIMIT:
-                ok = False
+                state = STATE_NOT_EXACT
                 break
-        exact[i] = ok
-        if not ok:
+        if state == STATE_WRITTEN and not (0.0 <= t < TIME_LIMIT_S and np.copysign(1.0, t) > 0.0):
+            state = STATE_TIME_OUTSIDE
+        status[i] = state
+        if state != STATE_WRITTEN:
             continue
         pos = _put_literal(out, pos, literals, bounds, 0)
-        for k in range(start, text_stop):
-            out[pos] = times_text[k]
-            pos += 1
+        pos = _put_time(out, pos, t)
         pos = _put_literal(out, pos, literals, bounds, 1)
         for j in range(width):
             pos = _put_int(out, pos, _micro(rows[i, j]))

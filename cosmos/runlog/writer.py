@@ -52,6 +52,8 @@ from cosmos.runlog.schemas import (
     schema_bytes,
 )
 from cosmos.runlog.text_kernel import (
+    STATE_NOT_EXACT,
+    STATE_WRITTEN,
     Template,
     render_states,
     render_transforms,
@@ -84,7 +86,6 @@ _STATE_TEMPLATE: Final = (
 _stage_state: Any = stage_state
 _stage_transform: Any = stage_transform
 _STATE_TEXT: Final = Template.from_format(_STATE_TEMPLATE.replace("%.9f", "%d"))  # t: first hole
-_TIME_FORMAT: Final = "%.9f,"  # the text of t in a state message, comma-terminated
 
 _EVENT_LEVELS: Final = {
     EventKind.FAILED: LogLevel.ERROR,
@@ -208,7 +209,7 @@ class RunLog:
         self._times = np.empty(_BATCH)  # (batch,) s
         self._labels = np.empty((_BATCH, 2), dtype=np.int64)  # (batch, 2): segment, line
         self._pending = 0
-        self._exact = np.empty(_BATCH, dtype=np.bool_)  # (batch,): row written by the kernel
+        self._status = np.empty(_BATCH, dtype=np.int64)  # (batch,): STATE_WRITTEN or why not
         self._offsets = np.empty(_BATCH + 1, dtype=np.int64)
         self._times_ns = np.empty(_BATCH, dtype=np.int64)
         # /tf samples wait with the states, in micro-units; the buffers grow if a batch holds more.
@@ -331,24 +332,21 @@ class RunLog:
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
         self._pending = self._pending_tf = 0
-        times = self._times[:n].tolist()
-        times_text = np.frombuffer((_TIME_FORMAT * n % tuple(times)).encode(), dtype=np.uint8)
-        size = len(times_text) + n * _STATE_TEXT.max_bytes + m * self._tf_text.max_bytes
+        size = n * _STATE_TEXT.max_bytes + m * self._tf_text.max_bytes
         if len(self._text) < size:
             self._text = np.empty(2 * size, dtype=np.uint8)
         text, state_text, tf_text = self._text, _STATE_TEXT, self._tf_text
         end = render_states(
             text,
             self._rows,
+            self._times,
             self._labels,
             n,
-            times_text,
             state_text.literals,
             state_text.bounds,
-            self._exact,
+            self._status,
             self._offsets,
             self._times_ns,
-            self._times,
         )
         end = render_transforms(
             text, end, self._tf_poses, self._tf_ns, m, tf_text.literals, tf_text.bounds, self._tf_offsets
@@ -358,17 +356,16 @@ class RunLog:
         times_ns = self._times_ns[:n].tolist()
         tf_offsets = self._tf_offsets[: m + 1].tolist()
         tf_ns = self._tf_ns[:m].tolist()
-        rows_exact = self._exact[:n].tolist()
+        status = self._status[:n].tolist()
         log_state, log_tf = self._log_state, self._log_tf
         tf_next = 0
         t_ns = 0
         for i in range(n):
             t_ns = times_ns[i]
-            if rows_exact[i]:
+            if status[i] == STATE_WRITTEN:
                 log_state(blob[offsets[i] : offsets[i + 1]], t_ns, None)
             else:
-                labels = self._labels[i].tolist()
-                log_state(self._state_json(times[i], self._rows[i], *labels).encode(), t_ns, None)
+                log_state(self._state_text(i, status[i]), t_ns, None)
             while tf_next < m and tf_ns[tf_next] <= t_ns:
                 log_tf(blob[tf_offsets[tf_next] : tf_offsets[tf_next + 1]], tf_ns[tf_next], None)
                 tf_next += 1
@@ -376,6 +373,15 @@ class RunLog:
             log_tf(blob[tf_offsets[k] : tf_offsets[k + 1]], tf_ns[k], None)
             t_ns = max(t_ns, tf_ns[k])
         self._last_ns = t_ns
+
+    def _state_text(self, i: int, status: int) -> bytes:
+        """State message of row ``i`` that the kernel left to Python (see ``render_states``)."""
+        t, row = float(self._times[i]), self._rows[i]
+        segment, line = self._labels[i].tolist()
+        if status == STATE_NOT_EXACT:
+            return self._state_json(t, row, segment, line).encode()
+        micro = np.rint(row * 1e6).astype(np.int64).tolist()
+        return (_STATE_TEMPLATE % (t, *micro, segment, line)).encode()
 
     @staticmethod
     def _state_json(t: float, row: np.ndarray, segment: int, line: int) -> str:

@@ -8,11 +8,16 @@ import pytest
 from cosmos.runlog.foxglove import ARM_FRAMES, frame_transforms_format
 from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
 from cosmos.runlog.text_kernel import (
+    STATE_NOT_EXACT,
+    STATE_TIME_OUTSIDE,
+    STATE_WRITTEN,
+    TIME_LIMIT_S,
     Template,
     render_states,
     render_transforms,
     stage_state,
     stage_transform,
+    time_nanoseconds,
 )
 
 STATE_FORMAT = (
@@ -35,19 +40,44 @@ def awkward_values(rng: np.random.Generator, n: int) -> np.ndarray:
 
 def render(
     rows: np.ndarray, times: np.ndarray, labels: np.ndarray
-) -> tuple[list[bytes], np.ndarray, list[int]]:
+) -> tuple[list[bytes], list[int], list[int]]:
     n = len(times)
     template = Template.from_format(STATE_FORMAT.replace("%.9f", "%d"))
-    times_text = np.frombuffer(("%.9f," * n % tuple(times.tolist())).encode(), dtype=np.uint8)
-    out = np.zeros(len(times_text) + n * template.max_bytes, dtype=np.uint8)
-    exact = np.zeros(n, dtype=bool)
+    out = np.zeros(n * template.max_bytes, dtype=np.uint8)
+    status = np.full(n, -1, dtype=np.int64)
     offsets = np.zeros(n + 1, dtype=np.int64)
     times_ns = np.zeros(n, dtype=np.int64)
     end = render_states(
-        out, rows, labels, n, times_text, template.literals, template.bounds, exact, offsets, times_ns, times
+        out, rows, times, labels, n, template.literals, template.bounds, status, offsets, times_ns
     )
     blob = out[:end].tobytes()
-    return [blob[offsets[i] : offsets[i + 1]] for i in range(n)], exact, times_ns.tolist()
+    return [blob[offsets[i] : offsets[i + 1]] for i in range(n)], status.tolist(), times_ns.tolist()
+
+
+def awkward_times(rng: np.random.Generator, n: int) -> np.ndarray:
+    """Times of every size, exact ties of a nanosecond (k / 1024 s) and their neighbours."""
+    ties = rng.integers(0, 10**9, n // 4) / 1024.0
+    return np.concatenate(
+        (
+            [0.0, 1e-9, 5e-10, 0.0005, 2.5e-10, 7.4999999995, 1e-300, np.nextafter(TIME_LIMIT_S, 0)],
+            ties,
+            np.nextafter(ties, np.inf),
+            np.nextafter(ties, 0),
+            rng.integers(0, 10**9, n // 4) * 0.001,  # the runtime's grid
+            rng.uniform(0, 1, n // 8) * 10.0 ** rng.integers(-9, 6, n // 8),
+        )
+    )
+
+
+def test_time_text_is_python_percent_9f() -> None:
+    times = awkward_times(np.random.default_rng(5), 40_000)
+    rows = np.zeros((len(times), STATE_WIDTH))
+    texts, status, times_ns = render(rows, times, np.zeros((len(times), 2), dtype=np.int64))
+    assert set(status) == {STATE_WRITTEN}
+    for t, text, t_ns in zip(times.tolist(), texts, times_ns, strict=True):
+        assert text.startswith(b'{"t":%s,' % (b"%.9f" % t)), t
+        assert t_ns == round(t * 1e9)
+    assert time_nanoseconds(1 / 1024) == 976_562  # an exact tie: half to even
 
 
 def test_state_text_is_python_percent_formatting_of_the_template() -> None:
@@ -56,8 +86,8 @@ def test_state_text_is_python_percent_formatting_of_the_template() -> None:
     rows = awkward_values(rng, n * STATE_WIDTH).reshape(n, STATE_WIDTH)
     times = np.concatenate(([0.0, 1e-9, 0.0005, 2.5e-10, 7.4999999995], rng.uniform(0, 1e5, n - 5)))
     labels = rng.integers(0, 10**6, (n, 2)).astype(np.int64)
-    texts, exact, times_ns = render(rows, times, labels)
-    assert exact.all()
+    texts, status, times_ns = render(rows, times, labels)
+    assert set(status) == {STATE_WRITTEN}
     for i in range(n):
         micro = np.rint(rows[i] * 1e6).astype(np.int64).tolist()
         expected = STATE_FORMAT % (times[i], *micro, *labels[i].tolist())
@@ -66,12 +96,13 @@ def test_state_text_is_python_percent_formatting_of_the_template() -> None:
     assert json.loads(texts[0])["q"][0] == pytest.approx(rows[0, 0], abs=5e-7)
 
 
-def test_rows_with_a_non_finite_or_huge_value_are_left_to_the_caller() -> None:
-    rows = np.zeros((4, STATE_WIDTH))
+def test_rows_with_a_non_finite_or_huge_value_or_odd_time_are_left_to_the_caller() -> None:
+    rows = np.zeros((7, STATE_WIDTH))
     rows[1, 5], rows[2, 36], rows[3, 0] = np.nan, -np.inf, 1e12
-    texts, exact, _ = render(rows, np.arange(4.0), np.zeros((4, 2), dtype=np.int64))
-    assert exact.tolist() == [True, False, False, False]
-    assert texts[1:] == [b"", b"", b""]
+    times = np.array([0.0, 1.0, 2.0, 3.0, -0.0, -1e-3, TIME_LIMIT_S])
+    texts, status, _ = render(rows, times, np.zeros((7, 2), dtype=np.int64))
+    assert status == [STATE_WRITTEN] + [STATE_NOT_EXACT] * 3 + [STATE_TIME_OUTSIDE] * 3
+    assert texts[1:] == [b""] * 6
     assert json.loads(texts[0])["wrench"] == [0] * 6
 
 
