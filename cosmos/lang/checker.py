@@ -35,6 +35,12 @@ _EXAMPLES = {
     ast.ClauseKind.SIZE: "SIZE (0.1, 0.2, 0.3)",
 }
 
+# Enum members read for every statement, looked up once (costly in Python 3.11).
+_FORCE = ast.ClauseKind.FORCE
+_BY = ast.ClauseKind.BY
+_DEPTH = ast.ClauseKind.DEPTH
+_MOVE_BY = ast.MoveMode.BY
+
 
 def clause_key(clause: ast.Clause) -> str:
     """The clause's keyword (``"SPEED"``, ``"VIA"``, ...)."""
@@ -83,19 +89,19 @@ def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None
     """
     if isinstance(statement, ast.Move):
         present = _check_clauses("MOVE", statement.clauses)
-        if statement.mode is ast.MoveMode.BY and "VIA" in present:
+        if statement.mode is _MOVE_BY and "VIA" in present:
             via = next(c for c in statement.clauses if isinstance(c, ast.ViaClause))
             raise ProgramError("VIA goes with MOVE TO, not MOVE BY", via.span)
     elif isinstance(statement, ast.Contact):
         present = _check_clauses("CONTACT", statement.clauses)
-        _require("CONTACT", present, ast.ClauseKind.FORCE, statement)
+        _require("CONTACT", present, _FORCE, statement)
     elif isinstance(statement, ast.Slide):
         present = _check_clauses("SLIDE", statement.clauses)
-        _require("SLIDE", present, ast.ClauseKind.BY, statement)
+        _require("SLIDE", present, _BY, statement)
     elif isinstance(statement, ast.Insert):
         present = _check_clauses("INSERT", statement.clauses)
-        _require("INSERT", present, ast.ClauseKind.DEPTH, statement)
-        _require("INSERT", present, ast.ClauseKind.FORCE, statement)
+        _require("INSERT", present, _DEPTH, statement)
+        _require("INSERT", present, _FORCE, statement)
     elif isinstance(statement, ast.Wait):
         present = _check_clauses("WAIT", statement.clauses)
         if statement.duration is None and "UNTIL" not in present:

@@ -31,7 +31,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from cosmos.lang.lalr_run import END, GiveUp, Run, Tok, Trace, replay
-from cosmos.lang.lalr_tables import BAD, Tables
+from cosmos.lang.lalr_tables import Role, Tables
 
 __all__ = ["GiveUp", "Tok", "parse"]
 
@@ -48,44 +48,56 @@ def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str
     """
     keywords = tables.keywords
     kinds = tables.kinds
-    breaks = tables.breaks
-    ignored = tables.ignored
+    roles = tables.roles
+    plain, word, ignored, bad, ignored_break = (
+        Role.PLAIN,
+        Role.WORD,
+        Role.IGNORED,
+        Role.BAD,
+        Role.IGNORED_BREAK,
+    )
     line = 1
-    line_start = 0  # offset of the first character of the line
+    before = -1  # offset of the character before the line's first: columns are offsets - before
     found: list[Tok] = []
     shape: list[str] = []
+    add_token = found.append
+    add_kind = shape.append
     for match in tables.lexer.finditer(text):
         group: int = match.lastindex  # type: ignore[assignment]
-        kind: str = kinds[group]  # type: ignore[assignment]
         start, stop = match.span(group)
-        value = text[start:stop]
-        if kind == "WORD":
+        role = roles[group]
+        if role is plain:
+            kind: str = kinds[group]  # type: ignore[assignment]
+            add_token(Tok(kind, text[start:stop], line, start - before, line, stop - before))
+            add_kind(kind)
+        elif role is word:
+            value = text[start:stop]
             if not value.isascii():
                 raise GiveUp
-            found.append(Tok(kind, value, line, start - line_start + 1, line, stop - line_start + 1))
-            shape.append(keywords.get(value.lower(), kind))
-        elif kind in breaks:
-            column = start - line_start + 1
+            add_token(Tok("WORD", value, line, start - before, line, stop - before))
+            add_kind(keywords.get(value.lower(), "WORD"))
+        elif role is ignored:
+            continue
+        elif role is bad:
+            raise GiveUp
+        else:  # may hold line breaks: a statement's end, a continuation, a comment
+            value = text[start:stop]
+            column = start - before
             end_line = line
             if "\n" in value:
                 end_line = line + value.count("\n")
-                line_start = start + value.rindex("\n") + 1
-            token = Tok(kind, value, line, column, end_line, stop - line_start + 1)
+                before = start + value.rindex("\n")
+            token = Tok(kinds[group], value, line, column, end_line, stop - before)  # type: ignore[arg-type]
             line = end_line
-            if kind in ignored:
+            if role is ignored_break:
                 continue
-            found.append(token)
-            shape.append(kind)
+            add_token(token)
+            add_kind(token.type)
             yield found, tuple(shape)
             found = []
             shape = []
-        elif kind in ignored:
-            continue
-        elif kind == BAD:
-            raise GiveUp
-        else:
-            found.append(Tok(kind, value, line, start - line_start + 1, line, stop - line_start + 1))
-            shape.append(kind)
+            add_token = found.append
+            add_kind = shape.append
     if found:
         yield found, tuple(shape)
 

@@ -48,8 +48,10 @@ class GiveUp(Exception):
     """The fast path does not accept the text (Lark will say why)."""
 
 
-Step = tuple[int, int, Reduce]
-"""Shift this many tokens, then reduce this many values with this reduction."""
+Step = tuple[bool, int, int, int, Reduce]
+"""(fresh, start, stop, size, reduce): shift the statement's tokens[start:stop],
+then reduce ``size`` values with ``reduce``; ``fresh`` when those are exactly the
+tokens just shifted (the reduction takes them straight from the statement)."""
 
 
 @dataclass(frozen=True)
@@ -60,13 +62,13 @@ class Trace:
         renames: (index, keyword) for each WORD the parser took as a keyword.
         steps: The reductions that build values, in order, each after its shifts
             (reductions that pass one value through change only the state).
-        tail: Tokens shifted after the last reduction.
+        tail: Where the tokens shifted after the last reduction start.
         states: The stack of states afterwards.
     """
 
     renames: tuple[tuple[int, str], ...]
     steps: tuple[Step, ...]
-    tail: int
+    tail: int | None
     states: tuple[int, ...]
 
 
@@ -74,19 +76,20 @@ def replay(trace: Trace, tokens: list[Tok], values: list[Any]) -> None:
     """Do to ``values`` what the traced run did, with ``tokens`` (of the traced kinds)."""
     for index, keyword in trace.renames:
         tokens[index].type = keyword
-    at = 0
-    for shifts, size, reduce in trace.steps:
-        if shifts:
-            values += tokens[at : at + shifts]
-            at += shifts
+    for fresh, start, stop, size, reduce in trace.steps:
+        if fresh:
+            values.append(reduce(tokens[start:stop]))
+            continue
+        if start != stop:
+            values += tokens[start:stop]
         if size:
             children = values[-size:]
             del values[-size:]
         else:
             children = []
         values.append(reduce(children))
-    if trace.tail:
-        values += tokens[at:]
+    if trace.tail is not None:
+        values += tokens[trace.tail :]
 
 
 class Run:
@@ -120,7 +123,7 @@ class Run:
         values = self.values
         renames: list[tuple[int, str]] = []
         steps: list[Step] = []
-        shifts = 0
+        start = 0  # the first token shifted since the last reduction
         state = states[-1]
         row = actions[state]
         for index, token in enumerate(tokens):
@@ -137,7 +140,6 @@ class Run:
                 if action >= 0:
                     states.append(action)
                     values.append(token)
-                    shifts += 1
                     state = action
                     row = actions[state]
                     break
@@ -153,8 +155,8 @@ class Run:
                     else:
                         children = []
                     values.append(reduce(children))
-                    steps.append((shifts, size, reduce))
-                    shifts = 0
+                    steps.append((size > 0 and size == index - start, start, index, size, reduce))
+                    start = index
                     below = states[-1]
                     state = actions[below][origin]
                     # Rules that pass the value through (?expr: sum) need only the goto.
@@ -166,6 +168,7 @@ class Run:
                     if state == end:
                         self.result = values[-1]
                         self.accepted = True
-                        return Trace(tuple(renames), tuple(steps), shifts, tuple(states))
+                        return Trace(tuple(renames), tuple(steps), None, tuple(states))
                 row = actions[state]
-        return Trace(tuple(renames), tuple(steps), shifts, tuple(states))
+        tail = start if start < len(tokens) else None
+        return Trace(tuple(renames), tuple(steps), tail, tuple(states))

@@ -11,6 +11,7 @@ passed through, ``[x]`` placeholders as None).
 
 from __future__ import annotations
 
+import enum
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -23,6 +24,17 @@ from lark.parsers.lalr_analysis import Shift
 
 BAD = "bad"
 """The lexer's group for a character that no terminal matches (terminal names are upper case)."""
+
+
+class Role(enum.Enum):
+    """What the lexer does with a match of a terminal (or of no terminal: BAD)."""
+
+    PLAIN = "a token"
+    WORD = "a token that may be a keyword"
+    BREAK = "a token that may hold line breaks, which ends a statement"
+    IGNORED = "skipped"
+    IGNORED_BREAK = "skipped, but may hold line breaks"
+    BAD = "a character no terminal matches"
 
 
 Reduce = Callable[[list[Any]], Any]
@@ -47,8 +59,8 @@ class Tables:
         kinds: The terminal name (or ``BAD``) of each of the lexer's groups, by
             group number (a match's ``lastindex``); None for groups inside a
             terminal's own pattern.
-        breaks: Terminal names whose text may hold a line break.
-        ignored: Terminal names that are skipped (comments, continuations).
+        roles: What the lexer does with each group's match (None for groups
+            inside a terminal's own pattern).
         keywords: Terminal name by lower-case keyword text.
         actions: Per parser state, by symbol name: a shift or goto (the new
             state, >= 0) or a reduction (``~rule_index``, < 0).
@@ -59,8 +71,7 @@ class Tables:
 
     lexer: re.Pattern[str]
     kinds: tuple[str | None, ...]
-    breaks: frozenset[str]
-    ignored: frozenset[str]
+    roles: tuple[Role | None, ...]
     keywords: dict[str, str]
     actions: list[dict[str, int]]
     rules: list[_Rule]
@@ -244,12 +255,23 @@ def build_tables(lark: Lark, builder: Any) -> Tables:
     kinds: list[str | None] = [None] * (lexer.groups + 1)
     for name, number in lexer.groupindex.items():
         kinds[number] = name
-    breaks = frozenset(t.name for t in lexed if _regexp_has_newline(t.pattern.to_regexp()))
+    breaks = {t.name for t in lexed if _regexp_has_newline(t.pattern.to_regexp())}
+    roles: list[Role | None] = [None] * len(kinds)
+    for number, kind_name in enumerate(kinds):
+        if kind_name is None:
+            continue
+        if kind_name == BAD:
+            roles[number] = Role.BAD
+        elif kind_name == "WORD":
+            roles[number] = Role.WORD
+        elif kind_name in ignored:
+            roles[number] = Role.IGNORED_BREAK if kind_name in breaks else Role.IGNORED
+        else:
+            roles[number] = Role.BREAK if kind_name in breaks else Role.PLAIN
     return Tables(
         lexer=lexer,
         kinds=tuple(kinds),
-        breaks=breaks,
-        ignored=ignored,
+        roles=tuple(roles),
         keywords=keywords,
         actions=actions,
         rules=rules,

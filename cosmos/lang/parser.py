@@ -64,6 +64,7 @@ _QUANTITY = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(.*)", re.I | 
 """A QUANTITY token: the number, then the unit as written (the terminal ends in the unit)."""
 _CLAUSE_KINDS = {kind.name: kind for kind in ast.ClauseKind}
 _AXES = {axis.name: axis for axis in ast.Axis}
+_MOVE_MODES = {mode.name: mode for mode in ast.MoveMode}
 
 _file = FILE.get
 # The nodes made most often, made quickly (cosmos/lang/frozen_new.py).
@@ -122,7 +123,7 @@ class _Builder(Transformer):
         first = children[0]
         last = children[-1].span  # the target or a clause
         span = new_span(_file(), first.line, first.column, last.end_line, last.end_column)
-        return _Move(ast.MoveMode[children[1].type], children[2], tuple(children[3:]), span)
+        return _Move(_MOVE_MODES[children[1].type], children[2], tuple(children[3:]), span)
 
     def contact(self, children: list[Any]) -> ast.Contact:
         return _Contact(children[1], tuple(children[2:]), _keyword_to_node(children))

@@ -55,6 +55,8 @@ class FrameValue:
 Value = Scalar | Vec | FrameValue
 
 _scalar = quick(Scalar)
+_NUMBERS: dict[tuple[float, str | None], tuple[float, Dim | None]] = {}
+"""Numbers as written (never negative: a sign is an operator) to SI and dimension."""
 _vec = quick(Vec)
 
 
@@ -127,6 +129,9 @@ class Evaluator:
 
     def _number_value(self, expr: ast.Number) -> tuple[float, Dim | None]:
         """The number in SI and its dimension (None for a bare number); finite."""
+        known = _NUMBERS.get((expr.value, expr.unit))
+        if known is not None:
+            return known
         if expr.unit is None:
             number, dim = expr.value, None
         else:
@@ -137,6 +142,8 @@ class Evaluator:
             number, dim = expr.value * unit.factor, unit.dim
         if not math.isfinite(number):
             raise ProgramError("this number is too large", expr.span)
+        if len(_NUMBERS) < 4096:
+            _NUMBERS[expr.value, expr.unit] = number, dim
         return number, dim
 
     def _evaluate(self, expr: ast.Expr) -> Value:
