@@ -23,6 +23,8 @@ TRANSFORM_EVERY = 5
 
 FIXTURE_BODIES = ("table", "hole_fixture", "slope_fixture")
 
+_mat2quat = mujoco.mju_mat2Quat  # looked up once: recording runs in the servo loop
+
 
 class LogRecorder:
     """Feeds ``/cosmos/state`` and ``/tf`` from the runtime's samples.
@@ -47,7 +49,7 @@ class LogRecorder:
         self._count = 0
 
     def __call__(self, sample: Sample, evaluation: Evaluation) -> None:
-        """Record one state sample (the runtime calls this at the state rate)."""
+        """Record one state sample (the runtime calls this at the state rate); see :meth:`record`."""
         self.record(sample.t_s, sample.q, sample.qd, sample.tau, sample.wrench, evaluation)
 
     def record(
@@ -70,8 +72,8 @@ class LogRecorder:
             evaluation: The model's last evaluation (its Jacobian gives the tool twist).
         """
         log = self.log
-        mujoco.mju_mat2Quat(self._quat, self._site_xmat)
-        v = evaluation.jacobian.dot(qd)  # (6,) tool twist, world
+        _mat2quat(self._quat, self._site_xmat)
+        v = evaluation.jacobian.dot(qd)  # (6,) tool twist, world (NumPy's BLAS, as ever: same digits)
         log.state(t_s, q, qd, tau, self._site_xpos, self._quat, v, wrench, self.segment, self.line)
         self._count += 1
         if self._count % TRANSFORM_EVERY == 1:
