@@ -93,7 +93,8 @@ class Plant:
     """
 
     def __init__(self, scene_xml: Path | str = SCENE_XML, sensor_noise: SensorNoise | None = None) -> None:
-        model = mujoco.MjModel.from_xml_path(str(scene_xml))
+        spec = mujoco.MjSpec.from_file(str(scene_xml))
+        model = spec.compile()
         _check_arm(model, scene_xml)
         home = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
         if home < 0:
@@ -101,11 +102,9 @@ class Plant:
         self._model = model
         self._data = mujoco.MjData(model)
         self._home_key = int(home)
-        self._ctrl_lower = model.actuator_ctrlrange[:, 0].copy()  # (6,) N m
-        self._ctrl_upper = model.actuator_ctrlrange[:, 1].copy()  # (6,) N m
         self._wrench_slices = _wrench_slices(model)
         self._geom_names = tuple(model.geom(i).name for i in range(model.ngeom))
-        self._body_names = tuple(model.body(i).name for i in range(model.nbody))
+        self._geom_owners = _geom_owners(spec, model)
         # Views into MjData's buffers, taken once: the hot loop does not rebuild them.
         self._qpos = self._data.qpos  # (6,)
         self._qvel = self._data.qvel  # (6,)
@@ -126,6 +125,11 @@ class Plant:
     def data(self) -> mujoco.MjData:
         """The MuJoCo state, for rendering and logging only: the controller must not read it."""
         return self._data
+
+    @property
+    def geom_owners(self) -> tuple[str, ...]:
+        """Per geom: its body's name, or for a fixture's geom (world body) its frame's name."""
+        return self._geom_owners
 
     @property
     def dt_s(self) -> float:
@@ -158,7 +162,7 @@ class Plant:
                 drive's limit (the actuator's ``ctrlrange``). Must be finite: MuJoCo
                 zeroes non-finite controls and records a warning.
         """
-        np.minimum(np.maximum(tau, self._ctrl_lower), self._ctrl_upper, out=self._ctrl)
+        self._ctrl[:] = tau  # MuJoCo clamps to ctrlrange (every motor is ctrllimited: _check_arm)
         mujoco.mj_step(self._model, self._data)
 
     def read_encoders(self) -> tuple[np.ndarray, np.ndarray]:
@@ -192,17 +196,21 @@ class Plant:
         return reading
 
     def contacts(self) -> list[Contact]:
-        """The contacts MuJoCo found at the current state, with geom and body names."""
+        """The contacts MuJoCo found at the current state, with geom and body names.
+
+        A fixture's geoms belong to the world body, placed by a named frame; a
+        contact names such a geom's frame as its body (``table``, ``hole_fixture``).
+        """
         if self._data.ncon == 0:
             return []
         found = self._data.contact
-        geom_body = self._model.geom_bodyid
+        owners = self._geom_owners
         return [
             Contact(
                 geom1=self._geom_names[geom1],
                 geom2=self._geom_names[geom2],
-                body1=self._body_names[geom_body[geom1]],
-                body2=self._body_names[geom_body[geom2]],
+                body1=owners[geom1],
+                body2=owners[geom2],
                 distance_m=float(distance),
                 position=position.copy(),
             )
@@ -226,6 +234,25 @@ def _check_arm(model: mujoco.MjModel, scene_xml: Path | str) -> None:
             f"{scene_xml}: expected the motors {', '.join(JOINT_NAMES)} on the joints of the "
             f"same names, found: {', '.join(motors) or 'none'}"
         )
+    if not model.actuator_ctrllimited.all():
+        raise CosmosError(f"{scene_xml}: every motor needs its torque limits (ctrllimited, ctrlrange)")
+
+
+def _geom_owners(spec: mujoco.MjSpec, model: mujoco.MjModel) -> tuple[str, ...]:
+    """Per geom, the name of its body; for a world geom inside a named frame, that frame's name."""
+    frames: dict[str, str] = {}
+    for geom in spec.geoms:
+        frame = geom.frame
+        while frame is not None and not frame.name:
+            frame = frame.frame
+        if frame is not None and geom.name:
+            frames[geom.name] = frame.name
+    owners = []
+    for i in range(model.ngeom):
+        body = int(model.geom_bodyid[i])
+        name = model.geom(i).name
+        owners.append(frames.get(name, "world") if body == 0 else model.body(body).name)
+    return tuple(owners)
 
 
 def _wrench_slices(model: mujoco.MjModel) -> tuple[slice, slice] | None:

@@ -217,10 +217,7 @@ def test_collision_filtering(scene):
     body_of = [scene.body(int(b)).name for b in scene.geom_bodyid]
     robot_geoms = [g for g in range(scene.ngeom) if body_of[g] in {*LINKS, "tool"}]
     robot_geoms.append(scene.geom("pedestal").id)
-    world_bodies = {"world", "table", "hole_fixture", "slope_fixture"}
-    world_geoms = [
-        g for g in range(scene.ngeom) if body_of[g] in world_bodies and g != scene.geom("pedestal").id
-    ]
+    world_geoms = [g for g in range(scene.ngeom) if body_of[g] == "world" and g != scene.geom("pedestal").id]
     assert len(world_geoms) > 50
     for i, g1 in enumerate(robot_geoms):
         for g2 in robot_geoms[i + 1 :]:

@@ -6,8 +6,8 @@ from pathlib import Path
 
 from cosmos import __version__
 from cosmos.execution.executor import Executor, ProgressCallback
+from cosmos.execution.fixtures import fixture_primitives
 from cosmos.execution.obstacles import ObstacleWorld
-from cosmos.execution.recording import fixture_primitives
 from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant, SensorNoise
 from cosmos.robot_model import build_robot_model
