@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit
 
 from cosmos.osc.orientation import NEAR_PI_SIN, SMALL_ANGLE_RAD
+from cosmos.runtime import evaluation_kernel as ek
 from cosmos.runtime import servo_kernel as sk
 
 FloatArray = np.ndarray
@@ -36,18 +37,13 @@ def lambda_from_inverse(
     """
     scale = np.array((1.0, 1.0, 1.0, length_scale_m, length_scale_m, length_scale_m))
     limit = max_effective_mass_kg / (1.0 + blend_width)
-    exact = True
-    try:
-        lambda_ = np.linalg.inv(lambda_inv)
-    except Exception:  # singular: numba raises on a zero pivot
-        exact = False
-        lambda_ = np.empty((6, 6))
-    if exact:
+    lambda_ = np.empty((6, 6))
+    if ek.spd_inverse_into(lambda_, lambda_inv):  # False unless positive definite
         trace = 0.0
         for i in range(6):
             trace += lambda_[i, i] / (scale[i] * scale[i])
         if 0.0 < trace <= limit:
-            return np.ascontiguousarray(lambda_)
+            return lambda_
     outer = np.outer(scale, scale)
     eigenvalues, eigenvectors = np.linalg.eigh(lambda_inv * outer)
     s_lo = 1.0 / max_effective_mass_kg
@@ -55,7 +51,29 @@ def lambda_from_inverse(
     for i in range(6):
         u = min(max((eigenvalues[i] - s_lo) / (blend_width * s_lo), 0.0), 1.0)
         weights[i] = u * u * (3.0 - 2.0 * u) / max(eigenvalues[i], s_lo)
-    return (eigenvectors * weights).dot(eigenvectors.T) * outer
+    return _mm(eigenvectors * weights, eigenvectors.T) * outer
+
+
+@njit(cache=True)
+def _mm(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``a b`` by loops: for 6 x 6 operands cheaper than a BLAS call from compiled code."""
+    n, m, p = a.shape[0], a.shape[1], b.shape[1]
+    out = np.zeros((n, p))
+    for i in range(n):
+        for k in range(m):
+            aik = a[i, k]
+            for j in range(p):
+                out[i, j] += aik * b[k, j]
+    return out
+
+
+@njit(cache=True)
+def _mv(a: FloatArray, x: FloatArray) -> FloatArray:
+    out = np.zeros(a.shape[0])
+    for i in range(a.shape[0]):
+        for k in range(a.shape[1]):
+            out[i] += a[i, k] * x[k]
+    return out
 
 
 @njit(cache=True)
@@ -105,56 +123,21 @@ def fold_servo(
         jbar_lookahead: Out: ``lookahead_s Jbar``. # (6, 6)
     """
     j_t = jacobian.T.copy()
-    a_inv_jt = inertia_inv.dot(j_t)
-    lambda_inv = jacobian.dot(a_inv_jt)  # eq. 27
+    a_inv_jt = _mm(inertia_inv, j_t)
+    lambda_inv = _mm(jacobian, a_inv_jt)  # eq. 27
     lambda_ = lambda_from_inverse(lambda_inv, max_effective_mass_kg, blend_width, length_scale_m)
-    jbar = a_inv_jt.dot(lambda_)  # eq. 28
-    force_to_torque = j_t.dot(omega_bar)
-    stacked[:, 0:6] = j_t.dot(lambda_).dot(omega)
+    jbar = _mm(a_inv_jt, lambda_)  # eq. 28
+    force_to_torque = _mm(j_t, omega_bar)
+    jt_lambda = _mm(j_t, lambda_)
+    stacked[:, 0:6] = _mm(jt_lambda, omega)
     stacked[:, 6:12] = force_to_torque
-    stacked[:, 12:18] = -k_vf * force_to_torque.dot(lambda_).dot(omega_bar)
-    stacked[:, 18] = bias + gravity - j_t.dot(lambda_.dot(jdot_qdot)) + held_torque
-    stacked[:, 19:25] = -xi_q * (inertia - j_t.dot(lambda_).dot(jacobian))
+    stacked[:, 12:18] = -k_vf * _mm(_mm(force_to_torque, lambda_), omega_bar)
+    stacked[:, 18] = bias + gravity - _mv(jt_lambda, jdot_qdot) + held_torque
+    stacked[:, 19:25] = -xi_q * (inertia - _mm(jt_lambda, jacobian))
     for i in range(6):
         stacked[i, 19 + i] += viscous[i]
-    force_to_acceleration[:, :] = lambda_inv.dot(omega_bar)
+    force_to_acceleration[:, :] = _mm(lambda_inv, omega_bar)
     jbar_lookahead[:, :] = lookahead_s * jbar
-
-
-@njit(cache=True)
-def symmetric_from_upper(upper: FloatArray) -> FloatArray:
-    """The symmetric matrix whose upper triangle is given (Pinocchio fills only that). # (n, n)."""
-    n = upper.shape[0]
-    full = np.empty((n, n))
-    for i in range(n):
-        for j in range(i, n):
-            full[i, j] = full[j, i] = upper[i, j]
-    return full
-
-
-@njit(cache=True)
-def wrist_geometry(
-    rotation_tool_to_world: FloatArray,
-    rotation_sensor_to_tool: FloatArray,
-    tool_in_sensor_tool_axes: FloatArray,
-    com_in_sensor_tool_axes: FloatArray,
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """The wrist sensor's orientation and its offsets to the tool point and tool centre of mass.
-
-    The sensor, the tool point and the tool's centre of mass are fixed on link 6, so
-    their offsets are constant in tool axes.
-
-    Args:
-        rotation_tool_to_world: Tool orientation. # (3, 3)
-        rotation_sensor_to_tool: Sensor orientation in tool axes (constant). # (3, 3)
-        tool_in_sensor_tool_axes: Tool point minus sensor origin, tool axes, [m]. # (3,)
-        com_in_sensor_tool_axes: Tool centre of mass minus sensor origin, tool axes, [m]. # (3,)
-
-    Returns:
-        ``(rotation_sensor_to_world, sensor_to_tool_m, sensor_to_com_m)``, world axes.
-    """
-    r = np.ascontiguousarray(rotation_tool_to_world)
-    return r.dot(rotation_sensor_to_tool), r.dot(tool_in_sensor_tool_axes), r.dot(com_in_sensor_tool_axes)
 
 
 @njit(cache=True)
@@ -188,18 +171,7 @@ def rotation_log(r: FloatArray) -> FloatArray:
 
 @njit(cache=True)
 def refold(
-    evaluation_q: FloatArray,
-    position: FloatArray,
-    rotation_tool_to_world: FloatArray,
-    rotation_sensor_to_world: FloatArray,
-    sensor_to_tool_m: FloatArray,
-    sensor_to_com_m: FloatArray,
-    inertia: FloatArray,
-    inertia_inv: FloatArray,
-    jacobian: FloatArray,
-    bias: FloatArray,
-    gravity: FloatArray,
-    jdot_qdot: FloatArray,
+    evaluation: FloatArray,
     held_torque: FloatArray,
     omega: FloatArray,
     omega_bar: FloatArray,
@@ -213,19 +185,23 @@ def refold(
 ) -> None:
     """Everything the servo kernel needs from one evaluation and the segment's selection and goal.
 
+    ``evaluation`` is an evaluation's packed values (:mod:`cosmos.runtime.evaluation_kernel`).
     :func:`fold_servo` into ``stacked`` and ``matrices``, the evaluation's J, q, g and
     wrist geometry copied into the servo's blocks, and the reference error
     ``x_e - x_d = (p - p_d, log(R R_d^T))`` (eq. 19, 21). ``constants`` holds k_vf,
     xi_q, the Coulomb look-ahead and section 5's three policy values, in that order.
     Block layouts: :mod:`cosmos.runtime.servo_kernel`.
     """
+    jacobian = evaluation[ek.JACOBIAN : ek.JACOBIAN + 36].reshape((6, 6))
+    gravity = evaluation[ek.GRAVITY : ek.GRAVITY + 6]
+    rotation_tool = evaluation[ek.ROTATION_TOOL : ek.ROTATION_TOOL + 9].reshape((3, 3))
     fold_servo(
-        inertia,
-        inertia_inv,
+        evaluation[ek.INERTIA : ek.INERTIA + 36].reshape((6, 6)),
+        evaluation[ek.INERTIA_INV : ek.INERTIA_INV + 36].reshape((6, 6)),
         jacobian,
-        bias,
+        evaluation[ek.BIAS : ek.BIAS + 6],
         gravity,
-        jdot_qdot,
+        evaluation[ek.JDOT_QDOT : ek.JDOT_QDOT + 6],
         held_torque,
         omega,
         omega_bar,
@@ -242,45 +218,11 @@ def refold(
     )
     matrices[sk.JACOBIAN] = jacobian
     matrices[sk.OMEGA_BAR] = omega_bar
-    matrices[sk.ROTATION_SENSOR, :3, :3] = rotation_sensor_to_world
-    vectors[sk.EVALUATION_Q] = evaluation_q
+    rotation_sensor = evaluation[ek.ROTATION_SENSOR : ek.ROTATION_SENSOR + 9].reshape((3, 3))
+    matrices[sk.ROTATION_SENSOR, :3, :3] = rotation_sensor
+    vectors[sk.EVALUATION_Q] = evaluation[ek.Q : ek.Q + 6]
     vectors[sk.GRAVITY] = gravity
-    vectors[sk.SENSOR_OFFSETS, :3] = sensor_to_tool_m
-    vectors[sk.SENSOR_OFFSETS, 3:] = sensor_to_com_m
+    vectors[sk.SENSOR_OFFSETS] = evaluation[ek.SENSOR_TO_TOOL : ek.SENSOR_TO_COM + 3]
     error = vectors[sk.REFERENCE_ERROR]
-    error[:3] = position - goal_position
-    error[3:] = rotation_log(np.ascontiguousarray(rotation_tool_to_world).dot(goal_rotation_to_world.T))
-
-
-@njit(cache=True)
-def complete_evaluation(
-    inertia_upper: FloatArray,
-    inertia_inv_upper: FloatArray,
-    nle: FloatArray,
-    gravity: FloatArray,
-    jdot: FloatArray,
-    qd: FloatArray,
-    rotation_tool_to_world: FloatArray,
-    rotation_sensor_to_tool: FloatArray,
-    tool_in_sensor_tool_axes: FloatArray,
-    com_in_sensor_tool_axes: FloatArray,
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
-    """From Pinocchio's outputs to an evaluation's arrays, in one call.
-
-    Returns:
-        ``(A, A^-1, b, h, rotation_sensor_to_world, sensor_to_tool_m, sensor_to_com_m)``:
-        A and A^-1 made whole from their upper triangles, ``b = nle - g`` (eq. 12),
-        ``h = Jdot qd`` (eq. 14) and :func:`wrist_geometry`.
-    """
-    rotation_sensor, sensor_to_tool, sensor_to_com = wrist_geometry(
-        rotation_tool_to_world, rotation_sensor_to_tool, tool_in_sensor_tool_axes, com_in_sensor_tool_axes
-    )
-    return (
-        symmetric_from_upper(inertia_upper),
-        symmetric_from_upper(inertia_inv_upper),
-        nle - gravity,
-        np.ascontiguousarray(jdot).dot(qd),
-        rotation_sensor,
-        sensor_to_tool,
-        sensor_to_com,
-    )
+    error[:3] = evaluation[ek.POSITION : ek.POSITION + 3] - goal_position
+    error[3:] = rotation_log(_mm(rotation_tool, goal_rotation_to_world.T))

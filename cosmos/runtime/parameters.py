@@ -19,7 +19,7 @@ import pinocchio as pin
 from cosmos.osc.dynamics import OperationalDynamics, operational_dynamics
 from cosmos.osc.limits import joint_limit_torque
 from cosmos.robot_model import RobotModel
-from cosmos.runtime.parameter_kernel import complete_evaluation
+from cosmos.runtime import evaluation_kernel as ek
 from cosmos.workcell import TOOL
 
 FloatArray = np.ndarray
@@ -38,11 +38,25 @@ class JointLimitField:
     torque_cap_nm: float = 20.0
 
 
+class _Slot:
+    """A read-only view of an evaluation's packed values: ``shape`` values from ``offset``."""
+
+    def __init__(self, offset: int, shape: tuple[int, ...]):
+        self.offset = offset
+        self.shape = shape
+        self.stop = offset + int(np.prod(shape))
+
+    def __get__(self, evaluation: Evaluation, owner: type | None = None) -> FloatArray:
+        return evaluation.values[self.offset : self.stop].reshape(self.shape)
+
+
 @dataclass(frozen=True)
 class Evaluation:
-    """One evaluation of the model at the configuration ``q`` (treat its arrays as read-only).
+    """One evaluation of the model at the configuration ``q``: read-only arrays, views of ``values``.
 
     Attributes:
+        values: Everything below, packed (layout: :mod:`cosmos.runtime.evaluation_kernel`).
+        joint_limit_torque: Section 6's joint-limit repulsion, in [N m]. # (6,)
         q: Joint positions at the evaluation, in [rad]. # (6,)
         position: Tool point in world, in [m]. # (3,)
         rotation_tool_to_world: Tool orientation. # (3, 3)
@@ -55,22 +69,23 @@ class Evaluation:
         gravity: g(q), in [N m]. # (6,)
         bias: b(q, qd), Coriolis and centrifugal, in [N m]. # (6,)
         jdot_qdot: h = Jdot qd of eq. 14. # (6,)
-        joint_limit_torque: Section 6's joint-limit repulsion, in [N m]. # (6,)
     """
 
-    q: FloatArray
-    position: FloatArray
-    rotation_tool_to_world: FloatArray
-    rotation_sensor_to_world: FloatArray
-    sensor_to_tool_m: FloatArray
-    sensor_to_com_m: FloatArray
-    jacobian: FloatArray
-    inertia: FloatArray
-    inertia_inv: FloatArray
-    gravity: FloatArray
-    bias: FloatArray
-    jdot_qdot: FloatArray
+    values: FloatArray
     joint_limit_torque: FloatArray
+
+    q = _Slot(ek.Q, (6,))
+    position = _Slot(ek.POSITION, (3,))
+    rotation_tool_to_world = _Slot(ek.ROTATION_TOOL, (3, 3))
+    rotation_sensor_to_world = _Slot(ek.ROTATION_SENSOR, (3, 3))
+    sensor_to_tool_m = _Slot(ek.SENSOR_TO_TOOL, (3,))
+    sensor_to_com_m = _Slot(ek.SENSOR_TO_COM, (3,))
+    jacobian = _Slot(ek.JACOBIAN, (6, 6))
+    inertia = _Slot(ek.INERTIA, (6, 6))
+    inertia_inv = _Slot(ek.INERTIA_INV, (6, 6))
+    gravity = _Slot(ek.GRAVITY, (6,))
+    bias = _Slot(ek.BIAS, (6,))
+    jdot_qdot = _Slot(ek.JDOT_QDOT, (6,))
 
     @cached_property
     def dynamics(self) -> OperationalDynamics:
@@ -86,28 +101,36 @@ class ParameterLevel:
     def __init__(self, robot: RobotModel, limit_field: JointLimitField = JointLimitField()):
         self._robot = robot
         self._model = robot.model
-        self._data = robot.model.createData()
+        data = self._data = robot.model.createData()
         self._limit_field = limit_field
-        self._q_lower = robot.q_lower_rad.tolist()
-        self._q_upper = robot.q_upper_rad.tolist()
         # The sensor, the flange and the tool point are fixed on link 6: their offsets are
         # constant in tool axes.
         frames = robot.model.frames
-        tool_in_joint = frames[robot.tool_frame].placement
+        tool = frames[robot.tool_frame]
+        tool_in_joint = tool.placement
         sensor_in_tool = tool_in_joint.actInv(frames[robot.sensor_frame].placement)
         flange_in_tool = tool_in_joint.actInv(frames[robot.flange_frame].placement)
         com_from_sensor_in_flange = TOOL.com_in_flange - TOOL.sensor_position_in_flange
-        self._rotation_sensor_to_tool = np.ascontiguousarray(sensor_in_tool.rotation)
-        self._tool_from_sensor_in_tool = -sensor_in_tool.translation
-        self._com_from_sensor_in_tool = flange_in_tool.rotation.dot(com_from_sensor_in_flange)
-
-    def _joint_limit_torque(self, q: FloatArray) -> FloatArray:
-        """Section 6's joint-limit repulsion; zero (and cheap) when every joint is far from its limits."""
-        field, values = self._limit_field, q.tolist()
-        margin = min(
-            min(map(float.__sub__, values, self._q_lower)), min(map(float.__sub__, self._q_upper, values))
+        constants = np.empty(ek.C_SIZE)
+        constants[ek.C_ROTATION_TOOL_IN_JOINT : ek.C_TOOL_IN_JOINT] = tool_in_joint.rotation.ravel()
+        constants[ek.C_TOOL_IN_JOINT : ek.C_ROTATION_SENSOR_TO_TOOL] = tool_in_joint.translation
+        constants[ek.C_ROTATION_SENSOR_TO_TOOL : ek.C_TOOL_FROM_SENSOR] = sensor_in_tool.rotation.ravel()
+        constants[ek.C_TOOL_FROM_SENSOR : ek.C_COM_FROM_SENSOR] = -sensor_in_tool.translation
+        constants[ek.C_COM_FROM_SENSOR : ek.C_WEIGHT] = flange_in_tool.rotation.dot(com_from_sensor_in_flange)
+        constants[ek.C_WEIGHT : ek.C_Q_LOWER] = -sum(inertia.mass for inertia in robot.model.inertias) * (
+            robot.model.gravity.linear
         )
-        if margin >= field.rho_0_rad:
+        constants[ek.C_Q_LOWER : ek.C_Q_UPPER] = robot.q_lower_rad
+        constants[ek.C_Q_UPPER : ek.C_SIZE] = robot.q_upper_rad
+        self._constants = constants
+        # computeAllTerms writes into these arrays in place: held as views, not fetched per call.
+        joint = data.oMi[tool.parentJoint]
+        self._views = (data.M, data.nle, data.J, data.dJ, data.Jcom, joint.rotation, joint.translation)
+
+    def _joint_limit_torque(self, q: FloatArray, margin_rad: float) -> FloatArray:
+        """Section 6's joint-limit repulsion; zero (and cheap) when every joint is far from its limits."""
+        field = self._limit_field
+        if margin_rad >= field.rho_0_rad:
             return _NO_TORQUE
         robot = self._robot
         return joint_limit_torque(
@@ -116,40 +139,7 @@ class ParameterLevel:
 
     def evaluate(self, q: FloatArray, qd: FloatArray) -> Evaluation:
         """Evaluate the placements, J, A, A^-1, b, g and h = Jdot qd at ``(q, qd)``."""
-        model, data, frame = self._model, self._data, self._robot.tool_frame
-        pin.computeAllTerms(model, data, q, qd)  # A (upper), nle, joint Jacobians, dJ, placements
-        tool = pin.updateFramePlacement(model, data, frame)
-        jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
-        jdot = pin.getFrameJacobianTimeVariation(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
-        minv = pin.computeMinverse(model, data, q)
-        gravity = pin.computeGeneralizedGravity(model, data, q).copy()
-        rotation_tool = np.ascontiguousarray(tool.rotation)  # Eigen is column-major; the kernels take C order
-        inertia, inertia_inv, bias, jdot_qdot, rotation_sensor, sensor_to_tool, sensor_to_com = (
-            complete_evaluation(
-                data.M,
-                minv,
-                data.nle,
-                gravity,
-                jdot,
-                qd,
-                rotation_tool,
-                self._rotation_sensor_to_tool,
-                self._tool_from_sensor_in_tool,
-                self._com_from_sensor_in_tool,
-            )
-        )
-        return Evaluation(
-            q=q.copy(),
-            position=tool.translation,
-            rotation_tool_to_world=rotation_tool,
-            rotation_sensor_to_world=rotation_sensor,
-            sensor_to_tool_m=sensor_to_tool,
-            sensor_to_com_m=sensor_to_com,
-            jacobian=jacobian,
-            inertia=inertia,
-            inertia_inv=inertia_inv,
-            gravity=gravity,
-            bias=bias,
-            jdot_qdot=jdot_qdot,
-            joint_limit_torque=self._joint_limit_torque(q),
-        )
+        pin.computeAllTerms(self._model, self._data, q, qd)  # A (upper), nle, J, dJ, Jcom, placements
+        values = ek.evaluation_values(q, qd, *self._views, self._constants)
+        values.flags.writeable = False
+        return Evaluation(values, self._joint_limit_torque(q, values[ek.LIMIT_MARGIN]))

@@ -221,18 +221,7 @@ class ServoLevel:
         if ev is None or sp is None or sel is None:
             return
         refold(
-            ev.q,
-            ev.position,
-            ev.rotation_tool_to_world,
-            ev.rotation_sensor_to_world,
-            ev.sensor_to_tool_m,
-            ev.sensor_to_com_m,
-            ev.inertia,
-            ev.inertia_inv,
-            ev.jacobian,
-            ev.bias,
-            ev.gravity,
-            ev.jdot_qdot,
+            ev.values,
             ev.joint_limit_torque + self._field_torque,
             sel.omega,
             sel.omega_bar,

@@ -28,6 +28,7 @@ from cosmos.osc.force import Selection, selection
 from cosmos.osc.orientation import pose_error, so3_exp, so3_log
 from cosmos.osc.unified import ForceGains, servo_matrices
 from cosmos.robot_model import build_robot_model
+from cosmos.runtime import evaluation_kernel as ek
 from cosmos.runtime import parameter_kernel as pk
 from cosmos.runtime import servo_kernel as sk
 from cosmos.runtime.parameters import ParameterLevel
@@ -345,19 +346,24 @@ def test_refold_packs_the_servo_blocks() -> None:
     stacked = np.full((6, 25), np.nan)
     vectors = np.full((sk.VECTORS, 6), sentinel)
     matrices = np.full((sk.MATRICES, 6, 6), sentinel)
+    values = np.full(ek.SIZE, np.nan)
+    for offset, array in (
+        (ek.Q, evaluation_q),
+        (ek.POSITION, position),
+        (ek.ROTATION_TOOL, rotation_tool),
+        (ek.ROTATION_SENSOR, rotation_sensor),
+        (ek.SENSOR_TO_TOOL, to_tool),
+        (ek.SENSOR_TO_COM, to_com),
+        (ek.JACOBIAN, inputs.jacobian),
+        (ek.INERTIA, inputs.inertia),
+        (ek.INERTIA_INV, inputs.inertia_inv),
+        (ek.GRAVITY, inputs.gravity),
+        (ek.BIAS, inputs.bias),
+        (ek.JDOT_QDOT, inputs.jdot_qdot),
+    ):
+        values[offset : offset + array.size] = array.ravel()
     pk.refold(
-        evaluation_q,
-        position,
-        rotation_tool,
-        rotation_sensor,
-        to_tool,
-        to_com,
-        inputs.inertia,
-        inputs.inertia_inv,
-        inputs.jacobian,
-        inputs.bias,
-        inputs.gravity,
-        inputs.jdot_qdot,
+        values,
         inputs.held,
         sel.omega,
         sel.omega_bar,
@@ -391,7 +397,7 @@ def test_symmetric_from_upper_ignores_the_lower_triangle() -> None:
     """Catches the lower triangle copied instead of the upper (Pinocchio leaves it stale)."""
     rng = np.random.default_rng(60)
     upper = rng.normal(size=(6, 6))
-    full = pk.symmetric_from_upper(upper)
+    full = ek.symmetric_from_upper(upper)
     assert np.array_equal(full, np.triu(upper) + np.triu(upper, 1).T)
 
 
@@ -403,8 +409,8 @@ def test_symmetric_from_upper_rebuilds_pinocchios_mass_matrix() -> None:
     for _ in range(3):
         q = rng.uniform(ROBOT.q_lower_rad, ROBOT.q_upper_rad)
         pin.computeAllTerms(model, data, q, np.zeros(6))
-        inertia = pk.symmetric_from_upper(data.M.copy())
-        inertia_inv = pk.symmetric_from_upper(pin.computeMinverse(model, data, q).copy())
+        inertia = ek.symmetric_from_upper(data.M.copy())
+        inertia_inv = ek.symmetric_from_upper(pin.computeMinverse(model, data, q).copy())
         gravity = pin.computeGeneralizedGravity(model, data, q).copy()
         for a in np.eye(6):
             expected = pin.rnea(model, data, q, np.zeros(6), a) - gravity
@@ -412,7 +418,7 @@ def test_symmetric_from_upper_rebuilds_pinocchios_mass_matrix() -> None:
         assert_close(inertia_inv @ inertia, np.eye(6))
 
 
-# --- wrist_geometry ----------------------------------------------------------------------------
+# --- the evaluation from computeAllTerms --------------------------------------------------------
 
 
 def _frames_at(q: np.ndarray) -> tuple[pin.SE3, pin.SE3, pin.SE3]:
@@ -434,49 +440,55 @@ def _expected_wrist(q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return sensor.rotation, tool.translation - sensor.translation, com_world - sensor.translation
 
 
-def test_wrist_geometry_matches_pinocchios_frames() -> None:
-    """The kernel fed constant tool-axes offsets (taken at one configuration) gives the frames at
-    others. Catches ``R^T`` for ``R`` or the product taken in the wrong order."""
-    rng = np.random.default_rng(70)
-    flange0, sensor0, tool0 = _frames_at(np.zeros(6))
-    rotation_sensor_to_tool = tool0.rotation.T @ sensor0.rotation
-    tool_from_sensor = tool0.rotation.T @ (tool0.translation - sensor0.translation)
-    com_from_sensor = tool0.rotation.T @ (flange0.act(np.asarray(TOOL.com_in_flange)) - sensor0.translation)
-    for _ in range(4):
-        q = rng.uniform(ROBOT.q_lower_rad, ROBOT.q_upper_rad)
-        _, _, tool = _frames_at(q)
-        got = pk.wrist_geometry(
-            np.ascontiguousarray(tool.rotation), rotation_sensor_to_tool, tool_from_sensor, com_from_sensor
-        )
-        for actual, expected in zip(got, _expected_wrist(q), strict=True):
-            assert_close(actual, expected)
-
-
 def test_parameter_level_evaluation_matches_pinocchio() -> None:
-    """ParameterLevel.evaluate end to end (its tool-axes constants, complete_evaluation and
-    wrist_geometry) against Pinocchio's frames and dynamics. Catches the centre of mass taken from
-    the flange instead of the sensor, the offsets' sign, flange axes mistaken for tool axes,
-    b = nle - g or h = Jdot qd (eq. 12, 14) formed wrongly, and a half-filled A or A^-1."""
+    """ParameterLevel.evaluate end to end (its constants and evaluation_values from computeAllTerms'
+    arrays) against Pinocchio's own frame, Jacobian, gravity, dynamics and classical-acceleration
+    functions. Catches the Jacobian taken at the wrist instead of the tool point, g with the wrong
+    sign or mass, the centre of mass taken from the flange instead of the sensor, the offsets' sign,
+    flange axes mistaken for tool axes, b = nle - g or h = Jdot qd (eq. 12, 14) formed wrongly
+    (h without the w x v_p term), a half-filled A or a wrong A^-1, and a wrong limit margin."""
     rng = np.random.default_rng(71)
     level = ParameterLevel(ROBOT)
     model, data = ROBOT.model, ROBOT.model.createData()
-    for _ in range(4):
+    for _ in range(6):
         q, qd = rng.uniform(ROBOT.q_lower_rad, ROBOT.q_upper_rad), rng.normal(0.0, 0.5, 6)
         evaluation = level.evaluate(q, qd)
+        assert np.array_equal(evaluation.q, q)
         rotation, to_tool, to_com = _expected_wrist(q)
         assert_close(evaluation.rotation_sensor_to_world, rotation)
         assert_close(evaluation.sensor_to_tool_m, to_tool)
         assert_close(evaluation.sensor_to_com_m, to_com)
+        tool = _frames_at(q)[2]
+        assert_close(evaluation.position, tool.translation)
+        assert_close(evaluation.rotation_tool_to_world, tool.rotation)
+        jacobian = pin.computeFrameJacobian(model, data, q, ROBOT.tool_frame, pin.LOCAL_WORLD_ALIGNED)
+        assert_close(evaluation.jacobian, jacobian)
 
         gravity = pin.computeGeneralizedGravity(model, data, q).copy()
+        assert_close(evaluation.gravity, gravity)
         assert_close(evaluation.bias, pin.nonLinearEffects(model, data, q, qd) - gravity)
         inertia = pin.crba(model, data, q)
         assert_close(evaluation.inertia, np.triu(inertia) + np.triu(inertia, 1).T)
         assert_close(evaluation.inertia_inv @ evaluation.inertia, np.eye(6))
+        assert np.array_equal(evaluation.inertia_inv, evaluation.inertia_inv.T)
         pin.forwardKinematics(model, data, q, qd, np.zeros(6))
         pin.updateFramePlacements(model, data)
         accel = pin.getFrameClassicalAcceleration(model, data, ROBOT.tool_frame, pin.LOCAL_WORLD_ALIGNED)
         assert_close(evaluation.jdot_qdot, np.concatenate((accel.linear, accel.angular)))
+        margin = min(np.min(q - ROBOT.q_lower_rad), np.min(ROBOT.q_upper_rad - q))
+        assert evaluation.values[ek.LIMIT_MARGIN] == pytest.approx(margin, abs=1e-15)
+        assert not evaluation.values.flags.writeable
+
+
+def test_spd_inverse_matches_numpy() -> None:
+    """The Cholesky inverse against numpy's LU one on random SPD matrices, condition up to ~1e6.
+    Catches a wrong index in either triangular pass (the product would not be symmetric or not I)."""
+    rng = np.random.default_rng(72)
+    for scale in (1.0, 1e-3, 1e3):
+        a = random_spd(rng) * np.outer(np.geomspace(1.0, scale, 6), np.geomspace(1.0, scale, 6))
+        out = np.empty((6, 6))
+        ek.spd_inverse_into(out, a)
+        assert_close(out, np.linalg.inv(a), rtol=1e-7)
 
 
 # --- rotation_log ------------------------------------------------------------------------------

@@ -1,0 +1,210 @@
+"""One parameter evaluation from Pinocchio's ``computeAllTerms``, compiled (numba).
+
+``computeAllTerms`` fills, in its data, the joint-space inertia A (upper
+triangle), the nonlinear effects ``nle = b + g``, the joints' Jacobians and
+their time variation at the world origin, the centre-of-mass Jacobian and the
+joint placements. The parameter level holds those arrays as views and this
+kernel turns them, in one call, into everything an evaluation holds, packed in
+one flat array (offsets below):
+
+- the tool point's pose and its Jacobian, world axes (``J_p = J_o + J_w x p``
+  column by column: the velocity of the point ``p`` is ``v_o + w x p``);
+- A made whole and A^-1 (Cholesky);
+- ``g = -m J_com^T g_vec`` (the gradient of the potential energy), ``b = nle - g``
+  (eq. 12) and ``h = Jdot qd`` of eq. 14: the classical acceleration of the
+  tool point at zero joint acceleration, ``a_o + alpha x p + w x v_p``;
+- the wrist sensor's orientation and its offsets to the tool point and the
+  tool's centre of mass (constant on link 6, so constant in tool axes);
+- the smallest distance of a joint to its limits (the joint-limit field of
+  section 6 is zero beyond its range of influence).
+
+``tests/runtime/test_parameter_kernel.py`` checks the result against
+Pinocchio's own frame, Jacobian, gravity and classical-acceleration functions.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+FloatArray = np.ndarray
+
+# Offsets in an evaluation's values (one flat array).
+Q = 0  # (6,) joint positions
+POSITION = 6  # (3,) tool point, world
+ROTATION_TOOL = 9  # (3, 3) tool axes in world
+ROTATION_SENSOR = 18  # (3, 3) sensor axes in world
+SENSOR_TO_TOOL = 27  # (3,) tool point minus sensor origin, world
+SENSOR_TO_COM = 30  # (3,) tool centre of mass minus sensor origin, world
+JACOBIAN = 33  # (6, 6) tool-point Jacobian, rows [linear; angular], world axes
+INERTIA = 69  # (6, 6) A
+INERTIA_INV = 105  # (6, 6) A^-1
+GRAVITY = 141  # (6,) g
+BIAS = 147  # (6,) b
+JDOT_QDOT = 153  # (6,) h
+LIMIT_MARGIN = 159  # () smallest distance of a joint to a limit, [rad]
+SIZE = 160
+
+# Offsets in the constants (one flat array, fixed for a robot and tool).
+C_ROTATION_TOOL_IN_JOINT = 0  # (3, 3) tool frame in joint 6's frame
+C_TOOL_IN_JOINT = 9  # (3,)
+C_ROTATION_SENSOR_TO_TOOL = 12  # (3, 3)
+C_TOOL_FROM_SENSOR = 21  # (3,) tool axes
+C_COM_FROM_SENSOR = 24  # (3,) tool axes
+C_WEIGHT = 27  # (3,) -m g_vec: the whole arm's weight, reversed, [N]
+C_Q_LOWER = 30  # (6,)
+C_Q_UPPER = 36  # (6,)
+C_SIZE = 42
+
+
+@njit(cache=True)
+def symmetric_from_upper(upper: FloatArray) -> FloatArray:
+    """The symmetric matrix whose upper triangle is given (Pinocchio fills only that). # (n, n)."""
+    n = upper.shape[0]
+    full = np.empty((n, n))
+    for i in range(n):
+        for j in range(i, n):
+            full[i, j] = full[j, i] = upper[i, j]
+    return full
+
+
+@njit(cache=True)
+def spd_inverse_into(out: FloatArray, a: FloatArray) -> bool:
+    """``out = a^-1`` for a symmetric positive definite ``a``, by Cholesky (``a = L L^T``). # (n, n).
+
+    Returns:
+        False, with ``out`` unspecified, if a pivot is not positive (``a`` is not positive definite).
+    """
+    n = a.shape[0]
+    lower = np.zeros((n, n))
+    for j in range(n):
+        s = a[j, j]
+        for k in range(j):
+            s -= lower[j, k] * lower[j, k]
+        if not s > 0.0:  # also NaN
+            return False
+        lower[j, j] = math.sqrt(s)
+        for i in range(j + 1, n):
+            s = a[i, j]
+            for k in range(j):
+                s -= lower[i, k] * lower[j, k]
+            lower[i, j] = s / lower[j, j]
+    inv_lower = np.zeros((n, n))  # L^-1, lower triangular
+    for j in range(n):
+        inv_lower[j, j] = 1.0 / lower[j, j]
+        for i in range(j + 1, n):
+            s = 0.0
+            for k in range(j, i):
+                s -= lower[i, k] * inv_lower[k, j]
+            inv_lower[i, j] = s / lower[i, i]
+    for i in range(n):  # a^-1 = L^-T L^-1
+        for j in range(i, n):
+            s = 0.0
+            for k in range(j, n):
+                s += inv_lower[k, i] * inv_lower[k, j]
+            out[i, j] = out[j, i] = s
+    return True
+
+
+@njit(cache=True)
+def _matmul3(a: FloatArray, b: FloatArray) -> FloatArray:
+    out = np.zeros((3, 3))
+    for i in range(3):
+        for j in range(3):
+            for k in range(3):
+                out[i, j] += a[i, k] * b[k, j]
+    return out
+
+
+@njit(cache=True)
+def _matvec3(a: FloatArray, x: FloatArray) -> FloatArray:
+    out = np.zeros(3)
+    for i in range(3):
+        for k in range(3):
+            out[i] += a[i, k] * x[k]
+    return out
+
+
+@njit(cache=True)
+def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
+
+
+@njit(cache=True)
+def evaluation_values(
+    q: FloatArray,
+    qd: FloatArray,
+    inertia_upper: FloatArray,
+    nle: FloatArray,
+    joint_jacobian: FloatArray,
+    joint_jacobian_dot: FloatArray,
+    com_jacobian: FloatArray,
+    joint_rotation: FloatArray,
+    joint_translation: FloatArray,
+    constants: FloatArray,
+) -> FloatArray:
+    """An evaluation's values (offsets in this module) from ``computeAllTerms``' outputs. # (SIZE,).
+
+    Args:
+        q: Joint positions, in [rad]. # (6,)
+        qd: Joint velocities, in [rad/s]. # (6,)
+        inertia_upper: ``data.M``, A with its upper triangle filled. # (6, 6)
+        nle: ``data.nle``: b + g, in [N m]. # (6,)
+        joint_jacobian: ``data.J``: the joints' motion at the world origin, world axes. # (6, 6)
+        joint_jacobian_dot: ``data.dJ``, its time variation. # (6, 6)
+        com_jacobian: ``data.Jcom``. # (3, 6)
+        joint_rotation: Joint 6's orientation in world (``data.oMi[6]``). # (3, 3)
+        joint_translation: Joint 6's origin in world, in [m]. # (3,)
+        constants: The robot's and tool's constants (``C_*`` offsets). # (C_SIZE,)
+    """
+    values = np.empty(SIZE)
+    values[Q : Q + 6] = q
+    tool_rotation = _matmul3(
+        joint_rotation, constants[C_ROTATION_TOOL_IN_JOINT : C_ROTATION_TOOL_IN_JOINT + 9].reshape((3, 3))
+    )
+    p = joint_translation + _matvec3(joint_rotation, constants[C_TOOL_IN_JOINT : C_TOOL_IN_JOINT + 3])
+    values[POSITION : POSITION + 3] = p
+    values[ROTATION_TOOL : ROTATION_TOOL + 9] = tool_rotation.ravel()
+    sensor_rotation = _matmul3(
+        tool_rotation, constants[C_ROTATION_SENSOR_TO_TOOL : C_ROTATION_SENSOR_TO_TOOL + 9].reshape((3, 3))
+    )
+    values[ROTATION_SENSOR : ROTATION_SENSOR + 9] = sensor_rotation.ravel()
+    values[SENSOR_TO_TOOL : SENSOR_TO_TOOL + 3] = _matvec3(
+        tool_rotation, constants[C_TOOL_FROM_SENSOR : C_TOOL_FROM_SENSOR + 3]
+    )
+    values[SENSOR_TO_COM : SENSOR_TO_COM + 3] = _matvec3(
+        tool_rotation, constants[C_COM_FROM_SENSOR : C_COM_FROM_SENSOR + 3]
+    )
+
+    jacobian = values[JACOBIAN : JACOBIAN + 36].reshape((6, 6))
+    v_origin = np.zeros(6)  # J qd at the world origin: (v_o, w)
+    a_origin = np.zeros(6)  # Jdot qd there: (a_o, alpha)
+    for k in range(6):
+        angular = joint_jacobian[3:, k]
+        linear = joint_jacobian[:3, k] + _cross(angular, p)
+        for i in range(3):
+            jacobian[i, k] = linear[i]
+            jacobian[3 + i, k] = angular[i]
+        for i in range(6):
+            v_origin[i] += joint_jacobian[i, k] * qd[k]
+            a_origin[i] += joint_jacobian_dot[i, k] * qd[k]
+    w, alpha = v_origin[3:], a_origin[3:]
+    v_point = v_origin[:3] + _cross(w, p)
+    values[JDOT_QDOT : JDOT_QDOT + 3] = a_origin[:3] + _cross(alpha, p) + _cross(w, v_point)
+    values[JDOT_QDOT + 3 : JDOT_QDOT + 6] = alpha
+
+    inertia = values[INERTIA : INERTIA + 36].reshape((6, 6))
+    inertia[:, :] = symmetric_from_upper(inertia_upper)
+    if not spd_inverse_into(values[INERTIA_INV : INERTIA_INV + 36].reshape((6, 6)), inertia):
+        values[INERTIA_INV : INERTIA_INV + 36] = np.nan  # only for a non-finite q
+    weight = constants[C_WEIGHT : C_WEIGHT + 3]
+    margin = math.inf
+    for k in range(6):
+        g = com_jacobian[0, k] * weight[0] + com_jacobian[1, k] * weight[1] + com_jacobian[2, k] * weight[2]
+        values[GRAVITY + k] = g
+        values[BIAS + k] = nle[k] - g
+        margin = min(margin, q[k] - constants[C_Q_LOWER + k], constants[C_Q_UPPER + k] - q[k])
+    values[LIMIT_MARGIN] = margin
+    return values
