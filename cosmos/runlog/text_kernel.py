@@ -1,11 +1,9 @@
-"""JSON text of the run log's numeric messages, written by compiled kernels (numba).
+"""The run log's JSON text written by compiled kernels (numba), and the staging of samples.
 
-A message's text is a fixed template with holes for integers: the vectors of
-a state message and the poses of a ``/tf`` message are written as micro-units
-with a fixed exponent (``125730e-6`` is 0.125730). :class:`Template` holds the
-literal pieces between the holes; the kernels write a whole batch of messages
-into one byte buffer, with the same digits Python's ``%d`` writes: the
-template, read as a ``%``-format string, is the reference (checked in
+The kernels fill :class:`cosmos.runlog.text_template.Template` texts for a
+whole batch of messages into one byte buffer, with the same digits Python's
+``%d`` (and, for a state's time, ``%.9f``) writes: the template, read as a
+``%``-format string, is the reference (checked in
 ``tests/runlog/test_runlog_text_kernel.py``).
 
 The staging kernels copy one sample's vectors into the rows waiting for the
@@ -13,76 +11,33 @@ next batch: one compiled call where NumPy takes one call per vector.
 
 Rounding: a value ``v`` becomes ``int64(rint(v * 1e6))`` (half to even), as
 ``np.rint(v * 1e6).astype(np.int64)`` does.
+
+Importing this module loads numba (about a second): the writer imports it when
+a log is opened for writing, so reading logs does not pay for it.
 """
 
 from __future__ import annotations
 
-import re
-from dataclasses import dataclass
 from typing import Final
 
 import numpy as np
 from numba import njit
 
+from cosmos.runlog.text_template import (
+    POSE_LIMIT,
+    POSE_WIDTH,
+    STATE_MICRO_LIMIT,
+    STATE_NOT_EXACT,
+    STATE_TIME_OUTSIDE,
+    STATE_WRITTEN,
+    TIME_LIMIT_S,
+)
+
 FloatArray = np.ndarray
 IntArray = np.ndarray
 ByteArray = np.ndarray
 
-STATE_MICRO_LIMIT: Final = 1e12
-"""A state value with ``|v|`` below this (and finite) is written as micro-units; others are not."""
-
-POSE_LIMIT: Final = 1e9
-"""A ``/tf`` sample is written only if every coordinate has ``|v|`` below this (and is finite)."""
-
-INT_DIGITS: Final = 20  # an int64 in decimal, sign included
-TIME_LIMIT_S: Final = 1e6
-"""The kernel writes ``%.9f`` of times in ``[0, TIME_LIMIT_S)``; the caller formats others."""
-
-STATE_WRITTEN: Final = 0
-STATE_NOT_EXACT: Final = 1  # a vector value not finite or not below STATE_MICRO_LIMIT
-STATE_TIME_OUTSIDE: Final = 2  # the time is outside [0, TIME_LIMIT_S) (or -0.0)
-POSE_WIDTH: Final = 7  # x y z, then the quaternion x y z w
 _SPLIT: Final = 134217729.0  # 2**27 + 1, Dekker's splitting constant
-
-
-@dataclass(frozen=True)
-class Template:
-    """JSON text with integer holes: ``literal 0, int 0, literal 1, ..., int k-1, literal k``.
-
-    Attributes:
-        literals: The literal pieces, concatenated, as bytes. # (total,) uint8
-        bounds: Where literal ``i`` starts; literal ``i`` is
-            ``literals[bounds[i]:bounds[i + 1]]``. # (holes + 2,) int64
-    """
-
-    literals: ByteArray
-    bounds: IntArray
-
-    @property
-    def holes(self) -> int:
-        """Number of integers a message takes."""
-        return len(self.bounds) - 2
-
-    @property
-    def max_bytes(self) -> int:
-        """An upper bound on the length of one message."""
-        return len(self.literals) + INT_DIGITS * self.holes
-
-    @classmethod
-    def from_format(cls, text: str) -> Template:
-        """The template of a ``%``-format string whose only directives are ``%d`` (and ``%%``).
-
-        Raises:
-            ValueError: If ``text`` has another directive.
-        """
-        pieces = text.split("%d")
-        for piece in pieces:
-            if re.search(r"%[^%]", piece.replace("%%", "")):
-                raise ValueError(f"only %d directives are supported, got {piece!r}")
-        encoded = [piece.replace("%%", "%").encode() for piece in pieces]
-        bounds = np.cumsum([0] + [len(p) for p in encoded], dtype=np.int64)
-        literals = np.frombuffer(b"".join(encoded), dtype=np.uint8).copy()
-        return cls(literals=literals, bounds=bounds)
 
 
 @njit(cache=True)

@@ -51,15 +51,7 @@ from cosmos.runlog.schemas import (
     EventKind,
     schema_bytes,
 )
-from cosmos.runlog.text_kernel import (
-    STATE_NOT_EXACT,
-    STATE_WRITTEN,
-    Template,
-    render_states,
-    render_transforms,
-    stage_state,
-    stage_transform,
-)
+from cosmos.runlog.text_template import STATE_NOT_EXACT, STATE_WRITTEN, Template
 
 DEFAULT_CHUNK_SIZE: Final = 256 * 1024
 """Bytes of messages per chunk; at most this much is lost past the last flush."""
@@ -81,10 +73,6 @@ _STATE_TEMPLATE: Final = (
     + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in STATE_VECTORS)
     + ',"segment":%d,"line":%d}'
 )
-# The staging kernels take contiguous float64 arrays only and raise TypeError for anything
-# else; the callers try them with what they were given and convert on that error.
-_stage_state: Any = stage_state
-_stage_transform: Any = stage_transform
 _STATE_TEXT: Final = Template.from_format(_STATE_TEMPLATE.replace("%.9f", "%d"))  # t: first hole
 
 _EVENT_LEVELS: Final = {
@@ -203,6 +191,15 @@ class RunLog:
         # Rust-side log calls of the channels (the Python wrapper re-checks the type per message).
         self._log_state = self._state.base.log
         self._log_tf = self._tf.base.log
+        # The compiled kernels load numba (about a second): imported here, so that reading logs
+        # does not. The staging kernels take contiguous float64 arrays only and raise TypeError
+        # for anything else; the callers try them with what they were given, convert on that error.
+        from cosmos.runlog import text_kernel
+
+        self._stage_state: Any = text_kernel.stage_state
+        self._stage_transform: Any = text_kernel.stage_transform
+        self._render_states = text_kernel.render_states
+        self._render_transforms = text_kernel.render_transforms
 
         # State samples wait here and are encoded _BATCH at a time.
         self._rows = np.empty((_BATCH, STATE_WIDTH))  # (batch, 37)
@@ -310,14 +307,14 @@ class RunLog:
         """
         i = self._pending
         try:
-            _stage_state(
+            self._stage_state(
                 self._rows, self._times, self._labels, i, t, q, qd, tau, x, quat, v, wrench, segment, line
             )
         except TypeError:  # not contiguous float64 vectors: convert, then the same kernel
             vectors = [
                 np.ascontiguousarray(a, dtype=float).reshape(-1) for a in (q, qd, tau, x, quat, v, wrench)
             ]
-            _stage_state(
+            self._stage_state(
                 self._rows, self._times, self._labels, i, float(t), *vectors, int(segment), int(line)
             )
         self._pending = i + 1
@@ -336,7 +333,7 @@ class RunLog:
         if len(self._text) < size:
             self._text = np.empty(2 * size, dtype=np.uint8)
         text, state_text, tf_text = self._text, _STATE_TEXT, self._tf_text
-        end = render_states(
+        end = self._render_states(
             text,
             self._rows,
             self._times,
@@ -348,7 +345,7 @@ class RunLog:
             self._offsets,
             self._times_ns,
         )
-        end = render_transforms(
+        end = self._render_transforms(
             text, end, self._tf_poses, self._tf_ns, m, tf_text.literals, tf_text.bounds, self._tf_offsets
         )
         blob = text[:end].tobytes()
@@ -365,7 +362,7 @@ class RunLog:
             if status[i] == STATE_WRITTEN:
                 log_state(blob[offsets[i] : offsets[i + 1]], t_ns, None)
             else:
-                log_state(self._state_text(i, status[i]), t_ns, None)
+                log_state(self._python_state_text(i, status[i]), t_ns, None)
             while tf_next < m and tf_ns[tf_next] <= t_ns:
                 log_tf(blob[tf_offsets[tf_next] : tf_offsets[tf_next + 1]], tf_ns[tf_next], None)
                 tf_next += 1
@@ -374,7 +371,7 @@ class RunLog:
             t_ns = max(t_ns, tf_ns[k])
         self._last_ns = t_ns
 
-    def _state_text(self, i: int, status: int) -> bytes:
+    def _python_state_text(self, i: int, status: int) -> bytes:
         """State message of row ``i`` that the kernel left to Python (see ``render_states``)."""
         t, row = float(self._times[i]), self._rows[i]
         segment, line = self._labels[i].tolist()
@@ -514,7 +511,7 @@ class RunLog:
         if j == len(self._tf_ns):
             self._grow_transforms()
         try:
-            staged = _stage_transform(
+            staged = self._stage_transform(
                 self._tf_poses,
                 self._tf_ns,
                 j,
@@ -539,7 +536,7 @@ class RunLog:
             quats_wxyz = np.broadcast_to(np.asarray(quats_wxyz, dtype=float), (n, 4))
             rows = self._frame_rows
         return bool(
-            _stage_transform(
+            self._stage_transform(
                 self._tf_poses,
                 self._tf_ns,
                 j,

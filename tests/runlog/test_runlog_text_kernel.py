@@ -8,16 +8,18 @@ import pytest
 from cosmos.runlog.foxglove import ARM_FRAMES, frame_transforms_format
 from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
 from cosmos.runlog.text_kernel import (
-    STATE_NOT_EXACT,
-    STATE_TIME_OUTSIDE,
-    STATE_WRITTEN,
-    TIME_LIMIT_S,
-    Template,
     render_states,
     render_transforms,
     stage_state,
     stage_transform,
     time_nanoseconds,
+)
+from cosmos.runlog.text_template import (
+    STATE_NOT_EXACT,
+    STATE_TIME_OUTSIDE,
+    STATE_WRITTEN,
+    TIME_LIMIT_S,
+    Template,
 )
 
 STATE_FORMAT = (
