@@ -154,16 +154,20 @@ class Plant:
         self._ctrl[:] = 0.0
         mujoco.mj_forward(self._model, self._data)
 
-    def step(self, tau: np.ndarray) -> None:
+    def step(self, tau: np.ndarray) -> float:
         """Apply joint torques for one time step and advance the simulation.
 
         Args:
             tau: Motor torques [N m], ``(6,)``, joint order; each is clipped to its
                 drive's limit (the actuator's ``ctrlrange``). Must be finite: MuJoCo
                 zeroes non-finite controls and records a warning.
+
+        Returns:
+            The simulated time after the step, [s] (:attr:`time_s`).
         """
         self._ctrl[:] = tau  # MuJoCo clamps to ctrlrange (every motor is ctrllimited: _check_arm)
         mujoco.mj_step(self._model, self._data)
+        return float(self._data.time)
 
     def read_encoders(self) -> tuple[np.ndarray, np.ndarray]:
         """Joint angles [rad] and velocities [rad/s], each ``(6,)``, copies."""

@@ -172,9 +172,10 @@ class Runtime:
         t3 = clock()
         end = now + self._servo_period_s - self._eps_s
         record_ns = 0
-        while plant.time_s < end:
-            plant.step(self.tau)
-            if self.recorder is not None and plant.time_s + self._eps_s >= self._next_state_s:
+        t_s = now
+        while t_s < end:
+            t_s = plant.step(self.tau)
+            if self.recorder is not None and t_s + self._eps_s >= self._next_state_s:
                 r0 = clock()
                 self._record()
                 self._next_state_s += self._state_period_s
