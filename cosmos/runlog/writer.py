@@ -310,10 +310,8 @@ class RunLog:
             self._stage_state(
                 self._rows, self._times, self._labels, i, t, q, qd, tau, x, quat, v, wrench, segment, line
             )
-        except TypeError:  # not contiguous float64 vectors: convert, then the same kernel
-            vectors = [
-                np.ascontiguousarray(a, dtype=float).reshape(-1) for a in (q, qd, tau, x, quat, v, wrench)
-            ]
+        except TypeError:  # not writable contiguous float64 vectors: copy, then the same kernel
+            vectors = [np.array(a, dtype=float).reshape(-1) for a in (q, qd, tau, x, quat, v, wrench)]
             self._stage_state(
                 self._rows, self._times, self._labels, i, float(t), *vectors, int(segment), int(line)
             )
@@ -520,7 +518,7 @@ class RunLog:
                 quats_wxyz,
                 self._frame_rows if rows is None else rows,
             )
-        except TypeError:  # not contiguous float64 arrays: convert, then the same kernel
+        except TypeError:  # not writable contiguous float64 arrays: copy, then the same kernel
             staged = self._stage_converted(j, t_ns, positions, quats_wxyz, rows)
         if staged:
             if self._closed:
@@ -541,9 +539,9 @@ class RunLog:
                 self._tf_ns,
                 j,
                 t_ns,
-                np.ascontiguousarray(positions, dtype=float),
-                np.ascontiguousarray(quats_wxyz, dtype=float),
-                np.ascontiguousarray(rows, dtype=np.int64),
+                np.array(positions, dtype=float),  # copies: writable and contiguous
+                np.array(quats_wxyz, dtype=float),
+                np.array(rows, dtype=np.int64),
             )
         )
 

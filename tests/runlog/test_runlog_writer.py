@@ -315,3 +315,29 @@ def test_state_costs_less_than_encoding_it_naively(tmp_path: Path) -> None:
     # state() (copy, encode, MCAP record, compression) measured about 20 us on the
     # 2-core CI machine, the naive encoding alone about 60 us.
     assert state_us < 0.75 * naive_us, f"state() {state_us:.1f} us, naive json {naive_us:.1f} us"
+
+
+def test_read_only_lists_and_strided_inputs_write_the_same_messages(tmp_path: Path) -> None:
+    """state() and transforms() take any array-like: their kernels want writable float64 arrays."""
+
+    def odd(value: object, k: int) -> object:
+        array = np.array(value, dtype=float)
+        if k == 0:
+            array.flags.writeable = False
+            return array
+        if k == 1:
+            return array.tolist()
+        strided = np.repeat(array, 2, axis=0)[::2]  # not contiguous
+        return strided
+
+    plain, other = tmp_path / "plain.mcap", tmp_path / "other.mcap"
+    for path, convert in ((plain, lambda v, k: v), (other, odd)):
+        with open_log(path) as log:
+            for k in range(3):
+                args = state_args(k)
+                for name in ("q", "qd", "tau", "x", "quat", "v", "wrench"):
+                    args[name] = convert(args[name], k)
+                log.state(**args)
+                positions = np.tile(args["x"], (7, 1)) + np.arange(7)[:, None]
+                log.transforms(args["t"], convert(positions, k), convert(np.tile([1.0, 0, 0, 0], (7, 1)), k))
+    assert messages_by_topic(plain) == messages_by_topic(other)
