@@ -135,7 +135,7 @@ def _reducer(rule: Rule, builder: Any) -> Reduce | None:
     found = getattr(builder, name, None)
 
     def missing(children: list[Any]) -> Any:
-        raise NotImplementedError(f"grammar rule '{name}' has no builder in cosmos/lang/parser.py")
+        raise NotImplementedError(f"grammar rule '{name}' has no builder in cosmos/lang/tree_builder.py")
 
     method: Reduce = missing if found is None else found
 
