@@ -56,7 +56,7 @@ def clause_key(clause: ast.Clause) -> str:
 def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str]:
     seen: dict[str, ast.Clause] = {}
     for clause in clauses:
-        key = clause_key(clause)
+        key = clause.kind._value_ if type(clause) is ast.ValueClause else clause_key(clause)
         if key in seen:
             first = seen[key].span
             hint = "; join conditions with AND or OR" if key == "UNTIL" else ""

@@ -51,19 +51,24 @@ class _Axes:
 
 @dataclass
 class _Clauses:
-    """A statement's clauses by keyword (the checker has refused duplicates)."""
+    """A statement's clauses by keyword (the checker has refused duplicates).
+
+    ``exprs`` holds the value of each clause in ``values`` (None where absent: ``.get``).
+    """
 
     values: dict[ast.ClauseKind, ast.ValueClause]
+    exprs: dict[ast.ClauseKind, ast.Expr]
     via: ast.ViaClause | None
     until: ast.UntilClause | None
     comply: ast.ComplyClause | None
 
     @classmethod
     def of(cls, clauses: tuple[ast.Clause, ...]) -> _Clauses:
-        found = cls({}, None, None, None)
+        found = cls({}, {}, None, None, None)
         for clause in clauses:
             if isinstance(clause, ast.ValueClause):
                 found.values[clause.kind] = clause
+                found.exprs[clause.kind] = clause.value
             elif isinstance(clause, ast.ViaClause):
                 found.via = clause
             elif isinstance(clause, ast.UntilClause):
@@ -71,10 +76,6 @@ class _Clauses:
             else:
                 found.comply = clause
         return found
-
-    def get(self, kind: ast.ClauseKind) -> ast.Expr | None:
-        clause = self.values.get(kind)
-        return None if clause is None else clause.value
 
 
 _NO_COMPLIANCE = (None,) * 6
@@ -317,7 +318,7 @@ class MotionBuilder:
             )
         self._motion_allowed(axis, f"SLIDE {statement.direction.text}", statement.direction.span)
         self._no_compliance(contact_axis, f"the contact held since line {contact.span.line}", statement.span)
-        by = clauses.get(_BY)
+        by = clauses.exprs.get(_BY)
         assert by is not None  # the checker requires BY
         distance = self._positive_scalar(by, units.LENGTH, "BY")
         force = self._force(clauses) if _FORCE in clauses.values else contact.force_n
@@ -343,7 +344,7 @@ class MotionBuilder:
         frame, _, fixture = self._frame(clauses, "INSERT", allow_duration=False)
         axis, sign = self._translation(statement.direction, "INSERT")
         direction_world = readonly(frame.rotation[:, axis] * sign)
-        depth_expr = clauses.get(_DEPTH)
+        depth_expr = clauses.exprs.get(_DEPTH)
         assert depth_expr is not None  # the checker requires DEPTH
         depth = self._positive_scalar(depth_expr, units.LENGTH, "DEPTH")
         force = self._force(clauses)
@@ -542,7 +543,7 @@ class MotionBuilder:
         self, clauses: _Clauses, keyword: str, *, allow_duration: bool
     ) -> tuple[TaskFrame, float | None, str | None]:
         """(task frame, duration of IN t, fixture named by IN)."""
-        expr = clauses.get(_IN)
+        expr = clauses.exprs.get(_IN)
         if expr is None:
             return WORLD, None, None
         value = self.evaluator.evaluate(expr)
@@ -580,7 +581,7 @@ class MotionBuilder:
         return value
 
     def _force(self, clauses: _Clauses) -> float:
-        expr = clauses.get(_FORCE)
+        expr = clauses.exprs.get(_FORCE)
         assert expr is not None  # the checker requires FORCE where there is no default
         force = self._positive_scalar(expr, units.FORCE, "FORCE")
         if force > 100:
@@ -588,14 +589,14 @@ class MotionBuilder:
         return force
 
     def _speed(self, clauses: _Clauses, default: float | None) -> float:
-        expr = clauses.get(_SPEED)
+        expr = clauses.exprs.get(_SPEED)
         if expr is None:
             assert default is not None
             return default
         return self._positive_scalar(expr, units.SPEED, "SPEED")
 
     def _timeout(self, clauses: _Clauses) -> float | None:
-        expr = clauses.get(_TIMEOUT)
+        expr = clauses.exprs.get(_TIMEOUT)
         return None if expr is None else self._positive_scalar(expr, units.TIME, "TIMEOUT")
 
     def _until(
