@@ -1,4 +1,4 @@
-"""What the run log records from the live runtime: state, link transforms and the scene.
+"""What the run log records from the live runtime: the state and the link transforms.
 
 The controller never reads the simulator's internals; the *recorder* may: the
 log shows the true tool pose (MuJoCo's tool site) beside the joint state, the
@@ -12,16 +12,12 @@ import numpy as np
 
 from cosmos.plant import Plant
 from cosmos.runlog.foxglove import ARM_FRAMES
-from cosmos.runlog.scene import FIXTURE_COLOR, Box, Cylinder, Primitive, Sphere
 from cosmos.runlog.writer import RunLog
-from cosmos.runtime.loop import Sample
 from cosmos.runtime.parameters import Evaluation
 from cosmos.workcell import TOOL_SITE
 
 TRANSFORM_EVERY = 5
 """Link transforms go to ``/tf`` at every 5th state sample (50 Hz at the default 250 Hz)."""
-
-FIXTURE_BODIES = ("table", "hole_fixture", "slope_fixture")
 
 _mat2quat = mujoco.mju_mat2Quat  # looked up once: recording runs in the servo loop
 
@@ -47,10 +43,6 @@ class LogRecorder:
         self._xquat = data.xquat  # (nbody, 4) world, w x y z
         self._quat = np.empty(4)
         self._count = 0
-
-    def __call__(self, sample: Sample, evaluation: Evaluation) -> None:
-        """Record one state sample (the runtime calls this at the state rate); see :meth:`record`."""
-        self.record(sample.t_s, sample.q, sample.qd, sample.tau, sample.wrench, evaluation)
 
     def record(
         self,
@@ -78,31 +70,3 @@ class LogRecorder:
         self._count += 1
         if self._count % TRANSFORM_EVERY == 1:
             log.transforms(t_s, self._xpos, self._xquat, self._bodies)
-
-
-def fixture_primitives(plant: Plant) -> list[Primitive]:
-    """The workcell's fixtures as scene primitives (boxes and cylinders), world poses."""
-    model, data = plant.model, plant.data
-    primitives: list[Primitive] = []
-    for body_name in FIXTURE_BODIES:
-        body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body_name)
-        if body < 0:
-            continue
-        for geom in range(model.ngeom):
-            if model.geom_bodyid[geom] != body:
-                continue
-            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom) or f"{body_name}_{geom}"
-            quat = np.empty(4)
-            mujoco.mju_mat2Quat(quat, data.geom_xmat[geom])
-            size = model.geom_size[geom]
-            position = data.geom_xpos[geom].tolist()
-            kind = model.geom_type[geom]
-            if kind == mujoco.mjtGeom.mjGEOM_BOX:
-                primitives.append(Box(name, position, (2 * size).tolist(), quat.tolist(), FIXTURE_COLOR))
-            elif kind == mujoco.mjtGeom.mjGEOM_CYLINDER:
-                primitives.append(
-                    Cylinder(name, position, float(size[0]), 2 * float(size[1]), quat.tolist(), FIXTURE_COLOR)
-                )
-            elif kind == mujoco.mjtGeom.mjGEOM_SPHERE:
-                primitives.append(Sphere(name, position, float(size[0]), FIXTURE_COLOR))
-    return primitives

@@ -6,14 +6,15 @@ the Pinocchio one (:mod:`cosmos.robot_model`); the plant is the MuJoCo
 workcell (:mod:`cosmos.plant`). Each call of :meth:`Runtime.tick` is one servo
 period: it re-evaluates the parameters when their (lower) rate is due, runs
 the servo level, then steps the physics until the next servo instant, holding
-the torque (zero-order hold), recording the state at its fixed rate.
+the torque (zero-order hold), recording the state at its fixed rate: a
+sample due at a tick's start is what that tick sensed and commanded (the
+wrench as the servo derived it from the sensor); one due inside a hold is
+sensed on its own.
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
@@ -30,28 +31,33 @@ from cosmos.workcell import TOOL
 FloatArray = np.ndarray
 
 
-@dataclass(frozen=True)
-class Sample:
-    """What the runtime knows at one instant (world axes), handed to the recorder.
-
-    Attributes:
-        t_s: Simulated time since start, in [s].
-        q: Joint positions, in [rad]. # (6,)
-        qd: Joint velocities, in [rad/s]. # (6,)
-        tau: Joint torques being applied, in [N m]. # (6,)
-        wrench: Wrench the tool applies to the environment, [N, N m]. # (6,)
-    """
-
-    t_s: float
-    q: FloatArray
-    qd: FloatArray
-    tau: FloatArray
-    wrench: FloatArray
-
-
 DEFAULT_RATES = Rates()
 DEFAULT_GAINS = ServoGains()
-Recorder = Callable[[Sample, Evaluation], None]
+
+
+class Recorder(Protocol):
+    """Receives the state at the state rate (:class:`cosmos.execution.recording.LogRecorder`)."""
+
+    def record(
+        self,
+        t_s: float,
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        wrench: FloatArray,
+        evaluation: Evaluation,
+    ) -> None:
+        """Record the state at ``t_s`` (world axes); the arrays are valid only during the call.
+
+        Args:
+            t_s: Simulated time since start, in [s].
+            q: Joint positions, in [rad]. # (6,)
+            qd: Joint velocities, in [rad/s]. # (6,)
+            tau: Joint torques being applied, in [N m]. # (6,)
+            wrench: Wrench the tool applies to the environment, [N, N m]. # (6,)
+            evaluation: The model's last evaluation.
+        """
+        ...
 
 
 class PotentialField(Protocol):
@@ -104,6 +110,7 @@ class Runtime:
         self._param_period_s = 1.0 / rates.param_hz
         self._state_period_s = 1.0 / rates.state_hz
         self._eps_s = 0.25 * plant.dt_s
+        self._record_wrench = np.empty(6)  # reused at every state sample: the recorder copies it
         self.tau: FloatArray = np.zeros(6)
         self._next_state_s = plant.time_s + plant.dt_s  # one fixed grid from the first step on
         self.reset_clocks()
@@ -170,13 +177,19 @@ class Runtime:
         t2 = clock()
         self.tau = self.servo.command(now, self.q, self.qd, sensor)
         t3 = clock()
-        end = now + self._servo_period_s - self._eps_s
         record_ns = 0
+        recorder = self.recorder
+        if recorder is not None and now + self._eps_s >= self._next_state_s:
+            # The state as this tick sensed it, the wrench as the servo made it from the sensor.
+            recorder.record(now, self.q, self.qd, self.tau, self.servo.wrench, self.evaluation)
+            self._next_state_s += self._state_period_s
+            record_ns = clock() - t3
+        end = now + self._servo_period_s - self._eps_s
         t_s = now
         while t_s < end:
             t_s = plant.step(self.tau)
-            if self.recorder is not None and t_s + self._eps_s >= self._next_state_s:
-                r0 = clock()
+            if recorder is not None and t_s < end and t_s + self._eps_s >= self._next_state_s:
+                r0 = clock()  # a state sample inside a zero-order hold (servo slower than physics)
                 self._record()
                 self._next_state_s += self._state_period_s
                 record_ns += clock() - r0
@@ -190,6 +203,15 @@ class Runtime:
 
     def _record(self) -> None:
         assert self.recorder is not None
-        q, qd = self.plant.read_encoders()
-        sample = Sample(self.plant.time_s, q, qd, self.tau, self._sense_wrench())
-        self.recorder(sample, self.evaluation)
+        plant, ev = self.plant, self.evaluation
+        q, qd = plant.read_encoders()
+        wrench = self._record_wrench
+        environment_wrench_into(
+            wrench,
+            plant.read_wrench_sensor(),
+            ev.rotation_sensor_to_world,
+            ev.sensor_to_tool_m,
+            ev.sensor_to_com_m,
+            self._tool_weight_z_n,
+        )
+        self.recorder.record(plant.time_s, q, qd, self.tau, wrench, ev)

@@ -12,7 +12,6 @@ from cosmos.plant import Plant
 from cosmos.robot_model import build_robot_model
 from cosmos.runlog import RunLog
 from cosmos.runlog.foxglove import ARM_FRAMES
-from cosmos.runtime.loop import Sample
 from cosmos.runtime.parameters import ParameterLevel
 from cosmos.workcell import TOOL_SITE
 
@@ -38,10 +37,7 @@ def test_recorded_state_and_frames_are_the_simulators(tmp_path: Path) -> None:
         evaluation = level.evaluate(q, qd)
         wrench = rng.normal(size=6)
         recorder.segment, recorder.line = k // 4, 10 + k // 4
-        if k % 2:
-            recorder.record(plant.time_s, q, qd, tau, wrench, evaluation)
-        else:
-            recorder(Sample(plant.time_s, q, qd, tau, wrench), evaluation)
+        recorder.record(plant.time_s, q, qd, tau, wrench, evaluation)
         quat = np.empty(4)
         mujoco.mju_mat2Quat(quat, data.site_xmat[site])
         v = evaluation.jacobian @ qd
