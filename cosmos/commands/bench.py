@@ -7,7 +7,8 @@ The workload is representative of a contact task: goal motion with a speed
 limit on five axes while z is force-controlled (at 0 N in free space), with the
 state recorded at its fixed rate into a real MCAP file. The floor is a Python
 loop of only ``mj_step`` plus Pinocchio's ``computeAllTerms`` and the tool
-Jacobian: no control logic. Ratios are reported, not asserted.
+Jacobian, replaying the workload's torques open loop: the same motion, no
+control logic. Ratios are reported, not asserted.
 """
 
 from __future__ import annotations
@@ -34,18 +35,43 @@ TICKS = 6000
 WARMUP_TICKS = 500
 
 
-def _floor_tick_us(plant: Plant, robot: RobotModel, ticks: int) -> float:
+def _floor_tick_us(plant: Plant, robot: RobotModel, torques: np.ndarray, timed: int) -> float:
+    """Replay ``torques`` open loop; the cost per step of the last ``timed`` steps, in [us].
+
+    Each step is only: set the torques, ``mj_step``, ``computeAllTerms`` and the tool
+    Jacobian. Replaying the workload's own torques gives the floor the workload's
+    motion (an arm left without torques would fall onto the table, and the contact
+    would make every step dearer than the workload's).
+    """
     model, data = robot.model, robot.model.createData()
     mj_model, mj_data = plant.model, plant.data
+    ctrl = mj_data.ctrl
     frame = robot.tool_frame
     step, all_terms, jacobian = mujoco.mj_step, pin.computeAllTerms, pin.getFrameJacobian
     world = pin.LOCAL_WORLD_ALIGNED
+    untimed = len(torques) - timed
+    for tau in torques[:untimed]:
+        ctrl[:] = tau
+        step(mj_model, mj_data)
     start = time.perf_counter_ns()
-    for _ in range(ticks):
+    for tau in torques[untimed:]:
+        ctrl[:] = tau
         step(mj_model, mj_data)
         all_terms(model, data, mj_data.qpos, mj_data.qvel)
         jacobian(model, data, frame, world)
-    return (time.perf_counter_ns() - start) / ticks / 1e3
+    return (time.perf_counter_ns() - start) / timed / 1e3
+
+
+def _workload_torques(robot: RobotModel, ticks: int) -> np.ndarray:
+    """The joint torques of the workload, tick by tick, in [N m] (an untimed run). # (ticks, 6)."""
+    plant = Plant()
+    runtime = Runtime(plant, robot, Rates())
+    runtime.set_setpoint(_workload_setpoint(runtime))
+    torques = np.empty((ticks, 6))
+    for row in torques:
+        runtime.tick()
+        row[:] = runtime.tau
+    return torques
 
 
 def _workload_setpoint(runtime: Runtime) -> ServoSetpoint:
@@ -89,7 +115,7 @@ def measure(ticks: int = TICKS) -> dict[str, object]:
         elapsed_ns = time.perf_counter_ns() - start
         log.close()
     plant.reset()
-    floor_us = _floor_tick_us(plant, robot, ticks)
+    floor_us = _floor_tick_us(plant, robot, _workload_torques(robot, WARMUP_TICKS + ticks), ticks)
     tick_us = elapsed_ns / ticks / 1e3
     phases = {name: ns / ticks / 1e3 for name, ns in runtime.phases.ns.items()}
     return {
