@@ -113,7 +113,13 @@ class Plant:
         self._noise_std = None if sensor_noise is None else sensor_noise.std
         self._rng = np.random.default_rng(None if sensor_noise is None else sensor_noise.seed)
         self._noise = np.zeros((0, 6))  # drawn in blocks: one draw per reading costs microseconds
-        self._noise_next = 0
+        self._noise_next = _NOISE_BLOCK  # the first reading draws the first block
+        # Force and torque side by side in sensordata (as in the workcell): read as one view.
+        self._wrench_view: np.ndarray | None = None
+        if self._wrench_slices is not None:
+            force, torque = self._wrench_slices
+            if force.stop == torque.start:
+                self._wrench_view = self._sensordata[force.start : torque.stop]
         self.reset()
 
     @property
@@ -182,17 +188,28 @@ class Plant:
         Raises:
             CosmosError: If the scene has no wrist sensor.
         """
+        view = self._wrench_view
+        if view is None:
+            return self._read_split_wrench_sensor()
+        if self._noise_std is None:
+            return view.copy()
+        i = self._noise_next
+        if i == _NOISE_BLOCK:
+            self._noise = self._rng.normal(0.0, self._noise_std, size=(_NOISE_BLOCK, 6))
+            i = 0
+        self._noise_next = i + 1
+        return view + self._noise[i]
+
+    def _read_split_wrench_sensor(self) -> np.ndarray:
+        """:meth:`read_wrench_sensor` for a scene whose force and torque are apart in sensordata."""
         if self._wrench_slices is None:
             raise CosmosError(
                 f"the scene has no wrist sensor (force '{FORCE_SENSOR}', torque '{TORQUE_SENSOR}')"
             )
         force, torque = self._wrench_slices
-        if force.stop == torque.start:  # adjacent in sensordata: one slice
-            reading = self._sensordata[force.start : torque.stop].copy()
-        else:
-            reading = np.concatenate((self._sensordata[force], self._sensordata[torque]))
+        reading = np.concatenate((self._sensordata[force], self._sensordata[torque]))
         if self._noise_std is not None:
-            if self._noise_next == len(self._noise):
+            if self._noise_next == _NOISE_BLOCK:
                 self._noise = self._rng.normal(0.0, self._noise_std, size=(_NOISE_BLOCK, 6))
                 self._noise_next = 0
             reading += self._noise[self._noise_next]
