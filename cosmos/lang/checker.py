@@ -53,7 +53,13 @@ def clause_key(clause: ast.Clause) -> str:
     return "COMPLY"
 
 
-def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str]:
+def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | dict[str, ast.Clause]:
+    """The clause keywords present (a set, or a dict keyed by them); refuses a repeated one."""
+    if not clauses:
+        return _NONE_PRESENT
+    if len(clauses) == 1:
+        clause = clauses[0]
+        return {clause.kind._value_ if type(clause) is ast.ValueClause else clause_key(clause): clause}
     seen: dict[str, ast.Clause] = {}
     for clause in clauses:
         key = clause.kind._value_ if type(clause) is ast.ValueClause else clause_key(clause)
@@ -66,10 +72,15 @@ def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str]:
                 clause.span,
             )
         seen[key] = clause
-    return set(seen)
+    return seen
 
 
-def _require(keyword: str, present: set[str], needed: ast.ClauseKind, statement: ast.Statement) -> None:
+_NONE_PRESENT: set[str] = set()  # never changed
+
+
+def _require(
+    keyword: str, present: set[str] | dict[str, ast.Clause], needed: ast.ClauseKind, statement: ast.Statement
+) -> None:
     if needed._value_ not in present:
         raise ProgramError(
             f"{keyword} needs {needed.value}, as in {keyword} ... {_EXAMPLES[needed]}",
@@ -87,6 +98,8 @@ def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None
     Raises:
         ProgramError: The first problem found.
     """
+    if type(statement) in _NOTHING_TO_CHECK:
+        return
     if isinstance(statement, ast.Move):
         present = _check_clauses("MOVE", statement.clauses)
         if statement.mode is _MOVE_BY and "VIA" in present:
@@ -135,6 +148,10 @@ def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None
         _check_end("REPEAT", statement.end_tag, statement)
         for inner in statement.body:
             check_statement(inner, in_block=True)
+
+
+_NOTHING_TO_CHECK = frozenset({ast.Let, ast.FrameDef, ast.SetSpeed, ast.RemoveObstacle, ast.Call})
+"""Statement types without clauses or blocks: nothing here to check."""
 
 
 def _check_end(keyword: str, tag: str | None, statement: ast.ProcDef | ast.Repeat) -> None:

@@ -19,6 +19,7 @@ from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.checker import check_statement
+from cosmos.lang.frozen_new import quick
 from cosmos.lang.gc_pause import gc_paused
 from cosmos.lang.motion import MotionBuilder
 from cosmos.lang.parser import parse_program
@@ -75,6 +76,15 @@ class StatementResult:
     steps: tuple[plan.Step, ...]
     state: CompileState
     warnings: tuple[plan.Diagnostic, ...]
+
+
+_statement_result = quick(StatementResult)
+_binding = quick(Binding)
+_axis_compliance = quick(AxisCompliance)
+_LET = BindingKind.LET
+_FRAME = BindingKind.FRAME
+_STIFFNESS = ast.ClauseKind.STIFFNESS
+_DAMPING = ast.ClauseKind.DAMPING
 
 
 def statement_text(span: Span, source: str | list[str]) -> str:
@@ -201,18 +211,18 @@ class _Run:
             )
         if isinstance(statement, ast.Let):
             value = evaluator.evaluate(statement.value)
-            kind = BindingKind.LET
+            kind = _LET
         else:
             value = evaluator.expect_position(statement.value, "FRAME")
-            kind = BindingKind.FRAME
-        return state.bind(key, Binding(value, kind, statement.name.span))
+            kind = _FRAME
+        return state.bind(key, _binding(value, kind, statement.name.span))
 
     # ----------------------------------------------------------- compliance
 
     def _comply(self, statement: ast.Comply, state: CompileState, evaluator: Evaluator) -> CompileState:
         if not statement.axes:
             return state.with_compliance((None,) * 6)
-        clauses = {c.kind: c for c in statement.clauses if isinstance(c, ast.ValueClause)}
+        clauses = {c.kind: c for c in statement.clauses if type(c) is ast.ValueClause}
         rotations = {ref.axis.is_rotation for ref in statement.axes}
         if len(rotations) > 1 and clauses:
             raise ProgramError(
@@ -223,19 +233,20 @@ class _Run:
         rotation = rotations.pop()
         stiffness = 0.0
         damping: float | None = None
-        if ast.ClauseKind.STIFFNESS in clauses:
-            expr = clauses[ast.ClauseKind.STIFFNESS].value
+        if _STIFFNESS in clauses:
+            expr = clauses[_STIFFNESS].value
             dim = units.ROTATIONAL_STIFFNESS if rotation else units.STIFFNESS
             stiffness = evaluator.expect_scalar(expr, dim, "STIFFNESS")
             _not_negative(stiffness, expr.span, "STIFFNESS")
-        if ast.ClauseKind.DAMPING in clauses:
-            expr = clauses[ast.ClauseKind.DAMPING].value
+        if _DAMPING in clauses:
+            expr = clauses[_DAMPING].value
             dim = units.ROTATIONAL_DAMPING if rotation else units.DAMPING
             damping = evaluator.expect_scalar(expr, dim, "DAMPING")
             _not_negative(damping, expr.span, "DAMPING")
         compliance = list(state.compliance)
+        setting = _axis_compliance(stiffness, damping, statement.span)  # immutable: shared by the axes
         for ref in statement.axes:
-            compliance[ref.axis.value] = AxisCompliance(stiffness, damping, statement.span)
+            compliance[ref.axis._value_] = setting
         return state.with_compliance(tuple(compliance))
 
     # --------------------------------------------------------------- scene
@@ -470,7 +481,7 @@ class Compiler:
             new_state = run.statement(statement, state)
         except ProgramError as error:
             raise error.with_source(source) from None
-        return StatementResult(tuple(run.steps), new_state, tuple(run.warnings))
+        return _statement_result(tuple(run.steps), new_state, tuple(run.warnings))
 
     def compile_text(self, text: str, state: CompileState, file: str = "<repl>") -> StatementResult:
         """Parse and compile a piece of program (a REPL input), continuing from ``state``.

@@ -7,7 +7,7 @@ from collections.abc import Callable
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.rotations import readonly
+from cosmos.lang.rotations import signed_column
 from cosmos.lang.state import TaskFrame
 from cosmos.lang.values import Evaluator
 
@@ -19,6 +19,40 @@ _QUANTITY_DIM = {
     plan.Quantity.DISTANCE: units.LENGTH,
 }
 _MAGNITUDES = (plan.Quantity.FORCE, plan.Quantity.TORQUE, plan.Quantity.DISTANCE)
+_OPS = {op.value: op for op in plan.CompareOp}
+"""CompareOp by its text (``plan.CompareOp(text)`` for the texts the grammar gives)."""
+_DISTANCE = plan.Quantity.DISTANCE
+_FORCE = plan.Quantity.FORCE
+_TORQUE = plan.Quantity.TORQUE
+_FORCE_ALONG = plan.Quantity.FORCE_ALONG
+_TORQUE_ABOUT = plan.Quantity.TORQUE_ABOUT
+_SENSED_DISTANCE = ast.Sensed.DISTANCE
+_SENSED_FORCE = ast.Sensed.FORCE
+_BELOW = (plan.CompareOp.LT, plan.CompareOp.LE)
+_COMPARISON_FIELDS = ("quantity", "direction_world", "op", "value", "text", "span")
+_QUICK_COMPARISON = tuple(plan.Comparison.__dataclass_fields__) == _COMPARISON_FIELDS and not hasattr(
+    plan.Comparison, "__post_init__"
+)
+"""Whether Comparison's fields are the ones :func:`_comparison` fills in itself."""
+_new = object.__new__
+
+
+def _comparison(
+    quantity: plan.Quantity,
+    direction_world: plan.FloatArray | None,
+    op: plan.CompareOp,
+    value: float,
+    text: str,
+    span: Span,
+) -> plan.Comparison:
+    """``plan.Comparison(...)``, without its frozen ``__setattr__``s."""
+    if not _QUICK_COMPARISON:
+        return plan.Comparison(quantity, direction_world, op, value, text, span)
+    made = _new(plan.Comparison)
+    made.__dict__.update(
+        quantity=quantity, direction_world=direction_world, op=op, value=value, text=text, span=span
+    )
+    return made
 
 
 def compile_condition(
@@ -38,46 +72,40 @@ def compile_condition(
     if isinstance(condition, ast.AnyOf):
         return plan.AnyOf(tuple(compile_condition(c, frame, evaluator, text_of) for c in condition.items))
     quantity, direction_world = _quantity(condition, frame)
-    name = condition.sensed.value
+    name = condition.sensed._value_
     if condition.direction is not None:
         name += f" {text_of(condition.direction.span)}"
     value = evaluator.expect_scalar(condition.value, _QUANTITY_DIM[quantity], name)
-    op = plan.CompareOp(condition.op)
+    op = _OPS.get(condition.op) or plan.CompareOp(condition.op)
     if quantity in _MAGNITUDES:
         _check_magnitude(condition, op, value, name)
-    return plan.Comparison(
-        quantity=quantity,
-        direction_world=direction_world,
-        op=op,
-        value=value,
-        text=text_of(condition.span),
-        span=condition.span,
-    )
+    return _comparison(quantity, direction_world, op, value, text_of(condition.span), condition.span)
 
 
 def _quantity(condition: ast.Comparison, frame: TaskFrame) -> tuple[plan.Quantity, plan.FloatArray | None]:
     direction = condition.direction
-    if condition.sensed is ast.Sensed.DISTANCE:
-        return plan.Quantity.DISTANCE, None
+    sensed = condition.sensed
+    if sensed is _SENSED_DISTANCE:
+        return _DISTANCE, None
     if direction is None:
-        if condition.sensed is ast.Sensed.FORCE:
-            return plan.Quantity.FORCE, None
-        return plan.Quantity.TORQUE, None
+        if sensed is _SENSED_FORCE:
+            return _FORCE, None
+        return _TORQUE, None
     axis = direction.axis._value_
-    if condition.sensed is ast.Sensed.FORCE:
+    if sensed is _SENSED_FORCE:
         if direction.axis.is_rotation:
             raise ProgramError(
                 f"FORCE is measured along X, Y or Z; for the moment about {direction.axis.name} "
                 f"write TORQUE {direction.axis.name}",
                 direction.span,
             )
-        return plan.Quantity.FORCE_ALONG, readonly(frame.rotation[:, axis] * direction.sign)
-    return plan.Quantity.TORQUE_ABOUT, readonly(frame.rotation[:, axis % 3] * direction.sign)
+        return _FORCE_ALONG, signed_column(frame.rotation, axis, direction.sign)[0]
+    return _TORQUE_ABOUT, signed_column(frame.rotation, axis % 3, direction.sign)[0]
 
 
 def _check_magnitude(condition: ast.Comparison, op: plan.CompareOp, value: float, name: str) -> None:
     """A magnitude is never negative: refuse comparisons that always or never hold."""
-    below = op in (plan.CompareOp.LT, plan.CompareOp.LE)
+    below = op in _BELOW
     if below and value <= 0:
         raise ProgramError(
             f"{name} {op.value} {value:g} can never hold: {name} is a magnitude, never below 0"
@@ -114,9 +142,9 @@ def holds_at_start(condition: plan.Condition, force_expected: bool) -> plan.Comp
     if isinstance(condition, plan.AllOf):
         found_all = [holds_at_start(term, force_expected) for term in condition.terms]
         return found_all[0] if found_all and all(found_all) else None
-    below = condition.op in (plan.CompareOp.LT, plan.CompareOp.LE)
-    if condition.quantity is plan.Quantity.DISTANCE and below:
+    below = condition.op in _BELOW
+    if condition.quantity is _DISTANCE and below:
         return condition
-    if condition.quantity in (plan.Quantity.FORCE, plan.Quantity.TORQUE) and below:
+    if (condition.quantity is _FORCE or condition.quantity is _TORQUE) and below:
         return None if force_expected else condition
     return None

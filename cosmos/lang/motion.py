@@ -28,9 +28,9 @@ from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.conditions import comparisons, compile_condition, holds_at_start
-from cosmos.lang.frozen_new import quick_keywords
-from cosmos.lang.rotations import IDENTITY, readonly
-from cosmos.lang.state import WORLD, CompileState, Defaults, HeldContact, TaskFrame
+from cosmos.lang.frozen_new import quick
+from cosmos.lang.rotations import IDENTITY, readonly, readonly_of, signed_column
+from cosmos.lang.state import WORLD, AxisCompliance, CompileState, Defaults, HeldContact, TaskFrame
 from cosmos.lang.values import BindingKind, Evaluator, FrameValue, Scalar
 
 _ALIGNED = math.cos(math.radians(1.0))
@@ -47,6 +47,7 @@ class _Axes:
     force: np.ndarray  # (6,) float
     stiffness: tuple[float | None, ...]
     damping: tuple[float | None, ...]
+    all_motion: bool  # motion.all()
 
 
 @dataclass
@@ -85,12 +86,28 @@ def _all_motion() -> _Axes:
     """Every axis under motion control (no COMPLY, no force); its arrays are read-only."""
     motion = np.ones(6, dtype=bool)
     motion.flags.writeable = False
-    return _Axes(motion, readonly(np.zeros(6)), (None,) * 6, (None,) * 6)
+    return _Axes(motion, readonly(np.zeros(6)), (None,) * 6, (None,) * 6, True)
 
 
 _ALL_MOTION = _all_motion()
 
-_segment = quick_keywords(plan.Segment)
+_new = object.__new__
+_absolute_target = quick(plan.AbsoluteTarget)
+
+
+def _relative_target(offset_world: plan.FloatArray) -> plan.RelativeTarget:
+    """``plan.RelativeTarget(offset_world)`` without the frozen ``__setattr__``."""
+    target = _new(plan.RelativeTarget)
+    target.__dict__["offset_world"] = offset_world
+    return target
+
+
+_QUICK_SEGMENT = tuple(plan.Segment.__dataclass_fields__) == (
+    "index", "kind", "statement_index", "span", "line", "statement", "context", "frame_name",
+    "frame_rotation", "motion_axes", "force_setpoint", "stiffness", "damping", "target", "via",
+    "via_radius_m", "speed_limit_mps", "duration_s", "completion", "until", "timeout_s", "jam_check",
+) and not hasattr(plan.Segment, "__post_init__")  # fmt: skip
+"""Whether :meth:`MotionBuilder._add` fills a Segment's fields itself (they are the ones it knows)."""
 
 # Enum members read in every statement, looked up once (a member lookup on an
 # Enum class costs about 0.3 us in Python 3.11).
@@ -111,6 +128,57 @@ _FIXTURE = BindingKind.FIXTURE
 
 _AXES_SEEN: dict[tuple[object, ...], _Axes] = {}
 """Axis setups made so far, by (COMPLY settings, forces, free axes)."""
+
+
+_CONTACT_AXES: dict[tuple[bytes, bytes], tuple[int, int]] = {}
+"""(axis, sign) of held contacts, by (task frame rotation, contact direction) bytes."""
+
+_NORMS: dict[bytes, float] = {}
+"""Euclidean norms of offsets, by the offset's bytes."""
+
+_contact_touch = quick(plan.ContactTouch)
+_force_settled = quick(plan.ForceSettled)
+_depth_reached = quick(plan.DepthReached)
+_new_held_contact = quick(HeldContact)
+
+
+_COMPLIANCE_KEYS: dict[int, tuple[tuple[object, ...], tuple[object, ...]]] = {}
+"""By id of a state's COMPLY tuple: (that tuple, kept alive; its settings without spans)."""
+
+
+def _compliance_key(compliance: tuple[AxisCompliance | None, ...]) -> tuple[object, ...]:
+    """The COMPLY settings as (stiffness, damping) per axis: what an axis setup depends on.
+
+    Two COMPLY statements with equal numbers give equal keys (their spans differ).
+    """
+    found = _COMPLIANCE_KEYS.get(id(compliance))
+    if found is not None and found[0] is compliance:
+        return found[1]
+    key = tuple(None if c is None else (c.stiffness, c.damping) for c in compliance)
+    if len(_COMPLIANCE_KEYS) >= 1024:
+        _COMPLIANCE_KEYS.clear()
+    _COMPLIANCE_KEYS[id(compliance)] = (compliance, key)
+    return key
+
+
+def _norm(offset: plan.FloatArray) -> float:
+    """``float(np.linalg.norm(offset))``, remembered for equal offsets."""
+    key = offset.tobytes()
+    norm = _NORMS.get(key)
+    if norm is None:
+        norm = float(np.linalg.norm(offset))
+        if len(_NORMS) < 4096:
+            _NORMS[key] = norm
+    return norm
+
+
+@lru_cache(maxsize=16)
+def _jam_check(defaults: Defaults) -> plan.JamCheck:
+    """The jam check of ``defaults`` (one immutable value per defaults)."""
+    return plan.JamCheck(
+        stall_speed_mps=defaults.jam_stall_speed_mps,
+        stall_time_s=defaults.jam_stall_time_s,
+    )
 
 
 def _axis_list(axes: list[int] | set[int]) -> str:
@@ -159,6 +227,8 @@ class MotionBuilder:
         self.warn = warn
         self.context = context
         self._segments: list[plan.Segment] = []
+        self._text_span: Span | None = None
+        self._text = ""
 
     def build(
         self, statement: ast.Move | ast.Contact | ast.Slide | ast.Insert | ast.Wait
@@ -201,7 +271,7 @@ class MotionBuilder:
         distance: float | None = None
         if statement.mode is _MOVE_TO:
             goal = self._position(statement.target, "MOVE TO")
-            target = plan.AbsoluteTarget(goal.position, goal.rotation)
+            target = _absolute_target(goal.position, goal.rotation)
         else:
             if isinstance(statement.target, ast.Pose):
                 raise ProgramError(
@@ -209,17 +279,17 @@ class MotionBuilder:
                     statement.target.span,
                 )
             offset = self.evaluator.expect_vector3(statement.target, units.LENGTH, "MOVE BY")
-            distance = float(np.linalg.norm(offset))
+            distance = _norm(offset)
             if distance == 0:
                 self.warn("MOVE BY (0, 0, 0) goes nowhere", statement.target.span)
             if frame.rotation is IDENTITY:  # the world's axes: the offset as it is (read-only)
-                target = plan.RelativeTarget(offset)
+                target = _relative_target(offset)
             else:
-                target = plan.RelativeTarget(readonly(frame.rotation @ offset))
+                target = _relative_target(readonly(frame.rotation @ offset))
         via: tuple[plan.AbsoluteTarget, ...] = ()
         if clauses.via is not None:
             via = tuple(
-                plan.AbsoluteTarget(p.position, p.rotation)
+                _absolute_target(p.position, p.rotation)
                 for p in (self._position(point, "VIA") for point in clauses.via.points)
             )
         axes = self._axes({}, set())
@@ -261,7 +331,7 @@ class MotionBuilder:
         clauses = _Clauses.of(statement.clauses)
         frame, _, fixture = self._frame(clauses, "CONTACT", allow_duration=False)
         axis, sign = self._translation(statement.direction, "CONTACT")
-        direction_world = readonly(frame.rotation[:, axis] * sign)
+        direction_world, direction = signed_column(frame.rotation, axis, sign)
         force = self._force(clauses)
         speed = self._speed(clauses, self.defaults.contact_speed_mps)
         self._no_compliance(axis, f"CONTACT {statement.direction.text}", statement.direction.span)
@@ -274,12 +344,10 @@ class MotionBuilder:
             statement,
             frame,
             self._axes({}, set()),
-            target=plan.RelativeTarget(readonly(direction_world * travel)),
+            target=_relative_target(readonly_of(tuple([d * travel for d in direction]))),
             speed=speed,
-            completion=plan.ContactTouch(
-                direction_world=direction_world,
-                threshold_n=min(self.defaults.touch_threshold_n, 0.5 * force),
-                max_travel_m=travel,
+            completion=_contact_touch(
+                direction_world, min(self.defaults.touch_threshold_n, 0.5 * force), travel
             ),
             until=until,
             timeout=timeout,
@@ -291,15 +359,15 @@ class MotionBuilder:
             self._axes({axis: sign * force}, set()),
             target=None,
             speed=speed,
-            completion=plan.ForceSettled(
-                tolerance_n=max(self.defaults.settle_tolerance_n, 0.1 * force),
-                settle_time_s=self.defaults.settle_time_s,
-                max_time_s=self.defaults.settle_max_time_s,
+            completion=_force_settled(
+                max(self.defaults.settle_tolerance_n, 0.1 * force),
+                self.defaults.settle_time_s,
+                self.defaults.settle_max_time_s,
             ),
             until=until,
             timeout=timeout,
         )
-        contact = HeldContact(direction_world, force, frame, statement.span)
+        contact = _new_held_contact(direction_world, force, frame, statement.span)
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
         return self.state.with_contact(contact, released)
 
@@ -325,13 +393,13 @@ class MotionBuilder:
         speed = self._speed(clauses, self.state.default_speed_mps)
         timeout = self._timeout(clauses)
         self._warn_timeout(timeout, distance, speed, None, clauses)
-        offset = frame.rotation[:, axis] * sign * distance
+        offset = tuple([c * distance for c in signed_column(frame.rotation, axis, sign)[1]])
         self._add(
             _SLIDE,
             statement,
             frame,
             self._axes({contact_axis: contact_sign * force}, set()),
-            target=plan.RelativeTarget(readonly(offset)),
+            target=_relative_target(readonly_of(offset)),
             speed=speed,
             completion=self._goal_reached(),
             until=self._until(clauses, frame, force_expected=True),
@@ -343,7 +411,7 @@ class MotionBuilder:
         clauses = _Clauses.of(statement.clauses)
         frame, _, fixture = self._frame(clauses, "INSERT", allow_duration=False)
         axis, sign = self._translation(statement.direction, "INSERT")
-        direction_world = readonly(frame.rotation[:, axis] * sign)
+        direction_world = signed_column(frame.rotation, axis, sign)[0]
         depth_expr = clauses.exprs.get(_DEPTH)
         assert depth_expr is not None  # the checker requires DEPTH
         depth = self._positive_scalar(depth_expr, units.LENGTH, "DEPTH")
@@ -389,13 +457,10 @@ class MotionBuilder:
             self._axes(forces, free),
             target=None,
             speed=self._speed(clauses, self.defaults.insert_speed_mps),
-            completion=plan.DepthReached(direction_world=direction_world, depth_m=depth),
+            completion=_depth_reached(direction_world, depth),
             until=self._until(clauses, frame, force_expected=True),
             timeout=self._timeout(clauses),
-            jam_check=plan.JamCheck(
-                stall_speed_mps=self.defaults.jam_stall_speed_mps,
-                stall_time_s=self.defaults.jam_stall_time_s,
-            ),
+            jam_check=_jam_check(self.defaults),
         )
         return self.state
 
@@ -415,9 +480,7 @@ class MotionBuilder:
             forces[contact_axis] = contact_sign * contact.force_n
         axes = self._axes(forces, set())
         until = self._until(clauses, frame, force_expected=contact is not None)
-        movable = not axes.motion.all() or any(
-            c is not None and c.stiffness > 0 for c in self.state.compliance
-        )
+        movable = not axes.all_motion or any(c is not None and c.stiffness > 0 for c in self.state.compliance)
         if until is not None and not movable:
             for comparison in comparisons(until):
                 if comparison.quantity is plan.Quantity.DISTANCE:
@@ -452,7 +515,7 @@ class MotionBuilder:
         compliance = self.state.compliance
         if not forces and not free and compliance == _NO_COMPLIANCE:
             return _ALL_MOTION
-        key = (compliance, tuple(forces.items()), tuple(free))
+        key = (_compliance_key(compliance), tuple(forces.items()), tuple(free))
         axes = _AXES_SEEN.get(key)
         if axes is None:
             axes = self._new_axes(forces, free)
@@ -481,7 +544,7 @@ class MotionBuilder:
             stiffness[i] = 0.0
         motion_array = np.array(motion, dtype=bool)
         motion_array.flags.writeable = False
-        return _Axes(motion_array, readonly(force), tuple(stiffness), tuple(damping))
+        return _Axes(motion_array, readonly(force), tuple(stiffness), tuple(damping), all(motion))
 
     def _no_compliance(self, axis: int, what: str, span: Span) -> None:
         compliance = self.state.compliance[axis]
@@ -517,10 +580,17 @@ class MotionBuilder:
 
     def _contact_axis(self, contact: HeldContact, frame: TaskFrame, span: Span) -> tuple[int, int]:
         """The task axis (0..2) and sign along which the contact pushes."""
+        key = (frame.rotation.tobytes(), contact.direction_world.tobytes())
+        found = _CONTACT_AXES.get(key)
+        if found is not None:
+            return found
         projections = (frame.rotation.T @ contact.direction_world).tolist()
         for axis in range(3):
             if abs(projections[axis]) >= _ALIGNED:
-                return axis, 1 if projections[axis] > 0 else -1
+                found = axis, 1 if projections[axis] > 0 else -1
+                if len(_CONTACT_AXES) < 1024:
+                    _CONTACT_AXES[key] = found
+                return found
         raise ProgramError(
             f"the contact held along {_vector_text(contact.direction_world)} in the world "
             f"(CONTACT at line {contact.span.line}) is not along an axis of frame "
@@ -694,29 +764,37 @@ class MotionBuilder:
         duration: float | None = None,
         jam_check: plan.JamCheck | None = None,
     ) -> None:
-        self._segments.append(
-            _segment(
-                index=self.state.segment_count + len(self._segments),
-                kind=kind,
-                statement_index=self.state.statement_count,
-                span=statement.span,
-                line=statement.span.line,
-                statement=self.text_of(statement.span),
-                context=self.context,
-                frame_name=frame.name,
-                frame_rotation=frame.rotation,
-                motion_axes=axes.motion,
-                force_setpoint=axes.force,
-                stiffness=axes.stiffness,
-                damping=axes.damping,
-                target=target,
-                via=via,
-                via_radius_m=self.defaults.via_radius_m if via else None,
-                speed_limit_mps=speed,
-                duration_s=duration,
-                completion=completion,
-                until=until,
-                timeout_s=timeout,
-                jam_check=jam_check,
-            )
-        )
+        span = statement.span
+        if span is not self._text_span:  # a statement's segments share its text
+            self._text_span = span
+            self._text = self.text_of(span)
+        fields = {
+            "index": self.state.segment_count + len(self._segments),
+            "kind": kind,
+            "statement_index": self.state.statement_count,
+            "span": span,
+            "line": span.line,
+            "statement": self._text,
+            "context": self.context,
+            "frame_name": frame.name,
+            "frame_rotation": frame.rotation,
+            "motion_axes": axes.motion,
+            "force_setpoint": axes.force,
+            "stiffness": axes.stiffness,
+            "damping": axes.damping,
+            "target": target,
+            "via": via,
+            "via_radius_m": self.defaults.via_radius_m if via else None,
+            "speed_limit_mps": speed,
+            "duration_s": duration,
+            "completion": completion,
+            "until": until,
+            "timeout_s": timeout,
+            "jam_check": jam_check,
+        }
+        if _QUICK_SEGMENT:  # what Segment's __init__ makes, without its frozen __setattr__s
+            segment = _new(plan.Segment)
+            segment.__dict__.update(fields)
+        else:
+            segment = plan.Segment(**fields)  # type: ignore[arg-type]
+        self._segments.append(segment)

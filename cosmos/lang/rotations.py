@@ -45,12 +45,42 @@ def readonly_of(values: tuple[float, ...]) -> FloatArray:
     return array
 
 
+_RPY_SEEN: dict[tuple[float, float, float], FloatArray] = {}
+"""Rotations made so far, by their angle triple [rad] (each read-only, so shared)."""
+
+
 def rpy_to_matrix(roll_rad: float, pitch_rad: float, yaw_rad: float) -> FloatArray:
     """Roll, pitch, yaw about the fixed world axes x, then y, then z (read-only).
 
     R = Rz(yaw) @ Ry(pitch) @ Rx(roll); ``RPY (180 deg, 0, 0)`` turns z down.
+    Equal angle triples share one array.
     """
-    return readonly(orientation.rpy_to_matrix(roll_rad, pitch_rad, yaw_rad))
+    key = (roll_rad, pitch_rad, yaw_rad)
+    rotation = _RPY_SEEN.get(key)
+    if rotation is None:
+        rotation = readonly(orientation.rpy_to_matrix(roll_rad, pitch_rad, yaw_rad))
+        if len(_RPY_SEEN) < 1024:
+            _RPY_SEEN[key] = rotation
+    return rotation
+
+
+_COLUMNS_SEEN: dict[tuple[bytes, int, int], tuple[FloatArray, tuple[float, ...]]] = {}
+"""Signed rotation columns made so far, by (rotation bytes, column, sign)."""
+
+
+def signed_column(rotation: FloatArray, column: int, sign: int) -> tuple[FloatArray, tuple[float, ...]]:
+    """``rotation[:, column] * sign`` as a read-only (3,) array and as a tuple of floats.
+
+    Equal rotations share the result (a program reads a few frames' axes again and again).
+    """
+    key = (rotation.tobytes(), column, sign)
+    found = _COLUMNS_SEEN.get(key)
+    if found is None:
+        array = readonly(rotation[:, column] * sign)
+        found = (array, tuple(array.tolist()))
+        if len(_COLUMNS_SEEN) < 1024:
+            _COLUMNS_SEEN[key] = found
+    return found
 
 
 def matrix_to_quaternion(rotation: FloatArray) -> tuple[float, float, float, float]:

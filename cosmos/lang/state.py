@@ -8,7 +8,7 @@ names, frames, procedures, compliance and the held contact between them.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Protocol, TypeVar
 
@@ -159,7 +159,7 @@ class CompileState:
 
     def bind(self, key: str, binding: Binding) -> CompileState:
         """A state with ``key`` bound."""
-        return replace(self, names=frozen_map({**self.names, key: binding}))
+        return _changed(self, {"names": frozen_map({**self.names, key: binding})})
 
     # The hot changes, without dataclasses.replace's per-call look at the fields.
 

@@ -58,6 +58,7 @@ _scalar = quick(Scalar)
 _NUMBERS: dict[tuple[float, str | None], tuple[float, Dim | None]] = {}
 """Numbers as written (never negative: a sign is an operator) to SI and dimension."""
 _vec = quick(Vec)
+_frame_value = quick(FrameValue)
 
 
 class BindingKind(enum.Enum):
@@ -216,7 +217,7 @@ class Evaluator:
                 return Vec(tuple(left.position - right.position), units.LENGTH)
             offset = self.expect_vector(expr.right, right, 3, units.LENGTH, "an offset")
             moved = [p + sign * o for p, o in zip(left.position.tolist(), offset.tolist(), strict=True)]
-            return FrameValue(readonly_of(tuple(moved)), left.rotation)
+            return _frame_value(readonly_of(tuple(moved)), left.rotation)
         if isinstance(right, FrameValue):
             raise ProgramError(
                 f"write the frame first: {self.text_of(expr.right.span)} {expr.op} ...", expr.span
@@ -263,8 +264,12 @@ class Evaluator:
 
     def _pose(self, expr: ast.Pose) -> FrameValue:
         position = self.expect_position(expr.position, "a pose's position")
-        angles = self.expect_vector(expr.rpy, self.evaluate(expr.rpy), 3, units.ANGLE, "RPY")
-        return FrameValue(position.position, rpy_to_matrix(*angles))
+        angles = self.evaluate(expr.rpy)
+        self.expect_vector(expr.rpy, angles, 3, units.ANGLE, "RPY")
+        assert isinstance(angles, Vec)  # expect_vector refuses anything else
+        # The floats themselves (a zero's sign aside, as the array had them: the
+        # matrix is the same, its zeros made +0.0 by readonly).
+        return _frame_value(position.position, rpy_to_matrix(*angles.values))
 
     # ----------------------------------------------------------------- slots
 
@@ -276,6 +281,10 @@ class Evaluator:
             dim: The slot's dimension; a bare number is read in its SI unit.
             what: The slot, for messages (``"FORCE"``).
         """
+        if type(expr) is ast.Number:  # most slots: a number as written, no Scalar made
+            number, number_dim = self._number_value(expr)
+            if number_dim is None or number_dim == dim:
+                return number
         value = self.evaluate(expr)
         if not isinstance(value, Scalar):
             raise ProgramError(
@@ -325,7 +334,7 @@ class Evaluator:
                 f"{self.text_of(expr.span)} is {kind_of(value)}",
                 expr.span,
             )
-        return FrameValue(self.expect_vector(expr, value, 3, units.LENGTH, what), None)
+        return _frame_value(self.expect_vector(expr, value, 3, units.LENGTH, what), None)
 
 
 def _finite(value: Value) -> bool:
