@@ -59,6 +59,10 @@ class ReplApp:
     ):
         interactive = input is not None or _is_terminal(stdin or sys.stdin)
         self.printer = Printer(stream, color=interactive and _is_terminal(stream))
+        if interactive:  # numba compiles the controller's kernels on first use, then caches them
+            self.printer.write(
+                "starting the arm (a first run compiles the controller: up to a minute)", Tone.NOTE
+            )
         try:
             session = Session(REPL_FILE, None, log_path, Rates())
         except OSError as error:
