@@ -10,7 +10,7 @@ blocks, the scene, error collection and the public entry points.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -130,7 +130,7 @@ class _Run:
             message += f" (in {'; '.join(self.context)})"
         self.warnings.append(plan.Diagnostic(message, span))
 
-    def emit(self, steps: list[plan.Step]) -> None:
+    def emit(self, steps: Sequence[plan.Step]) -> None:
         if len(self.steps) + len(steps) > MAX_STEPS:
             raise ProgramError(
                 f"the program expands to more than {MAX_STEPS} steps; use fewer REPEATs",
@@ -162,18 +162,13 @@ class _Run:
             raise
 
     def _statement(self, statement: ast.Statement, state: CompileState) -> CompileState:
-        evaluator = Evaluator(state.names, self.text_of)
+        text_of = self.text_of
+        evaluator = Evaluator(state.names, text_of)
         if isinstance(statement, _MOTIONS):
-            builder = MotionBuilder(
-                defaults=self.compiler.defaults,
-                state=state,
-                evaluator=evaluator,
-                text_of=self.text_of,
-                warn=self.warn,
-                context="; ".join(self.context),
-            )
+            context = "; ".join(self.context) if self.context else ""
+            builder = MotionBuilder(self.compiler.defaults, state, evaluator, text_of, self.warn, context)
             segments, state = builder.build(statement)
-            self.emit(list(segments))
+            self.emit(segments)
             return state
         if isinstance(statement, ast.SetSpeed):
             speed = evaluator.expect_scalar(statement.value, units.SPEED, "SPEED")

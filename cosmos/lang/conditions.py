@@ -18,6 +18,8 @@ _QUANTITY_DIM = {
     plan.Quantity.TORQUE_ABOUT: units.TORQUE,
     plan.Quantity.DISTANCE: units.LENGTH,
 }
+_DIM_BY_VALUE = {quantity._value_: dim for quantity, dim in _QUANTITY_DIM.items()}
+"""``_QUANTITY_DIM`` by the quantity's value (an Enum member hashes in Python, its value in C)."""
 _MAGNITUDES = (plan.Quantity.FORCE, plan.Quantity.TORQUE, plan.Quantity.DISTANCE)
 _OPS = {op.value: op for op in plan.CompareOp}
 """CompareOp by its text (``plan.CompareOp(text)`` for the texts the grammar gives)."""
@@ -35,6 +37,14 @@ _QUICK_COMPARISON = tuple(plan.Comparison.__dataclass_fields__) == _COMPARISON_F
 )
 """Whether Comparison's fields are the ones :func:`_comparison` fills in itself."""
 _new = object.__new__
+_NUMBER = ast.Number
+
+
+def _any_of(terms: tuple[plan.Condition, ...]) -> plan.AnyOf:
+    """``plan.AnyOf(terms)``, without the frozen ``__setattr__``."""
+    made = _new(plan.AnyOf)
+    made.__dict__["terms"] = terms
+    return made
 
 
 def _comparison(
@@ -70,16 +80,29 @@ def compile_condition(
     if isinstance(condition, ast.AllOf):
         return plan.AllOf(tuple(compile_condition(c, frame, evaluator, text_of) for c in condition.items))
     if isinstance(condition, ast.AnyOf):
-        return plan.AnyOf(tuple(compile_condition(c, frame, evaluator, text_of) for c in condition.items))
+        return _any_of(tuple([compile_condition(c, frame, evaluator, text_of) for c in condition.items]))
     quantity, direction_world = _quantity(condition, frame)
-    name = condition.sensed._value_
-    if condition.direction is not None:
-        name += f" {text_of(condition.direction.span)}"
-    value = evaluator.expect_scalar(condition.value, _QUANTITY_DIM[quantity], name)
+    dim = _DIM_BY_VALUE[quantity._value_]
+    value_expr = condition.value
+    value: float | None = None
+    if type(value_expr) is _NUMBER:  # the usual case: no name needed unless there is an error
+        value, value_dim = evaluator.number_value(value_expr)
+        if value_dim is not None and value_dim != dim:
+            value = None
+    if value is None:
+        value = evaluator.expect_scalar(value_expr, dim, _name(condition, text_of))
     op = _OPS.get(condition.op) or plan.CompareOp(condition.op)
     if quantity in _MAGNITUDES:
-        _check_magnitude(condition, op, value, name)
+        _check_magnitude(condition, op, value, text_of)
     return _comparison(quantity, direction_world, op, value, text_of(condition.span), condition.span)
+
+
+def _name(condition: ast.Comparison, text_of: Callable[[Span], str]) -> str:
+    """What a comparison senses, as written (``"FORCE Z"``), for messages."""
+    name: str = condition.sensed._value_
+    if condition.direction is not None:
+        name += f" {text_of(condition.direction.span)}"
+    return name
 
 
 def _quantity(condition: ast.Comparison, frame: TaskFrame) -> tuple[plan.Quantity, plan.FloatArray | None]:
@@ -103,9 +126,13 @@ def _quantity(condition: ast.Comparison, frame: TaskFrame) -> tuple[plan.Quantit
     return _TORQUE_ABOUT, signed_column(frame.rotation, axis % 3, direction.sign)[0]
 
 
-def _check_magnitude(condition: ast.Comparison, op: plan.CompareOp, value: float, name: str) -> None:
+def _check_magnitude(
+    condition: ast.Comparison, op: plan.CompareOp, value: float, text_of: Callable[[Span], str]
+) -> None:
     """A magnitude is never negative: refuse comparisons that always or never hold."""
     below = op in _BELOW
+    if (below and value <= 0) or (not below and value < 0):
+        name = _name(condition, text_of)
     if below and value <= 0:
         raise ProgramError(
             f"{name} {op.value} {value:g} can never hold: {name} is a magnitude, never below 0"

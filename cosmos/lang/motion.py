@@ -20,7 +20,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -65,11 +64,19 @@ class _Clauses:
 
     @classmethod
     def of(cls, clauses: tuple[ast.Clause, ...]) -> _Clauses:
-        found = cls({}, {}, None, None, None)
+        values: dict[ast.ClauseKind, ast.ValueClause] = {}
+        exprs: dict[ast.ClauseKind, ast.Expr] = {}
+        found = _new(cls)  # the fields set here, without the dataclass __init__
+        found.values = values
+        found.exprs = exprs
+        found.via = found.until = found.comply = None
         for clause in clauses:
-            if isinstance(clause, ast.ValueClause):
-                found.values[clause.kind] = clause
-                found.exprs[clause.kind] = clause.value
+            if type(clause) is _VALUE_CLAUSE:
+                values[clause.kind] = clause
+                exprs[clause.kind] = clause.value
+            elif isinstance(clause, ast.ValueClause):
+                values[clause.kind] = clause
+                exprs[clause.kind] = clause.value
             elif isinstance(clause, ast.ViaClause):
                 found.via = clause
             elif isinstance(clause, ast.UntilClause):
@@ -80,6 +87,8 @@ class _Clauses:
 
 
 _NO_COMPLIANCE = (None,) * 6
+_VALUE_CLAUSE = ast.ValueClause
+_new = object.__new__
 
 
 def _all_motion() -> _Axes:
@@ -91,7 +100,6 @@ def _all_motion() -> _Axes:
 
 _ALL_MOTION = _all_motion()
 
-_new = object.__new__
 _absolute_target = quick(plan.AbsoluteTarget)
 
 
@@ -172,13 +180,9 @@ def _norm(offset: plan.FloatArray) -> float:
     return norm
 
 
-@lru_cache(maxsize=16)
-def _jam_check(defaults: Defaults) -> plan.JamCheck:
-    """The jam check of ``defaults`` (one immutable value per defaults)."""
-    return plan.JamCheck(
-        stall_speed_mps=defaults.jam_stall_speed_mps,
-        stall_time_s=defaults.jam_stall_time_s,
-    )
+def _held_since(contact: HeldContact | None) -> str:
+    """``"the contact held since line 3"``, for messages."""
+    return f"the contact held since line {contact.span.line}" if contact else ""
 
 
 def _axis_list(axes: list[int] | set[int]) -> str:
@@ -189,14 +193,38 @@ def _vector_text(vector: np.ndarray) -> str:
     return "(" + ", ".join(f"{v:.3g}" if abs(v) > 1e-12 else "0" for v in vector) + ")"
 
 
-@lru_cache(maxsize=16)
-def _goal_reached(defaults: Defaults) -> plan.GoalReached:
-    """The goal tolerances of ``defaults`` (one immutable value per defaults)."""
-    return plan.GoalReached(
-        position_tolerance_m=defaults.position_tolerance_m,
-        orientation_tolerance_rad=defaults.orientation_tolerance_rad,
-        speed_tolerance_mps=defaults.rest_speed_mps,
+@dataclass(frozen=True, eq=False)
+class _Completions:
+    """The immutable plan values one ``Defaults`` gives every segment that needs them."""
+
+    goal_reached: plan.GoalReached
+    jam_check: plan.JamCheck
+
+
+_COMPLETIONS: dict[int, tuple[Defaults, _Completions]] = {}
+"""By id of a Defaults (kept alive here): its completions, made once."""
+
+
+def _completions(defaults: Defaults) -> _Completions:
+    """The goal tolerances and jam check of ``defaults`` (a Defaults is hashed slowly: by id)."""
+    found = _COMPLETIONS.get(id(defaults))
+    if found is not None and found[0] is defaults:
+        return found[1]
+    made = _Completions(
+        plan.GoalReached(
+            position_tolerance_m=defaults.position_tolerance_m,
+            orientation_tolerance_rad=defaults.orientation_tolerance_rad,
+            speed_tolerance_mps=defaults.rest_speed_mps,
+        ),
+        plan.JamCheck(
+            stall_speed_mps=defaults.jam_stall_speed_mps,
+            stall_time_s=defaults.jam_stall_time_s,
+        ),
     )
+    if len(_COMPLETIONS) >= 64:
+        _COMPLETIONS.clear()
+    _COMPLETIONS[id(defaults)] = (defaults, made)
+    return made
 
 
 class MotionBuilder:
@@ -334,7 +362,7 @@ class MotionBuilder:
         direction_world, direction = signed_column(frame.rotation, axis, sign)
         force = self._force(clauses)
         speed = self._speed(clauses, self.defaults.contact_speed_mps)
-        self._no_compliance(axis, f"CONTACT {statement.direction.text}", statement.direction.span)
+        self._no_compliance(axis, lambda: f"CONTACT {statement.direction.text}", statement.direction.span)
         self._warn_away_from_fixture(statement.direction, fixture, "CONTACT")
         timeout = self._timeout(clauses)
         until = self._until(clauses, frame, force_expected=self.state.contact is not None)
@@ -384,8 +412,8 @@ class MotionBuilder:
                 "surface, or MOVE to leave it",
                 statement.direction.span,
             )
-        self._motion_allowed(axis, f"SLIDE {statement.direction.text}", statement.direction.span)
-        self._no_compliance(contact_axis, f"the contact held since line {contact.span.line}", statement.span)
+        self._motion_allowed(axis, lambda: f"SLIDE {statement.direction.text}", statement.direction.span)
+        self._no_compliance(contact_axis, lambda: _held_since(contact), statement.span)
         by = clauses.exprs.get(_BY)
         assert by is not None  # the checker requires BY
         distance = self._positive_scalar(by, units.LENGTH, "BY")
@@ -419,18 +447,22 @@ class MotionBuilder:
         contact = self.state.contact
         forces = {axis: sign * force}
         contact_axis = None
-        held_since = f"the contact held since line {contact.span.line}" if contact else ""
         if contact is not None:
             contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
             if contact_axis != axis:
                 forces[contact_axis] = contact_sign * contact.force_n
-        what = f"INSERT {statement.direction.text}"
+
+        def what() -> str:  # for messages only: built when one is given
+            return f"INSERT {statement.direction.text}"
+
         if clauses.comply is not None:
-            free = {ref.axis.value for ref in clauses.comply.axes}
+            free = {ref.axis._value_ for ref in clauses.comply.axes}
             for ref in clauses.comply.axes:
-                if ref.axis.value in forces:
+                if ref.axis._value_ in forces:
                     because = (
-                        f"{what} pushes along it" if ref.axis.value == axis else f"it carries {held_since}"
+                        f"{what()} pushes along it"
+                        if ref.axis._value_ == axis
+                        else f"it carries {_held_since(contact)}"
                     )
                     raise ProgramError(
                         f"{ref.axis.name} cannot be compliant here: {because}; leave it out of COMPLY",
@@ -441,10 +473,10 @@ class MotionBuilder:
             free = {i for i in lateral + [i + 3 for i in lateral] if i != contact_axis}
         self._no_compliance(axis, what, statement.direction.span)
         if contact_axis is not None and contact_axis != axis:
-            self._no_compliance(contact_axis, held_since, statement.span)
+            self._no_compliance(contact_axis, lambda: _held_since(contact), statement.span)
         if contact is None:
             self.warn(
-                f"no contact is held, so {what} pushes {force:g} N into free space (at up to "
+                f"no contact is held, so {what()} pushes {force:g} N into free space (at up to "
                 f"{self._speed(clauses, self.defaults.insert_speed_mps) * 1000:g} mm/s) until it "
                 "meets something; make a CONTACT first",
                 statement.span,
@@ -460,7 +492,7 @@ class MotionBuilder:
             completion=_depth_reached(direction_world, depth),
             until=self._until(clauses, frame, force_expected=True),
             timeout=self._timeout(clauses),
-            jam_check=_jam_check(self.defaults),
+            jam_check=_completions(self.defaults).jam_check,
         )
         return self.state
 
@@ -474,9 +506,7 @@ class MotionBuilder:
         forces: dict[int, float] = {}
         if contact is not None:
             contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
-            self._no_compliance(
-                contact_axis, f"the contact held since line {contact.span.line}", statement.span
-            )
+            self._no_compliance(contact_axis, lambda: _held_since(contact), statement.span)
             forces[contact_axis] = contact_sign * contact.force_n
         axes = self._axes(forces, set())
         until = self._until(clauses, frame, force_expected=contact is not None)
@@ -546,21 +576,21 @@ class MotionBuilder:
         motion_array.flags.writeable = False
         return _Axes(motion_array, readonly(force), tuple(stiffness), tuple(damping), all(motion))
 
-    def _no_compliance(self, axis: int, what: str, span: Span) -> None:
+    def _no_compliance(self, axis: int, what: Callable[[], str], span: Span) -> None:
         compliance = self.state.compliance[axis]
         if compliance is not None:
             raise ProgramError(
                 f"{_AXIS_NAMES[axis]} is compliant (COMPLY at line {compliance.span.line}) and "
-                f"{what} commands a force along it; an axis takes one job: COMPLY NONE first, "
+                f"{what()} commands a force along it; an axis takes one job: COMPLY NONE first, "
                 "or comply other axes",
                 span,
             )
 
-    def _motion_allowed(self, axis: int, what: str, span: Span) -> None:
+    def _motion_allowed(self, axis: int, what: Callable[[], str], span: Span) -> None:
         compliance = self.state.compliance[axis]
         if compliance is not None and compliance.stiffness == 0:
             raise ProgramError(
-                f"{what} moves along {_AXIS_NAMES[axis]}, but {_AXIS_NAMES[axis]} is compliant "
+                f"{what()} moves along {_AXIS_NAMES[axis]}, but {_AXIS_NAMES[axis]} is compliant "
                 f"with zero stiffness (COMPLY at line {compliance.span.line}), so it cannot be "
                 "moved; COMPLY NONE first",
                 span,
@@ -691,7 +721,7 @@ class MotionBuilder:
         return condition
 
     def _goal_reached(self) -> plan.GoalReached:
-        return _goal_reached(self.defaults)
+        return _completions(self.defaults).goal_reached
 
     # --------------------------------------------------------------- warnings
 

@@ -121,12 +121,22 @@ class Evaluator:
             return self._lookup(expr)  # type: ignore[arg-type]
         if kind is ast.Vector:
             return self._vector(expr)  # type: ignore[arg-type]
-        value = self._evaluate(expr)
+        if kind is ast.Pose:
+            return self._pose(expr)  # type: ignore[arg-type]
+        value = self._binary(expr) if kind is ast.Binary else self._evaluate(expr)  # type: ignore[arg-type]
         if kind is not ast.Binary and kind is not ast.Unary:
             return value
         if not _finite(value):
             raise ProgramError("this number is too large", expr.span)
         return value
+
+    def number_value(self, expr: ast.Number) -> tuple[float, Dim | None]:
+        """The number in SI and its dimension (None for a bare number); finite.
+
+        Raises:
+            ProgramError: An unknown unit, or a number too large to represent.
+        """
+        return self._number_value(expr)
 
     def _number_value(self, expr: ast.Number) -> tuple[float, Dim | None]:
         """The number in SI and its dimension (None for a bare number); finite."""
