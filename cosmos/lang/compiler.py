@@ -123,7 +123,10 @@ class _Run:
         self.warnings: list[plan.Diagnostic] = []
 
     def text_of(self, span: Span) -> str:
-        return statement_text(span, self.compiler.lines_of(self.source))
+        split = self.compiler._split
+        return statement_text(
+            span, split[1] if split[0] is self.source else self.compiler.lines_of(self.source)
+        )
 
     def warn(self, message: str, span: Span) -> None:
         if self.context:

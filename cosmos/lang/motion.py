@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -87,6 +88,10 @@ class _Clauses:
 
 
 _NO_COMPLIANCE = (None,) * 6
+_IN_WORLD: tuple[TaskFrame, float | None, str | None] = (WORLD, None, None)
+"""What ``_frame`` gives a statement without IN: the world frame, no duration, no fixture."""
+_NO_FORCES: dict[int, float] = {}  # never changed
+_NO_FREE: set[int] = set()  # never changed
 _VALUE_CLAUSE = ast.ValueClause
 _new = object.__new__
 
@@ -227,6 +232,13 @@ def _completions(defaults: Defaults) -> _Completions:
     return made
 
 
+class _ContactChange(NamedTuple):
+    """What MOVE and CONTACT change in the state: the held contact, and what released the last."""
+
+    contact: HeldContact | None
+    released_by: Span | None
+
+
 class MotionBuilder:
     """Builds the segments of one motion statement.
 
@@ -266,25 +278,34 @@ class MotionBuilder:
         Raises:
             ProgramError: A unit, value or axis error, pointing at its cause.
         """
+        change: _ContactChange | None = None
         if isinstance(statement, ast.Move):
-            state = self._move(statement)
+            change = self._move(statement)
         elif isinstance(statement, ast.Contact):
-            state = self._contact(statement)
+            change = self._contact(statement)
         elif isinstance(statement, ast.Slide):
-            state = self._slide(statement)
+            self._slide(statement)
         elif isinstance(statement, ast.Insert):
-            state = self._insert(statement)
+            self._insert(statement)
         else:
-            state = self._wait(statement)
+            self._wait(statement)
+        statements = self.state.statement_count + 1
         segments = self.state.segment_count + len(self._segments)
-        state = state.with_counts(self.state.statement_count + 1, segments)
+        if change is None:
+            state = self.state.with_counts(statements, segments)
+        else:  # one new state for both changes
+            state = self.state.with_contact_and_counts(
+                change.contact, change.released_by, statements, segments
+            )
         return tuple(self._segments), state
 
     # ------------------------------------------------------------ statements
 
-    def _move(self, statement: ast.Move) -> CompileState:
+    def _move(self, statement: ast.Move) -> _ContactChange:
         clauses = _Clauses.of(statement.clauses)
-        frame, duration, _ = self._frame(clauses, "MOVE", allow_duration=True)
+        frame, duration, _ = (
+            self._frame(clauses, "MOVE", allow_duration=True) if _IN in clauses.exprs else _IN_WORLD
+        )
         speed: float | None = None
         if _SPEED in clauses.values:
             if duration is not None:
@@ -298,7 +319,7 @@ class MotionBuilder:
         target: plan.Target
         distance: float | None = None
         if statement.mode is _MOVE_TO:
-            goal = self._position(statement.target, "MOVE TO")
+            goal = self.evaluator.expect_position(statement.target, "MOVE TO")
             target = _absolute_target(goal.position, goal.rotation)
         else:
             if isinstance(statement.target, ast.Pose):
@@ -318,9 +339,9 @@ class MotionBuilder:
         if clauses.via is not None:
             via = tuple(
                 _absolute_target(p.position, p.rotation)
-                for p in (self._position(point, "VIA") for point in clauses.via.points)
+                for p in (self.evaluator.expect_position(point, "VIA") for point in clauses.via.points)
             )
-        axes = self._axes({}, set())
+        axes = self._axes(_NO_FORCES, _NO_FREE)
         floating = (
             [] if axes is _ALL_MOTION else [i for i, moved in enumerate(axes.motion.tolist()) if not moved]
         )
@@ -333,7 +354,8 @@ class MotionBuilder:
                 statement.span,
             )
         timeout = self._timeout(clauses)
-        self._warn_timeout(timeout, distance, speed, duration, clauses)
+        if timeout is not None:
+            self._warn_timeout(timeout, distance, speed, duration, clauses)
         self._add(
             _MOVE,
             statement,
@@ -344,7 +366,9 @@ class MotionBuilder:
             speed=speed,
             duration=duration,
             completion=self._goal_reached(),
-            until=self._until(
+            until=None
+            if clauses.until is None
+            else self._until(
                 clauses,
                 frame,
                 force_expected=self.state.contact is not None,
@@ -353,11 +377,13 @@ class MotionBuilder:
             timeout=timeout,
         )
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
-        return self.state.with_contact(None, released)
+        return _ContactChange(None, released)
 
-    def _contact(self, statement: ast.Contact) -> CompileState:
+    def _contact(self, statement: ast.Contact) -> _ContactChange:
         clauses = _Clauses.of(statement.clauses)
-        frame, _, fixture = self._frame(clauses, "CONTACT", allow_duration=False)
+        frame, _, fixture = (
+            self._frame(clauses, "CONTACT", allow_duration=False) if _IN in clauses.exprs else _IN_WORLD
+        )
         axis, sign = self._translation(statement.direction, "CONTACT")
         direction_world, direction = signed_column(frame.rotation, axis, sign)
         force = self._force(clauses)
@@ -365,13 +391,17 @@ class MotionBuilder:
         self._no_compliance(axis, lambda: f"CONTACT {statement.direction.text}", statement.direction.span)
         self._warn_away_from_fixture(statement.direction, fixture, "CONTACT")
         timeout = self._timeout(clauses)
-        until = self._until(clauses, frame, force_expected=self.state.contact is not None)
+        until = (
+            None
+            if clauses.until is None
+            else self._until(clauses, frame, force_expected=self.state.contact is not None)
+        )
         travel = self.defaults.contact_max_travel_m
         self._add(
             _CONTACT_APPROACH,
             statement,
             frame,
-            self._axes({}, set()),
+            self._axes(_NO_FORCES, _NO_FREE),
             target=_relative_target(readonly_of(tuple([d * travel for d in direction]))),
             speed=speed,
             completion=_contact_touch(
@@ -384,7 +414,7 @@ class MotionBuilder:
             _CONTACT_HOLD,
             statement,
             frame,
-            self._axes({axis: sign * force}, set()),
+            self._axes({axis: sign * force}, _NO_FREE),
             target=None,
             speed=speed,
             completion=_force_settled(
@@ -397,12 +427,14 @@ class MotionBuilder:
         )
         contact = _new_held_contact(direction_world, force, frame, statement.span)
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
-        return self.state.with_contact(contact, released)
+        return _ContactChange(contact, released)
 
-    def _slide(self, statement: ast.Slide) -> CompileState:
+    def _slide(self, statement: ast.Slide) -> None:
         clauses = _Clauses.of(statement.clauses)
         contact = self._held_contact("SLIDE", statement.span)
-        frame, _, _ = self._frame(clauses, "SLIDE", allow_duration=False)
+        frame, _, _ = (
+            self._frame(clauses, "SLIDE", allow_duration=False) if _IN in clauses.exprs else _IN_WORLD
+        )
         axis, sign = self._translation(statement.direction, "SLIDE")
         contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
         if axis == contact_axis:
@@ -420,24 +452,26 @@ class MotionBuilder:
         force = self._force(clauses) if _FORCE in clauses.values else contact.force_n
         speed = self._speed(clauses, self.state.default_speed_mps)
         timeout = self._timeout(clauses)
-        self._warn_timeout(timeout, distance, speed, None, clauses)
+        if timeout is not None:
+            self._warn_timeout(timeout, distance, speed, None, clauses)
         offset = tuple([c * distance for c in signed_column(frame.rotation, axis, sign)[1]])
         self._add(
             _SLIDE,
             statement,
             frame,
-            self._axes({contact_axis: contact_sign * force}, set()),
+            self._axes({contact_axis: contact_sign * force}, _NO_FREE),
             target=_relative_target(readonly_of(offset)),
             speed=speed,
             completion=self._goal_reached(),
-            until=self._until(clauses, frame, force_expected=True),
+            until=None if clauses.until is None else self._until(clauses, frame, force_expected=True),
             timeout=timeout,
         )
-        return self.state
 
-    def _insert(self, statement: ast.Insert) -> CompileState:
+    def _insert(self, statement: ast.Insert) -> None:
         clauses = _Clauses.of(statement.clauses)
-        frame, _, fixture = self._frame(clauses, "INSERT", allow_duration=False)
+        frame, _, fixture = (
+            self._frame(clauses, "INSERT", allow_duration=False) if _IN in clauses.exprs else _IN_WORLD
+        )
         axis, sign = self._translation(statement.direction, "INSERT")
         direction_world = signed_column(frame.rotation, axis, sign)[0]
         depth_expr = clauses.exprs.get(_DEPTH)
@@ -490,13 +524,12 @@ class MotionBuilder:
             target=None,
             speed=self._speed(clauses, self.defaults.insert_speed_mps),
             completion=_depth_reached(direction_world, depth),
-            until=self._until(clauses, frame, force_expected=True),
+            until=None if clauses.until is None else self._until(clauses, frame, force_expected=True),
             timeout=self._timeout(clauses),
             jam_check=_completions(self.defaults).jam_check,
         )
-        return self.state
 
-    def _wait(self, statement: ast.Wait) -> CompileState:
+    def _wait(self, statement: ast.Wait) -> None:
         clauses = _Clauses.of(statement.clauses)
         duration = None
         if statement.duration is not None:
@@ -508,8 +541,10 @@ class MotionBuilder:
             contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
             self._no_compliance(contact_axis, lambda: _held_since(contact), statement.span)
             forces[contact_axis] = contact_sign * contact.force_n
-        axes = self._axes(forces, set())
-        until = self._until(clauses, frame, force_expected=contact is not None)
+        axes = self._axes(forces, _NO_FREE)
+        until = (
+            None if clauses.until is None else self._until(clauses, frame, force_expected=contact is not None)
+        )
         movable = not axes.all_motion or any(c is not None and c.stiffness > 0 for c in self.state.compliance)
         if until is not None and not movable:
             for comparison in comparisons(until):
@@ -533,7 +568,6 @@ class MotionBuilder:
             until=until,
             timeout=timeout,
         )
-        return self.state
 
     # ------------------------------------------------------------------ axes
 
@@ -645,7 +679,7 @@ class MotionBuilder:
         """(task frame, duration of IN t, fixture named by IN)."""
         expr = clauses.exprs.get(_IN)
         if expr is None:
-            return WORLD, None, None
+            return _IN_WORLD
         value = self.evaluator.evaluate(expr)
         if isinstance(value, FrameValue):
             rotation = IDENTITY if value.rotation is None else value.rotation
@@ -666,9 +700,6 @@ class MotionBuilder:
         raise ProgramError(
             f"IN takes a frame, like IN hole{also}; {self.text_of(expr.span)} is not one", expr.span
         )
-
-    def _position(self, expr: ast.Expr, what: str) -> FrameValue:
-        return self.evaluator.expect_position(expr, what)
 
     def _positive_scalar(self, expr: ast.Expr, dim: units.Dim, what: str) -> float:
         value = self.evaluator.expect_scalar(expr, dim, what)

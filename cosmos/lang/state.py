@@ -175,6 +175,24 @@ class CompileState:
         """A state with the held contact, and what released the last one, set."""
         return _changed(self, {"contact": contact, "contact_released_by": released_by})
 
+    def with_contact_and_counts(
+        self,
+        contact: HeldContact | None,
+        released_by: Span | None,
+        statement_count: int,
+        segment_count: int,
+    ) -> CompileState:
+        """``with_contact`` then ``with_counts``, in one new state."""
+        return _changed(
+            self,
+            {
+                "contact": contact,
+                "contact_released_by": released_by,
+                "statement_count": statement_count,
+                "segment_count": segment_count,
+            },
+        )
+
     def with_counts(self, statement_count: int, segment_count: int) -> CompileState:
         """A state with the motion statement and segment counts set."""
         return _changed(self, {"statement_count": statement_count, "segment_count": segment_count})
