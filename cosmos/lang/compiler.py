@@ -473,13 +473,20 @@ class Compiler:
         Raises:
             ProgramError: The statement is wrong; ``state`` still holds.
         """
+        run, new_state = self._compile_statement(statement, state, source)
+        return _statement_result(tuple(run.steps), new_state, tuple(run.warnings))
+
+    def _compile_statement(
+        self, statement: ast.Statement, state: CompileState, source: str
+    ) -> tuple[_Run, CompileState]:
+        """``compile_statement``, its steps and warnings left in the pass that made them."""
         run = _Run(self, source)
         try:
             check_statement(statement)
             new_state = run.statement(statement, state)
         except ProgramError as error:
             raise error.with_source(source) from None
-        return _statement_result(tuple(run.steps), new_state, tuple(run.warnings))
+        return run, new_state
 
     def compile_text(self, text: str, state: CompileState, file: str = "<repl>") -> StatementResult:
         """Parse and compile a piece of program (a REPL input), continuing from ``state``.
@@ -497,7 +504,7 @@ class Compiler:
         errors: list[ProgramError] = []
         for statement in program.statements:
             try:
-                result = self.compile_statement(statement, state, text)
+                run, new_state = self._compile_statement(statement, state, text)
             except SuppressedError:
                 state = _poison(statement, state)
                 continue
@@ -507,9 +514,9 @@ class Compiler:
                 if len(errors) >= MAX_ERRORS:
                     break
                 continue
-            steps.extend(result.steps)
-            warnings.extend(result.warnings)
-            state = result.state
+            steps.extend(run.steps)
+            warnings.extend(run.warnings)
+            state = new_state
         if errors:
             raise ProgramErrors(errors)
         return StatementResult(tuple(steps), state, tuple(warnings))

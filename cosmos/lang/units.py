@@ -152,4 +152,14 @@ def example(dim: Dim) -> str:
 
 def multiply(a: Dim, b: Dim) -> Dim:
     """The dimension of a product."""
-    return tuple(x + y for x, y in zip(a, b, strict=True))  # type: ignore[return-value]
+    known = _products.get((a, b))
+    if known is not None:
+        return known
+    product: Dim = tuple(x + y for x, y in zip(a, b, strict=True))  # type: ignore[assignment]
+    if len(_products) < 1024:
+        _products[a, b] = product
+    return product
+
+
+_products: dict[tuple[Dim, Dim], Dim] = {}
+"""Dimensions of products so far, by the factors' dimensions."""

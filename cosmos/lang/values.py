@@ -187,7 +187,8 @@ class Evaluator:
         first_with_dim: ast.Expr | None = None
         for item in expr.items:
             if type(item) is ast.Number:  # most components: no Scalar made
-                number, item_dim = self._number_value(item)
+                known = _NUMBERS.get((item.value, item.unit))
+                number, item_dim = self._number_value(item) if known is None else known
             else:
                 value = self.evaluate(item)
                 if not isinstance(value, Scalar):
@@ -270,7 +271,7 @@ class Evaluator:
             dim = units.multiply(left.dim or units.DIMENSIONLESS, right.dim or units.DIMENSIONLESS)
         if isinstance(right, Scalar):
             return _scalar(left.value * right.value, dim)
-        return _vec(tuple(left.value * v for v in right.values), dim)
+        return _vec(tuple([left.value * v for v in right.values]), dim)
 
     def _pose(self, expr: ast.Pose) -> FrameValue:
         position = self.expect_position(expr.position, "a pose's position")
@@ -351,7 +352,7 @@ def _finite(value: Value) -> bool:
     if isinstance(value, Scalar):
         return math.isfinite(value.value)
     if isinstance(value, Vec):
-        return all(math.isfinite(v) for v in value.values)
+        return all(map(math.isfinite, value.values))
     return all(map(math.isfinite, value.position.tolist()))
 
 
