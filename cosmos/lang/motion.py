@@ -105,6 +105,7 @@ def _all_motion() -> _Axes:
 
 _ALL_MOTION = _all_motion()
 
+_set_attribute = object.__setattr__
 _absolute_target = quick(plan.AbsoluteTarget)
 
 
@@ -855,7 +856,7 @@ class MotionBuilder:
         }
         if _QUICK_SEGMENT:  # what Segment's __init__ makes, without its frozen __setattr__s
             segment = _new(plan.Segment)
-            segment.__dict__.update(fields)
+            _set_attribute(segment, "__dict__", fields)  # the new dict itself, not a copy
         else:
             segment = plan.Segment(**fields)  # type: ignore[arg-type]
         self._segments.append(segment)
