@@ -114,6 +114,8 @@ class _Run:
     emitted. Not reused across calls.
     """
 
+    __slots__ = ("compiler", "source", "context", "call_stack", "steps", "warnings")
+
     def __init__(self, compiler: Compiler, source: str):
         self.compiler = compiler
         self.source = source

@@ -50,7 +50,7 @@ class _Axes:
     all_motion: bool  # motion.all()
 
 
-@dataclass
+@dataclass(slots=True)
 class _Clauses:
     """A statement's clauses by keyword (the checker has refused duplicates).
 
@@ -251,6 +251,18 @@ class MotionBuilder:
         warn: Records a warning.
         context: Where an expanded statement came from (see ``Segment.context``).
     """
+
+    __slots__ = (
+        "defaults",
+        "state",
+        "evaluator",
+        "text_of",
+        "warn",
+        "context",
+        "_segments",
+        "_text_span",
+        "_text",
+    )
 
     def __init__(
         self,
@@ -704,7 +716,7 @@ class MotionBuilder:
 
     def _positive_scalar(self, expr: ast.Expr, dim: units.Dim, what: str) -> float:
         value = self.evaluator.expect_scalar(expr, dim, what)
-        if not value > 0 or not math.isfinite(value):
+        if not 0.0 < value < math.inf:  # NaN and inf fail too
             raise ProgramError(
                 f"{what} must be positive, not {self.text_of(expr.span)}"
                 + ("; the direction gives the sign" if what in ("FORCE", "BY", "DEPTH") else ""),

@@ -100,6 +100,8 @@ class Evaluator:
         text_of: The source text of a span, for messages.
     """
 
+    __slots__ = ("names", "text_of")
+
     def __init__(self, names: Mapping[str, Binding], text_of: Callable[[Span], str]):
         self.names = names
         self.text_of = text_of
