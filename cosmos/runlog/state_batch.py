@@ -1,0 +1,272 @@
+"""State and /tf batching of the run log: samples staged in arrays, written 64 at a time.
+
+:class:`StateBatches` is the part of :class:`cosmos.runlog.writer.RunLog` that
+records ``/cosmos/state`` and ``/tf``: the per-sample methods copy a sample into
+staging arrays through the compiled kernels (:mod:`cosmos.runlog.text_kernel`),
+and :meth:`StateBatches._write_states` renders a batch as JSON text and hands
+each message to its channel, each /tf sample right after its state. It is a
+base class rather than a member so that the hot per-sample methods stay one
+call with no indirection.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any, Final
+
+import numpy as np
+from foxglove import Channel
+from numpy.typing import ArrayLike
+
+from cosmos.runlog import foxglove
+from cosmos.runlog.messages import log_time_ns
+from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
+from cosmos.runlog.text_template import STATE_NOT_EXACT, STATE_WRITTEN, Template
+
+_BATCH: Final = 64  # state samples encoded together
+
+# JSON text of a state message. Vector components are written as integers with
+# a fixed exponent (125730e-6 is 0.125730): plain JSON, and much cheaper to
+# format than floats. The compiled kernels write it (cosmos.runlog.text_kernel);
+# this format string is its definition.
+_STATE_TEMPLATE: Final = (
+    '{"t":%.9f,'
+    + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in STATE_VECTORS)
+    + ',"segment":%d,"line":%d}'
+)
+_STATE_TEXT: Final = Template.from_format(_STATE_TEMPLATE.replace("%.9f", "%d"))  # t: first hole
+
+
+class StateBatches:
+    """Staging and batched writing of ``/cosmos/state`` and ``/tf`` samples.
+
+    The subclass sets ``path``, ``_closed`` and ``_last_ns`` and calls
+    :meth:`_open_batches` once its channels exist.
+    """
+
+    path: Path
+    _closed: bool
+    _last_ns: int
+
+    def _open_batches(self, state: Channel, tf: Channel, frames: Sequence[str]) -> None:
+        """Set up the kernels and staging arrays.
+
+        Args:
+            state: The ``/cosmos/state`` channel.
+            tf: The ``/tf`` channel.
+            frames: Child frames of :meth:`transforms`, in the order poses are given.
+        """
+        # Rust-side log calls of the channels (the Python wrapper re-checks the type per message).
+        self._log_state = state.base.log
+        self._log_tf = tf.base.log
+        # The compiled kernels load numba (about a second): imported here, so that reading logs
+        # does not. The staging kernels take contiguous float64 arrays only and raise TypeError
+        # for anything else; the callers try them with what they were given, convert on that error.
+        from cosmos.runlog import text_kernel
+
+        self._stage_state: Any = text_kernel.stage_state
+        self._stage_transform: Any = text_kernel.stage_transform
+        self._render_states = text_kernel.render_states
+        self._render_transforms = text_kernel.render_transforms
+
+        # State samples wait here and are encoded _BATCH at a time.
+        self._rows = np.empty((_BATCH, STATE_WIDTH))  # (batch, 37)
+        self._times = np.empty(_BATCH)  # (batch,) s
+        self._labels = np.empty((_BATCH, 2), dtype=np.int64)  # (batch, 2): segment, line
+        self._pending = 0
+        self._status = np.empty(_BATCH, dtype=np.int64)  # (batch,): STATE_WRITTEN or why not
+        self._offsets = np.empty(_BATCH + 1, dtype=np.int64)
+        self._times_ns = np.empty(_BATCH, dtype=np.int64)
+        # /tf samples wait with the states, in micro-units; the buffers grow if a batch holds more.
+        self._tf_text = Template.from_format(foxglove.frame_transforms_format(frames))
+        self._frame_rows = np.arange(len(frames), dtype=np.int64)  # (frames,)
+        self._tf_poses = np.empty((_BATCH, len(frames), 7), dtype=np.int64)  # (capacity, frames, 7)
+        self._tf_ns = np.empty(_BATCH, dtype=np.int64)
+        self._tf_offsets = np.empty(_BATCH + 1, dtype=np.int64)
+        self._pending_tf = 0
+        self._text = np.empty(0, dtype=np.uint8)  # JSON text of a batch, grown as needed
+
+    def state(
+        self,
+        t: float,
+        q: ArrayLike,
+        qd: ArrayLike,
+        tau: ArrayLike,
+        x: ArrayLike,
+        quat: ArrayLike,
+        v: ArrayLike,
+        wrench: ArrayLike,
+        segment: int,
+        line: int,
+    ) -> None:
+        """Record one state sample on ``/cosmos/state`` (call at the state rate).
+
+        Vectors are copied, rounded to 1e-6 of their unit, and written in
+        batches; :meth:`flush` and :meth:`close` write what is pending.
+
+        Args:
+            t: Simulated time since the start [s], >= 0.
+            q: Joint positions [rad]. # (6,)
+            qd: Joint velocities [rad/s]. # (6,)
+            tau: Joint torques [N m]. # (6,)
+            x: Tool point position, world frame [m]. # (3,)
+            quat: Tool orientation, world frame, w x y z. # (4,)
+            v: Tool twist, world axes: linear [m/s] then angular [rad/s]. # (6,)
+            wrench: Force [N] then moment [N m] the tool applies to the
+                environment, world axes. # (6,)
+            segment: Index of the segment being executed.
+            line: Source line of the statement being executed.
+        """
+        i = self._pending
+        try:
+            self._stage_state(
+                self._rows, self._times, self._labels, i, t, q, qd, tau, x, quat, v, wrench, segment, line
+            )
+        except TypeError:  # not writable contiguous float64 vectors: copy, then the same kernel
+            vectors = [np.array(a, dtype=float).reshape(-1) for a in (q, qd, tau, x, quat, v, wrench)]
+            self._stage_state(
+                self._rows, self._times, self._labels, i, float(t), *vectors, int(segment), int(line)
+            )
+        self._pending = i + 1
+        if i + 1 == _BATCH:
+            self._write_states()
+
+    def _write_states(self) -> None:
+        """Encode and write the pending states and /tf samples, each /tf right after its state."""
+        n, m = self._pending, self._pending_tf
+        if n == 0 and m == 0:
+            return
+        if self._closed:
+            raise ValueError(f"{self.path}: the run log is closed")
+        self._pending = self._pending_tf = 0
+        size = n * _STATE_TEXT.max_bytes + m * self._tf_text.max_bytes
+        if len(self._text) < size:
+            self._text = np.empty(2 * size, dtype=np.uint8)
+        text, state_text, tf_text = self._text, _STATE_TEXT, self._tf_text
+        end = self._render_states(
+            text,
+            self._rows,
+            self._times,
+            self._labels,
+            n,
+            state_text.literals,
+            state_text.bounds,
+            self._status,
+            self._offsets,
+            self._times_ns,
+        )
+        end = self._render_transforms(
+            text, end, self._tf_poses, self._tf_ns, m, tf_text.literals, tf_text.bounds, self._tf_offsets
+        )
+        blob = text[:end].tobytes()
+        offsets = self._offsets[: n + 1].tolist()
+        times_ns = self._times_ns[:n].tolist()
+        tf_offsets = self._tf_offsets[: m + 1].tolist()
+        tf_ns = self._tf_ns[:m].tolist()
+        status = self._status[:n].tolist()
+        log_state, log_tf = self._log_state, self._log_tf
+        tf_next = 0
+        t_ns = 0
+        for i in range(n):
+            t_ns = times_ns[i]
+            if status[i] == STATE_WRITTEN:
+                log_state(blob[offsets[i] : offsets[i + 1]], t_ns, None)
+            else:
+                log_state(self._python_state_text(i, status[i]), t_ns, None)
+            while tf_next < m and tf_ns[tf_next] <= t_ns:
+                log_tf(blob[tf_offsets[tf_next] : tf_offsets[tf_next + 1]], tf_ns[tf_next], None)
+                tf_next += 1
+        for k in range(tf_next, m):
+            log_tf(blob[tf_offsets[k] : tf_offsets[k + 1]], tf_ns[k], None)
+            t_ns = max(t_ns, tf_ns[k])
+        self._last_ns = t_ns
+
+    def _python_state_text(self, i: int, status: int) -> bytes:
+        """State message of row ``i`` that the kernel left to Python (see ``render_states``)."""
+        t, row = float(self._times[i]), self._rows[i]
+        segment, line = self._labels[i].tolist()
+        if status == STATE_NOT_EXACT:
+            return self._state_json(t, row, segment, line).encode()
+        micro = np.rint(row * 1e6).astype(np.int64).tolist()
+        return (_STATE_TEMPLATE % (t, *micro, segment, line)).encode()
+
+    @staticmethod
+    def _state_json(t: float, row: np.ndarray, segment: int, line: int) -> str:
+        """A state message with a non-finite or huge value: slow path, nulls for non-finite."""
+        values = [round(v, 6) if np.isfinite(v) else None for v in row.tolist()]
+        message: dict[str, Any] = {"t": t}
+        start = 0
+        for name, n in STATE_VECTORS:
+            message[name] = values[start : start + n]
+            start += n
+        message["segment"] = segment
+        message["line"] = line
+        return json.dumps(message, separators=(",", ":"))
+
+    def transforms(
+        self, t: float, positions: ArrayLike, quats_wxyz: ArrayLike, rows: np.ndarray | None = None
+    ) -> None:
+        """Record the poses of the arm's frames on ``/tf`` (``foxglove.FrameTransforms``).
+
+        A sample with a non-finite value is skipped. Samples wait with the
+        states and are written with them.
+
+        Args:
+            t: Simulated time [s].
+            positions: Origins of the frames given at construction, world frame [m]. # (n, 3)
+            quats_wxyz: Their orientations, world frame, w x y z. # (n, 4)
+            rows: Where the frames are in ``positions`` and ``quats_wxyz``
+                (e.g. body ids in MuJoCo's ``xpos``, ``xquat``); None: rows 0..n-1.
+                # (frames,) int64
+
+        Raises:
+            ValueError: If the arrays do not hold one pose per frame.
+        """
+        t_ns = log_time_ns(t)
+        j = self._pending_tf
+        if j == len(self._tf_ns):
+            self._grow_transforms()
+        try:
+            staged = self._stage_transform(
+                self._tf_poses,
+                self._tf_ns,
+                j,
+                t_ns,
+                positions,
+                quats_wxyz,
+                self._frame_rows if rows is None else rows,
+            )
+        except TypeError:  # not writable contiguous float64 arrays: copy, then the same kernel
+            staged = self._stage_converted(j, t_ns, positions, quats_wxyz, rows)
+        if staged:
+            if self._closed:
+                raise ValueError(f"{self.path}: the run log is closed")
+            self._pending_tf = j + 1
+
+    def _stage_converted(
+        self, j: int, t_ns: int, positions: ArrayLike, quats_wxyz: ArrayLike, rows: ArrayLike | None
+    ) -> bool:
+        if rows is None:
+            n = len(self._frame_rows)
+            positions = np.broadcast_to(np.asarray(positions, dtype=float), (n, 3))
+            quats_wxyz = np.broadcast_to(np.asarray(quats_wxyz, dtype=float), (n, 4))
+            rows = self._frame_rows
+        return bool(
+            self._stage_transform(
+                self._tf_poses,
+                self._tf_ns,
+                j,
+                t_ns,
+                np.array(positions, dtype=float),  # copies: writable and contiguous
+                np.array(quats_wxyz, dtype=float),
+                np.array(rows, dtype=np.int64),
+            )
+        )
+
+    def _grow_transforms(self) -> None:
+        """Twice the room for /tf samples waiting in this batch."""
+        self._tf_poses = np.concatenate((self._tf_poses, np.empty_like(self._tf_poses)))
+        self._tf_ns = np.concatenate((self._tf_ns, np.empty_like(self._tf_ns)))
+        self._tf_offsets = np.empty(len(self._tf_ns) + 1, dtype=np.int64)
