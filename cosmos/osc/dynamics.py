@@ -157,7 +157,7 @@ def operational_dynamics(
         bias: Joint Coriolis and centrifugal forces b(q, qd), in [N m]. # (n,)
         gravity: Joint gravity forces g(q), in [N m]. # (n,)
         jdot_qdot: h = Jdot qd (eq. 14), in [m/s^2] and [rad/s^2]. # (m,)
-        inertia_inv: A^-1 if already known (Pinocchio's computeMinverse); saves a solve. # (n, n)
+        inertia_inv: A^-1 if already known (the parameter level's evaluation has it); saves a solve. # (n, n)
         policy: Singularity thresholds.
 
     Returns:
