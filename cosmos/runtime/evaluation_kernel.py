@@ -29,6 +29,8 @@ import math
 import numpy as np
 from numba import njit
 
+from cosmos.runtime.servo_kernel import matmul, matvec
+
 FloatArray = np.ndarray
 
 # Offsets in an evaluation's values (one flat array).
@@ -109,25 +111,6 @@ def spd_inverse_into(out: FloatArray, a: FloatArray) -> bool:
 
 
 @njit(cache=True)
-def _matmul3(a: FloatArray, b: FloatArray) -> FloatArray:
-    out = np.zeros((3, 3))
-    for i in range(3):
-        for j in range(3):
-            for k in range(3):
-                out[i, j] += a[i, k] * b[k, j]
-    return out
-
-
-@njit(cache=True)
-def _matvec3(a: FloatArray, x: FloatArray) -> FloatArray:
-    out = np.zeros(3)
-    for i in range(3):
-        for k in range(3):
-            out[i] += a[i, k] * x[k]
-    return out
-
-
-@njit(cache=True)
 def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
     return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
 
@@ -161,20 +144,20 @@ def evaluation_values(
     """
     values = np.empty(SIZE)
     values[Q : Q + 6] = q
-    tool_rotation = _matmul3(
+    tool_rotation = matmul(
         joint_rotation, constants[C_ROTATION_TOOL_IN_JOINT : C_ROTATION_TOOL_IN_JOINT + 9].reshape((3, 3))
     )
-    p = joint_translation + _matvec3(joint_rotation, constants[C_TOOL_IN_JOINT : C_TOOL_IN_JOINT + 3])
+    p = joint_translation + matvec(joint_rotation, constants[C_TOOL_IN_JOINT : C_TOOL_IN_JOINT + 3])
     values[POSITION : POSITION + 3] = p
     values[ROTATION_TOOL : ROTATION_TOOL + 9] = tool_rotation.ravel()
-    sensor_rotation = _matmul3(
+    sensor_rotation = matmul(
         tool_rotation, constants[C_ROTATION_SENSOR_TO_TOOL : C_ROTATION_SENSOR_TO_TOOL + 9].reshape((3, 3))
     )
     values[ROTATION_SENSOR : ROTATION_SENSOR + 9] = sensor_rotation.ravel()
-    values[SENSOR_TO_TOOL : SENSOR_TO_TOOL + 3] = _matvec3(
+    values[SENSOR_TO_TOOL : SENSOR_TO_TOOL + 3] = matvec(
         tool_rotation, constants[C_TOOL_FROM_SENSOR : C_TOOL_FROM_SENSOR + 3]
     )
-    values[SENSOR_TO_COM : SENSOR_TO_COM + 3] = _matvec3(
+    values[SENSOR_TO_COM : SENSOR_TO_COM + 3] = matvec(
         tool_rotation, constants[C_COM_FROM_SENSOR : C_COM_FROM_SENSOR + 3]
     )
 

@@ -51,29 +51,7 @@ def lambda_from_inverse(
     for i in range(6):
         u = min(max((eigenvalues[i] - s_lo) / (blend_width * s_lo), 0.0), 1.0)
         weights[i] = u * u * (3.0 - 2.0 * u) / max(eigenvalues[i], s_lo)
-    return _mm(eigenvectors * weights, eigenvectors.T) * outer
-
-
-@njit(cache=True)
-def _mm(a: FloatArray, b: FloatArray) -> FloatArray:
-    """``a b`` by loops: for 6 x 6 operands cheaper than a BLAS call from compiled code."""
-    n, m, p = a.shape[0], a.shape[1], b.shape[1]
-    out = np.zeros((n, p))
-    for i in range(n):
-        for k in range(m):
-            aik = a[i, k]
-            for j in range(p):
-                out[i, j] += aik * b[k, j]
-    return out
-
-
-@njit(cache=True)
-def _mv(a: FloatArray, x: FloatArray) -> FloatArray:
-    out = np.zeros(a.shape[0])
-    for i in range(a.shape[0]):
-        for k in range(a.shape[1]):
-            out[i] += a[i, k] * x[k]
-    return out
+    return sk.matmul(eigenvectors * weights, eigenvectors.T) * outer
 
 
 @njit(cache=True)
@@ -123,20 +101,20 @@ def fold_servo(
         jbar_lookahead: Out: ``lookahead_s Jbar``. # (6, 6)
     """
     j_t = jacobian.T.copy()
-    a_inv_jt = _mm(inertia_inv, j_t)
-    lambda_inv = _mm(jacobian, a_inv_jt)  # eq. 27
+    a_inv_jt = sk.matmul(inertia_inv, j_t)
+    lambda_inv = sk.matmul(jacobian, a_inv_jt)  # eq. 27
     lambda_ = lambda_from_inverse(lambda_inv, max_effective_mass_kg, blend_width, length_scale_m)
-    jbar = _mm(a_inv_jt, lambda_)  # eq. 28
-    force_to_torque = _mm(j_t, omega_bar)
-    jt_lambda = _mm(j_t, lambda_)
-    stacked[:, 0:6] = _mm(jt_lambda, omega)
+    jbar = sk.matmul(a_inv_jt, lambda_)  # eq. 28
+    force_to_torque = sk.matmul(j_t, omega_bar)
+    jt_lambda = sk.matmul(j_t, lambda_)
+    stacked[:, 0:6] = sk.matmul(jt_lambda, omega)
     stacked[:, 6:12] = force_to_torque
-    stacked[:, 12:18] = -k_vf * _mm(_mm(force_to_torque, lambda_), omega_bar)
-    stacked[:, 18] = bias + gravity - _mv(jt_lambda, jdot_qdot) + held_torque
-    stacked[:, 19:25] = -xi_q * (inertia - _mm(jt_lambda, jacobian))
+    stacked[:, 12:18] = -k_vf * sk.matmul(sk.matmul(force_to_torque, lambda_), omega_bar)
+    stacked[:, 18] = bias + gravity - sk.matvec(jt_lambda, jdot_qdot) + held_torque
+    stacked[:, 19:25] = -xi_q * (inertia - sk.matmul(jt_lambda, jacobian))
     for i in range(6):
         stacked[i, 19 + i] += viscous[i]
-    force_to_acceleration[:, :] = _mm(lambda_inv, omega_bar)
+    force_to_acceleration[:, :] = sk.matmul(lambda_inv, omega_bar)
     jbar_lookahead[:, :] = lookahead_s * jbar
 
 
@@ -225,4 +203,4 @@ def refold(
     vectors[sk.SENSOR_OFFSETS] = evaluation[ek.SENSOR_TO_TOOL : ek.SENSOR_TO_COM + 3]
     error = vectors[sk.REFERENCE_ERROR]
     error[:3] = evaluation[ek.POSITION : ek.POSITION + 3] - goal_position
-    error[3:] = rotation_log(_mm(rotation_tool, goal_rotation_to_world.T))
+    error[3:] = rotation_log(sk.matmul(rotation_tool, goal_rotation_to_world.T))

@@ -70,6 +70,19 @@ def matvec(matrix: FloatArray, vector: FloatArray) -> FloatArray:
 
 
 @njit(cache=True)
+def matmul(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``a @ b`` in plain loops: for 6 x 6 operands cheaper than a BLAS call from compiled code."""
+    n, m, p = a.shape[0], a.shape[1], b.shape[1]
+    out = np.zeros((n, p))
+    for i in range(n):
+        for k in range(m):
+            aik = a[i, k]
+            for j in range(p):
+                out[i, j] += aik * b[k, j]
+    return out
+
+
+@njit(cache=True)
 def environment_wrench_into(
     out: FloatArray,
     sensor: FloatArray,
