@@ -102,7 +102,7 @@ class Plant:
         self._model = model
         self._data = mujoco.MjData(model)
         self._home_key = int(home)
-        self._wrench_slices = _wrench_slices(model)
+        self._wrench_index = _wrench_index(model)
         self._geom_names = tuple(model.geom(i).name for i in range(model.ngeom))
         self._geom_owners = _geom_owners(spec, model)
         # Views into MjData's buffers, taken once: the hot loop does not rebuild them.
@@ -114,12 +114,6 @@ class Plant:
         self._rng = np.random.default_rng(None if sensor_noise is None else sensor_noise.seed)
         self._noise = np.zeros((0, 6))  # drawn in blocks: one draw per reading costs microseconds
         self._noise_next = _NOISE_BLOCK  # the first reading draws the first block
-        # Force and torque side by side in sensordata (as in the workcell): read as one view.
-        self._wrench_view: np.ndarray | None = None
-        if self._wrench_slices is not None:
-            force, torque = self._wrench_slices
-            if force.stop == torque.start:
-                self._wrench_view = self._sensordata[force.start : torque.stop]
         self.reset()
 
     @property
@@ -188,33 +182,19 @@ class Plant:
         Raises:
             CosmosError: If the scene has no wrist sensor.
         """
-        view = self._wrench_view
-        if view is None:
-            return self._read_split_wrench_sensor()
+        index = self._wrench_index
+        if index is None:
+            raise CosmosError(
+                f"the scene has no wrist sensor (force '{FORCE_SENSOR}', torque '{TORQUE_SENSOR}')"
+            )
         if self._noise_std is None:
-            return view.copy()
+            return self._sensordata[index].copy()
         i = self._noise_next
         if i == _NOISE_BLOCK:
             self._noise = self._rng.normal(0.0, self._noise_std, size=(_NOISE_BLOCK, 6))
             i = 0
         self._noise_next = i + 1
-        return view + self._noise[i]
-
-    def _read_split_wrench_sensor(self) -> np.ndarray:
-        """:meth:`read_wrench_sensor` for a scene whose force and torque are apart in sensordata."""
-        if self._wrench_slices is None:
-            raise CosmosError(
-                f"the scene has no wrist sensor (force '{FORCE_SENSOR}', torque '{TORQUE_SENSOR}')"
-            )
-        force, torque = self._wrench_slices
-        reading = np.concatenate((self._sensordata[force], self._sensordata[torque]))
-        if self._noise_std is not None:
-            if self._noise_next == _NOISE_BLOCK:
-                self._noise = self._rng.normal(0.0, self._noise_std, size=(_NOISE_BLOCK, 6))
-                self._noise_next = 0
-            reading += self._noise[self._noise_next]
-            self._noise_next += 1
-        return reading
+        return self._sensordata[index] + self._noise[i]
 
     def contacts(self) -> list[Contact]:
         """The contacts MuJoCo found at the current state, with geom and body names.
@@ -276,11 +256,17 @@ def _geom_owners(spec: mujoco.MjSpec, model: mujoco.MjModel) -> tuple[str, ...]:
     return tuple(owners)
 
 
-def _wrench_slices(model: mujoco.MjModel) -> tuple[slice, slice] | None:
-    """Where the wrist sensor's force and torque are in ``sensordata``, if present."""
+def _wrench_index(model: mujoco.MjModel) -> slice | np.ndarray | None:
+    """Where the wrist sensor's force then torque are in ``sensordata``, if present.
+
+    One slice when they are side by side (as in the workcell: indexing gives a view),
+    else their six indices.
+    """
     force = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SENSOR, FORCE_SENSOR)
     torque = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SENSOR, TORQUE_SENSOR)
     if force < 0 or torque < 0:
         return None
     f0, t0 = int(model.sensor_adr[force]), int(model.sensor_adr[torque])
-    return slice(f0, f0 + 3), slice(t0, t0 + 3)
+    if f0 + 3 == t0:
+        return slice(f0, t0 + 3)
+    return np.r_[f0 : f0 + 3, t0 : t0 + 3]

@@ -205,3 +205,20 @@ def test_press_on_the_table(robot):
     assert {frozenset((c.body1, c.body2)) for c in contacts} == {frozenset(("tool", "table"))}
     assert {frozenset((c.geom1, c.geom2)) for c in contacts} == {frozenset(("peg", "table_top"))}
     assert all(-1e-3 < c.distance_m <= 0 for c in contacts)
+
+
+def test_wrist_sensor_read_in_force_then_torque_order_whatever_the_scene_order(tmp_path):
+    """A scene that declares the torque before the force reads the same wrench. Catches the
+    six readings taken in sensordata's order instead of force then torque."""
+    swapped = tmp_path / "swapped_sensors.xml"
+    text = SCENE_XML.read_text()
+    force = '    <force name="ft_force" site="ft_sensor"/>\n'
+    torque = '    <torque name="ft_torque" site="ft_sensor"/>\n'
+    assert force + torque in text
+    swapped.write_text(text.replace(force + torque, torque + force))
+    plants = Plant(), Plant(swapped)
+    for plant in plants:
+        plant.reset(HOME_Q)
+        plant.step(np.zeros(6))
+    np.testing.assert_array_equal(plants[1].read_wrench_sensor(), plants[0].read_wrench_sensor())
+    assert np.abs(plants[0].read_wrench_sensor()).max() > 0.1  # the tool's weight at least
