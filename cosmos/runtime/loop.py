@@ -110,7 +110,6 @@ class Runtime:
         self._param_period_s = 1.0 / rates.param_hz
         self._state_period_s = 1.0 / rates.state_hz
         self._eps_s = 0.25 * plant.dt_s
-        self._record_wrench = np.empty(6)  # reused at every state sample: the recorder copies it
         self.tau: FloatArray = np.zeros(6)
         self._next_state_s = plant.time_s + plant.dt_s  # one fixed grid from the first step on
         self.reset_clocks()
@@ -203,15 +202,5 @@ class Runtime:
 
     def _record(self) -> None:
         assert self.recorder is not None
-        plant, ev = self.plant, self.evaluation
-        q, qd = plant.read_encoders()
-        wrench = self._record_wrench
-        environment_wrench_into(
-            wrench,
-            plant.read_wrench_sensor(),
-            ev.rotation_sensor_to_world,
-            ev.sensor_to_tool_m,
-            ev.sensor_to_com_m,
-            self._tool_weight_z_n,
-        )
-        self.recorder.record(plant.time_s, q, qd, self.tau, wrench, ev)
+        q, qd = self.plant.read_encoders()
+        self.recorder.record(self.plant.time_s, q, qd, self.tau, self._sense_wrench(), self.evaluation)
