@@ -105,12 +105,12 @@ class Runtime:
         self.recorder = recorder
         self.fields: list[PotentialField] = []
         """Potential fields (obstacles), evaluated at the parameter rate like the model."""
-        self.phases = PhaseTimes()
         self._servo_period_s = 1.0 / rates.servo_hz
         self._param_period_s = 1.0 / rates.param_hz
         self._state_period_s = 1.0 / rates.state_hz
         self._eps_s = 0.25 * plant.dt_s
         self.tau: FloatArray = np.zeros(6)
+        self._sensor: FloatArray = np.zeros(6)  # the wrist sensor as this tick read it, raw
         self._next_state_s = plant.time_s + plant.dt_s  # one fixed grid from the first step on
         self.reset_clocks()
 
@@ -160,45 +160,79 @@ class Runtime:
 
     def tick(self) -> None:
         """One servo period: sense, evaluate if due, command, step the physics, record."""
+        now = self._sense()
+        if now + self._eps_s >= self._next_param_s:
+            self._evaluate(now)
+        self._command(now)
+        self._advance(now)
+
+    def timed_tick(self, phases: PhaseTimes) -> None:
+        """:meth:`tick`, adding the wall-clock time of each phase to ``phases`` (``cosmos bench``).
+
+        The clocks cost time of their own, so :meth:`tick` runs without them.
+        """
         clock = time.perf_counter_ns
-        phases = self.phases.ns
         t0 = clock()
-        plant = self.plant
-        now = plant.time_s
-        self.q, self.qd = plant.read_encoders()
-        sensor = plant.read_wrench_sensor()
+        now = self._sense()
         t1 = clock()
         if now + self._eps_s >= self._next_param_s:
-            self.evaluation = self.parameters.evaluate(self.q, self.qd)
-            self.servo.set_evaluation(self.evaluation)
-            self._evaluate_fields(now)
-            self._next_param_s += self._param_period_s
+            self._evaluate(now)
         t2 = clock()
-        self.tau = self.servo.command(now, self.q, self.qd, sensor)
+        self._command(now)
         t3 = clock()
+        record_ns = self._advance(now)
+        t4 = clock()
+        ns = phases.ns
+        ns["sense"] += t1 - t0
+        ns["parameters"] += t2 - t1
+        ns["servo"] += t3 - t2
+        ns["physics"] += t4 - t3 - record_ns
+        ns["record"] += record_ns
+        phases.ticks += 1
+
+    def _sense(self) -> float:
+        """Read the encoders and the wrist sensor; the simulated time, in [s]."""
+        plant = self.plant
+        self.q, self.qd = plant.read_encoders()
+        self._sensor = plant.read_wrench_sensor()
+        return plant.time_s
+
+    def _evaluate(self, now: float) -> None:
+        """The parameter level (model, potential fields), then the next evaluation's time."""
+        self.evaluation = self.parameters.evaluate(self.q, self.qd)
+        self.servo.set_evaluation(self.evaluation)
+        self._evaluate_fields(now)
+        self._next_param_s += self._param_period_s
+
+    def _command(self, now: float) -> None:
+        self.tau = self.servo.command(now, self.q, self.qd, self._sensor)
+
+    def _advance(self, now: float) -> int:
+        """Record a sample due now, then step the physics to the next servo instant.
+
+        The torque is held (zero-order hold); a sample due inside the hold is sensed
+        on its own. Returns the wall-clock nanoseconds spent recording.
+        """
+        clock = time.perf_counter_ns
         record_ns = 0
         recorder = self.recorder
         if recorder is not None and now + self._eps_s >= self._next_state_s:
+            r0 = clock()
             # The state as this tick sensed it, the wrench as the servo made it from the sensor.
             recorder.record(now, self.q, self.qd, self.tau, self.servo.wrench, self.evaluation)
             self._next_state_s += self._state_period_s
-            record_ns = clock() - t3
+            record_ns = clock() - r0
+        plant = self.plant
         end = now + self._servo_period_s - self._eps_s
         t_s = now
         while t_s < end:
             t_s = plant.step(self.tau)
             if recorder is not None and t_s < end and t_s + self._eps_s >= self._next_state_s:
-                r0 = clock()  # a state sample inside a zero-order hold (servo slower than physics)
+                r0 = clock()
                 self._record()
                 self._next_state_s += self._state_period_s
                 record_ns += clock() - r0
-        t4 = clock()
-        phases["sense"] += t1 - t0
-        phases["parameters"] += t2 - t1
-        phases["servo"] += t3 - t2
-        phases["physics"] += t4 - t3 - record_ns
-        phases["record"] += record_ns
-        self.phases.ticks += 1
+        return record_ns
 
     def _record(self) -> None:
         assert self.recorder is not None
