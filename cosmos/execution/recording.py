@@ -13,7 +13,6 @@ import numpy as np
 from cosmos.plant import Plant
 from cosmos.runlog.foxglove import ARM_FRAMES
 from cosmos.runlog.writer import RunLog
-from cosmos.runtime.parameters import Evaluation
 from cosmos.workcell import TOOL_SITE
 
 TRANSFORM_EVERY = 5
@@ -51,7 +50,7 @@ class LogRecorder:
         qd: np.ndarray,
         tau: np.ndarray,
         wrench: np.ndarray,
-        evaluation: Evaluation,
+        twist: np.ndarray,
     ) -> None:
         """Record one state sample: the joint state, the tool pose and twist, the wrench; /tf every 5th.
 
@@ -61,12 +60,11 @@ class LogRecorder:
             qd: Joint velocities [rad/s]. # (6,)
             tau: Joint torques being applied [N m]. # (6,)
             wrench: Wrench the tool applies to the environment, world [N, N m]. # (6,)
-            evaluation: The model's last evaluation (its Jacobian gives the tool twist).
+            twist: Tool twist ``J qd``, world axes: linear [m/s] then angular [rad/s]. # (6,)
         """
         log = self.log
         _mat2quat(self._quat, self._site_xmat)
-        v = evaluation.jacobian.dot(qd)  # (6,) tool twist, world (NumPy's BLAS, as ever: same digits)
-        log.state(t_s, q, qd, tau, self._site_xpos, self._quat, v, wrench, self.segment, self.line)
+        log.state(t_s, q, qd, tau, self._site_xpos, self._quat, twist, wrench, self.segment, self.line)
         self._count += 1
         if self._count % TRANSFORM_EVERY == 1:
             log.transforms(t_s, self._xpos, self._xquat, self._bodies)

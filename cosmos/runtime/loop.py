@@ -21,7 +21,7 @@ import numpy as np
 
 from cosmos.plant import Plant
 from cosmos.robot_model import GRAVITY, RobotModel
-from cosmos.runtime.parameters import Evaluation, ParameterLevel
+from cosmos.runtime.parameters import ParameterLevel
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.servo import ServoGains, ServoLevel
 from cosmos.runtime.servo_kernel import environment_wrench_into
@@ -45,7 +45,7 @@ class Recorder(Protocol):
         qd: FloatArray,
         tau: FloatArray,
         wrench: FloatArray,
-        evaluation: Evaluation,
+        twist: FloatArray,
     ) -> None:
         """Record the state at ``t_s`` (world axes); the arrays are valid only during the call.
 
@@ -55,7 +55,8 @@ class Recorder(Protocol):
             qd: Joint velocities, in [rad/s]. # (6,)
             tau: Joint torques being applied, in [N m]. # (6,)
             wrench: Wrench the tool applies to the environment, [N, N m]. # (6,)
-            evaluation: The model's last evaluation.
+            twist: Tool twist ``J qd`` (J of the model's last evaluation), linear then
+                angular, [m/s, rad/s]. # (6,)
         """
         ...
 
@@ -218,8 +219,9 @@ class Runtime:
         recorder = self.recorder
         if recorder is not None and now + self._eps_s >= self._next_state_s:
             r0 = clock()
-            # The state as this tick sensed it, the wrench as the servo made it from the sensor.
-            recorder.record(now, self.q, self.qd, self.tau, self.servo.wrench, self.evaluation)
+            # The state as this tick sensed it; the wrench and the twist as the servo made them.
+            servo = self.servo
+            recorder.record(now, self.q, self.qd, self.tau, servo.wrench, servo.last_velocity)
             self._next_state_s += self._state_period_s
             record_ns = clock() - r0
         plant = self.plant
@@ -237,4 +239,5 @@ class Runtime:
     def _record(self) -> None:
         assert self.recorder is not None
         q, qd = self.plant.read_encoders()
-        self.recorder.record(self.plant.time_s, q, qd, self.tau, self._sense_wrench(), self.evaluation)
+        twist = self.evaluation.jacobian.dot(qd)
+        self.recorder.record(self.plant.time_s, q, qd, self.tau, self._sense_wrench(), twist)

@@ -37,10 +37,10 @@ def test_recorded_state_and_frames_are_the_simulators(tmp_path: Path) -> None:
         evaluation = level.evaluate(q, qd)
         wrench = rng.normal(size=6)
         recorder.segment, recorder.line = k // 4, 10 + k // 4
-        recorder.record(plant.time_s, q, qd, tau, wrench, evaluation)
+        v = evaluation.jacobian @ qd
+        recorder.record(plant.time_s, q, qd, tau, wrench, v)
         quat = np.empty(4)
         mujoco.mju_mat2Quat(quat, data.site_xmat[site])
-        v = evaluation.jacobian @ qd
         expected_states.append((plant.time_s, q, qd, tau, data.site_xpos[site].copy(), quat, v, wrench, k))
         if k % TRANSFORM_EVERY == 0:
             expected_frames.append((plant.time_s, data.xpos[bodies].copy(), data.xquat[bodies].copy()))
