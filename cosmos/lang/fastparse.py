@@ -16,8 +16,9 @@ The text is parsed statement by statement (a statement ends at ``_NL``). What
 the table does with a statement depends only on the parser's stack before it
 and on the kinds of its tokens, so the first statement of each shape is run
 through the table (:mod:`cosmos.lang.lalr_run`) and the actions it took are
-replayed for the later ones (:func:`~cosmos.lang.lalr_run.replay`): the same
-reductions, with the same children, in the same order.
+replayed for the later ones (by code made for that shape the second time it is
+seen, :mod:`cosmos.lang.replay_code`): the same reductions, with the same
+children, in the same order.
 
 It accepts exactly what Lark accepts, and gives up (raises :class:`GiveUp`) at
 the first thing it does not: a syntax error, or a word outside ASCII, whose case
@@ -30,8 +31,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any
 
-from cosmos.lang.lalr_run import END, GiveUp, Run, Tok, Trace, replay
+from cosmos.lang.lalr_run import END, GiveUp, Run, Tok, Trace
 from cosmos.lang.lalr_tables import Role, Tables
+from cosmos.lang.replay_code import Replay, replay_function
 
 __all__ = ["GiveUp", "Tok", "parse"]
 
@@ -109,18 +111,28 @@ def parse(text: str, tables: Tables) -> Any:
         GiveUp: Lark would not accept the text the same way, or at all.
     """
     run = Run(tables)
-    traces: dict[tuple[tuple[int, ...], tuple[str, ...]], Trace] = {}
     values = run.values
+    states = run.states
+    traces: dict[_Key, Trace] = {}
+    replays: dict[_Key, tuple[Replay, tuple[int, ...]]] = {}
     for found, shape in statements(text, tables):
-        key = (tuple(run.states), shape)
-        trace = traces.get(key)
-        if trace is None:
-            traces[key] = run.feed(found)
-        else:
-            replay(trace, found, values)
-            run.states[:] = trace.states
+        key = (tuple(states), shape)
+        known = replays.get(key)
+        if known is None:
+            trace = traces.get(key)
+            if trace is None:  # a new shape: through the table
+                traces[key] = run.feed(found)
+                continue
+            known = replays[key] = (replay_function(trace, tables.rules), trace.states)
+        replay, after = known
+        replay(found, values)
+        states[:] = after
     end = Tok(END, "", 0, 0, 0, 0)
     run.feed([end])
     if not run.accepted:  # not reached: $END either completes the start rule or is refused
         raise GiveUp
     return run.result
+
+
+_Key = tuple[tuple[int, ...], tuple[str, ...]]
+"""A statement's shape and the stack of states it is parsed from."""

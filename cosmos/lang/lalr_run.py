@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from cosmos.lang.lalr_tables import Reduce, Tables
+from cosmos.lang.lalr_tables import Tables
 
 END = "$END"
 """The kind of the token after the last one."""
@@ -48,10 +48,9 @@ class GiveUp(Exception):
     """The fast path does not accept the text (Lark will say why)."""
 
 
-Step = tuple[bool, int, int, int, Reduce]
-"""(fresh, start, stop, size, reduce): shift the statement's tokens[start:stop],
-then reduce ``size`` values with ``reduce``; ``fresh`` when those are exactly the
-tokens just shifted (the reduction takes them straight from the statement)."""
+Step = tuple[int, int, int, int]
+"""(start, stop, size, rule): shift the statement's tokens[start:stop], then
+reduce ``size`` values by the rule of that index in :attr:`Tables.rules`."""
 
 
 @dataclass(frozen=True)
@@ -62,34 +61,14 @@ class Trace:
         renames: (index, keyword) for each WORD the parser took as a keyword.
         steps: The reductions that build values, in order, each after its shifts
             (reductions that pass one value through change only the state).
-        tail: Where the tokens shifted after the last reduction start.
+        count: The number of tokens (those after the last step are shifted last).
         states: The stack of states afterwards.
     """
 
     renames: tuple[tuple[int, str], ...]
     steps: tuple[Step, ...]
-    tail: int | None
+    count: int
     states: tuple[int, ...]
-
-
-def replay(trace: Trace, tokens: list[Tok], values: list[Any]) -> None:
-    """Do to ``values`` what the traced run did, with ``tokens`` (of the traced kinds)."""
-    for index, keyword in trace.renames:
-        tokens[index].type = keyword
-    for fresh, start, stop, size, reduce in trace.steps:
-        if fresh:
-            values.append(reduce(tokens[start:stop]))
-            continue
-        if start != stop:
-            values += tokens[start:stop]
-        if size:
-            children = values[-size:]
-            del values[-size:]
-        else:
-            children = []
-        values.append(reduce(children))
-    if trace.tail is not None:
-        values += tokens[trace.tail :]
 
 
 class Run:
@@ -143,7 +122,8 @@ class Run:
                     state = action
                     row = actions[state]
                     break
-                size, origin, reduce = rules[~action]
+                rule = ~action
+                size, origin, reduce, _ = rules[rule]
                 if reduce is None:  # one value passed through: only the state changes
                     state = actions[states[-2]][origin]
                     states[-1] = state
@@ -155,7 +135,7 @@ class Run:
                     else:
                         children = []
                     values.append(reduce(children))
-                    steps.append((size > 0 and size == index - start, start, index, size, reduce))
+                    steps.append((start, index, size, rule))
                     start = index
                     below = states[-1]
                     state = actions[below][origin]
@@ -168,7 +148,6 @@ class Run:
                     if state == end:
                         self.result = values[-1]
                         self.accepted = True
-                        return Trace(tuple(renames), tuple(steps), None, tuple(states))
+                        return Trace(tuple(renames), tuple(steps), len(tokens), tuple(states))
                 row = actions[state]
-        tail = start if start < len(tokens) else None
-        return Trace(tuple(renames), tuple(steps), tail, tuple(states))
+        return Trace(tuple(renames), tuple(steps), len(tokens), tuple(states))

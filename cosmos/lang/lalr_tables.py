@@ -5,15 +5,13 @@ Built once per parser and builder from the very objects Lark builds from
 expression, the string terminals that WORD matches whole are the keywords (a
 WORD becomes one where the parser state takes it, as Lark's contextual lexer
 with ``_WordsEverywhere`` decides), and each rule gets the reduction Lark's tree
-builder would perform (``_rule`` children spliced in, ``?rule`` with one child
-passed through, ``[x]`` placeholders as None).
+builder would perform (:mod:`cosmos.lang.reductions`).
 """
 
 from __future__ import annotations
 
 import enum
 import re
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -21,6 +19,8 @@ from lark import Lark
 from lark.grammar import Rule
 from lark.lexer import PatternStr, TerminalDef, _regexp_has_newline
 from lark.parsers.lalr_analysis import Shift
+
+from cosmos.lang.reductions import Recipe, Reduce, reduction
 
 BAD = "bad"
 """The lexer's group for a character that no terminal matches (terminal names are upper case)."""
@@ -37,14 +37,11 @@ class Role(enum.Enum):
     BAD = "a character no terminal matches"
 
 
-Reduce = Callable[[list[Any]], Any]
-
-
-_Rule = tuple[int, str, Reduce | None]
+_Rule = tuple[int, str, Reduce | None, Recipe | None]
 """How to reduce one grammar rule: the number of symbols on its right-hand side
-(popped), its nonterminal (for the goto), and what builds the value from the
-popped values (None passes the one value through unchanged: a ``?rule`` of one
-symbol)."""
+(popped), its nonterminal (for the goto), what builds the value from the popped
+values and the recipe of that (both None pass the one value through unchanged:
+a ``?rule`` of one symbol; :mod:`cosmos.lang.reductions`)."""
 
 
 @dataclass(frozen=True)
@@ -105,118 +102,6 @@ def _keywords(terminals: list[TerminalDef], word: TerminalDef) -> dict[str, str]
     return found
 
 
-def _reducer(rule: Rule, builder: Any) -> Reduce | None:
-    """The reduction of ``rule`` as Lark's tree builder does it (keep_all_tokens, placeholders).
-
-    Children that are ``_rule`` values (lists here) are spliced in; placeholders
-    for absent ``[x]`` are None; a ``?rule`` left with one child is that child;
-    a ``_rule`` is the list of its children; any other rule calls the builder's
-    method of the rule's alias or name.
-    """
-    expansion = rule.expansion
-    size = len(expansion)
-    empty = rule.options.empty_indices
-    if empty:
-        runs = "".join(str(int(flag)) for flag in empty).split("0")
-        nones = [len(run) for run in runs]
-    else:
-        nones = [0] * (size + 1)
-    include = [
-        (index, not symbol.is_term and symbol.name.startswith("_"), nones[index])
-        for index, symbol in enumerate(expansion)
-    ]
-    trailing = nones[size]
-    plain = trailing == 0 and not any(expand or before for _, expand, before in include)
-    expand_one = rule.options.expand1 and not rule.alias
-    name = rule.alias or rule.options.template_source or rule.origin.name
-    inline = name.startswith("_")
-    if plain and expand_one and size == 1:
-        return None
-    found = getattr(builder, name, None)
-
-    def missing(children: list[Any]) -> Any:
-        raise NotImplementedError(f"grammar rule '{name}' has no builder in cosmos/lang/tree_builder.py")
-
-    method: Reduce = missing if found is None else found
-
-    def shape(children: list[Any]) -> list[Any]:
-        if plain:
-            return children
-        filtered: list[Any] = []
-        for index, expand, before in include:
-            if before:
-                filtered += [None] * before
-            if expand:
-                if filtered:
-                    filtered += children[index]
-                else:  # left recursion (x*, x+): extend the list in place, as Lark does
-                    filtered = children[index]
-            else:
-                filtered.append(children[index])
-        if trailing:
-            filtered += [None] * trailing
-        return filtered
-
-    if inline:
-        if plain:
-            return list  # a copy of the popped values, made in C
-        if trailing == 0 and include[0][1] and not any(before for _, _, before in include):
-            return _extender([expand for _, expand, _ in include[1:]])
-        return shape
-    if expand_one:
-
-        def reduce_one(children: list[Any]) -> Any:
-            filtered = shape(children)
-            return filtered[0] if len(filtered) == 1 else method(filtered)
-
-        return reduce_one
-    if plain:
-        return method
-    expanded = [index for index, expand, _ in include if expand]
-    if not any(before for _, _, before in include):
-        if not expanded:  # only placeholders at the end: [x] last
-            padding = [None] * trailing
-            return lambda children: method(children + padding)
-        if len(expanded) == 1 and not trailing:  # one _rule spliced in
-            at = expanded[0]
-            return lambda children: method(children[:at] + children[at] + children[at + 1 :])
-    return lambda children: method(shape(children))
-
-
-def _extender(expands: list[bool]) -> Reduce:
-    """The reduction of a ``_rule`` whose first symbol is a ``_rule`` (``x*``, ``x+``, a list).
-
-    Its list grows in place, as Lark's does, so a long list is never copied.
-    """
-    if expands == [True]:
-
-        def extend_one(children: list[Any]) -> Any:
-            items = children[0]
-            items += children[1]
-            return items
-
-        return extend_one
-    if not any(expands):
-
-        def append_rest(children: list[Any]) -> Any:
-            items = children[0]
-            items += children[1:]
-            return items
-
-        return append_rest
-
-    def extend(children: list[Any]) -> Any:
-        items = children[0]
-        for child, expand in zip(children[1:], expands, strict=True):
-            if expand:
-                items += child
-            else:
-                items.append(child)
-        return items
-
-    return extend
-
-
 def build_tables(lark: Lark, builder: Any) -> Tables:
     """The lexer, keyword and parse tables of ``lark`` (LALR, contextual lexer).
 
@@ -250,7 +135,8 @@ def build_tables(lark: Lark, builder: Any) -> Tables:
                 continue
             if argument not in rule_index:
                 rule_index[argument] = len(rules)
-                rules.append((len(argument.expansion), argument.origin.name, _reducer(argument, builder)))
+                reduce, recipe = reduction(argument, builder)
+                rules.append((len(argument.expansion), argument.origin.name, reduce, recipe))
             actions[state][symbol] = ~rule_index[argument]
     kinds: list[str | None] = [None] * (lexer.groups + 1)
     for name, number in lexer.groupindex.items():
