@@ -29,6 +29,7 @@ error becomes the message as before; errors come from one place only.
 from __future__ import annotations
 
 from collections.abc import Iterator
+from itertools import chain
 from typing import Any
 
 from cosmos.lang.lalr_run import END, GiveUp, Run, Tok, Trace
@@ -39,11 +40,17 @@ __all__ = ["GiveUp", "Tok", "parse"]
 
 
 def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str, ...]]]:
-    """The tokens of each statement (its ``_NL`` included) and its shape.
+    r"""The tokens of each statement (its ``_NL`` included) and its shape.
 
     Ignored tokens are dropped. The shape holds each token's kind, a WORD's as
     the keyword it may stand for (the parser state decides: :class:`Run`), so two
     statements of one shape are parsed alike from the same stack.
+
+    The text is lexed a line at a time: no terminal reaches past a line break
+    (one that holds a line break ends there), so each match is the one the
+    whole text would give, and a token's offset in its line is its column - 1
+    (Lark counts lines by ``\n`` alone). Tokens are made without a call to
+    their ``__init__`` (one call per token is a fifth of the lexing time).
 
     Raises:
         GiveUp: A character no terminal matches, or a word outside ASCII.
@@ -51,6 +58,8 @@ def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str
     keywords = tables.keywords
     kinds = tables.kinds
     roles = tables.roles
+    finditer = tables.lexer.finditer
+    new = object.__new__
     plain, word, ignored, bad, ignored_break = (
         Role.PLAIN,
         Role.WORD,
@@ -58,48 +67,57 @@ def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str
         Role.BAD,
         Role.IGNORED_BREAK,
     )
-    line = 1
-    before = -1  # offset of the character before the line's first: columns are offsets - before
     found: list[Tok] = []
     shape: list[str] = []
     add_token = found.append
     add_kind = shape.append
-    for match in tables.lexer.finditer(text):
-        group: int = match.lastindex  # type: ignore[assignment]
-        start, stop = match.span(group)
-        role = roles[group]
-        if role is plain:
-            kind: str = kinds[group]  # type: ignore[assignment]
-            add_token(Tok(kind, text[start:stop], line, start - before, line, stop - before))
-            add_kind(kind)
-        elif role is word:
-            value = text[start:stop]
-            if not value.isascii():
-                raise GiveUp
-            add_token(Tok("WORD", value, line, start - before, line, stop - before))
-            add_kind(keywords.get(value.lower(), "WORD"))
-        elif role is ignored:
-            continue
-        elif role is bad:
-            raise GiveUp
-        else:  # may hold line breaks: a statement's end, a continuation, a comment
-            value = text[start:stop]
-            column = start - before
-            end_line = line
-            if "\n" in value:
-                end_line = line + value.count("\n")
-                before = start + value.rindex("\n")
-            token = Tok(kinds[group], value, line, column, end_line, stop - before)  # type: ignore[arg-type]
-            line = end_line
-            if role is ignored_break:
+    pieces = text.split("\n")
+    last = pieces.pop()  # what follows the last line break
+    lines = chain((piece + "\n" for piece in pieces), [last] if last else [])
+    for line, piece in enumerate(lines, 1):
+        for match in finditer(piece):
+            group: int = match.lastindex  # type: ignore[assignment]
+            start, stop = match.span(group)
+            role = roles[group]
+            if role is plain:
+                kind: str = kinds[group]  # type: ignore[assignment]
+                token = new(Tok)
+                token.type = kind
+                token.value = piece[start:stop]
+                token.line = token.end_line = line
+                token.column = start + 1
+                token.end_column = stop + 1
+                add_token(token)
+                add_kind(kind)
+            elif role is word:
+                value = piece[start:stop]
+                if not value.isascii():
+                    raise GiveUp
+                token = new(Tok)
+                token.type = "WORD"
+                token.value = value
+                token.line = token.end_line = line
+                token.column = start + 1
+                token.end_column = stop + 1
+                add_token(token)
+                add_kind(keywords.get(value.lower(), "WORD"))
+            elif role is ignored or role is ignored_break:
                 continue
-            add_token(token)
-            add_kind(token.type)
-            yield found, tuple(shape)
-            found = []
-            shape = []
-            add_token = found.append
-            add_kind = shape.append
+            elif role is bad:
+                raise GiveUp
+            else:  # a statement's end (a line break, the line's last token, or ';')
+                value = piece[start:stop]
+                if value[-1] == "\n":
+                    token = Tok(kinds[group], value, line, start + 1, line + 1, 1)  # type: ignore[arg-type]
+                else:
+                    token = Tok(kinds[group], value, line, start + 1, line, stop + 1)  # type: ignore[arg-type]
+                add_token(token)
+                add_kind(token.type)
+                yield found, tuple(shape)
+                found = []
+                shape = []
+                add_token = found.append
+                add_kind = shape.append
     if found:
         yield found, tuple(shape)
 
