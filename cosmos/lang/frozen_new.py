@@ -103,6 +103,129 @@ def quick(cls: type[T]) -> Callable[..., T]:
     return maker
 
 
+def spanned(cls: type[T], span_cls: type[Any]) -> Callable[..., T]:
+    """A constructor of a node and its span in one call.
+
+    It takes the fields of ``cls`` but the last, then the five fields of that
+    last one (a ``span_cls``). Both are made as :func:`quick` makes them where that builds instances equal,
+    field for field, to ``cls(*fields, span_cls(*span_fields))`` (checked on a
+    probe); otherwise by those two calls.
+    """
+
+    def slow(*values: Any) -> T:
+        return cls(*values[:-5], span_cls(*values[-5:]))  # type: ignore[call-arg]
+
+    if quick(cls) is cls or quick(span_cls) is span_cls:
+        return slow
+    names = [f.name for f in dataclasses.fields(cls)]  # type: ignore[arg-type]
+    span_names = [f.name for f in dataclasses.fields(span_cls)]
+    if len(span_names) != 5:
+        return slow
+    maker = _spanned_maker(cls, names, span_cls, span_names)
+    if maker is None:
+        return slow
+    probe = [object() for _ in range(len(names) + 4)]
+    made, reference = maker(*probe), slow(*probe)
+    same = vars(made) == vars(reference) and type(made) is type(reference)
+    if not same or vars(getattr(made, names[-1])) != vars(getattr(reference, names[-1])):
+        return slow
+    return maker
+
+
+def _spanned_maker(
+    cls: type[T], names: list[str], span_cls: type[Any], span_names: list[str]
+) -> Callable[..., T] | None:
+    """The maker :func:`spanned` describes, for a node of two to five fields (span last).
+
+    Written out per number of fields: one call per node is the point.
+    """
+    *fields, last = names
+    f, ln, c, el, ec = span_names
+    if len(fields) == 1:
+        (a,) = fields
+
+        def make1(x: Any, file: Any, line: Any, column: Any, end_line: Any, end_column: Any) -> T:
+            span = _new(span_cls)
+            values = span.__dict__
+            values[f] = file
+            values[ln] = line
+            values[c] = column
+            values[el] = end_line
+            values[ec] = end_column
+            made = _new(cls)
+            values = made.__dict__
+            values[a] = x
+            values[last] = span
+            return made
+
+        return make1
+    if len(fields) == 2:
+        a, b = fields
+
+        def make2(x: Any, y: Any, file: Any, line: Any, column: Any, end_line: Any, end_column: Any) -> T:
+            span = _new(span_cls)
+            values = span.__dict__
+            values[f] = file
+            values[ln] = line
+            values[c] = column
+            values[el] = end_line
+            values[ec] = end_column
+            made = _new(cls)
+            values = made.__dict__
+            values[a] = x
+            values[b] = y
+            values[last] = span
+            return made
+
+        return make2
+    if len(fields) == 3:
+        a, b, d = fields
+
+        def make3(
+            x: Any, y: Any, z: Any, file: Any, line: Any, column: Any, end_line: Any, end_column: Any
+        ) -> T:
+            span = _new(span_cls)
+            values = span.__dict__
+            values[f] = file
+            values[ln] = line
+            values[c] = column
+            values[el] = end_line
+            values[ec] = end_column
+            made = _new(cls)
+            values = made.__dict__
+            values[a] = x
+            values[b] = y
+            values[d] = z
+            values[last] = span
+            return made
+
+        return make3
+    if len(fields) == 4:
+        a, b, d, e = fields
+
+        def make4(
+            x: Any, y: Any, z: Any, w: Any, file: Any, line: Any, column: Any, end_line: Any, end_column: Any
+        ) -> T:
+            span = _new(span_cls)
+            values = span.__dict__
+            values[f] = file
+            values[ln] = line
+            values[c] = column
+            values[el] = end_line
+            values[ec] = end_column
+            made = _new(cls)
+            values = made.__dict__
+            values[a] = x
+            values[b] = y
+            values[d] = z
+            values[e] = w
+            values[last] = span
+            return made
+
+        return make4
+    return None
+
+
 def quick_keywords(cls: type[T]) -> Callable[..., T]:
     """A constructor of ``cls`` taking every field by keyword (no defaults used).
 

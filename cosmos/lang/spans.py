@@ -73,8 +73,3 @@ def span_of(children: Sequence[Any]) -> Span:
     if first is None:
         return Span(FILE.get(), 1, 1, 1, 1)
     return new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
-
-
-def between(first: Any, last: Any) -> Span:
-    """The span from the start of ``first`` to the end of ``last`` (tokens or spans)."""
-    return new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)

@@ -19,8 +19,8 @@ from lark import Token, Transformer, Tree
 from cosmos.errors import Span
 from cosmos.lang import ast
 from cosmos.lang.fastparse import Tok
-from cosmos.lang.frozen_new import quick
-from cosmos.lang.spans import FILE, TOKENS, between, new_span, span_of
+from cosmos.lang.frozen_new import quick, spanned
+from cosmos.lang.spans import FILE, TOKENS, span_of
 
 
 def _nodes(children: Iterable[Any]) -> tuple[Any, ...]:
@@ -29,7 +29,7 @@ def _nodes(children: Iterable[Any]) -> tuple[Any, ...]:
 
 
 def _ident(token: Token | Tok) -> ast.Ident:
-    return _Ident(token.value, new_span(_file(), token.line, token.column, token.end_line, token.end_column))
+    return _Ident(token.value, _file(), token.line, token.column, token.end_line, token.end_column)
 
 
 _QUANTITY = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(.*)", re.I | re.S)
@@ -39,25 +39,33 @@ _AXES = {axis.name: axis for axis in ast.Axis}
 _MOVE_MODES = {mode.name: mode for mode in ast.MoveMode}
 
 _file = FILE.get
-# The nodes made most often, made quickly (cosmos/lang/frozen_new.py).
-_Number = quick(ast.Number)
-_Name = quick(ast.Name)
-_Vector = quick(ast.Vector)
-_Binary = quick(ast.Binary)
-_Unary = quick(ast.Unary)
-_Pose = quick(ast.Pose)
-_ValueClause = quick(ast.ValueClause)
-_ViaClause = quick(ast.ViaClause)
-_UntilClause = quick(ast.UntilClause)
-_AxisRef = quick(ast.AxisRef)
-_Direction = quick(ast.Direction)
-_Comparison = quick(ast.Comparison)
-_Move = quick(ast.Move)
-_Contact = quick(ast.Contact)
-_Slide = quick(ast.Slide)
-_Insert = quick(ast.Insert)
-_Let = quick(ast.Let)
-_Ident = quick(ast.Ident)
+# Nodes made quickly (cosmos/lang/frozen_new.py): with their span in one call
+# (the node's fields, then the span's file, line, column, end_line, end_column)
+_Number = spanned(ast.Number, Span)
+_Name = spanned(ast.Name, Span)
+_Vector = spanned(ast.Vector, Span)
+_Binary = spanned(ast.Binary, Span)
+_Unary = spanned(ast.Unary, Span)
+_Pose = spanned(ast.Pose, Span)
+_ValueClause = spanned(ast.ValueClause, Span)
+_ViaClause = spanned(ast.ViaClause, Span)
+_UntilClause = spanned(ast.UntilClause, Span)
+_AxisRef = spanned(ast.AxisRef, Span)
+_Direction = spanned(ast.Direction, Span)
+_Comparison = spanned(ast.Comparison, Span)
+_Move = spanned(ast.Move, Span)
+_Contact = spanned(ast.Contact, Span)
+_Slide = spanned(ast.Slide, Span)
+_Insert = spanned(ast.Insert, Span)
+_Let = spanned(ast.Let, Span)
+_Ident = spanned(ast.Ident, Span)
+# ... or given a span made already.
+_Wait = quick(ast.Wait)
+_SetSpeed = quick(ast.SetSpeed)
+_Comply = quick(ast.Comply)
+_ComplyClause = quick(ast.ComplyClause)
+_AnyOf = quick(ast.AnyOf)
+_AllOf = quick(ast.AllOf)
 
 
 @lru_cache(maxsize=4096)
@@ -91,29 +99,37 @@ class _Builder(Transformer):
 
     # --------------------------------------------------------- statements
 
+    # A statement or clause that starts with its keyword and ends with a node
+    # (its value or last clause) spans from the one to the other.
+
     def move(self, children: list[Any]) -> ast.Move:
-        first = children[0]
-        last = children[-1].span  # the target or a clause
-        span = new_span(_file(), first.line, first.column, last.end_line, last.end_column)
-        return _Move(_MOVE_MODES[children[1].type], children[2], tuple(children[3:]), span)
+        first, last = children[0], children[-1].span  # the target or a clause
+        mode, target, clauses = _MOVE_MODES[children[1].type], children[2], tuple(children[3:])
+        return _Move(mode, target, clauses, _file(), first.line, first.column, last.end_line, last.end_column)
 
     def contact(self, children: list[Any]) -> ast.Contact:
-        return _Contact(children[1], tuple(children[2:]), _keyword_to_node(children))
+        first, last = children[0], children[-1].span
+        direction, clauses = children[1], tuple(children[2:])
+        return _Contact(direction, clauses, _file(), first.line, first.column, last.end_line, last.end_column)
 
     def slide(self, children: list[Any]) -> ast.Slide:
-        return _Slide(children[1], tuple(children[2:]), _keyword_to_node(children))
+        first, last = children[0], children[-1].span
+        direction, clauses = children[1], tuple(children[2:])
+        return _Slide(direction, clauses, _file(), first.line, first.column, last.end_line, last.end_column)
 
     def insert(self, children: list[Any]) -> ast.Insert:
-        return _Insert(children[1], tuple(children[2:]), _keyword_to_node(children))
+        first, last = children[0], children[-1].span
+        direction, clauses = children[1], tuple(children[2:])
+        return _Insert(direction, clauses, _file(), first.line, first.column, last.end_line, last.end_column)
 
     def wait(self, children: list[Any]) -> ast.Wait:
-        return ast.Wait(children[1], tuple(children[2:]), span_of(children))
+        return _Wait(children[1], tuple(children[2:]), span_of(children))
 
     def speed(self, children: list[Any]) -> ast.SetSpeed:
-        return ast.SetSpeed(children[1], span_of(children))
+        return _SetSpeed(children[1], span_of(children))
 
     def comply(self, children: list[Any]) -> ast.Comply:
-        return ast.Comply(children[1], tuple(children[2:]), span_of(children))
+        return _Comply(children[1], tuple(children[2:]), span_of(children))
 
     def obstacle(self, children: list[Any]) -> ast.Obstacle:
         _, name, shape, *clauses = children
@@ -123,7 +139,9 @@ class _Builder(Transformer):
         return ast.RemoveObstacle(_ident(children[2]), span_of(children))
 
     def let(self, children: list[Any]) -> ast.Let:
-        return _Let(_ident(children[1]), children[3], _keyword_to_node(children))
+        first, last = children[0], children[-1].span
+        name, value = _ident(children[1]), children[3]
+        return _Let(name, value, _file(), first.line, first.column, last.end_line, last.end_column)
 
     def frame(self, children: list[Any]) -> ast.FrameDef:
         return ast.FrameDef(_ident(children[1]), children[3], span_of(children))
@@ -146,40 +164,51 @@ class _Builder(Transformer):
     def value_clause(self, children: list[Any]) -> ast.ValueClause:
         keyword, value = children
         last = value.span
-        span = new_span(_file(), keyword.line, keyword.column, last.end_line, last.end_column)
-        return _ValueClause(_CLAUSE_KINDS[keyword.type], value, span)
+        kind = _CLAUSE_KINDS[keyword.type]
+        return _ValueClause(
+            kind, value, _file(), keyword.line, keyword.column, last.end_line, last.end_column
+        )
 
     def via_clause(self, children: list[Any]) -> ast.ViaClause:
-        return _ViaClause(_nodes(children), _keyword_to_node(children))
+        first, last = children[0], children[-1].span
+        return _ViaClause(_nodes(children), _file(), first.line, first.column, last.end_line, last.end_column)
 
     def until_clause(self, children: list[Any]) -> ast.UntilClause:
-        return _UntilClause(children[1], _keyword_to_node(children))
+        first, last = children[0], children[-1].span
+        return _UntilClause(children[1], _file(), first.line, first.column, last.end_line, last.end_column)
 
     def comply_clause(self, children: list[Any]) -> ast.ComplyClause:
-        return ast.ComplyClause(children[1], span_of(children))
+        return _ComplyClause(children[1], span_of(children))
 
     def axes(self, children: list[Any]) -> tuple[ast.AxisRef, ...]:
         return tuple(child for child in children if isinstance(child, ast.AxisRef))
 
     def axis(self, children: list[Token]) -> ast.AxisRef:
         token = children[0]
-        span = new_span(_file(), token.line, token.column, token.end_line, token.end_column)
-        return _AxisRef(_AXES[token.type], span)
+        axis = _AXES[token.type]
+        return _AxisRef(axis, _file(), token.line, token.column, token.end_line, token.end_column)
 
     def direction(self, children: list[Any]) -> ast.Direction:
-        last = children[-1]
+        first, last = children[0], children[-1]
         if isinstance(last, TOKENS):  # UP or DOWN
-            return _Direction(ast.Axis.Z, 1 if last.type == "UP" else -1, span_of(children))
-        sign = -1 if isinstance(children[0], TOKENS) and children[0].type == "MINUS" else 1
-        return _Direction(last.axis, sign, span_of(children))
+            sign = 1 if last.type == "UP" else -1
+            return _Direction(
+                ast.Axis.Z, sign, _file(), last.line, last.column, last.end_line, last.end_column
+            )
+        end = last.span
+        if first is last:  # an axis without a sign
+            sign, first = 1, end
+        else:
+            sign = -1 if first.type == "MINUS" else 1
+        return _Direction(last.axis, sign, _file(), first.line, first.column, end.end_line, end.end_column)
 
     # --------------------------------------------------------- conditions
 
     def any_of(self, children: list[Any]) -> ast.AnyOf:
-        return ast.AnyOf(_flatten(_nodes(children), ast.AnyOf), span_of(children))
+        return _AnyOf(_flatten(_nodes(children), ast.AnyOf), span_of(children))
 
     def all_of(self, children: list[Any]) -> ast.AllOf:
-        return ast.AllOf(_flatten(_nodes(children), ast.AllOf), span_of(children))
+        return _AllOf(_flatten(_nodes(children), ast.AllOf), span_of(children))
 
     def conjunction(self, children: list[Any]) -> ast.Condition:
         """A parenthesised condition: ``( condition )``."""
@@ -188,8 +217,10 @@ class _Builder(Transformer):
     def comparison(self, children: list[Any]) -> ast.Comparison:
         (first, sensed, direction), op, value = children
         last = value.span
-        span = new_span(_file(), first.line, first.column, last.end_line, last.end_column)
-        return _Comparison(sensed, direction, op.value, value, span)
+        line, column = first.line, first.column
+        return _Comparison(
+            sensed, direction, op.value, value, _file(), line, column, last.end_line, last.end_column
+        )
 
     def sensed(self, children: list[Any]) -> tuple[Token, ast.Sensed, ast.Direction | None]:
         direction = children[1] if len(children) > 1 else None
@@ -199,25 +230,25 @@ class _Builder(Transformer):
 
     def pose(self, children: list[Any]) -> ast.Expr:
         position, rpy = children[0], children[-1]
-        return position if rpy is None else _Pose(position, rpy, between(position.span, rpy.span))
+        if rpy is None:
+            return position
+        first, last = position.span, rpy.span
+        return _Pose(position, rpy, _file(), first.line, first.column, last.end_line, last.end_column)
 
     def add(self, children: list[Any]) -> ast.Binary:
-        left, _, right = children
-        return _Binary("+", left, right, between(left.span, right.span))
+        return _binary("+", children)
 
     def subtract(self, children: list[Any]) -> ast.Binary:
-        left, _, right = children
-        return _Binary("-", left, right, between(left.span, right.span))
+        return _binary("-", children)
 
     def multiply(self, children: list[Any]) -> ast.Binary:
-        left, _, right = children
-        return _Binary("*", left, right, between(left.span, right.span))
+        return _binary("*", children)
 
     def negate(self, children: list[Any]) -> ast.Unary:
-        return _Unary("-", children[1], _keyword_to_node(children))
+        return _unary("-", children)
 
     def plus(self, children: list[Any]) -> ast.Unary:
-        return _Unary("+", children[1], _keyword_to_node(children))
+        return _unary("+", children)
 
     def unary(self, children: list[Any]) -> ast.Expr:
         """A parenthesised expression: ``( expr )``."""
@@ -225,26 +256,28 @@ class _Builder(Transformer):
 
     def vector(self, children: list[Any]) -> ast.Vector:
         first, last = children[0], children[-1]
-        span = new_span(_file(), first.line, first.column, last.end_line, last.end_column)
-        return _Vector(tuple(children[1:-1:2]), span)
+        items = tuple(children[1:-1:2])
+        return _Vector(items, _file(), first.line, first.column, last.end_line, last.end_column)
 
     def quantity(self, children: list[Token]) -> ast.Number:
         token = children[0]
         number, unit = _quantity_parts(token.value)
-        span = new_span(_file(), token.line, token.column, token.end_line, token.end_column)
-        return _Number(number, unit, span)
+        return _Number(number, unit, _file(), token.line, token.column, token.end_line, token.end_column)
 
     def name(self, children: list[Token]) -> ast.Name:
         token = children[0]
-        span = new_span(_file(), token.line, token.column, token.end_line, token.end_column)
-        return _Name(token.value, span)
+        return _Name(token.value, _file(), token.line, token.column, token.end_line, token.end_column)
 
 
-def _keyword_to_node(children: list[Any]) -> Span:
-    """The span of children that start with a token and end with a node."""
-    first = children[0]
-    last = children[-1].span
-    return new_span(_file(), first.line, first.column, last.end_line, last.end_column)
+def _binary(op: str, children: list[Any]) -> ast.Binary:
+    left, _, right = children
+    first, last = left.span, right.span
+    return _Binary(op, left, right, _file(), first.line, first.column, last.end_line, last.end_column)
+
+
+def _unary(op: str, children: list[Any]) -> ast.Unary:
+    first, last = children[0], children[1].span
+    return _Unary(op, children[1], _file(), first.line, first.column, last.end_line, last.end_column)
 
 
 def _tag(token: Token | Tok | None) -> str | None:
