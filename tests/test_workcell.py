@@ -207,7 +207,7 @@ def test_tool_spec_is_the_tool_in_the_scene():
 
 def test_collision_filtering(scene):
     # Arm links and tool never collide with each other; both collide with the
-    # world's geoms (table, fixtures, floor).
+    # world's geoms (table, fixtures, floor). The pedestal collides with nothing.
     def collide(g1: int, g2: int) -> bool:
         return bool(
             scene.geom_contype[g1] & scene.geom_conaffinity[g2]
@@ -216,8 +216,9 @@ def test_collision_filtering(scene):
 
     body_of = [scene.body(int(b)).name for b in scene.geom_bodyid]
     robot_geoms = [g for g in range(scene.ngeom) if body_of[g] in {*LINKS, "tool"}]
-    robot_geoms.append(scene.geom("pedestal").id)
-    world_geoms = [g for g in range(scene.ngeom) if body_of[g] == "world" and g != scene.geom("pedestal").id]
+    pedestal = scene.geom("pedestal").id
+    assert scene.geom_contype[pedestal] == scene.geom_conaffinity[pedestal] == 0
+    world_geoms = [g for g in range(scene.ngeom) if body_of[g] == "world" and g != pedestal]
     assert len(world_geoms) > 50
     for i, g1 in enumerate(robot_geoms):
         for g2 in robot_geoms[i + 1 :]:
