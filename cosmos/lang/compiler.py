@@ -10,8 +10,9 @@ blocks, the scene, error collection and the public entry points.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -42,7 +43,6 @@ MAX_CALL_DEPTH = 32
 MAX_ERRORS = 20
 """Errors reported before the compiler stops looking for more."""
 
-_MOTIONS = (ast.Move, ast.Contact, ast.Slide, ast.Insert, ast.Wait)
 _DEFINITIONS = (ast.Let, ast.FrameDef)
 
 
@@ -85,6 +85,7 @@ _LET = BindingKind.LET
 _FRAME = BindingKind.FRAME
 _STIFFNESS = ast.ClauseKind.STIFFNESS
 _DAMPING = ast.ClauseKind.DAMPING
+_NO_COMPLIANCE = (None,) * 6
 
 
 def statement_text(span: Span, source: str | list[str]) -> str:
@@ -107,14 +108,25 @@ def statement_text(span: Span, source: str | list[str]) -> str:
 
 
 class _Run:
-    """One compilation pass over a top-level statement.
+    """One compilation pass over the top-level statements of one text.
 
     Holds the source of the statement being compiled (a procedure's own text
     while it is expanded), the call and loop context, and the steps and warnings
-    emitted. Not reused across calls.
+    emitted. Its evaluator and motion builder serve every statement of the pass
+    (they are pointed at each statement's state in turn, not made anew).
     """
 
-    __slots__ = ("compiler", "source", "context", "call_stack", "steps", "warnings")
+    __slots__ = (
+        "compiler",
+        "source",
+        "context",
+        "call_stack",
+        "steps",
+        "warnings",
+        "first_step",
+        "evaluator",
+        "builder",
+    )
 
     def __init__(self, compiler: Compiler, source: str):
         self.compiler = compiler
@@ -123,12 +135,18 @@ class _Run:
         self.call_stack: list[str] = []
         self.steps: list[plan.Step] = []
         self.warnings: list[plan.Diagnostic] = []
+        self.first_step = 0
+        """Index in ``steps`` of the first step of the top-level statement being compiled."""
+        self.evaluator = Evaluator(compiler._fixture_names, self.text_of)
+        self.builder = MotionBuilder(compiler.defaults, self.evaluator, self.text_of, self.warn)
 
     def text_of(self, span: Span) -> str:
         split = self.compiler._split
-        return statement_text(
-            span, split[1] if split[0] is self.source else self.compiler.lines_of(self.source)
-        )
+        lines = split[1] if split[0] is self.source else self.compiler.lines_of(self.source)
+        line = span.line
+        if line == span.end_line and 0 < line <= len(lines):  # most statements: statement_text's first case
+            return lines[line - 1][span.column - 1 : span.end_column - 1].strip()
+        return statement_text(span, lines)
 
     def warn(self, message: str, span: Span) -> None:
         if self.context:
@@ -136,12 +154,33 @@ class _Run:
         self.warnings.append(plan.Diagnostic(message, span))
 
     def emit(self, steps: Sequence[plan.Step]) -> None:
-        if len(self.steps) + len(steps) > MAX_STEPS:
+        if len(self.steps) - self.first_step + len(steps) > MAX_STEPS:
             raise ProgramError(
                 f"the program expands to more than {MAX_STEPS} steps; use fewer REPEATs",
                 steps[0].span,
             )
         self.steps.extend(steps)
+
+    def top_level(self, statement: ast.Statement, state: CompileState) -> CompileState:
+        """Check and compile one top-level statement; on an error, drop what it emitted.
+
+        Raises:
+            ProgramError: The statement is wrong (its source attached).
+        """
+        steps, warnings = len(self.steps), len(self.warnings)
+        self.first_step = steps
+        try:
+            check_statement(statement)
+            try:  # what ``statement`` does; at the top level there is no context to name
+                return _DISPATCH.get(type(statement), _Run._call)(self, statement, state)
+            except RecursionError:
+                raise ProgramError(
+                    "this statement nests too deeply to compile; split its expressions",
+                    statement.span,
+                ) from None
+        except ProgramError as error:
+            del self.steps[steps:], self.warnings[warnings:]
+            raise error.with_source(self.source) from None
 
     # ------------------------------------------------------------ dispatch
 
@@ -153,7 +192,7 @@ class _Run:
         """
         try:
             try:
-                return self._statement(statement, state)
+                return _DISPATCH.get(type(statement), _Run._call)(self, statement, state)
             except RecursionError:
                 raise ProgramError(
                     "this statement nests too deeply to compile; split its expressions",
@@ -166,42 +205,30 @@ class _Run:
                 error.with_source(self.source)
             raise
 
-    def _statement(self, statement: ast.Statement, state: CompileState) -> CompileState:
-        text_of = self.text_of
-        evaluator = Evaluator(state.names, text_of)
-        if isinstance(statement, _MOTIONS):
-            context = "; ".join(self.context) if self.context else ""
-            builder = MotionBuilder(self.compiler.defaults, state, evaluator, text_of, self.warn, context)
-            segments, state = builder.build(statement)
-            self.emit(segments)
-            return state
-        if isinstance(statement, ast.SetSpeed):
-            speed = evaluator.expect_scalar(statement.value, units.SPEED, "SPEED")
-            _positive(speed, statement.value.span, "SPEED")
-            if speed > 1.5:
-                self.warn(
-                    f"SPEED {speed:g} m/s is faster than the PUMA 560 moves its tool", statement.value.span
-                )
-            return state.with_speed(speed)
-        if isinstance(statement, ast.Comply):
-            return self._comply(statement, state, evaluator)
-        if isinstance(statement, _DEFINITIONS):
-            return self._define(statement, state, evaluator)
-        if isinstance(statement, ast.Obstacle):
-            return self._obstacle(statement, state, evaluator)
-        if isinstance(statement, ast.RemoveObstacle):
-            return self._remove(statement, state)
-        if isinstance(statement, ast.ProcDef):
-            return self._proc(statement, state)
-        if isinstance(statement, ast.Repeat):
-            return self._repeat(statement, state, evaluator)
-        return self._call(statement, state)
+    def _evaluator(self, state: CompileState) -> Evaluator:
+        """The pass's evaluator, reading the names of ``state``."""
+        evaluator = self.evaluator
+        evaluator.names = state.names
+        return evaluator
+
+    def _motion(self, statement: ast.Statement, state: CompileState) -> CompileState:
+        self.evaluator.names = state.names
+        context = "; ".join(self.context) if self.context else ""
+        segments, state = self.builder.build(statement, state, context)  # type: ignore[arg-type]
+        self.emit(segments)
+        return state
+
+    def _speed(self, statement: ast.SetSpeed, state: CompileState) -> CompileState:
+        speed = self._evaluator(state).expect_scalar(statement.value, units.SPEED, "SPEED")
+        _positive(speed, statement.value.span, "SPEED")
+        if speed > 1.5:
+            self.warn(f"SPEED {speed:g} m/s is faster than the PUMA 560 moves its tool", statement.value.span)
+        return state.with_speed(speed)
 
     # ---------------------------------------------------------------- names
 
-    def _define(
-        self, statement: ast.Let | ast.FrameDef, state: CompileState, evaluator: Evaluator
-    ) -> CompileState:
+    def _define(self, statement: ast.Let | ast.FrameDef, state: CompileState) -> CompileState:
+        evaluator = self._evaluator(state)
         key = statement.name.key
         previous = state.names.get(key)
         if previous is not None and previous.kind is BindingKind.FIXTURE:
@@ -219,9 +246,10 @@ class _Run:
 
     # ----------------------------------------------------------- compliance
 
-    def _comply(self, statement: ast.Comply, state: CompileState, evaluator: Evaluator) -> CompileState:
+    def _comply(self, statement: ast.Comply, state: CompileState) -> CompileState:
         if not statement.axes:
-            return state.with_compliance((None,) * 6)
+            return state.with_compliance(_NO_COMPLIANCE)
+        evaluator = self._evaluator(state)
         clauses = {c.kind: c for c in statement.clauses if type(c) is ast.ValueClause}
         rotations = {ref.axis.is_rotation for ref in statement.axes}
         if len(rotations) > 1 and clauses:
@@ -251,7 +279,8 @@ class _Run:
 
     # --------------------------------------------------------------- scene
 
-    def _obstacle(self, statement: ast.Obstacle, state: CompileState, evaluator: Evaluator) -> CompileState:
+    def _obstacle(self, statement: ast.Obstacle, state: CompileState) -> CompileState:
+        evaluator = self._evaluator(state)
         key = statement.name.key
         if key in state.obstacles:
             first = state.obstacles[key]
@@ -384,8 +413,8 @@ class _Run:
             self.source = outer_source
         return state
 
-    def _repeat(self, statement: ast.Repeat, state: CompileState, evaluator: Evaluator) -> CompileState:
-        count_value = evaluator.expect_scalar(statement.count, units.DIMENSIONLESS, "REPEAT")
+    def _repeat(self, statement: ast.Repeat, state: CompileState) -> CompileState:
+        count_value = self._evaluator(state).expect_scalar(statement.count, units.DIMENSIONLESS, "REPEAT")
         if not math.isfinite(count_value) or count_value != int(count_value) or count_value < 0:
             raise ProgramError(
                 f"REPEAT needs a whole number of times, not {self.text_of(statement.count.span)}",
@@ -404,6 +433,24 @@ class _Run:
             finally:
                 self.context.pop()
         return state
+
+
+_DISPATCH: dict[type, Callable[[_Run, Any, CompileState], CompileState]] = {
+    ast.Move: _Run._motion,
+    ast.Contact: _Run._motion,
+    ast.Slide: _Run._motion,
+    ast.Insert: _Run._motion,
+    ast.Wait: _Run._motion,
+    ast.SetSpeed: _Run._speed,
+    ast.Comply: _Run._comply,
+    ast.Let: _Run._define,
+    ast.FrameDef: _Run._define,
+    ast.Obstacle: _Run._obstacle,
+    ast.RemoveObstacle: _Run._remove,
+    ast.ProcDef: _Run._proc,
+    ast.Repeat: _Run._repeat,
+}
+"""How a statement of each type is compiled (a CALL, the only other type, by ``_Run._call``)."""
 
 
 def _positive(value: float, span: Span, what: str) -> None:
@@ -475,20 +522,9 @@ class Compiler:
         Raises:
             ProgramError: The statement is wrong; ``state`` still holds.
         """
-        run, new_state = self._compile_statement(statement, state, source)
-        return _statement_result(tuple(run.steps), new_state, tuple(run.warnings))
-
-    def _compile_statement(
-        self, statement: ast.Statement, state: CompileState, source: str
-    ) -> tuple[_Run, CompileState]:
-        """``compile_statement``, its steps and warnings left in the pass that made them."""
         run = _Run(self, source)
-        try:
-            check_statement(statement)
-            new_state = run.statement(statement, state)
-        except ProgramError as error:
-            raise error.with_source(source) from None
-        return run, new_state
+        new_state = run.top_level(statement, state)
+        return _statement_result(tuple(run.steps), new_state, tuple(run.warnings))
 
     def compile_text(self, text: str, state: CompileState, file: str = "<repl>") -> StatementResult:
         """Parse and compile a piece of program (a REPL input), continuing from ``state``.
@@ -501,27 +537,22 @@ class Compiler:
 
     def _compile_text(self, text: str, state: CompileState, file: str) -> StatementResult:
         program = parse_program(text, file)
-        steps: list[plan.Step] = []
-        warnings: list[plan.Diagnostic] = []
+        run = _Run(self, text)  # one pass: a failed statement's steps and warnings are dropped
+        top_level = run.top_level
         errors: list[ProgramError] = []
         for statement in program.statements:
             try:
-                run, new_state = self._compile_statement(statement, state, text)
+                state = top_level(statement, state)
             except SuppressedError:
                 state = _poison(statement, state)
-                continue
             except ProgramError as error:
                 errors.append(error)
                 state = _poison(statement, state)
                 if len(errors) >= MAX_ERRORS:
                     break
-                continue
-            steps.extend(run.steps)
-            warnings.extend(run.warnings)
-            state = new_state
         if errors:
             raise ProgramErrors(errors)
-        return StatementResult(tuple(steps), state, tuple(warnings))
+        return _statement_result(tuple(run.steps), state, tuple(run.warnings))
 
     def compile_program(self, source: str, file: str = "<input>") -> plan.Plan:
         """Parse, check and compile a whole program.

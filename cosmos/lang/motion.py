@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any
 
 import numpy as np
 
@@ -233,23 +233,24 @@ def _completions(defaults: Defaults) -> _Completions:
     return made
 
 
-class _ContactChange(NamedTuple):
-    """What MOVE and CONTACT change in the state: the held contact, and what released the last."""
+_ContactChange = tuple[HeldContact | None, Span | None]
+"""What MOVE and CONTACT change in the state: the held contact, and what released the last.
 
-    contact: HeldContact | None
-    released_by: Span | None
+A plain tuple: a NamedTuple is made by a Python-level ``__new__``, once per statement.
+"""
 
 
 class MotionBuilder:
-    """Builds the segments of one motion statement.
+    """Builds the segments of motion statements, one statement per :meth:`build`.
+
+    One builder serves a whole compilation pass: ``build`` points it at each
+    statement's state in turn.
 
     Args:
         defaults: Values used where the program gives none.
-        state: The compile state before the statement.
-        evaluator: Evaluates expressions against the state's names.
+        evaluator: Evaluates expressions against the names of the statement's state.
         text_of: Source text of a span.
         warn: Records a warning.
-        context: Where an expanded statement came from (see ``Segment.context``).
     """
 
     __slots__ = (
@@ -267,50 +268,50 @@ class MotionBuilder:
     def __init__(
         self,
         defaults: Defaults,
-        state: CompileState,
         evaluator: Evaluator,
         text_of: Callable[[Span], str],
         warn: Callable[[str, Span], None],
-        context: str,
     ):
         self.defaults = defaults
-        self.state = state
         self.evaluator = evaluator
         self.text_of = text_of
         self.warn = warn
-        self.context = context
+        self.state: CompileState
+        self.context = ""
         self._segments: list[plan.Segment] = []
         self._text_span: Span | None = None
         self._text = ""
 
     def build(
-        self, statement: ast.Move | ast.Contact | ast.Slide | ast.Insert | ast.Wait
-    ) -> tuple[tuple[plan.Segment, ...], CompileState]:
+        self,
+        statement: ast.Move | ast.Contact | ast.Slide | ast.Insert | ast.Wait,
+        state: CompileState,
+        context: str,
+    ) -> tuple[list[plan.Segment], CompileState]:
         """The statement's segments and the state after it.
+
+        Args:
+            statement: The motion statement.
+            state: The compile state before it (the evaluator reads its names).
+            context: Where an expanded statement came from (see ``Segment.context``).
 
         Raises:
             ProgramError: A unit, value or axis error, pointing at its cause.
         """
-        change: _ContactChange | None = None
-        if isinstance(statement, ast.Move):
-            change = self._move(statement)
-        elif isinstance(statement, ast.Contact):
-            change = self._contact(statement)
-        elif isinstance(statement, ast.Slide):
-            self._slide(statement)
-        elif isinstance(statement, ast.Insert):
-            self._insert(statement)
-        else:
-            self._wait(statement)
-        statements = self.state.statement_count + 1
-        segments = self.state.segment_count + len(self._segments)
+        self.state = state
+        self.context = context
+        segments: list[plan.Segment] = []
+        self._segments = segments
+        change: _ContactChange | None = _BUILDERS[type(statement)](self, statement)
+        statements = state.statement_count + 1
         if change is None:
-            state = self.state.with_counts(statements, segments)
+            state = state.with_counts(statements, state.segment_count + len(segments))
         else:  # one new state for both changes
-            state = self.state.with_contact_and_counts(
-                change.contact, change.released_by, statements, segments
+            contact, released_by = change
+            state = state.with_contact_and_counts(
+                contact, released_by, statements, state.segment_count + len(segments)
             )
-        return tuple(self._segments), state
+        return segments, state
 
     # ------------------------------------------------------------ statements
 
@@ -390,7 +391,7 @@ class MotionBuilder:
             timeout=timeout,
         )
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
-        return _ContactChange(None, released)
+        return None, released
 
     def _contact(self, statement: ast.Contact) -> _ContactChange:
         clauses = _Clauses.of(statement.clauses)
@@ -440,9 +441,9 @@ class MotionBuilder:
         )
         contact = _new_held_contact(direction_world, force, frame, statement.span)
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
-        return _ContactChange(contact, released)
+        return contact, released
 
-    def _slide(self, statement: ast.Slide) -> None:
+    def _slide(self, statement: ast.Slide) -> None:  # keeps the contact: no change
         clauses = _Clauses.of(statement.clauses)
         contact = self._held_contact("SLIDE", statement.span)
         frame, _, _ = (
@@ -872,3 +873,13 @@ class MotionBuilder:
         else:
             segment = plan.Segment(**fields)  # type: ignore[arg-type]
         self._segments.append(segment)
+
+
+_BUILDERS: dict[type, Callable[[MotionBuilder, Any], _ContactChange | None]] = {
+    ast.Move: MotionBuilder._move,
+    ast.Contact: MotionBuilder._contact,
+    ast.Slide: MotionBuilder._slide,
+    ast.Insert: MotionBuilder._insert,
+    ast.Wait: MotionBuilder._wait,
+}
+"""The builder of each motion statement type; those that change the held contact say how."""

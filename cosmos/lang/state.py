@@ -183,33 +183,40 @@ class CompileState:
         segment_count: int,
     ) -> CompileState:
         """``with_contact`` then ``with_counts``, in one new state."""
-        return _changed(
-            self,
-            {
-                "contact": contact,
-                "contact_released_by": released_by,
-                "statement_count": statement_count,
-                "segment_count": segment_count,
-            },
-        )
+        fields = self.__dict__.copy()
+        fields["contact"] = contact
+        fields["contact_released_by"] = released_by
+        fields["statement_count"] = statement_count
+        fields["segment_count"] = segment_count
+        return _with_fields(fields)
 
     def with_counts(self, statement_count: int, segment_count: int) -> CompileState:
         """A state with the motion statement and segment counts set."""
-        return _changed(self, {"statement_count": statement_count, "segment_count": segment_count})
+        fields = self.__dict__.copy()
+        fields["statement_count"] = statement_count
+        fields["segment_count"] = segment_count
+        return _with_fields(fields)
 
 
 def _changed(state: CompileState, changes: dict[str, object]) -> CompileState:
-    """``dataclasses.replace(state, **changes)``, for field names known to be right.
-
-    CompileState has no ``__post_init__``, so a copy of its fields with some
-    changed is what ``replace`` makes; this skips the frozen ``__setattr__`` of
-    each of the ten fields (it runs for every statement compiled).
-    """
-    copy = _object_new(CompileState)
-    fields = copy.__dict__
-    fields.update(state.__dict__)
+    """``dataclasses.replace(state, **changes)``, for field names known to be right."""
+    fields = state.__dict__.copy()
     fields.update(changes)
-    return copy
+    return _with_fields(fields)
+
+
+def _with_fields(fields: dict[str, object]) -> CompileState:
+    """A CompileState whose instance dictionary is ``fields`` (every field, in order).
+
+    CompileState has no ``__post_init__``, so a dictionary of its fields is all
+    its ``__init__`` (or ``dataclasses.replace``) makes; this skips the frozen
+    ``__setattr__`` of each of the ten fields (it runs for every statement
+    compiled) and hands the instance the dictionary itself rather than a copy.
+    """
+    state = _object_new(CompileState)
+    _set_attribute(state, "__dict__", fields)
+    return state
 
 
 _object_new = object.__new__
+_set_attribute = object.__setattr__

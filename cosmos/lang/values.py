@@ -13,6 +13,7 @@ import enum
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from math import isfinite
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
@@ -125,9 +126,14 @@ class Evaluator:
             return self._vector(expr)  # type: ignore[arg-type]
         if kind is ast.Pose:
             return self._pose(expr)  # type: ignore[arg-type]
-        value = self._binary(expr) if kind is ast.Binary else self._evaluate(expr)  # type: ignore[arg-type]
-        if kind is not ast.Binary and kind is not ast.Unary:
-            return value
+        if kind is ast.Binary:
+            value = self._binary(expr)  # type: ignore[arg-type]
+            if type(value) is FrameValue:  # a frame moved by an offset: _binary checked its origin
+                return value
+        else:
+            value = self._evaluate(expr)
+            if kind is not ast.Unary:
+                return value
         if not _finite(value):
             raise ProgramError("this number is too large", expr.span)
         return value
@@ -228,9 +234,13 @@ class Evaluator:
         if isinstance(left, FrameValue):
             if isinstance(right, FrameValue) and sign < 0:
                 return Vec(tuple(left.position - right.position), units.LENGTH)
-            offset = self.expect_vector(expr.right, right, 3, units.LENGTH, "an offset")
-            moved = [p + sign * o for p, o in zip(left.position.tolist(), offset.tolist(), strict=True)]
-            return _frame_value(readonly_of(tuple(moved)), left.rotation)
+            dx, dy, dz = self._vector_values(expr.right, right, 3, units.LENGTH, "an offset")
+            x, y, z = left.position.tolist()
+            # float(): an offset made by subtracting frames holds numpy floats (which warn on overflow)
+            moved = (x + sign * float(dx), y + sign * float(dy), z + sign * float(dz))
+            if not (isfinite(moved[0]) and isfinite(moved[1]) and isfinite(moved[2])):
+                raise ProgramError("this number is too large", expr.span)
+            return _frame_value(readonly_of(moved), left.rotation)
         if isinstance(right, FrameValue):
             raise ProgramError(
                 f"write the frame first: {self.text_of(expr.right.span)} {expr.op} ...", expr.span
@@ -315,6 +325,12 @@ class Evaluator:
 
     def expect_vector(self, expr: ast.Expr, value: Value, size: int, dim: Dim, what: str) -> FloatArray:
         """``value`` (of ``expr``) as a read-only (size,) SI array of dimension ``dim``."""
+        return readonly_of(self._vector_values(expr, value, size, dim, what))
+
+    def _vector_values(
+        self, expr: ast.Expr, value: Value, size: int, dim: Dim, what: str
+    ) -> tuple[float, ...]:
+        """``expect_vector``'s checks; the vector's numbers as they are."""
         if not isinstance(value, Vec):
             raise ProgramError(
                 f"{what} needs a vector of {size} {units.plural(dim)}, like "
@@ -330,7 +346,7 @@ class Evaluator:
                 f"{self.text_of(expr.span)} holds {units.plural(value.dim)}",
                 expr.span,
             )
-        return readonly_of(value.values)
+        return value.values
 
     def expect_vector3(self, expr: ast.Expr, dim: Dim, what: str) -> FloatArray:
         """Evaluate ``expr`` as a vector of 3 components of dimension ``dim``."""
