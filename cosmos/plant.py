@@ -2,7 +2,8 @@
 
 The controller talks to the plant only through what a real arm offers: joint
 torques in (:meth:`Plant.step`), encoders and the wrist force/torque sensor out
-(:meth:`Plant.read_encoders`, :meth:`Plant.read_wrench_sensor`).
+(:meth:`Plant.read_encoders`, :meth:`Plant.read_wrench_sensor`); the servo loop
+takes the same signals as live buffers (:meth:`Plant.live_signals`, no copy per tick).
 :meth:`Plant.contacts` reports contacts for collision events, and
 :attr:`Plant.model` / :attr:`Plant.data` exist for rendering and logging only.
 
@@ -78,6 +79,31 @@ class SensorNoise:
 _NOISE_BLOCK = 1024
 
 
+@dataclass(frozen=True)
+class LiveSignals:
+    """The plant's encoders, wrist sensor and drives as live buffers, for the servo loop.
+
+    Views into the simulation's own arrays: they change with every step, and
+    writing ``ctrl`` commands the drives. A reading of the sensor is
+    ``wrench_raw + noise[row]`` with ``row`` from :meth:`Plant.next_noise_row`.
+
+    Attributes:
+        positions: Joint angles [rad], read-only. # (6,)
+        velocities: Joint velocities [rad/s], read-only. # (6,)
+        wrench_raw: The wrist sensor's noiseless reading (see :meth:`Plant.read_wrench_sensor`),
+            read-only. # (6,)
+        noise: The sensor noise samples [N, N m], redrawn in place; one zero row without
+            noise, read-only. # (n, 6)
+        ctrl: Motor torques [N m], applied from the next step on. # (6,)
+    """
+
+    positions: np.ndarray
+    velocities: np.ndarray
+    wrench_raw: np.ndarray
+    noise: np.ndarray
+    ctrl: np.ndarray
+
+
 class Plant:
     """The simulated workcell: a MuJoCo model and its state.
 
@@ -112,7 +138,9 @@ class Plant:
         self._sensordata = self._data.sensordata
         self._noise_std = None if sensor_noise is None else sensor_noise.std
         self._rng = np.random.default_rng(None if sensor_noise is None else sensor_noise.seed)
-        self._noise = np.zeros((0, 6))  # drawn in blocks: one draw per reading costs microseconds
+        # Drawn in blocks (one draw per reading costs microseconds), in place: live_signals()
+        # hands out this array. Without noise, one row of zeros that every reading takes.
+        self._noise = np.zeros((1 if sensor_noise is None else _NOISE_BLOCK, 6))
         self._noise_next = _NOISE_BLOCK  # the first reading draws the first block
         self.reset()
 
@@ -169,6 +197,49 @@ class Plant:
         mujoco.mj_step(self._model, self._data)
         return float(self._data.time)
 
+    def advance(self) -> float:
+        """One time step with the torques already in the drives (:attr:`LiveSignals.ctrl`).
+
+        Returns:
+            The simulated time after the step, [s] (:attr:`time_s`).
+        """
+        mujoco.mj_step(self._model, self._data)
+        return float(self._data.time)
+
+    def live_signals(self) -> LiveSignals:
+        """The encoders, the wrist sensor and the drives as live buffers (no copies).
+
+        Raises:
+            CosmosError: If the scene has no wrist sensor, or its force and torque are
+                not side by side in ``sensordata``.
+        """
+        index = self._wrench_index
+        if not isinstance(index, slice):
+            raise CosmosError(
+                f"the servo loop needs the wrist sensor's force '{FORCE_SENSOR}' directly "
+                f"followed by its torque '{TORQUE_SENSOR}'"
+            )
+        positions, velocities, wrench_raw, noise = (
+            array.view() for array in (self._qpos, self._qvel, self._sensordata[index], self._noise)
+        )
+        for array in (positions, velocities, wrench_raw, noise):
+            array.flags.writeable = False
+        return LiveSignals(positions, velocities, wrench_raw, noise, self._ctrl)
+
+    def next_noise_row(self) -> int:
+        """The row of :attr:`LiveSignals.noise` that the next sensor reading takes.
+
+        Each reading takes a fresh row, with or without :meth:`read_wrench_sensor`.
+        """
+        if self._noise_std is None:
+            return 0
+        i = self._noise_next
+        if i == _NOISE_BLOCK:
+            self._noise[:] = self._rng.normal(0.0, self._noise_std, size=(_NOISE_BLOCK, 6))
+            i = 0
+        self._noise_next = i + 1
+        return i
+
     def read_encoders(self) -> tuple[np.ndarray, np.ndarray]:
         """Joint angles [rad] and velocities [rad/s], each ``(6,)``, copies."""
         return self._qpos.copy(), self._qvel.copy()
@@ -189,12 +260,7 @@ class Plant:
             )
         if self._noise_std is None:
             return self._sensordata[index].copy()
-        i = self._noise_next
-        if i == _NOISE_BLOCK:
-            self._noise = self._rng.normal(0.0, self._noise_std, size=(_NOISE_BLOCK, 6))
-            i = 0
-        self._noise_next = i + 1
-        return self._sensordata[index] + self._noise[i]
+        return self._sensordata[index] + self._noise[self.next_noise_row()]
 
     def contacts(self) -> list[Contact]:
         """The contacts MuJoCo found at the current state, with geom and body names.

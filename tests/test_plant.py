@@ -222,3 +222,19 @@ def test_wrist_sensor_read_in_force_then_torque_order_whatever_the_scene_order(t
         plant.step(np.zeros(6))
     np.testing.assert_array_equal(plants[1].read_wrench_sensor(), plants[0].read_wrench_sensor())
     assert np.abs(plants[0].read_wrench_sensor()).max() > 0.1  # the tool's weight at least
+
+
+def test_live_signals_are_the_plants_own_buffers() -> None:
+    # The servo loop reads the encoders and the sensor from these views and drives the motors
+    # through ctrl: after steps they must show the new state (a copy would go stale).
+    plant = Plant()
+    live = plant.live_signals()
+    live.ctrl[:] = (5.0, 0, 0, 0, 0, 0)
+    for _ in range(50):
+        plant.advance()
+    q, qd = plant.read_encoders()
+    np.testing.assert_array_equal(live.positions, q)
+    np.testing.assert_array_equal(live.velocities, qd)
+    np.testing.assert_array_equal(live.wrench_raw, plant.read_wrench_sensor())
+    assert qd[0] != 0.0  # the torque written to ctrl moved joint 1
+    assert not live.positions.flags.writeable

@@ -12,7 +12,10 @@ control logic. Ratios are reported, not asserted.
 
 The loop is timed as runs use it, without clocks inside the tick; the cost of
 each phase comes from a second run of as many ticks with a clock around each
-phase (``timed_tick_us`` is that run's cost per tick, clocks included).
+phase (``timed_tick_us`` is that run's cost per tick, clocks included). The
+servo's compiled call copies the encoders and the wrist sensor from the plant's
+live buffers itself, so ``sense`` is only reading the clock and taking the
+sensor sample's noise row; the copies are counted in ``servo``.
 """
 
 from __future__ import annotations

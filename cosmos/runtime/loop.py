@@ -104,14 +104,13 @@ class Runtime:
             self._tool_weight_z_n,
         )
         self.recorder = recorder
+        self._live = plant.live_signals()
         self.fields: list[PotentialField] = []
         """Potential fields (obstacles), evaluated at the parameter rate like the model."""
         self._servo_period_s = 1.0 / rates.servo_hz
         self._param_period_s = 1.0 / rates.param_hz
         self._state_period_s = 1.0 / rates.state_hz
         self._eps_s = 0.25 * plant.dt_s
-        self.tau: FloatArray = np.zeros(6)
-        self._sensor: FloatArray = np.zeros(6)  # the wrist sensor as this tick read it, raw
         self._next_state_s = plant.time_s + plant.dt_s  # one fixed grid from the first step on
         self.reset_clocks()
 
@@ -119,10 +118,27 @@ class Runtime:
         """Sense once, evaluate the model now and restart the parameter schedule from here."""
         now = self.plant.time_s
         self._next_param_s = now
-        self.q, self.qd = self.plant.read_encoders()
-        self.evaluation = self.parameters.evaluate(self.q, self.qd)
-        self.servo.set_evaluation(self.evaluation)
-        self.servo.wrench[:] = self._sense_wrench()
+        live, servo = self._live, self.servo
+        servo.sensed_q[:] = live.positions
+        servo.sensed_qd[:] = live.velocities
+        self.evaluation = self.parameters.evaluate(live.positions, live.velocities)
+        servo.set_evaluation(self.evaluation)
+        servo.wrench[:] = self._sense_wrench()
+
+    @property
+    def q(self) -> FloatArray:
+        """Joint positions as the last tick sensed them, in [rad]; rewritten every tick. # (6,)."""
+        return self.servo.sensed_q
+
+    @property
+    def qd(self) -> FloatArray:
+        """Joint velocities as the last tick sensed them, in [rad/s]; rewritten every tick. # (6,)."""
+        return self.servo.sensed_qd
+
+    @property
+    def tau(self) -> FloatArray:
+        """Joint torques the last tick commanded, in [N m]; rewritten every tick. # (6,)."""
+        return self.servo.torque
 
     @property
     def wrench(self) -> FloatArray:
@@ -133,8 +149,9 @@ class Runtime:
         if not self.fields:
             return
         torque = np.zeros(6)
+        live = self._live
         for field in self.fields:
-            torque += field.torque(self.q, self.qd, now)
+            torque += field.torque(live.positions, live.velocities, now)
         self.servo.field_torque = torque
 
     @property
@@ -161,10 +178,10 @@ class Runtime:
 
     def tick(self) -> None:
         """One servo period: sense, evaluate if due, command, step the physics, record."""
-        now = self._sense()
+        now, noise_row = self._sense()
         if now + self._eps_s >= self._next_param_s:
             self._evaluate(now)
-        self._command(now)
+        self.servo.command_live(now, self._live, noise_row)
         self._advance(now)
 
     def timed_tick(self, phases: PhaseTimes) -> None:
@@ -174,12 +191,12 @@ class Runtime:
         """
         clock = time.perf_counter_ns
         t0 = clock()
-        now = self._sense()
+        now, noise_row = self._sense()
         t1 = clock()
         if now + self._eps_s >= self._next_param_s:
             self._evaluate(now)
         t2 = clock()
-        self._command(now)
+        self.servo.command_live(now, self._live, noise_row)
         t3 = clock()
         record_ns = self._advance(now)
         t4 = clock()
@@ -191,22 +208,22 @@ class Runtime:
         ns["record"] += record_ns
         phases.ticks += 1
 
-    def _sense(self) -> float:
-        """Read the encoders and the wrist sensor; the simulated time, in [s]."""
+    def _sense(self) -> tuple[float, int]:
+        """The simulated time, in [s], and the noise row of this tick's sensor reading.
+
+        The encoders and the sensor are read inside the servo's compiled call, from the
+        plant's live buffers (:meth:`ServoLevel.command_live`).
+        """
         plant = self.plant
-        self.q, self.qd = plant.read_encoders()
-        self._sensor = plant.read_wrench_sensor()
-        return plant.time_s
+        return plant.time_s, plant.next_noise_row()
 
     def _evaluate(self, now: float) -> None:
         """The parameter level (model, potential fields), then the next evaluation's time."""
-        self.evaluation = self.parameters.evaluate(self.q, self.qd)
+        live = self._live
+        self.evaluation = self.parameters.evaluate(live.positions, live.velocities)
         self.servo.set_evaluation(self.evaluation)
         self._evaluate_fields(now)
         self._next_param_s += self._param_period_s
-
-    def _command(self, now: float) -> None:
-        self.tau = self.servo.command(now, self.q, self.qd, self._sensor)
 
     def _advance(self, now: float) -> int:
         """Record a sample due now, then step the physics to the next servo instant.
@@ -221,14 +238,16 @@ class Runtime:
             r0 = clock()
             # The state as this tick sensed it; the wrench and the twist as the servo made them.
             servo = self.servo
-            recorder.record(now, self.q, self.qd, self.tau, servo.wrench, servo.last_velocity)
+            recorder.record(
+                now, servo.sensed_q, servo.sensed_qd, servo.torque, servo.wrench, servo.last_velocity
+            )
             self._next_state_s += self._state_period_s
             record_ns = clock() - r0
         plant = self.plant
         end = now + self._servo_period_s - self._eps_s
         t_s = now
-        while t_s < end:
-            t_s = plant.step(self.tau)
+        while t_s < end:  # the servo wrote its torque to the drives: held until the next tick
+            t_s = plant.advance()
             if recorder is not None and t_s < end and t_s + self._eps_s >= self._next_state_s:
                 r0 = clock()
                 self._record()

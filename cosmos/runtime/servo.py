@@ -25,6 +25,7 @@ from cosmos.osc.dynamics import DEFAULT_POLICY, SingularityPolicy
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.orientation import pose_error
 from cosmos.osc.unified import ForceGains
+from cosmos.plant import LiveSignals
 from cosmos.runtime import servo_kernel as kernel
 from cosmos.runtime.parameter_kernel import refold
 from cosmos.runtime.parameters import Evaluation
@@ -106,7 +107,9 @@ class ServoLevel:
             )
         )
         self._viscous = np.array(viscous, dtype=float)
-        scalars = np.zeros(kernel.SCALARS)
+        # One flat workspace holds every block the kernel reads and writes (servo_tick_live).
+        workspace = self._workspace = np.zeros(kernel.WORKSPACE)
+        scalars = workspace[kernel.W_SCALARS : kernel.W_VECTORS]
         scalars[kernel.K_F] = gains.force.k_f
         scalars[kernel.K_I] = gains.force.k_i
         scalars[kernel.INTEGRAL_LIMIT] = gains.force.integral_limit
@@ -121,11 +124,12 @@ class ServoLevel:
         scalars[kernel.MOMENT_BLEND] = min(1.0, servo_dt_s / gains.moment_filter_s)
         scalars[kernel.LOOKAHEAD_S] = gains.coulomb_lookahead_s
         self._scalars = scalars
-        self._vectors = np.zeros((kernel.VECTORS, 6))
+        self._vectors = workspace[kernel.W_VECTORS : kernel.W_MATRICES].reshape((kernel.VECTORS, 6))
         self._vectors[kernel.COULOMB_NM] = coulomb
         self._vectors[kernel.TORQUE_MAX] = torque_limits
-        self._matrices = np.zeros((kernel.MATRICES, 6, 6))
-        self._state = np.zeros((kernel.STATE_ROWS, 6))
+        self._matrices = workspace[kernel.W_MATRICES : kernel.W_STACKED].reshape((kernel.MATRICES, 6, 6))
+        self._state = workspace[kernel.W_STATE : kernel.W_SENSED].reshape((kernel.STATE_ROWS, 6))
+        self._sensed = workspace[kernel.W_SENSED : kernel.WORKSPACE].reshape((kernel.SENSED_ROWS, 6))
         self._setpoint: ServoSetpoint | None = None
         self._evaluation: Evaluation | None = None
         self._selection: Selection | None = None  # as the plan says
@@ -133,7 +137,22 @@ class ServoLevel:
         self._field_torque = np.zeros(6)
         # (6, 25): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
-        self._stacked = np.zeros((6, 25))
+        self._stacked = workspace[kernel.W_STACKED : kernel.W_STATE].reshape((6, 25))
+
+    @property
+    def torque(self) -> FloatArray:
+        """Joint torques of the last tick, within the drive limits, in [N m]. # (6,)."""
+        return self._state[kernel.TORQUE]
+
+    @property
+    def sensed_q(self) -> FloatArray:
+        """Joint positions the last :meth:`command_live` sensed, in [rad]. # (6,)."""
+        return self._sensed[kernel.SENSED_Q]
+
+    @property
+    def sensed_qd(self) -> FloatArray:
+        """Joint velocities the last :meth:`command_live` sensed, in [rad/s]. # (6,)."""
+        return self._sensed[kernel.SENSED_QD]
 
     @property
     def wrench(self) -> FloatArray:
@@ -246,6 +265,37 @@ class ServoLevel:
         Returns:
             Joint torques within the drive limits, in [N m]; a buffer rewritten every tick. # (6,)
         """
+        self._sample_reference(t_s)
+        kernel.servo_tick(
+            t_s, q, qd, sensor, self._scalars, self._vectors, self._matrices, self._stacked, self._state
+        )
+        return self._state[kernel.TORQUE]
+
+    def command_live(self, t_s: float, live: LiveSignals, noise_row: int) -> None:
+        """:meth:`command` on the plant's live signals, the torque written to its drives.
+
+        What it sensed stays in :attr:`sensed_q`, :attr:`sensed_qd`; the torque in
+        the TORQUE row (:meth:`command`'s result) until the next tick.
+
+        Args:
+            t_s: Simulated time, in [s].
+            live: The plant's encoders, wrist sensor and drives (:meth:`Plant.live_signals`).
+            noise_row: The row of ``live.noise`` this tick's sensor reading takes.
+        """
+        self._sample_reference(t_s)
+        kernel.servo_tick_live(
+            t_s,
+            live.positions,
+            live.velocities,
+            live.wrench_raw,
+            live.noise,
+            noise_row,
+            live.ctrl,
+            self._workspace,
+        )
+
+    def _sample_reference(self, t_s: float) -> None:
+        """Check the servo is ready; when tracking a trajectory, put its sample at ``t_s`` in."""
         ev, sp = self._evaluation, self._setpoint
         if ev is None or sp is None:
             raise RuntimeError("servo level used before a setpoint and an evaluation were given")
@@ -257,7 +307,3 @@ class ServoLevel:
             )
             vectors[kernel.REFERENCE_VELOCITY] = sample.velocity
             vectors[kernel.REFERENCE_ACCELERATION] = sample.acceleration
-        kernel.servo_tick(
-            t_s, q, qd, sensor, self._scalars, self._vectors, self._matrices, self._stacked, self._state
-        )
-        return self._state[kernel.TORQUE]

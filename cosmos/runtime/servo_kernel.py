@@ -55,6 +55,19 @@ STATE_ROWS = 9
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 
+# The servo level's buffers live in one flat ``workspace``, so that a tick is a call with few
+# arguments (:func:`servo_tick_live`): the blocks above, then what the tick sensed (rows of six:
+# joint positions, joint velocities, the wrist sensor's reading).
+SENSED_Q, SENSED_QD, SENSED_WRENCH = range(3)
+SENSED_ROWS = 3
+W_SCALARS = 0
+W_VECTORS = W_SCALARS + SCALARS
+W_MATRICES = W_VECTORS + VECTORS * 6
+W_STACKED = W_MATRICES + MATRICES * 36
+W_STATE = W_STACKED + 6 * 25
+W_SENSED = W_STATE + STATE_ROWS * 6
+WORKSPACE = W_SENSED + SENSED_ROWS * 6
+
 
 @njit(cache=True)
 def matvec(matrix: FloatArray, vector: FloatArray) -> FloatArray:
@@ -336,3 +349,52 @@ def servo_tick(
         coulomb[i] += blend * (target - coulomb[i])
         torque[i] += coulomb[i]
     saturate_about(torque, vectors[TORQUE_MAX], vectors[GRAVITY])
+
+
+@njit(cache=True)
+def servo_tick_live(
+    t_s: float,
+    positions: FloatArray,
+    velocities: FloatArray,
+    wrench_raw: FloatArray,
+    noise: FloatArray,
+    noise_row: int,
+    ctrl: FloatArray,
+    workspace: FloatArray,
+) -> None:
+    """:func:`servo_tick` on the plant's live signals: sense, command, drive, in one call.
+
+    The encoders and the wrist sensor (its noiseless signal plus row ``noise_row`` of
+    ``noise``) are copied into the workspace's sensed rows, :func:`servo_tick` runs on
+    them, and its torque goes to the drives (``ctrl``) as well as to the TORQUE row.
+
+    Args:
+        t_s: Simulated time, in [s].
+        positions: The joint encoders, in [rad]. # (6,)
+        velocities: The joint velocities, in [rad/s]. # (6,)
+        wrench_raw: The wrist sensor's noiseless reading, sensor frame, [N, N m]. # (6,)
+        noise: The sensor's noise samples, [N, N m]. # (n, 6)
+        noise_row: The row of ``noise`` this reading takes.
+        ctrl: The drives' torque commands, in [N m]. # (6,)
+        workspace: The blocks at W_SCALARS ... W_SENSED. # (WORKSPACE,)
+    """
+    sensed = workspace[W_SENSED:WORKSPACE].reshape((SENSED_ROWS, 6))
+    q, qd, sensor = sensed[SENSED_Q], sensed[SENSED_QD], sensed[SENSED_WRENCH]
+    for i in range(6):
+        q[i] = positions[i]
+        qd[i] = velocities[i]
+        sensor[i] = wrench_raw[i] + noise[noise_row, i]
+    state = workspace[W_STATE:W_SENSED].reshape((STATE_ROWS, 6))
+    servo_tick(
+        t_s,
+        q,
+        qd,
+        sensor,
+        workspace[W_SCALARS:W_VECTORS],
+        workspace[W_VECTORS:W_MATRICES].reshape((VECTORS, 6)),
+        workspace[W_MATRICES:W_STACKED].reshape((MATRICES, 6, 6)),
+        workspace[W_STACKED:W_STATE].reshape((6, 25)),
+        state,
+    )
+    for i in range(6):
+        ctrl[i] = state[TORQUE, i]
