@@ -181,7 +181,7 @@ class Runtime:
         now, noise_row = self._sense()
         if now + self._eps_s >= self._next_param_s:
             self._evaluate(now)
-        self.servo.command_live(now, self._live, noise_row)
+        self.servo.command(now, self._live, noise_row)
         self._advance(now)
 
     def timed_tick(self, phases: PhaseTimes) -> None:
@@ -196,7 +196,7 @@ class Runtime:
         if now + self._eps_s >= self._next_param_s:
             self._evaluate(now)
         t2 = clock()
-        self.servo.command_live(now, self._live, noise_row)
+        self.servo.command(now, self._live, noise_row)
         t3 = clock()
         record_ns = self._advance(now)
         t4 = clock()
@@ -212,7 +212,7 @@ class Runtime:
         """The simulated time, in [s], and the noise row of this tick's sensor reading.
 
         The encoders and the sensor are read inside the servo's compiled call, from the
-        plant's live buffers (:meth:`ServoLevel.command_live`).
+        plant's live buffers (:meth:`ServoLevel.command`).
         """
         plant = self.plant
         return plant.time_s, plant.next_noise_row()

@@ -146,12 +146,12 @@ class ServoLevel:
 
     @property
     def sensed_q(self) -> FloatArray:
-        """Joint positions the last :meth:`command_live` sensed, in [rad]. # (6,)."""
+        """Joint positions the last :meth:`command` sensed, in [rad]. # (6,)."""
         return self._sensed[kernel.SENSED_Q]
 
     @property
     def sensed_qd(self) -> FloatArray:
-        """Joint velocities the last :meth:`command_live` sensed, in [rad/s]. # (6,)."""
+        """Joint velocities the last :meth:`command` sensed, in [rad/s]. # (6,)."""
         return self._sensed[kernel.SENSED_QD]
 
     @property
@@ -253,29 +253,11 @@ class ServoLevel:
             self._matrices,
         )
 
-    def command(self, t_s: float, q: FloatArray, qd: FloatArray, sensor: FloatArray) -> FloatArray:
-        """Joint torques for this tick.
+    def command(self, t_s: float, live: LiveSignals, noise_row: int) -> None:
+        """This tick's joint torques, from the plant's live signals, written to its drives.
 
-        Args:
-            t_s: Simulated time, in [s].
-            q: Joint positions from the encoders, in [rad]. # (6,)
-            qd: Joint velocities, in [rad/s]. # (6,)
-            sensor: The wrist sensor's raw reading, sensor frame, [N, N m]. # (6,)
-
-        Returns:
-            Joint torques within the drive limits, in [N m]; a buffer rewritten every tick. # (6,)
-        """
-        self._sample_reference(t_s)
-        kernel.servo_tick(
-            t_s, q, qd, sensor, self._scalars, self._vectors, self._matrices, self._stacked, self._state
-        )
-        return self._state[kernel.TORQUE]
-
-    def command_live(self, t_s: float, live: LiveSignals, noise_row: int) -> None:
-        """:meth:`command` on the plant's live signals, the torque written to its drives.
-
-        What it sensed stays in :attr:`sensed_q`, :attr:`sensed_qd`; the torque in
-        the TORQUE row (:meth:`command`'s result) until the next tick.
+        What it sensed stays in :attr:`sensed_q`, :attr:`sensed_qd`, the torque (within
+        the drive limits) in :attr:`torque`, until the next tick.
 
         Args:
             t_s: Simulated time, in [s].
