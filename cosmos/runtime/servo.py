@@ -254,7 +254,7 @@ class ServoLevel:
         )
 
     def command(self, t_s: float, live: LiveSignals, noise_row: int) -> None:
-        """This tick's joint torques, from the plant's live signals, written to its drives.
+        """Compute the tick's joint torques from the plant's live signals; write them to its drives.
 
         What it sensed stays in :attr:`sensed_q`, :attr:`sensed_qd`, the torque (within
         the drive limits) in :attr:`torque`, until the next tick.
