@@ -9,6 +9,9 @@ what came before (names, the held contact, COMPLY) are the compiler's.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 from cosmos.errors import ProgramError
 from cosmos.lang import ast
 from cosmos.lang.syntax import STATEMENT_KEYWORDS
@@ -98,60 +101,69 @@ def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None
     Raises:
         ProgramError: The first problem found.
     """
-    if type(statement) in _NOTHING_TO_CHECK:
+    check = _CHECKS.get(type(statement))
+    if check is not None:  # statements without clauses or blocks have nothing to check here
+        check(statement, in_block)
+
+
+def _check_move(statement: ast.Move, in_block: bool) -> None:
+    present = _check_clauses("MOVE", statement.clauses)
+    if statement.mode is _MOVE_BY and "VIA" in present:
+        via = next(c for c in statement.clauses if isinstance(c, ast.ViaClause))
+        raise ProgramError("VIA goes with MOVE TO, not MOVE BY", via.span)
+
+
+def _check_contact(statement: ast.Contact, in_block: bool) -> None:
+    _require("CONTACT", _check_clauses("CONTACT", statement.clauses), _FORCE, statement)
+
+
+def _check_slide(statement: ast.Slide, in_block: bool) -> None:
+    _require("SLIDE", _check_clauses("SLIDE", statement.clauses), _BY, statement)
+
+
+def _check_insert(statement: ast.Insert, in_block: bool) -> None:
+    present = _check_clauses("INSERT", statement.clauses)
+    _require("INSERT", present, _DEPTH, statement)
+    _require("INSERT", present, _FORCE, statement)
+
+
+def _check_wait(statement: ast.Wait, in_block: bool) -> None:
+    present = _check_clauses("WAIT", statement.clauses)
+    if statement.duration is None and "UNTIL" not in present:
+        raise ProgramError(
+            "WAIT needs a duration (WAIT 2 s) or a condition (WAIT UNTIL FORCE > 5 N)",
+            statement.span,
+        )
+
+
+def _check_comply(statement: ast.Comply, in_block: bool) -> None:
+    if not statement.clauses:
         return
-    if isinstance(statement, ast.Move):
-        present = _check_clauses("MOVE", statement.clauses)
-        if statement.mode is _MOVE_BY and "VIA" in present:
-            via = next(c for c in statement.clauses if isinstance(c, ast.ViaClause))
-            raise ProgramError("VIA goes with MOVE TO, not MOVE BY", via.span)
-    elif isinstance(statement, ast.Contact):
-        present = _check_clauses("CONTACT", statement.clauses)
-        _require("CONTACT", present, _FORCE, statement)
-    elif isinstance(statement, ast.Slide):
-        present = _check_clauses("SLIDE", statement.clauses)
-        _require("SLIDE", present, _BY, statement)
-    elif isinstance(statement, ast.Insert):
-        present = _check_clauses("INSERT", statement.clauses)
-        _require("INSERT", present, _DEPTH, statement)
-        _require("INSERT", present, _FORCE, statement)
-    elif isinstance(statement, ast.Wait):
-        present = _check_clauses("WAIT", statement.clauses)
-        if statement.duration is None and "UNTIL" not in present:
-            raise ProgramError(
-                "WAIT needs a duration (WAIT 2 s) or a condition (WAIT UNTIL FORCE > 5 N)",
-                statement.span,
-            )
-    elif isinstance(statement, ast.Comply):
-        present = _check_clauses("COMPLY", statement.clauses)
-        if not statement.axes and present:
-            raise ProgramError(
-                "COMPLY NONE restores full stiffness and takes no STIFFNESS or DAMPING",
-                statement.clauses[0].span,
-            )
-    elif isinstance(statement, ast.Obstacle):
-        _check_obstacle(statement)
-    elif isinstance(statement, ast.ProcDef):
-        if in_block:
-            raise ProgramError(
-                "define PROC at the top level of the program, not inside a block", statement.span
-            )
-        if statement.name.name.upper() in STATEMENT_KEYWORDS or statement.name.key == "end":
-            raise ProgramError(
-                f"'{statement.name.name}' is a keyword; give the PROC another name",
-                statement.name.span,
-            )
-        _check_end("PROC", statement.end_tag, statement)
-        for inner in statement.body:
-            check_statement(inner, in_block=True)
-    elif isinstance(statement, ast.Repeat):
-        _check_end("REPEAT", statement.end_tag, statement)
-        for inner in statement.body:
-            check_statement(inner, in_block=True)
+    present = _check_clauses("COMPLY", statement.clauses)
+    if not statement.axes and present:
+        raise ProgramError(
+            "COMPLY NONE restores full stiffness and takes no STIFFNESS or DAMPING",
+            statement.clauses[0].span,
+        )
 
 
-_NOTHING_TO_CHECK = frozenset({ast.Let, ast.FrameDef, ast.SetSpeed, ast.RemoveObstacle, ast.Call})
-"""Statement types without clauses or blocks: nothing here to check."""
+def _check_proc(statement: ast.ProcDef, in_block: bool) -> None:
+    if in_block:
+        raise ProgramError("define PROC at the top level of the program, not inside a block", statement.span)
+    if statement.name.name.upper() in STATEMENT_KEYWORDS or statement.name.key == "end":
+        raise ProgramError(
+            f"'{statement.name.name}' is a keyword; give the PROC another name",
+            statement.name.span,
+        )
+    _check_end("PROC", statement.end_tag, statement)
+    for inner in statement.body:
+        check_statement(inner, in_block=True)
+
+
+def _check_repeat(statement: ast.Repeat, in_block: bool) -> None:
+    _check_end("REPEAT", statement.end_tag, statement)
+    for inner in statement.body:
+        check_statement(inner, in_block=True)
 
 
 def _check_end(keyword: str, tag: str | None, statement: ast.ProcDef | ast.Repeat) -> None:
@@ -176,3 +188,18 @@ def _check_obstacle(statement: ast.Obstacle) -> None:
                 f"a {shape.value} obstacle needs {needed.value}, as in {_EXAMPLES[needed]}",
                 statement.span,
             )
+
+
+_CHECKS: dict[type, Callable[[Any, bool], None]] = {
+    ast.Move: _check_move,
+    ast.Contact: _check_contact,
+    ast.Slide: _check_slide,
+    ast.Insert: _check_insert,
+    ast.Wait: _check_wait,
+    ast.Comply: _check_comply,
+    ast.Obstacle: lambda statement, in_block: _check_obstacle(statement),
+    ast.ProcDef: _check_proc,
+    ast.Repeat: _check_repeat,
+}
+"""The check of each statement type that has clauses or a block (LET, FRAME, SPEED,
+OBSTACLE REMOVE and CALL have neither)."""

@@ -119,6 +119,7 @@ class _Run:
     __slots__ = (
         "compiler",
         "source",
+        "lines",
         "context",
         "call_stack",
         "steps",
@@ -131,6 +132,8 @@ class _Run:
     def __init__(self, compiler: Compiler, source: str):
         self.compiler = compiler
         self.source = source
+        self.lines = compiler.lines_of(source)
+        """``source.splitlines()``: ``source`` changes (to a procedure's text), so do they."""
         self.context: list[str] = []
         self.call_stack: list[str] = []
         self.steps: list[plan.Step] = []
@@ -141,8 +144,7 @@ class _Run:
         self.builder = MotionBuilder(compiler.defaults, self.evaluator, self.text_of, self.warn)
 
     def text_of(self, span: Span) -> str:
-        split = self.compiler._split
-        lines = split[1] if split[0] is self.source else self.compiler.lines_of(self.source)
+        lines = self.lines
         line = span.line
         if line == span.end_line and 0 < line <= len(lines):  # most statements: statement_text's first case
             return lines[line - 1][span.column - 1 : span.end_column - 1].strip()
@@ -215,7 +217,10 @@ class _Run:
         self.evaluator.names = state.names
         context = "; ".join(self.context) if self.context else ""
         segments, state = self.builder.build(statement, state, context)  # type: ignore[arg-type]
-        self.emit(segments)
+        steps = self.steps
+        if len(steps) - self.first_step + len(segments) > MAX_STEPS:
+            self.emit(segments)  # raises
+        steps.extend(segments)
         return state
 
     def _speed(self, statement: ast.SetSpeed, state: CompileState) -> CompileState:
@@ -400,8 +405,9 @@ class _Run:
             chain = " -> ".join([*self.call_stack, key])
             raise ProgramError(f"procedures call each other without end: {chain}", statement.span)
         state = replace(state, called=state.called | {key})
-        outer_source = self.source
+        outer_source, outer_lines = self.source, self.lines
         self.source = entry.source
+        self.lines = self.compiler.lines_of(entry.source)
         self.call_stack.append(key)
         self.context.append(f"PROC {entry.definition.name.name} called at line {statement.span.line}")
         try:
@@ -410,7 +416,7 @@ class _Run:
         finally:
             self.context.pop()
             self.call_stack.pop()
-            self.source = outer_source
+            self.source, self.lines = outer_source, outer_lines
         return state
 
     def _repeat(self, statement: ast.Repeat, state: CompileState) -> CompileState:

@@ -54,37 +54,47 @@ class _Axes:
 class _Clauses:
     """A statement's clauses by keyword (the checker has refused duplicates).
 
-    ``exprs`` holds the value of each clause in ``values`` (None where absent: ``.get``).
+    ``exprs`` holds the value of each value clause by its kind (``.get``: None where absent).
     """
 
-    values: dict[ast.ClauseKind, ast.ValueClause]
+    given: tuple[ast.Clause, ...]
     exprs: dict[ast.ClauseKind, ast.Expr]
     via: ast.ViaClause | None
     until: ast.UntilClause | None
     comply: ast.ComplyClause | None
 
-    @classmethod
-    def of(cls, clauses: tuple[ast.Clause, ...]) -> _Clauses:
-        values: dict[ast.ClauseKind, ast.ValueClause] = {}
-        exprs: dict[ast.ClauseKind, ast.Expr] = {}
-        found = _new(cls)  # the fields set here, without the dataclass __init__
-        found.values = values
-        found.exprs = exprs
-        found.via = found.until = found.comply = None
-        for clause in clauses:
-            if type(clause) is _VALUE_CLAUSE:
-                values[clause.kind] = clause
-                exprs[clause.kind] = clause.value
-            elif isinstance(clause, ast.ValueClause):
-                values[clause.kind] = clause
-                exprs[clause.kind] = clause.value
-            elif isinstance(clause, ast.ViaClause):
-                found.via = clause
-            elif isinstance(clause, ast.UntilClause):
-                found.until = clause
-            else:
-                found.comply = clause
-        return found
+    def span_of(self, kind: ast.ClauseKind) -> Span:
+        """The span of the value clause of ``kind`` (keyword and value), which is given."""
+        return next(c.span for c in self.given if type(c) is _VALUE_CLAUSE and c.kind is kind)
+
+
+def _clauses_of(clauses: tuple[ast.Clause, ...]) -> _Clauses:
+    """A statement's clauses sorted by keyword (one shared, never changed, value for none)."""
+    if not clauses:
+        return _NO_CLAUSES
+    exprs: dict[ast.ClauseKind, ast.Expr] = {}
+    found = _new(_Clauses)  # the fields set here, without the dataclass __init__
+    found.given = clauses
+    found.exprs = exprs
+    found.via = found.until = found.comply = None
+    for clause in clauses:
+        kind = type(clause)
+        if kind is _VALUE_CLAUSE:
+            exprs[clause.kind] = clause.value  # type: ignore[union-attr]
+        elif kind is _VIA_CLAUSE:
+            found.via = clause  # type: ignore[assignment]
+        elif kind is _UNTIL_CLAUSE:
+            found.until = clause  # type: ignore[assignment]
+        else:
+            found.comply = clause  # type: ignore[assignment]
+    return found
+
+
+_NO_CLAUSES = _Clauses((), {}, None, None, None)
+"""The clauses of a statement without any (its dictionaries stay empty)."""
+_VALUE_CLAUSE = ast.ValueClause
+_VIA_CLAUSE = ast.ViaClause
+_UNTIL_CLAUSE = ast.UntilClause
 
 
 _NO_COMPLIANCE = (None,) * 6
@@ -92,7 +102,6 @@ _IN_WORLD: tuple[TaskFrame, float | None, str | None] = (WORLD, None, None)
 """What ``_frame`` gives a statement without IN: the world frame, no duration, no fixture."""
 _NO_FORCES: dict[int, float] = {}  # never changed
 _NO_FREE: set[int] = set()  # never changed
-_VALUE_CLAUSE = ast.ValueClause
 _new = object.__new__
 
 
@@ -260,6 +269,8 @@ class MotionBuilder:
         "text_of",
         "warn",
         "context",
+        "_goal_reached",
+        "_jam_check",
         "_segments",
         "_text_span",
         "_text",
@@ -278,6 +289,9 @@ class MotionBuilder:
         self.warn = warn
         self.state: CompileState
         self.context = ""
+        completions = _completions(defaults)
+        self._goal_reached = completions.goal_reached
+        self._jam_check = completions.jam_check
         self._segments: list[plan.Segment] = []
         self._text_span: Span | None = None
         self._text = ""
@@ -316,16 +330,16 @@ class MotionBuilder:
     # ------------------------------------------------------------ statements
 
     def _move(self, statement: ast.Move) -> _ContactChange:
-        clauses = _Clauses.of(statement.clauses)
+        clauses = _clauses_of(statement.clauses)
         frame, duration, _ = (
             self._frame(clauses, "MOVE", allow_duration=True) if _IN in clauses.exprs else _IN_WORLD
         )
         speed: float | None = None
-        if _SPEED in clauses.values:
+        if _SPEED in clauses.exprs:
             if duration is not None:
                 raise ProgramError(
                     "give MOVE a SPEED or a duration (IN 2 s), not both",
-                    clauses.values[_SPEED].span,
+                    clauses.span_of(_SPEED),
                 )
             speed = self._speed(clauses, None)
         elif duration is None:
@@ -379,7 +393,7 @@ class MotionBuilder:
             via=via,
             speed=speed,
             duration=duration,
-            completion=self._goal_reached(),
+            completion=self._goal_reached,
             until=None
             if clauses.until is None
             else self._until(
@@ -394,7 +408,7 @@ class MotionBuilder:
         return None, released
 
     def _contact(self, statement: ast.Contact) -> _ContactChange:
-        clauses = _Clauses.of(statement.clauses)
+        clauses = _clauses_of(statement.clauses)
         frame, _, fixture = (
             self._frame(clauses, "CONTACT", allow_duration=False) if _IN in clauses.exprs else _IN_WORLD
         )
@@ -444,7 +458,7 @@ class MotionBuilder:
         return contact, released
 
     def _slide(self, statement: ast.Slide) -> None:  # keeps the contact: no change
-        clauses = _Clauses.of(statement.clauses)
+        clauses = _clauses_of(statement.clauses)
         contact = self._held_contact("SLIDE", statement.span)
         frame, _, _ = (
             self._frame(clauses, "SLIDE", allow_duration=False) if _IN in clauses.exprs else _IN_WORLD
@@ -463,7 +477,7 @@ class MotionBuilder:
         by = clauses.exprs.get(_BY)
         assert by is not None  # the checker requires BY
         distance = self._positive_scalar(by, units.LENGTH, "BY")
-        force = self._force(clauses) if _FORCE in clauses.values else contact.force_n
+        force = self._force(clauses) if _FORCE in clauses.exprs else contact.force_n
         speed = self._speed(clauses, self.state.default_speed_mps)
         timeout = self._timeout(clauses)
         if timeout is not None:
@@ -476,13 +490,13 @@ class MotionBuilder:
             self._axes({contact_axis: contact_sign * force}, _NO_FREE),
             target=_relative_target(readonly_of(offset)),
             speed=speed,
-            completion=self._goal_reached(),
+            completion=self._goal_reached,
             until=None if clauses.until is None else self._until(clauses, frame, force_expected=True),
             timeout=timeout,
         )
 
     def _insert(self, statement: ast.Insert) -> None:
-        clauses = _Clauses.of(statement.clauses)
+        clauses = _clauses_of(statement.clauses)
         frame, _, fixture = (
             self._frame(clauses, "INSERT", allow_duration=False) if _IN in clauses.exprs else _IN_WORLD
         )
@@ -540,11 +554,11 @@ class MotionBuilder:
             completion=_depth_reached(direction_world, depth),
             until=None if clauses.until is None else self._until(clauses, frame, force_expected=True),
             timeout=self._timeout(clauses),
-            jam_check=_completions(self.defaults).jam_check,
+            jam_check=self._jam_check,
         )
 
     def _wait(self, statement: ast.Wait) -> None:
-        clauses = _Clauses.of(statement.clauses)
+        clauses = _clauses_of(statement.clauses)
         duration = None
         if statement.duration is not None:
             duration = self._positive_scalar(statement.duration, units.TIME, "WAIT")
@@ -765,9 +779,6 @@ class MotionBuilder:
             )
         return condition
 
-    def _goal_reached(self) -> plan.GoalReached:
-        return _completions(self.defaults).goal_reached
-
     # --------------------------------------------------------------- warnings
 
     def _warn_force_sign(self, condition: plan.Condition, heading_world: plan.FloatArray) -> None:
@@ -810,7 +821,7 @@ class MotionBuilder:
         if needed is not None and timeout < needed:
             self.warn(
                 f"TIMEOUT {timeout:g} s is shorter than the {needed:.3g} s this motion needs",
-                clauses.values[_TIMEOUT].span,
+                clauses.span_of(_TIMEOUT),
             )
 
     def _warn_away_from_fixture(self, direction: ast.Direction, fixture: str | None, keyword: str) -> None:

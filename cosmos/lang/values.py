@@ -59,6 +59,7 @@ _scalar = quick(Scalar)
 _NUMBERS: dict[tuple[float, str | None], tuple[float, Dim | None]] = {}
 """Numbers as written (never negative: a sign is an operator) to SI and dimension."""
 _vec = quick(Vec)
+_NUMBER = ast.Number
 _frame_value = quick(FrameValue)
 
 
@@ -194,7 +195,12 @@ class Evaluator:
         dim: Dim | None = None
         first_with_dim: ast.Expr | None = None
         for item in expr.items:
-            if type(item) is ast.Number:  # most components: no Scalar made
+            if type(item) is _NUMBER and item.unit is None:  # a bare number: itself, if finite
+                number = item.value
+                if isfinite(number):
+                    values.append(number)
+                    continue
+            if type(item) is _NUMBER:  # most components: no Scalar made
                 known = _NUMBERS.get((item.value, item.unit))
                 number, item_dim = self._number_value(item) if known is None else known
             else:
