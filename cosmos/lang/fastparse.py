@@ -39,6 +39,12 @@ from cosmos.lang.replay_code import Replay, replay_function
 __all__ = ["GiveUp", "Tok", "parse"]
 
 
+UNREAD = frozenset({"COMMA", "EQUAL", "STAR", "_NL"})
+"""Terminals whose tokens the tree builder passes over without reading their
+text or place (:mod:`cosmos.lang.tree_builder`): one shared token each, with no
+place, stands for all of them (a fifth of a program's tokens made for nothing)."""
+
+
 def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str, ...]]]:
     r"""The tokens of each statement (its ``_NL`` included) and its shape.
 
@@ -46,27 +52,27 @@ def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str
     the keyword it may stand for (the parser state decides: :class:`Run`), so two
     statements of one shape are parsed alike from the same stack.
 
-    The text is lexed a line at a time: no terminal reaches past a line break
-    (one that holds a line break ends there), so each match is the one the
-    whole text would give, and a token's offset in its line is its column - 1
-    (Lark counts lines by ``\n`` alone). Tokens are made without a call to
-    their ``__init__`` (one call per token is a fifth of the lexing time).
+    The text is lexed a line at a time (:mod:`cosmos.lang.scanner`): no terminal
+    reaches past a line break (one that holds a line break ends there), so each
+    match is the one the whole text would give, and a token's column is counted
+    from the lengths of what precedes it in its line (Lark counts lines by
+    ``\n`` alone). Tokens are made without a call to their ``__init__`` (one call
+    per token is a fifth of the lexing time), and those of :data:`UNREAD`
+    terminals not at all.
 
     Raises:
         GiveUp: A character no terminal matches, or a word outside ASCII.
     """
     keywords = tables.keywords
-    kinds = tables.kinds
-    roles = tables.roles
-    finditer = tables.lexer.finditer
+    scan = tables.scanner
+    findall = scan.pattern.findall
+    first_kinds = scan.first_kinds
+    role_of = {kind: role for kind, role in zip(tables.kinds, tables.roles, strict=True) if kind is not None}
+    placed = frozenset(kind for kind, role in role_of.items() if role is Role.PLAIN) - UNREAD
+    shared = {kind: Tok(kind, "", None, None, None, None) for kind in UNREAD}  # type: ignore[arg-type]
+    ends = frozenset(kind for kind, role in role_of.items() if role is Role.BREAK)
+    ignored = frozenset(kind for kind, role in role_of.items() if role in (Role.IGNORED, Role.IGNORED_BREAK))
     new = object.__new__
-    plain, word, ignored, bad, ignored_break = (
-        Role.PLAIN,
-        Role.WORD,
-        Role.IGNORED,
-        Role.BAD,
-        Role.IGNORED_BREAK,
-    )
     found: list[Tok] = []
     shape: list[str] = []
     add_token = found.append
@@ -75,49 +81,44 @@ def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str
     last = pieces.pop()  # what follows the last line break
     lines = chain((piece + "\n" for piece in pieces), [last] if last else [])
     for line, piece in enumerate(lines, 1):
-        for match in finditer(piece):
-            group: int = match.lastindex  # type: ignore[assignment]
-            start, stop = match.span(group)
-            role = roles[group]
-            if role is plain:
-                kind: str = kinds[group]  # type: ignore[assignment]
-                token = new(Tok)
-                token.type = kind
-                token.value = piece[start:stop]
-                token.line = token.end_line = line
-                token.column = start + 1
-                token.end_column = stop + 1
-                add_token(token)
-                add_kind(kind)
-            elif role is word:
-                value = piece[start:stop]
+        column = 1
+        for blanks, value in findall(piece):
+            start = column + len(blanks)
+            column = start + len(value)
+            kind = first_kinds.get(value[0])
+            if kind is None:  # a character that starts tokens of several kinds, or not ASCII
+                kind = scan.kind_at(piece, start - 1)
+            if kind == "WORD":
                 if not value.isascii():
                     raise GiveUp
                 token = new(Tok)
-                token.type = "WORD"
+                token.type = kind
                 token.value = value
                 token.line = token.end_line = line
-                token.column = start + 1
-                token.end_column = stop + 1
+                token.column = start
+                token.end_column = column
                 add_token(token)
-                add_kind(keywords.get(value.lower(), "WORD"))
-            elif role is ignored or role is ignored_break:
-                continue
-            elif role is bad:
+                add_kind(keywords.get(value.lower(), kind))
+            elif kind in placed:
+                token = new(Tok)
+                token.type = kind
+                token.value = value
+                token.line = token.end_line = line
+                token.column = start
+                token.end_column = column
+                add_token(token)
+                add_kind(kind)
+            elif kind in shared:
+                add_token(shared[kind])
+                add_kind(kind)
+                if kind in ends:  # a statement's end (a line break, the line's last token, or ';')
+                    yield found, tuple(shape)
+                    found = []
+                    shape = []
+                    add_token = found.append
+                    add_kind = shape.append
+            elif kind not in ignored:  # a bad character, or a token of a kind this loop does not know
                 raise GiveUp
-            else:  # a statement's end (a line break, the line's last token, or ';')
-                value = piece[start:stop]
-                if value[-1] == "\n":
-                    token = Tok(kinds[group], value, line, start + 1, line + 1, 1)  # type: ignore[arg-type]
-                else:
-                    token = Tok(kinds[group], value, line, start + 1, line, stop + 1)  # type: ignore[arg-type]
-                add_token(token)
-                add_kind(token.type)
-                yield found, tuple(shape)
-                found = []
-                shape = []
-                add_token = found.append
-                add_kind = shape.append
     if found:
         yield found, tuple(shape)
 

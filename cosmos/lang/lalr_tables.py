@@ -21,6 +21,7 @@ from lark.lexer import PatternStr, TerminalDef, _regexp_has_newline
 from lark.parsers.lalr_analysis import Shift
 
 from cosmos.lang.reductions import Recipe, Reduce, reduction
+from cosmos.lang.scanner import Scanner, scanner
 
 BAD = "bad"
 """The lexer's group for a character that no terminal matches (terminal names are upper case)."""
@@ -58,6 +59,7 @@ class Tables:
             terminal's own pattern.
         roles: What the lexer does with each group's match (None for groups
             inside a terminal's own pattern).
+        scanner: The same expression, made for speed (:mod:`cosmos.lang.scanner`).
         keywords: Terminal name by lower-case keyword text.
         actions: Per parser state, by symbol name: a shift or goto (the new
             state, >= 0) or a reduction (``~rule_index``, < 0).
@@ -69,6 +71,7 @@ class Tables:
     lexer: re.Pattern[str]
     kinds: tuple[str | None, ...]
     roles: tuple[Role | None, ...]
+    scanner: Scanner
     keywords: dict[str, str]
     actions: list[dict[str, int]]
     rules: list[_Rule]
@@ -119,9 +122,11 @@ def build_tables(lark: Lark, builder: Any) -> Tables:
     lexed = sorted(
         (t for t in terminals if t.name not in keywords.values() and t not in blanks), key=_lark_order
     )
-    groups = [f"(?P<{terminal.name}>{terminal.pattern.to_regexp()})" for terminal in lexed]
-    prefix = "|".join([f"(?:{terminal.pattern.to_regexp()})" for terminal in blanks] or ["(?!)"])
-    groups.append(f"(?P<{BAD}>[\\s\\S])")
+    names = [terminal.name for terminal in lexed] + [BAD]
+    patterns = [terminal.pattern.to_regexp() for terminal in lexed] + [r"[\s\S]"]
+    groups = [f"(?P<{name}>{pattern})" for name, pattern in zip(names, patterns, strict=True)]
+    blank_patterns = [terminal.pattern.to_regexp() for terminal in blanks]
+    prefix = "|".join([f"(?:{pattern})" for pattern in blank_patterns] or ["(?!)"])
     lexer = re.compile(f"(?:{prefix})*(?:{'|'.join(groups)})")
 
     table = lark.parser.parser.parser.parse_table
@@ -158,6 +163,7 @@ def build_tables(lark: Lark, builder: Any) -> Tables:
         lexer=lexer,
         kinds=tuple(kinds),
         roles=tuple(roles),
+        scanner=scanner(blank_patterns, patterns, lexer, tuple(kinds)),
         keywords=keywords,
         actions=actions,
         rules=rules,
