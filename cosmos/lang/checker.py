@@ -62,10 +62,12 @@ def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | 
         return _NONE_PRESENT
     if len(clauses) == 1:
         clause = clauses[0]
-        return {clause.kind._value_ if type(clause) is ast.ValueClause else clause_key(clause): clause}
+        kind = type(clause)
+        return {clause.kind._value_ if kind is _VALUE_CLAUSE else _KEYWORDS[kind]: clause}  # type: ignore[union-attr]
     seen: dict[str, ast.Clause] = {}
     for clause in clauses:
-        key = clause.kind._value_ if type(clause) is ast.ValueClause else clause_key(clause)
+        kind = type(clause)
+        key = clause.kind._value_ if kind is _VALUE_CLAUSE else _KEYWORDS[kind]  # type: ignore[union-attr]
         if key in seen:
             first = seen[key].span
             hint = "; join conditions with AND or OR" if key == "UNTIL" else ""
@@ -79,6 +81,9 @@ def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | 
 
 
 _NONE_PRESENT: set[str] = set()  # never changed
+_VALUE_CLAUSE = ast.ValueClause
+_KEYWORDS: dict[type, str] = {ast.ViaClause: "VIA", ast.UntilClause: "UNTIL", ast.ComplyClause: "COMPLY"}
+"""The keyword of each clause type other than a value clause (see ``clause_key``)."""
 
 
 def _require(

@@ -310,8 +310,9 @@ class Evaluator:
             dim: The slot's dimension; a bare number is read in its SI unit.
             what: The slot, for messages (``"FORCE"``).
         """
-        if type(expr) is ast.Number:  # most slots: a number as written, no Scalar made
-            number, number_dim = self._number_value(expr)
+        if type(expr) is _NUMBER:  # most slots: a number as written, no Scalar made
+            known = _NUMBERS.get((expr.value, expr.unit))
+            number, number_dim = self._number_value(expr) if known is None else known
             if number_dim is None or number_dim == dim:
                 return number
         value = self.evaluate(expr)
