@@ -62,6 +62,22 @@ def non_capturing(regexp: str) -> str:
     return "".join(out)
 
 
+_CLASS_REPEATED = re.compile(r"\[([^\]^\\]|\\.)([^\]\\]|\\.)*\]\+")
+"""A character class repeated: ``[ \t]+`` (no ``]`` inside, not negated)."""
+
+
+def blanks_pattern(blanks: list[str]) -> str:
+    r"""Any run of ``blanks``: ``(?:A|B)*``, or ``[ab]*`` where they are ``[a]+`` and ``[b]+``.
+
+    The two match the same text (and give the same backtracking points), but a
+    repeated character class is one step of the regular expression engine where
+    a repeated group is a loop of them: a tenth of the scanner's time.
+    """
+    if blanks and all(_CLASS_REPEATED.fullmatch(blank) for blank in blanks):
+        return "[" + "".join(blank[1:-2] for blank in blanks) + "]*"
+    return "(?:" + ("|".join(f"(?:{non_capturing(blank)})" for blank in blanks) or "(?!)") + ")*"
+
+
 @dataclass(frozen=True)
 class Scanner:
     """The scanner and what it needs to tell the kinds of its tokens.
@@ -99,9 +115,8 @@ def scanner(
         exact: The master expression.
         kinds: The terminal name of each of ``exact``'s groups, by number.
     """
-    prefix = "|".join(f"(?:{non_capturing(blank)})" for blank in blanks) or "(?!)"
     alternatives = "|".join(f"(?:{non_capturing(terminal)})" for terminal in terminals)
-    pattern = re.compile(f"((?:{prefix})*)({alternatives})")
+    pattern = re.compile(f"({blanks_pattern(blanks)})({alternatives})")
     if pattern.groups != 2:
         raise ValueError(f"the scanner has {pattern.groups} groups, not 2: {pattern.pattern!r}")
     made = Scanner(pattern, exact, kinds, {})

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 from cosmos.lang.fastparse import UNREAD, GiveUp, statements
 from cosmos.lang.lalr_tables import Role, Tables
 from cosmos.lang.parser import _tables
-from cosmos.lang.scanner import non_capturing
+from cosmos.lang.scanner import blanks_pattern, non_capturing
 
 ROOT = Path(__file__).parents[2]
 CORPUS = [path.read_text() for path in sorted((ROOT / "programs").glob("*.cos"))]
@@ -58,7 +58,10 @@ def _reference(text: str, tables: Tables) -> Any:
 def _fast(text: str, tables: Tables) -> Any:
     try:
         return [
-            (shape, [(t.type, t.value, t.line, t.column, t.end_column) for t in tokens if t.type not in UNREAD])
+            (
+                shape,
+                [(t.type, t.value, t.line, t.column, t.end_column) for t in tokens if t.type not in UNREAD],
+            )
             for tokens, shape in statements(text, tables)
         ]
     except GiveUp:
@@ -89,3 +92,9 @@ def test_the_scanner_lexes_character_soups_as_the_master_expression(pieces: list
 def test_only_capturing_groups_become_non_capturing() -> None:
     assert non_capturing(r"(\r?\n|\r)") == r"(?:\r?\n|\r)"
     assert non_capturing(r"\([(](?i:a)(?=b)[]()]") == r"\([(](?i:a)(?=b)[]()]"
+
+
+def test_blanks_of_repeated_classes_are_one_repeated_class() -> None:
+    assert blanks_pattern(["[ \t]+", "[\\]x]+"]) == "[ \t\\]x]*"
+    assert blanks_pattern(["[^a]+"]) == "(?:(?:[^a]+))*"  # a negated class is left as it is
+    assert blanks_pattern([]) == "(?:(?!))*"
