@@ -183,7 +183,8 @@ class Evaluator:
         return self._pose(expr)
 
     def _lookup(self, expr: ast.Name) -> Value:
-        binding = self.names.get(expr.name.casefold())
+        names, key = self.names, expr.name.casefold()
+        binding = names[key] if key in names else None  # not .get: a mappingproxy's is a method call
         if binding is None:
             raise ProgramError(f"unknown name '{expr.name}'{suggest(expr.name, self.names)}", expr.span)
         if binding.value is None:
@@ -195,13 +196,12 @@ class Evaluator:
         dim: Dim | None = None
         first_with_dim: ast.Expr | None = None
         for item in expr.items:
-            if type(item) is _NUMBER and item.unit is None:  # a bare number: itself, if finite
-                number = item.value
-                if isfinite(number):
+            if type(item) is _NUMBER:  # most components: no Scalar made
+                number, unit = item.value, item.unit
+                if unit is None and isfinite(number):  # a bare number: itself
                     values.append(number)
                     continue
-            if type(item) is _NUMBER:  # most components: no Scalar made
-                known = _NUMBERS.get((item.value, item.unit))
+                known = _NUMBERS.get((number, unit))
                 number, item_dim = self._number_value(item) if known is None else known
             else:
                 value = self.evaluate(item)
