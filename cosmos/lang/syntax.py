@@ -161,7 +161,26 @@ def _match_example(error: UnexpectedToken, parse: Callable[[str], Any]) -> str |
 
 _COMMENT = re.compile("#[^\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029]*")
 """A comment, to the end of its line as ``str.splitlines`` ends lines."""
-_PARENS = re.compile(r"[()]")
+_ONLY_PARENS = {code: None for code in range(128) if chr(code) not in "()"}
+"""A ``str.translate`` table that drops every ASCII character but parentheses."""
+
+
+def _surely_shallow(source: str) -> bool:
+    """Whether no parenthesis outside comments is nested deeper than :data:`MAX_NESTING`.
+
+    Told with string operations alone (no loop over the parentheses): each
+    round drops the innermost pairs ``()``; when none is left after ``rounds``,
+    a parenthesis lies inside at most ``rounds`` pairs and the unmatched ``(``
+    left. False where that bound is over the limit (or a character outside
+    ASCII stands between parentheses): then they are counted one by one.
+    """
+    parens = _COMMENT.sub("", source).translate(_ONLY_PARENS)
+    for rounds in range(MAX_NESTING + 1):
+        inner = parens.replace("()", "")
+        if inner == parens:
+            return rounds + parens.count("(") <= MAX_NESTING
+        parens = inner
+    return False
 
 
 def check_nesting(source: str, file: str) -> None:
@@ -170,15 +189,7 @@ def check_nesting(source: str, file: str) -> None:
     Raises:
         ProgramError: At the first parenthesis past the limit.
     """
-    depth = 0
-    for paren in _PARENS.findall(_COMMENT.sub("", source)):  # a quick look first
-        if paren == ")":
-            depth = max(depth - 1, 0)
-            continue
-        depth += 1
-        if depth > MAX_NESTING:
-            break
-    else:
+    if _surely_shallow(source):
         return
     depth = 0
     for line_number, line in enumerate(source.splitlines(), start=1):

@@ -102,3 +102,22 @@ def test_needs_more_input_inside_an_open_block() -> None:
     assert not needs_more_input("PROC pick\n  WAIT 1 s\nEND\n")
     assert not needs_more_input("MOVE (1, 2, 3)\n")
     assert not needs_more_input("WAIT 1 s")
+
+
+@pytest.mark.parametrize(
+    ("text", "column"),
+    [
+        ("LET x = " + "(" * 65 + "1" + ")" * 65, 9 + 64),
+        ("LET x = " + "(1) + " * 70 + "(" * 65 + "1" + ")" * 65, 9 + 6 * 70 + 64),
+        ("LET x = (((1)\n" + "LET y = (" * 63 + "\n", 9 + 9 * 62),  # unclosed ones add up across lines
+    ],
+)
+def test_parentheses_nested_too_deep_are_refused_where_the_limit_is_passed(text: str, column: int) -> None:
+    with pytest.raises(ProgramError, match="nested more than 64 deep") as raised:
+        parse_program(text, "f.cos")
+    assert raised.value.span is not None and raised.value.span.column == column
+
+
+def test_parentheses_nested_to_the_limit_are_accepted() -> None:
+    deep = "LET x = " + "(" * 64 + "1" + ")" * 64 + "  # ((((((\n"
+    parse_program(deep * 3 + "LET y = " + "(1) + " * 200 + "1\n", "f.cos")
