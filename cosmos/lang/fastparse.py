@@ -8,8 +8,9 @@ the same children Lark would:
 
 - one regular expression made of Lark's own terminal patterns lexes the text
   (no two terminals can start at the same character, apart from a keyword and
-  WORD), and a WORD becomes a keyword where the parser state takes that keyword,
-  as Lark's contextual lexer decides it (``_WordsEverywhere``);
+  WORD); a word that spells a keyword is lexed as that keyword, and becomes a
+  WORD again where the parser state does not take the keyword, as Lark's
+  contextual lexer decides it (``_WordsEverywhere``);
 - each rule is reduced as Lark's tree builder would.
 
 The text is parsed statement by statement (a statement ends at ``_NL``). What
@@ -48,9 +49,10 @@ place, stands for all of them (a fifth of a program's tokens made for nothing)."
 def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str, ...]]]:
     r"""The tokens of each statement (its ``_NL`` included) and its shape.
 
-    Ignored tokens are dropped. The shape holds each token's kind, a WORD's as
-    the keyword it may stand for (the parser state decides: :class:`Run`), so two
-    statements of one shape are parsed alike from the same stack.
+    Ignored tokens are dropped. The shape holds each token's kind (a word's is
+    the keyword it spells, if any: the parser state decides whether it stands
+    for it, :class:`Run`), so two statements of one shape are parsed alike from
+    the same stack.
 
     The text is lexed a line at a time (:mod:`cosmos.lang.scanner`): no terminal
     reaches past a line break (one that holds a line break ends there), so each
@@ -91,6 +93,7 @@ def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str
             if kind == "WORD":
                 if not value.isascii():
                     raise GiveUp
+                kind = keywords.get(value.lower(), kind)
                 token = new(Tok)
                 token.type = kind
                 token.value = value
@@ -98,7 +101,7 @@ def statements(text: str, tables: Tables) -> Iterator[tuple[list[Tok], tuple[str
                 token.column = start
                 token.end_column = column
                 add_token(token)
-                add_kind(keywords.get(value.lower(), kind))
+                add_kind(kind)
             elif kind in placed:
                 token = new(Tok)
                 token.type = kind

@@ -58,7 +58,8 @@ class Trace:
     """What a run did with one statement's tokens.
 
     Attributes:
-        renames: (index, keyword) for each WORD the parser took as a keyword.
+        renames: (index, "WORD") for each word lexed as a keyword that the
+            parser took as a WORD (a name).
         steps: The reductions that build values, in order, each after its shifts
             (reductions that pass one value through change only the state).
         count: The number of tokens (those after the last step are shifted last).
@@ -96,7 +97,7 @@ class Run:
         tables = self.tables
         actions = tables.actions
         rules = tables.rules
-        keywords = tables.keywords
+        keywords = frozenset(tables.keywords.values())
         end = tables.end
         states = self.states
         values = self.values
@@ -107,11 +108,9 @@ class Run:
         row = actions[state]
         for index, token in enumerate(tokens):
             kind = token.type
-            if kind == "WORD":
-                keyword = keywords.get(token.value.lower())
-                if keyword is not None and keyword in row:
-                    kind = token.type = keyword
-                    renames.append((index, keyword))
+            if kind in keywords and kind not in row:  # a keyword where a name is expected
+                kind = token.type = "WORD"
+                renames.append((index, kind))
             while True:
                 action = row.get(kind)
                 if action is None:

@@ -44,7 +44,9 @@ def _reference(text: str, tables: Tables) -> Any:
             if role in (Role.IGNORED, Role.IGNORED_BREAK):
                 continue
             assert kind is not None
-            shape.append(tables.keywords.get(value.lower(), kind) if role is Role.WORD else kind)
+            if role is Role.WORD:  # a word that spells a keyword is lexed as the keyword
+                kind = tables.keywords.get(value.lower(), kind)
+            shape.append(kind)
             if kind not in UNREAD:
                 placed.append((kind, value, line, start + 1, stop + 1))
             if role is Role.BREAK:
