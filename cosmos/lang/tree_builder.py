@@ -5,6 +5,11 @@ method named for a rule or alias as the rule is reduced, with every token kept,
 so a node's span runs from its first token to its last
 (:mod:`cosmos.lang.spans`). The nodes and spans made most often are made
 without their frozen ``__init__`` (:mod:`cosmos.lang.frozen_new`).
+
+The fast parser hands over one shared token, with no text and no place, for
+every comma, ``=``, ``*`` and line break (:data:`cosmos.lang.fastparse.UNREAD`):
+no method here may read those tokens' text or place (the tests comparing the
+fast parser's trees and spans with Lark's would fail).
 """
 
 from __future__ import annotations
