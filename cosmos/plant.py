@@ -194,8 +194,7 @@ class Plant:
             The simulated time after the step, [s] (:attr:`time_s`).
         """
         self._ctrl[:] = tau  # MuJoCo clamps to ctrlrange (every motor is ctrllimited: _check_arm)
-        mujoco.mj_step(self._model, self._data)
-        return float(self._data.time)
+        return self.advance()
 
     def advance(self) -> float:
         """One time step with the torques already in the drives (:attr:`LiveSignals.ctrl`).
