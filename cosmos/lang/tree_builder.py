@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
-from functools import lru_cache
 from typing import Any
 
 from lark import Token, Transformer, Tree
@@ -73,7 +72,6 @@ _AnyOf = quick(ast.AnyOf)
 _AllOf = quick(ast.AllOf)
 
 
-@lru_cache(maxsize=4096)
 def _quantity_parts(text: str) -> tuple[float, str | None]:
     """The number and the unit as written (None for a bare number) of a QUANTITY's text."""
     if not text[-1].isalpha():  # a bare number (a unit ends in a letter)

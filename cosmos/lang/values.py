@@ -56,8 +56,6 @@ class FrameValue:
 Value = Scalar | Vec | FrameValue
 
 _scalar = quick(Scalar)
-_NUMBERS: dict[tuple[float, str | None], tuple[float, Dim | None]] = {}
-"""Numbers as written (never negative: a sign is an operator) to SI and dimension."""
 _vec = quick(Vec)
 _NUMBER = ast.Number
 _frame_value = quick(FrameValue)
@@ -149,9 +147,6 @@ class Evaluator:
 
     def _number_value(self, expr: ast.Number) -> tuple[float, Dim | None]:
         """The number in SI and its dimension (None for a bare number); finite."""
-        known = _NUMBERS.get((expr.value, expr.unit))
-        if known is not None:
-            return known
         if expr.unit is None:
             number, dim = expr.value, None
         else:
@@ -162,8 +157,6 @@ class Evaluator:
             number, dim = expr.value * unit.factor, unit.dim
         if not math.isfinite(number):
             raise ProgramError("this number is too large", expr.span)
-        if len(_NUMBERS) < 4096:
-            _NUMBERS[expr.value, expr.unit] = number, dim
         return number, dim
 
     def _evaluate(self, expr: ast.Expr) -> Value:
@@ -201,8 +194,7 @@ class Evaluator:
                 if unit is None and isfinite(number):  # a bare number: itself
                     values.append(number)
                     continue
-                known = _NUMBERS.get((number, unit))
-                number, item_dim = self._number_value(item) if known is None else known
+                number, item_dim = self._number_value(item)
             else:
                 value = self.evaluate(item)
                 if not isinstance(value, Scalar):
@@ -311,8 +303,7 @@ class Evaluator:
             what: The slot, for messages (``"FORCE"``).
         """
         if type(expr) is _NUMBER:  # most slots: a number as written, no Scalar made
-            known = _NUMBERS.get((expr.value, expr.unit))
-            number, number_dim = self._number_value(expr) if known is None else known
+            number, number_dim = self._number_value(expr)
             if number_dim is None or number_dim == dim:
                 return number
         value = self.evaluate(expr)
