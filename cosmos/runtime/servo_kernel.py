@@ -55,6 +55,10 @@ STATE_ROWS = 9
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 
+# Rows of a tick's work array (servo_tick).
+MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
+SCRATCH_ROWS = 5
+
 # The servo level's buffers live in one flat ``workspace``, so that a tick is a call with few
 # arguments (:func:`servo_tick_live`): the blocks above, then what the tick sensed (rows of six:
 # joint positions, joint velocities, the wrist sensor's reading).
@@ -93,6 +97,18 @@ def matmul(a: FloatArray, b: FloatArray) -> FloatArray:
             for j in range(p):
                 out[i, j] += aik * b[k, j]
     return out
+
+
+@njit(cache=True)
+def _max_abs_product(matrix: FloatArray, vector: FloatArray) -> float:
+    """``max |matrix @ vector|`` without the product's array."""
+    largest = 0.0
+    for i in range(matrix.shape[0]):
+        acc = 0.0
+        for k in range(matrix.shape[1]):
+            acc += matrix[i, k] * vector[k]
+        largest = max(largest, abs(acc))
+    return largest
 
 
 @njit(cache=True)
@@ -152,16 +168,46 @@ def unit_mass_command(
     Gains are per axis of the frame ``error`` and ``velocity`` are written in.
     """
     command = np.empty(6)
+    unit_mass_command_into(
+        command,
+        mode,
+        error,
+        velocity,
+        velocity_desired,
+        acceleration_desired,
+        kp,
+        kv,
+        max_speed,
+        max_angular_speed,
+    )
+    return command
+
+
+@njit(cache=True)
+def unit_mass_command_into(
+    command: FloatArray,
+    mode: float,
+    error: FloatArray,
+    velocity: FloatArray,
+    velocity_desired: FloatArray,
+    acceleration_desired: FloatArray,
+    kp: FloatArray,
+    kv: FloatArray,
+    max_speed: float,
+    max_angular_speed: float,
+) -> None:
+    """:func:`unit_mass_command` written into ``command``. # (6,)."""
     if mode == MODE_GOAL:
-        desired = np.empty(6)
-        for i in range(6):
-            desired[i] = -kp[i] / kv[i] * error[i]
         # Eq. 21's nu, applied to the linear and the angular part separately.
         for o, limit in ((0, max_speed), (3, max_angular_speed)):
-            norm = math.sqrt(desired[o] ** 2 + desired[o + 1] ** 2 + desired[o + 2] ** 2)
+            d0 = -kp[o] / kv[o] * error[o]
+            d1 = -kp[o + 1] / kv[o + 1] * error[o + 1]
+            d2 = -kp[o + 2] / kv[o + 2] * error[o + 2]
+            norm = math.sqrt(d0**2 + d1**2 + d2**2)
             nu = 1.0 if norm <= limit else limit / norm
-            for i in range(o, o + 3):
-                command[i] = kv[i] * (nu * desired[i] - velocity[i])
+            command[o] = kv[o] * (nu * d0 - velocity[o])
+            command[o + 1] = kv[o + 1] * (nu * d1 - velocity[o + 1])
+            command[o + 2] = kv[o + 2] * (nu * d2 - velocity[o + 2])
     elif mode == MODE_TRAJECTORY:
         for i in range(6):
             command[i] = (
@@ -170,7 +216,6 @@ def unit_mass_command(
     else:
         for i in range(6):
             command[i] = -kp[i] * error[i] - kv[i] * velocity[i]
-    return command
 
 
 @njit(cache=True)
@@ -226,13 +271,20 @@ def servo_tick(
     environment_wrench_into(
         wrench, sensor, matrices[ROTATION_SENSOR], offsets[:3], offsets[3:], scalars[TOOL_WEIGHT_Z_N]
     )
+    # Work rows of this tick (one allocation; the arithmetic below writes in place).
+    work = np.empty((SCRATCH_ROWS, 6))
     jacobian = matrices[JACOBIAN]
-    velocity = matvec(jacobian, qd)
-    displacement = matvec(jacobian, q - vectors[EVALUATION_Q])
-    state[VELOCITY] = velocity
-    state[DISPLACEMENT] = displacement
-    error = vectors[REFERENCE_ERROR] + displacement  # x - x_d with x = x_e + J (q - q_e)
-    state[ERROR] = error
+    velocity, displacement, error = state[VELOCITY], state[DISPLACEMENT], state[ERROR]
+    evaluation_q, reference_error = vectors[EVALUATION_Q], vectors[REFERENCE_ERROR]
+    for i in range(6):
+        v = 0.0
+        d = 0.0
+        for k in range(6):
+            v += jacobian[i, k] * qd[k]
+            d += jacobian[i, k] * (q[k] - evaluation_q[k])
+        velocity[i] = v
+        displacement[i] = d
+        error[i] = reference_error[i] + d  # x - x_d with x = x_e + J (q - q_e)
 
     mode, kp, kv = scalars[MODE], vectors[KP], vectors[KV]
     velocity_desired, acceleration_desired = vectors[REFERENCE_VELOCITY], vectors[REFERENCE_ACCELERATION]
@@ -256,7 +308,9 @@ def servo_tick(
         velocity_desired = velocity_desired - matvec(omega_admittance, velocity_desired)
         acceleration_desired = acceleration_desired - matvec(omega_admittance, acceleration_desired)
     if scalars[UNIFORM] != 0.0:
-        motion = unit_mass_command(
+        motion = work[MOTION]
+        unit_mass_command_into(
+            motion,
             mode,
             error,
             velocity,
@@ -282,17 +336,21 @@ def servo_tick(
         )
         motion = _rotate_blocks(r, motion_task, False)
 
-    feedback = np.zeros(6)
+    feedback = work[FEEDBACK]
+    feedback[:] = 0.0
     # Operational speed commanded outright, world: a tracked trajectory's xd_d on the motion
     # axes, the admittance speed on compliant moment axes. Friction is compensated toward it.
-    commanded_speed = np.zeros(6)
+    commanded_speed = work[COMMANDED_SPEED]
+    commanded_speed[:] = 0.0
     if mode == MODE_TRAJECTORY:
         commanded_speed = velocity_desired - matvec(matrices[OMEGA_BAR], velocity_desired)
     elapsed = t_s - scalars[START_S]
     ramp = scalars[RAMP_S]
     fraction = 1.0 if elapsed >= ramp else elapsed / ramp
-    start = vectors[FORCE_START]
-    setpoint = start + fraction * (vectors[FORCE_WORLD] - start)
+    start, goal = vectors[FORCE_START], vectors[FORCE_WORLD]
+    setpoint = work[SETPOINT]
+    for i in range(6):
+        setpoint[i] = start[i] + fraction * (goal[i] - start[i])
     if admittance:
         # Moment axes: admittance control. The moment error (sensor low-passed) sets a
         # rotation speed, bounded, which a unit-mass velocity servo tracks, and toward which
@@ -312,18 +370,27 @@ def servo_tick(
         flags = state[FLAGS]
         # Integral action only once something pushes back (latched for the segment): in
         # free space the force error cannot be closed and would wind up into an impact.
-        if flags[TOUCHING] == 0.0 and np.abs(matvec(omega_bar, wrench)).max() > scalars[CONTACT_THRESHOLD_N]:
+        if flags[TOUCHING] == 0.0 and _max_abs_product(omega_bar, wrench) > scalars[CONTACT_THRESHOLD_N]:
             flags[TOUCHING] = 1.0
         integral = state[INTEGRAL]
         if flags[TOUCHING] != 0.0:
-            limit = scalars[INTEGRAL_LIMIT]
-            step = matvec(omega_bar, setpoint - wrench) * scalars[DT_S]
+            limit, dt = scalars[INTEGRAL_LIMIT], scalars[DT_S]
             for i in range(6):
-                integral[i] = min(max(integral[i] + step[i], -limit), limit)
-        k_f = scalars[K_F]
-        feedback = (1.0 + k_f) * setpoint - k_f * wrench + scalars[K_I] * integral  # F_a without damping
+                acc = 0.0
+                for k in range(6):
+                    acc += omega_bar[i, k] * (setpoint[k] - wrench[k])
+                integral[i] = min(max(integral[i] + acc * dt, -limit), limit)
+        k_f, k_i = scalars[K_F], scalars[K_I]
+        for i in range(6):  # F_a without damping
+            feedback[i] = (1.0 + k_f) * setpoint[i] - k_f * wrench[i] + k_i * integral[i]
         if flags[TOUCHING] == 0.0:
-            acceleration = motion + matvec(matrices[FORCE_TO_ACCELERATION], feedback)
+            acceleration = work[ACCELERATION]
+            force_to_acceleration = matrices[FORCE_TO_ACCELERATION]
+            for i in range(6):
+                acc = 0.0
+                for k in range(6):
+                    acc += force_to_acceleration[i, k] * feedback[k]
+                acceleration[i] = motion[i] + acc
 
     torque = state[TORQUE]
     for i in range(6):
@@ -341,11 +408,15 @@ def servo_tick(
     # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
     if admittance or mode == MODE_TRAJECTORY:  # Jbar xd_d: a slow joint is not left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
-    intent = (qd + matvec(matrices[JBAR_LOOKAHEAD], acceleration)) * scalars[INTENT_SCALE]
+    jbar_lookahead, intent_scale = matrices[JBAR_LOOKAHEAD], scalars[INTENT_SCALE]
     coulomb, coulomb_nm = state[COULOMB], vectors[COULOMB_NM]
     blend = scalars[COULOMB_BLEND]
     for i in range(6):
-        target = coulomb_nm[i] * min(max(intent[i], -1.0), 1.0)
+        acc = 0.0
+        for k in range(6):
+            acc += jbar_lookahead[i, k] * acceleration[k]
+        intent = (qd[i] + acc) * intent_scale
+        target = coulomb_nm[i] * min(max(intent, -1.0), 1.0)
         coulomb[i] += blend * (target - coulomb[i])
         torque[i] += coulomb[i]
     saturate_about(torque, vectors[TORQUE_MAX], vectors[GRAVITY])
