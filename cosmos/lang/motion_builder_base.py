@@ -1,0 +1,141 @@
+"""What a motion builder holds, and how it writes a plan segment.
+
+:class:`MotionBuilderBase` is the root of :class:`cosmos.lang.motion.MotionBuilder`:
+its slots (one compilation pass's defaults, evaluator and callbacks; the state of
+the statement being built) and :meth:`MotionBuilderBase._add`, which appends one
+segment. The other parts of the builder (axes, clause values, the statements)
+are subclasses of it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from cosmos import plan
+from cosmos.errors import Span
+from cosmos.lang import ast
+from cosmos.lang.frozen_new import quick
+from cosmos.lang.motion_clauses import _completions
+from cosmos.lang.state import CompileState, Defaults, TaskFrame
+from cosmos.lang.values import Evaluator
+
+if TYPE_CHECKING:
+    from cosmos.lang.motion_axes import _Axes
+
+_new = object.__new__
+_set_attribute = object.__setattr__
+_absolute_target = quick(plan.AbsoluteTarget)
+
+
+def _relative_target(offset_world: plan.FloatArray) -> plan.RelativeTarget:
+    """``plan.RelativeTarget(offset_world)`` without the frozen ``__setattr__``."""
+    target = _new(plan.RelativeTarget)
+    target.__dict__["offset_world"] = offset_world
+    return target
+
+
+_QUICK_SEGMENT = tuple(plan.Segment.__dataclass_fields__) == (
+    "index", "kind", "statement_index", "span", "line", "statement", "context", "frame_name",
+    "frame_rotation", "motion_axes", "force_setpoint", "stiffness", "damping", "target", "via",
+    "via_radius_m", "speed_limit_mps", "duration_s", "completion", "until", "timeout_s", "jam_check",
+) and not hasattr(plan.Segment, "__post_init__")  # fmt: skip
+"""Whether :meth:`MotionBuilderBase._add` fills a Segment's fields itself (they are the ones it knows)."""
+
+
+class MotionBuilderBase:
+    """The attributes every part of the motion builder reads, and the segment writer.
+
+    Args:
+        defaults: Values used where the program gives none.
+        evaluator: Evaluates expressions against the names of the statement's state.
+        text_of: Source text of a span.
+        warn: Records a warning.
+    """
+
+    __slots__ = (
+        "defaults",
+        "state",
+        "evaluator",
+        "text_of",
+        "warn",
+        "context",
+        "_goal_reached",
+        "_jam_check",
+        "_segments",
+        "_text_span",
+        "_text",
+    )
+
+    def __init__(
+        self,
+        defaults: Defaults,
+        evaluator: Evaluator,
+        text_of: Callable[[Span], str],
+        warn: Callable[[str, Span], None],
+    ):
+        self.defaults = defaults
+        self.evaluator = evaluator
+        self.text_of = text_of
+        self.warn = warn
+        self.state: CompileState
+        self.context = ""
+        completions = _completions(defaults)
+        self._goal_reached = completions.goal_reached
+        self._jam_check = completions.jam_check
+        self._segments: list[plan.Segment] = []
+        self._text_span: Span | None = None
+        self._text = ""
+
+    # --------------------------------------------------------------- segments
+
+    def _add(
+        self,
+        kind: plan.SegmentKind,
+        statement: ast.Statement,
+        frame: TaskFrame,
+        axes: _Axes,
+        *,
+        target: plan.Target | None,
+        speed: float | None,
+        completion: plan.Completion,
+        until: plan.Condition | None,
+        timeout: float | None,
+        via: tuple[plan.AbsoluteTarget, ...] = (),
+        duration: float | None = None,
+        jam_check: plan.JamCheck | None = None,
+    ) -> None:
+        span = statement.span
+        if span is not self._text_span:  # a statement's segments share its text
+            self._text_span = span
+            self._text = self.text_of(span)
+        fields = {
+            "index": self.state.segment_count + len(self._segments),
+            "kind": kind,
+            "statement_index": self.state.statement_count,
+            "span": span,
+            "line": span.line,
+            "statement": self._text,
+            "context": self.context,
+            "frame_name": frame.name,
+            "frame_rotation": frame.rotation,
+            "motion_axes": axes.motion,
+            "force_setpoint": axes.force,
+            "stiffness": axes.stiffness,
+            "damping": axes.damping,
+            "target": target,
+            "via": via,
+            "via_radius_m": self.defaults.via_radius_m if via else None,
+            "speed_limit_mps": speed,
+            "duration_s": duration,
+            "completion": completion,
+            "until": until,
+            "timeout_s": timeout,
+            "jam_check": jam_check,
+        }
+        if _QUICK_SEGMENT:  # what Segment's __init__ makes, without its frozen __setattr__s
+            segment = _new(plan.Segment)
+            _set_attribute(segment, "__dict__", fields)  # the new dict itself, not a copy
+        else:
+            segment = plan.Segment(**fields)  # type: ignore[arg-type]
+        self._segments.append(segment)
