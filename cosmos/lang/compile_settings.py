@@ -1,0 +1,98 @@
+"""SPEED, LET, FRAME and COMPLY: the statements that change the compile state only.
+
+They emit no steps: SPEED sets the default speed, LET and FRAME bind a name,
+COMPLY sets (or, without axes, clears) the compliance of task axes.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from cosmos.errors import ProgramError, Span
+from cosmos.lang import ast, units
+from cosmos.lang.frozen_new import quick
+from cosmos.lang.state import AxisCompliance, CompileState
+from cosmos.lang.values import Binding, BindingKind
+
+if TYPE_CHECKING:
+    from cosmos.lang.compile_pass import _Run
+
+_binding = quick(Binding)
+_axis_compliance = quick(AxisCompliance)
+_LET = BindingKind.LET
+_FRAME = BindingKind.FRAME
+_STIFFNESS = ast.ClauseKind.STIFFNESS
+_DAMPING = ast.ClauseKind.DAMPING
+_NO_COMPLIANCE = (None,) * 6
+
+
+def compile_speed(run: _Run, statement: ast.SetSpeed, state: CompileState) -> CompileState:
+    """Set the default speed of the motion statements that follow."""
+    speed = run._evaluator(state).expect_scalar(statement.value, units.SPEED, "SPEED")
+    _positive(speed, statement.value.span, "SPEED")
+    if speed > 1.5:
+        run.warn(f"SPEED {speed:g} m/s is faster than the PUMA 560 moves its tool", statement.value.span)
+    return state.with_speed(speed)
+
+
+def compile_definition(run: _Run, statement: ast.Let | ast.FrameDef, state: CompileState) -> CompileState:
+    """Bind a LET value or a FRAME to its name."""
+    evaluator = run._evaluator(state)
+    key = statement.name.key
+    previous = state.names.get(key)
+    if previous is not None and previous.kind is BindingKind.FIXTURE:
+        run.warn(
+            f"'{statement.name.name}' hides the workcell fixture of that name from here on",
+            statement.name.span,
+        )
+    if isinstance(statement, ast.Let):
+        value = evaluator.evaluate(statement.value)
+        kind = _LET
+    else:
+        value = evaluator.expect_position(statement.value, "FRAME")
+        kind = _FRAME
+    return state.bind(key, _binding(value, kind, statement.name.span))
+
+
+def compile_comply(run: _Run, statement: ast.Comply, state: CompileState) -> CompileState:
+    """Set the compliance of the given task axes; COMPLY with no axes clears it."""
+    if not statement.axes:
+        return state.with_compliance(_NO_COMPLIANCE)
+    evaluator = run._evaluator(state)
+    clauses = {c.kind: c for c in statement.clauses if type(c) is ast.ValueClause}
+    rotations = {ref.axis.is_rotation for ref in statement.axes}
+    if len(rotations) > 1 and clauses:
+        raise ProgramError(
+            "one STIFFNESS or DAMPING cannot serve both translation and rotation axes "
+            "(N/m against Nm/rad); write one COMPLY for X Y Z and another for RX RY RZ",
+            statement.span,
+        )
+    rotation = rotations.pop()
+    stiffness = 0.0
+    damping: float | None = None
+    if _STIFFNESS in clauses:
+        expr = clauses[_STIFFNESS].value
+        dim = units.ROTATIONAL_STIFFNESS if rotation else units.STIFFNESS
+        stiffness = evaluator.expect_scalar(expr, dim, "STIFFNESS")
+        _not_negative(stiffness, expr.span, "STIFFNESS")
+    if _DAMPING in clauses:
+        expr = clauses[_DAMPING].value
+        dim = units.ROTATIONAL_DAMPING if rotation else units.DAMPING
+        damping = evaluator.expect_scalar(expr, dim, "DAMPING")
+        _not_negative(damping, expr.span, "DAMPING")
+    compliance = list(state.compliance)
+    setting = _axis_compliance(stiffness, damping, statement.span)  # immutable: shared by the axes
+    for ref in statement.axes:
+        compliance[ref.axis._value_] = setting
+    return state.with_compliance(tuple(compliance))
+
+
+def _positive(value: float, span: Span, what: str) -> None:
+    if not value > 0 or not math.isfinite(value):
+        raise ProgramError(f"{what} must be a positive number, not {value:g}", span)
+
+
+def _not_negative(value: float, span: Span, what: str) -> None:
+    if not value >= 0 or not math.isfinite(value):
+        raise ProgramError(f"{what} cannot be negative ({value:g})", span)
