@@ -113,13 +113,7 @@ class _Run:
         self.first_step = steps
         try:
             check_statement(statement)
-            try:  # what ``statement`` does; at the top level there is no context to name
-                return _DISPATCH.get(type(statement), expand_call)(self, statement, state)
-            except RecursionError:
-                raise ProgramError(
-                    "this statement nests too deeply to compile; split its expressions",
-                    statement.span,
-                ) from None
+            return _dispatch(self, statement, state)  # at the top level there is no context to name
         except ProgramError as error:
             del self.steps[steps:], self.warnings[warnings:]
             raise error.with_source(self.source) from None
@@ -133,13 +127,7 @@ class _Run:
         expanded from a procedure or loop, where it was expanded from.
         """
         try:
-            try:
-                return _DISPATCH.get(type(statement), expand_call)(self, statement, state)
-            except RecursionError:
-                raise ProgramError(
-                    "this statement nests too deeply to compile; split its expressions",
-                    statement.span,
-                ) from None
+            return _dispatch(self, statement, state)
         except ProgramError as error:
             if error.source is None:  # not yet seen by an inner statement
                 if self.context and not isinstance(error, SuppressedError):
@@ -162,6 +150,16 @@ class _Run:
             self.emit(segments)  # raises
         steps.extend(segments)
         return state
+
+
+def _dispatch(run: _Run, statement: ast.Statement, state: CompileState) -> CompileState:
+    """Compile ``statement`` by its type (:data:`_DISPATCH`); too deep a nesting is the program's error."""
+    try:
+        return _DISPATCH.get(type(statement), expand_call)(run, statement, state)
+    except RecursionError:
+        raise ProgramError(
+            "this statement nests too deeply to compile; split its expressions", statement.span
+        ) from None
 
 
 _DISPATCH: dict[type, Callable[[_Run, Any, CompileState], CompileState]] = {

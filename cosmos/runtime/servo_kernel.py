@@ -152,38 +152,6 @@ def _rotate_blocks(rotation: FloatArray, vector: FloatArray, transpose: bool) ->
 
 
 @njit(cache=True)
-def unit_mass_command(
-    mode: float,
-    error: FloatArray,
-    velocity: FloatArray,
-    velocity_desired: FloatArray,
-    acceleration_desired: FloatArray,
-    kp: FloatArray,
-    kv: FloatArray,
-    max_speed: float,
-    max_angular_speed: float,
-) -> FloatArray:
-    """F*_m of a unit mass: eq. 20-21 (GOAL), eq. 19 (TRAJECTORY) or eq. 19 with x_d fixed (HOLD). # (6,).
-
-    Gains are per axis of the frame ``error`` and ``velocity`` are written in.
-    """
-    command = np.empty(6)
-    unit_mass_command_into(
-        command,
-        mode,
-        error,
-        velocity,
-        velocity_desired,
-        acceleration_desired,
-        kp,
-        kv,
-        max_speed,
-        max_angular_speed,
-    )
-    return command
-
-
-@njit(cache=True)
 def unit_mass_command_into(
     command: FloatArray,
     mode: float,
@@ -196,7 +164,11 @@ def unit_mass_command_into(
     max_speed: float,
     max_angular_speed: float,
 ) -> None:
-    """:func:`unit_mass_command` written into ``command``. # (6,)."""
+    """F*_m of a unit mass, into ``command``. # (6,).
+
+    Eq. 20-21 (GOAL), eq. 19 (TRAJECTORY) or eq. 19 with x_d fixed (HOLD); gains
+    are per axis of the frame ``error`` and ``velocity`` are written in.
+    """
     if mode == MODE_GOAL:
         # Eq. 21's nu, applied to the linear and the angular part separately.
         for o, limit in ((0, max_speed), (3, max_angular_speed)):
@@ -323,7 +295,9 @@ def servo_tick(
         )
     else:  # per-axis gains are along the task frame's axes
         r = matrices[ROTATION_TASK]
-        motion_task = unit_mass_command(
+        motion_task = np.empty(6)
+        unit_mass_command_into(
+            motion_task,
             mode,
             _rotate_blocks(r, error, True),
             _rotate_blocks(r, velocity, True),

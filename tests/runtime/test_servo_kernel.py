@@ -86,7 +86,13 @@ def test_matvec_is_the_matrix_product() -> None:
         assert_close(sk.matvec(matrix, vector), matrix @ vector)
 
 
-# --- unit_mass_command -------------------------------------------------------------------------
+# --- unit_mass_command_into --------------------------------------------------------------------
+
+
+def _command(*args: object) -> np.ndarray:
+    out = np.full(6, np.nan)  # every component must be written
+    sk.unit_mass_command_into(out, *args)
+    return out
 
 
 def _gains(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
@@ -112,7 +118,7 @@ def test_goal_command_matches_eq_20_21(linear_binds: bool, angular_binds: bool) 
     max_speed = 0.4 * linear if linear_binds else 2.0 * linear
     max_angular_speed = 0.3 * angular if angular_binds else 1.5 * angular
     expected = goal_command(error, velocity, kp, kv, max_speed, max_angular_speed)
-    got = sk.unit_mass_command(
+    got = _command(
         sk.MODE_GOAL, error, velocity, np.zeros(6), np.zeros(6), kp, kv, max_speed, max_angular_speed
     )
     assert_close(got, expected)
@@ -128,7 +134,7 @@ def test_trajectory_command_matches_eq_19() -> None:
     kp, kv = _gains(rng)
     error, velocity, velocity_d, accel_d = (rng.normal(0.0, 0.3, 6) for _ in range(4))
     expected = tracking_command(error, velocity, velocity_d, accel_d, kp, kv)
-    got = sk.unit_mass_command(sk.MODE_TRAJECTORY, error, velocity, velocity_d, accel_d, kp, kv, 0.1, 0.1)
+    got = _command(sk.MODE_TRAJECTORY, error, velocity, velocity_d, accel_d, kp, kv, 0.1, 0.1)
     assert_close(got, expected)
 
 
@@ -137,7 +143,7 @@ def test_hold_command_is_a_spring_and_damper() -> None:
     rng = np.random.default_rng(22)
     kp, kv = _gains(rng)
     error, velocity, velocity_d, accel_d = (rng.normal(0.0, 0.3, 6) for _ in range(4))
-    got = sk.unit_mass_command(sk.MODE_HOLD, error, velocity, velocity_d, accel_d, kp, kv, 1e-3, 1e-3)
+    got = _command(sk.MODE_HOLD, error, velocity, velocity_d, accel_d, kp, kv, 1e-3, 1e-3)
     assert_close(got, -kp * error - kv * velocity)
 
 
