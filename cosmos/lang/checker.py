@@ -47,13 +47,8 @@ _MOVE_BY = ast.MoveMode.BY
 
 def clause_key(clause: ast.Clause) -> str:
     """The clause's keyword (``"SPEED"``, ``"VIA"``, ...)."""
-    if isinstance(clause, ast.ValueClause):
-        return clause.kind._value_
-    if isinstance(clause, ast.ViaClause):
-        return "VIA"
-    if isinstance(clause, ast.UntilClause):
-        return "UNTIL"
-    return "COMPLY"
+    kind = type(clause)
+    return clause.kind._value_ if kind is _VALUE_CLAUSE else _KEYWORDS[kind]  # type: ignore[union-attr]
 
 
 def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | dict[str, ast.Clause]:
@@ -83,7 +78,7 @@ def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | 
 _NONE_PRESENT: set[str] = set()  # never changed
 _VALUE_CLAUSE = ast.ValueClause
 _KEYWORDS: dict[type, str] = {ast.ViaClause: "VIA", ast.UntilClause: "UNTIL", ast.ComplyClause: "COMPLY"}
-"""The keyword of each clause type other than a value clause (see ``clause_key``)."""
+"""The keyword of each clause type other than a value clause."""
 
 
 def _require(
