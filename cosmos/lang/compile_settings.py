@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.frozen_new import quick
-from cosmos.lang.state import AxisCompliance, CompileState
+from cosmos.lang.state import NO_COMPLIANCE, AxisCompliance, CompileState
 from cosmos.lang.values import Binding, BindingKind
 
 if TYPE_CHECKING:
@@ -24,7 +24,6 @@ _LET = BindingKind.LET
 _FRAME = BindingKind.FRAME
 _STIFFNESS = ast.ClauseKind.STIFFNESS
 _DAMPING = ast.ClauseKind.DAMPING
-_NO_COMPLIANCE = (None,) * 6
 
 
 def compile_speed(run: _Run, statement: ast.SetSpeed, state: CompileState) -> CompileState:
@@ -58,7 +57,7 @@ def compile_definition(run: _Run, statement: ast.Let | ast.FrameDef, state: Comp
 def compile_comply(run: _Run, statement: ast.Comply, state: CompileState) -> CompileState:
     """Set the compliance of the given task axes; COMPLY with no axes clears it."""
     if not statement.axes:
-        return state.with_compliance(_NO_COMPLIANCE)
+        return state.with_compliance(NO_COMPLIANCE)
     evaluator = run._evaluator(state)
     clauses = {c.kind: c for c in statement.clauses if type(c) is ast.ValueClause}
     rotations = {ref.axis.is_rotation for ref in statement.axes}

@@ -18,7 +18,7 @@ from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
 from cosmos.lang.motion_builder_base import MotionBuilderBase
 from cosmos.lang.rotations import readonly
-from cosmos.lang.state import AxisCompliance, HeldContact, TaskFrame
+from cosmos.lang.state import NO_COMPLIANCE, AxisCompliance, HeldContact, TaskFrame
 
 _ALIGNED = math.cos(math.radians(1.0))
 """A contact direction within 1 degree of a task axis counts as along it."""
@@ -37,7 +37,6 @@ class _Axes:
     all_motion: bool  # motion.all()
 
 
-_NO_COMPLIANCE = (None,) * 6
 _NO_FORCES: dict[int, float] = {}  # never changed
 _NO_FREE: set[int] = set()  # never changed
 
@@ -102,7 +101,7 @@ class AxisRules(MotionBuilderBase):
         Equal setups share one (read-only) value: a program repeats a few of them.
         """
         compliance = self.state.compliance
-        if not forces and not free and compliance == _NO_COMPLIANCE:
+        if not forces and not free and compliance == NO_COMPLIANCE:
             return _ALL_MOTION
         key = (_compliance_key(compliance), tuple(forces.items()), tuple(free))
         axes = _AXES_SEEN.get(key)

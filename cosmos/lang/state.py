@@ -95,6 +95,10 @@ class AxisCompliance:
     span: Span
 
 
+NO_COMPLIANCE: tuple[AxisCompliance | None, ...] = (None,) * 6
+"""No axis under COMPLY (the start, and after COMPLY NONE)."""
+
+
 @dataclass(frozen=True, eq=False)
 class HeldContact:
     """A contact made by CONTACT and held until a MOVE or another CONTACT.
@@ -147,7 +151,7 @@ class CompileState:
     """
 
     default_speed_mps: float
-    compliance: tuple[AxisCompliance | None, ...] = (None,) * 6
+    compliance: tuple[AxisCompliance | None, ...] = NO_COMPLIANCE
     contact: HeldContact | None = None
     contact_released_by: Span | None = None
     names: Mapping[str, Binding] = field(default_factory=frozen_map)
