@@ -98,9 +98,13 @@ class Scanner:
 
     def kind_at(self, line: str, offset: int) -> str:
         """The kind of the token at ``offset`` in ``line``, as the master expression says."""
-        match = self.exact.match(line, offset)
-        assert match is not None  # it matches any character
-        return self.kinds[match.lastindex]  # type: ignore[index,return-value]
+        return _kind_at(self.exact, self.kinds, line, offset)
+
+
+def _kind_at(exact: re.Pattern[str], kinds: tuple[str | None, ...], line: str, offset: int) -> str:
+    match = exact.match(line, offset)
+    assert match is not None  # it matches any character
+    return kinds[match.lastindex]  # type: ignore[index,return-value]
 
 
 def scanner(
@@ -119,12 +123,12 @@ def scanner(
     pattern = re.compile(f"({blanks_pattern(blanks)})({alternatives})")
     if pattern.groups != 2:
         raise ValueError(f"the scanner has {pattern.groups} groups, not 2: {pattern.pattern!r}")
-    made = Scanner(pattern, exact, kinds, {})
-    made.first_kinds.update(first_kinds(made))
-    return made
+    return Scanner(pattern, exact, kinds, first_kinds(pattern, exact, kinds))
 
 
-def first_kinds(made: Scanner) -> dict[str, str]:
+def first_kinds(
+    pattern: re.Pattern[str], exact: re.Pattern[str], kinds: tuple[str | None, ...]
+) -> dict[str, str]:
     """The kind of the tokens that each ASCII character starts, where there is one kind only.
 
     Each character is tried in front of a set of continuations (:data:`_PROBES`);
@@ -135,9 +139,9 @@ def first_kinds(made: Scanner) -> dict[str, str]:
         char = chr(code)
         seen = set()
         for probe in _PROBES:
-            match = made.pattern.match(char + probe)
+            match = pattern.match(char + probe)
             if match is not None and not match.group(1):  # a token that starts at the character
-                seen.add(made.kind_at(char + probe, 0))
+                seen.add(_kind_at(exact, kinds, char + probe, 0))
         if len(seen) == 1:
             found[char] = seen.pop()
     return found
