@@ -264,20 +264,6 @@ class ServoLevel:
             live: The plant's encoders, wrist sensor and drives (:meth:`Plant.live_signals`).
             noise_row: The row of ``live.noise`` this tick's sensor reading takes.
         """
-        self._sample_reference(t_s)
-        kernel.servo_tick_live(
-            t_s,
-            live.positions,
-            live.velocities,
-            live.wrench_raw,
-            live.noise,
-            noise_row,
-            live.ctrl,
-            self._workspace,
-        )
-
-    def _sample_reference(self, t_s: float) -> None:
-        """Check the servo is ready; when tracking a trajectory, put its sample at ``t_s`` in."""
         ev, sp = self._evaluation, self._setpoint
         if ev is None or sp is None:
             raise RuntimeError("servo level used before a setpoint and an evaluation were given")
@@ -289,3 +275,13 @@ class ServoLevel:
             )
             vectors[kernel.REFERENCE_VELOCITY] = sample.velocity
             vectors[kernel.REFERENCE_ACCELERATION] = sample.acceleration
+        kernel.servo_tick_live(
+            t_s,
+            live.positions,
+            live.velocities,
+            live.wrench_raw,
+            live.noise,
+            noise_row,
+            live.ctrl,
+            self._workspace,
+        )
