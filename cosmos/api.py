@@ -73,6 +73,12 @@ def read_program(program: ProgramArg, name: str | None = None) -> tuple[str, str
     return program, name or TEXT_NAME
 
 
+def _rate(value: object, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise UsageError(f"{name} must be a number [Hz]; got {value!r}")
+    return float(value)
+
+
 def check(program: ProgramArg, *, name: str | None = None) -> Plan:
     """Parse, check and compile a program (a path or its text) as ``cosmos check`` does.
 
@@ -146,19 +152,23 @@ def run(
     from cosmos.runlog.writer import default_log_path
     from cosmos.runtime.rates import Rates
 
+    if isinstance(seed, bool) or not isinstance(seed, int):
+        raise UsageError(f"seed must be an integer; got {seed!r}")
+    defaults = Rates()  # the command line's defaults
+    servo = defaults.servo_hz if servo_hz is None else _rate(servo_hz, "servo_hz")
+    param = min(defaults.param_hz, servo) if param_hz is None else _rate(param_hz, "param_hz")
+    rates = Rates(servo_hz=servo, param_hz=param, state_hz=defaults.state_hz)
     plan = check(program, name=name)
     for warning in plan.warnings:
         warnings.warn(warning.render(plan.source), CosmosWarning, stacklevel=2)
-    if isinstance(seed, bool) or not isinstance(seed, int):
-        raise UsageError(f"seed must be an integer; got {seed!r}")
     stem = Path("program" if plan.file == TEXT_NAME else plan.file)
     log_path = Path(log) if log is not None else default_log_path(stem, datetime.now(UTC))
-    defaults = Rates()  # the command line's defaults
-    servo = defaults.servo_hz if servo_hz is None else float(servo_hz)
-    param = min(defaults.param_hz, servo) if param_hz is None else float(param_hz)
-    rates = Rates(servo_hz=servo, param_hz=param, state_hz=defaults.state_hz)
     failure: TaskFailure | None = None
-    with Session(plan.file, plan.source, log_path, rates, seed, progress) as session:
+    try:
+        session = Session(plan.file, plan.source, log_path, rates, seed, progress)
+    except OSError as error:  # the log cannot be created there
+        raise UsageError(f"{log_path}: cannot write the log: {error.strerror or error}") from None
+    with session:
         in_main = threading.current_thread() is threading.main_thread()
         with stop_on_signals(session.executor) if in_main else nullcontext():
             try:

@@ -190,6 +190,8 @@ def test_a_log_cut_short_is_unfinished(tmp_path: Path) -> None:
         (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)\nCONTACT SIDEWAYS"), "<program>:2:9: CONTACT needs"),
         (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", servo_hz=5000), "--servo-hz must be in"),
         (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", seed="one"), "seed must be an integer"),
+        (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", param_hz="fast"), "param_hz must be a number"),
+        (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", log=d), "cannot write the log"),
         (lambda d: cosmos.check("MOVE TO nowhere", name="x.cos"), "x.cos:1:9: unknown name 'nowhere'"),
         (lambda d: cosmos.load(d / "none.mcap"), "none.mcap: no such file"),
         (lambda d: cosmos.load(SCENE_XML), "scene.xml: not an MCAP file"),
@@ -222,3 +224,14 @@ def test_states_without_pandas_says_how_to_install(doc_run: dict, monkeypatch: p
         doc_run["run"].states  # noqa: B018
     assert str(caught.value) == PANDAS_MISSING
     assert "pip install 'cosmos-osc[pandas]'" in PANDAS_MISSING
+
+
+def test_compile_warnings_are_python_warnings(tmp_path: Path) -> None:
+    """Catches cosmos.run dropping the compiler's warnings (the CLI prints them on stderr)."""
+    text = "PROC unused\n  WAIT 0.1 s\nEND PROC\nWAIT 0.02 s"
+    assert [w.message for w in cosmos.check(text).warnings] == [
+        "PROC unused is never called, so its statements were not checked"
+    ]
+    with pytest.warns(cosmos.CosmosWarning, match=r"<program>:1:6: warning: PROC unused is never called"):
+        run = cosmos.run(text, log=tmp_path / "w.mcap")
+    assert run.ok
