@@ -160,9 +160,15 @@ def test_ctrl_c_stops_the_arm_and_the_run_reports_it(tmp_path: Path) -> None:
         if len(calls) == 2:
             os.kill(os.getpid(), signal.SIGINT)
 
-    run = cosmos.run(
-        "MOVE BY (0, 0, 50 mm)\nMOVE BY (0, 0, -50 mm)", log=tmp_path / "i.mcap", progress=interrupt
-    )
+    missed: list[int] = []  # the signal reached this handler instead of the run's: no KeyboardInterrupt
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: missed.append(signum))
+    try:
+        run = cosmos.run(
+            "MOVE BY (0, 0, 50 mm)\nMOVE BY (0, 0, -50 mm)", log=tmp_path / "i.mcap", progress=interrupt
+        )
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert not missed
     assert not run.ok and run.outcome is not None
     assert run.outcome.kind is cosmos.OutcomeKind.INTERRUPTED
     assert run.outcome.location == "<program>:1:1" and run.outcome.message == "MOVE BY interrupted"
