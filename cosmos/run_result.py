@@ -65,8 +65,9 @@ class Failure:
     @property
     def message(self) -> str:
         """``CONTACT UP found no contact within 1.5 s``: the statement's head and the reason."""
-        head = " ".join(self.statement.split()[:2])  # as the executor names a statement
-        return f"{head} {self.reason}".strip()
+        from cosmos.execution.monitor import statement_head  # as the executor names a statement
+
+        return f"{statement_head(self.statement)} {self.reason}".strip()
 
     def error(self) -> TaskFailure:
         """The failure as the exception ``cosmos run`` reports (``raise run.outcome.error()``)."""
