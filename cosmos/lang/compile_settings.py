@@ -7,19 +7,17 @@ COMPLY sets (or, without axes, clears) the compliance of task axes.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.frozen_new import quick
 from cosmos.lang.state import NO_COMPLIANCE, AxisCompliance, CompileState
 from cosmos.lang.values import Binding, BindingKind
 
 if TYPE_CHECKING:
     from cosmos.lang.compile_pass import _Run
 
-_binding = quick(Binding)
-_axis_compliance = quick(AxisCompliance)
 _LET = BindingKind.LET
 _FRAME = BindingKind.FRAME
 _STIFFNESS = ast.ClauseKind.STIFFNESS
@@ -32,7 +30,7 @@ def compile_speed(run: _Run, statement: ast.SetSpeed, state: CompileState) -> Co
     _positive(speed, statement.value.span, "SPEED")
     if speed > 1.5:
         run.warn(f"SPEED {speed:g} m/s is faster than the PUMA 560 moves its tool", statement.value.span)
-    return state.with_speed(speed)
+    return replace(state, default_speed_mps=speed)
 
 
 def compile_definition(run: _Run, statement: ast.Let | ast.FrameDef, state: CompileState) -> CompileState:
@@ -51,13 +49,13 @@ def compile_definition(run: _Run, statement: ast.Let | ast.FrameDef, state: Comp
     else:
         value = evaluator.expect_position(statement.value, "FRAME")
         kind = _FRAME
-    return state.bind(key, _binding(value, kind, statement.name.span))
+    return state.bind(key, Binding(value, kind, statement.name.span))
 
 
 def compile_comply(run: _Run, statement: ast.Comply, state: CompileState) -> CompileState:
     """Set the compliance of the given task axes; COMPLY with no axes clears it."""
     if not statement.axes:
-        return state.with_compliance(NO_COMPLIANCE)
+        return replace(state, compliance=NO_COMPLIANCE)
     evaluator = run._evaluator(state)
     clauses = {c.kind: c for c in statement.clauses if type(c) is ast.ValueClause}
     rotations = {ref.axis.is_rotation for ref in statement.axes}
@@ -81,10 +79,10 @@ def compile_comply(run: _Run, statement: ast.Comply, state: CompileState) -> Com
         damping = evaluator.expect_scalar(expr, dim, "DAMPING")
         _not_negative(damping, expr.span, "DAMPING")
     compliance = list(state.compliance)
-    setting = _axis_compliance(stiffness, damping, statement.span)  # immutable: shared by the axes
+    setting = AxisCompliance(stiffness, damping, statement.span)  # immutable: shared by the axes
     for ref in statement.axes:
         compliance[ref.axis._value_] = setting
-    return state.with_compliance(tuple(compliance))
+    return replace(state, compliance=tuple(compliance))
 
 
 def _positive(value: float, span: Span, what: str) -> None:

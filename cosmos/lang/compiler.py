@@ -23,8 +23,6 @@ from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
 from cosmos.lang.compile_pass import _Run
 from cosmos.lang.compile_pass import statement_text as statement_text  # public here, as before
-from cosmos.lang.frozen_new import quick
-from cosmos.lang.gc_pause import gc_paused
 from cosmos.lang.parser import parse_program
 from cosmos.lang.rotations import IDENTITY, readonly
 from cosmos.lang.state import CompileState, Defaults, FrameLike, frozen_map
@@ -66,9 +64,6 @@ class StatementResult:
     steps: tuple[plan.Step, ...]
     state: CompileState
     warnings: tuple[plan.Diagnostic, ...]
-
-
-_statement_result = quick(StatementResult)
 
 
 class Compiler:
@@ -119,7 +114,7 @@ class Compiler:
         """
         run = _Run(self, source)
         new_state = run.top_level(statement, state)
-        return _statement_result(tuple(run.steps), new_state, tuple(run.warnings))
+        return StatementResult(tuple(run.steps), new_state, tuple(run.warnings))
 
     def compile_text(self, text: str, state: CompileState, file: str = "<repl>") -> StatementResult:
         """Parse and compile a piece of program (a REPL input), continuing from ``state``.
@@ -127,10 +122,6 @@ class Compiler:
         Raises:
             ProgramError: A syntax or check error (all errors, as :class:`ProgramErrors`).
         """
-        with gc_paused():
-            return self._compile_text(text, state, file)
-
-    def _compile_text(self, text: str, state: CompileState, file: str) -> StatementResult:
         program = parse_program(text, file)
         run = _Run(self, text)  # one pass: a failed statement's steps and warnings are dropped
         top_level = run.top_level
@@ -147,7 +138,7 @@ class Compiler:
                     break
         if errors:
             raise ProgramErrors(errors)
-        return _statement_result(tuple(run.steps), state, tuple(run.warnings))
+        return StatementResult(tuple(run.steps), state, tuple(run.warnings))
 
     def compile_program(self, source: str, file: str = "<input>") -> plan.Plan:
         """Parse, check and compile a whole program.
@@ -155,10 +146,6 @@ class Compiler:
         Raises:
             ProgramError: Syntax or check errors (several as :class:`ProgramErrors`).
         """
-        with gc_paused():
-            return self._compile_program(source, file)
-
-    def _compile_program(self, source: str, file: str) -> plan.Plan:
         result = self.compile_text(source, self.initial_state(), file)
         warnings = list(result.warnings)
         for key, entry in result.state.procedures.items():

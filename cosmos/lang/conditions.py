@@ -31,38 +31,7 @@ _TORQUE_ABOUT = plan.Quantity.TORQUE_ABOUT
 _SENSED_DISTANCE = ast.Sensed.DISTANCE
 _SENSED_FORCE = ast.Sensed.FORCE
 _BELOW = (plan.CompareOp.LT, plan.CompareOp.LE)
-_COMPARISON_FIELDS = ("quantity", "direction_world", "op", "value", "text", "span")
-_QUICK_COMPARISON = tuple(plan.Comparison.__dataclass_fields__) == _COMPARISON_FIELDS and not hasattr(
-    plan.Comparison, "__post_init__"
-)
-"""Whether Comparison's fields are the ones :func:`_comparison` fills in itself."""
-_new = object.__new__
 _NUMBER = ast.Number
-
-
-def _any_of(terms: tuple[plan.Condition, ...]) -> plan.AnyOf:
-    """``plan.AnyOf(terms)``, without the frozen ``__setattr__``."""
-    made = _new(plan.AnyOf)
-    made.__dict__["terms"] = terms
-    return made
-
-
-def _comparison(
-    quantity: plan.Quantity,
-    direction_world: plan.FloatArray | None,
-    op: plan.CompareOp,
-    value: float,
-    text: str,
-    span: Span,
-) -> plan.Comparison:
-    """``plan.Comparison(...)``, without its frozen ``__setattr__``s."""
-    if not _QUICK_COMPARISON:
-        return plan.Comparison(quantity, direction_world, op, value, text, span)
-    made = _new(plan.Comparison)
-    made.__dict__.update(
-        quantity=quantity, direction_world=direction_world, op=op, value=value, text=text, span=span
-    )
-    return made
 
 
 def compile_condition(
@@ -80,7 +49,7 @@ def compile_condition(
     if isinstance(condition, ast.AllOf):
         return plan.AllOf(tuple(compile_condition(c, frame, evaluator, text_of) for c in condition.items))
     if isinstance(condition, ast.AnyOf):
-        return _any_of(tuple([compile_condition(c, frame, evaluator, text_of) for c in condition.items]))
+        return plan.AnyOf(tuple([compile_condition(c, frame, evaluator, text_of) for c in condition.items]))
     quantity, direction_world = _quantity(condition, frame)
     dim = _DIM_BY_VALUE[quantity._value_]
     value_expr = condition.value
@@ -94,7 +63,7 @@ def compile_condition(
     op = _OPS.get(condition.op) or plan.CompareOp(condition.op)
     if quantity in _MAGNITUDES:
         _check_magnitude(condition, op, value, text_of)
-    return _comparison(quantity, direction_world, op, value, text_of(condition.span), condition.span)
+    return plan.Comparison(quantity, direction_world, op, value, text_of(condition.span), condition.span)
 
 
 def _name(condition: ast.Comparison, text_of: Callable[[Span], str]) -> str:

@@ -25,6 +25,7 @@ force-controlled nor compliant at zero stiffness. Breaking it is an error.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 from cosmos import plan
@@ -70,14 +71,14 @@ class MotionBuilder(MoveAndContact, SlideInsertWait):
         segments: list[plan.Segment] = []
         self._segments = segments
         change: _ContactChange | None = _BUILDERS[type(statement)](self, statement)
-        statements = state.statement_count + 1
-        if change is None:
-            state = state.with_counts(statements, state.segment_count + len(segments))
-        else:  # one new state for both changes
+        state = replace(
+            state,
+            statement_count=state.statement_count + 1,
+            segment_count=state.segment_count + len(segments),
+        )
+        if change is not None:
             contact, released_by = change
-            state = state.with_contact_and_counts(
-                contact, released_by, statements, state.segment_count + len(segments)
-            )
+            state = replace(state, contact=contact, contact_released_by=released_by)
         return segments, state
 
 

@@ -18,7 +18,7 @@ from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
 from cosmos.lang.motion_builder_base import MotionBuilderBase
 from cosmos.lang.rotations import readonly
-from cosmos.lang.state import NO_COMPLIANCE, AxisCompliance, HeldContact, TaskFrame
+from cosmos.lang.state import NO_COMPLIANCE, HeldContact, TaskFrame
 
 _ALIGNED = math.cos(math.radians(1.0))
 """A contact direction within 1 degree of a task axis counts as along it."""
@@ -50,32 +50,6 @@ def _all_motion() -> _Axes:
 
 _ALL_MOTION = _all_motion()
 
-_AXES_SEEN: dict[tuple[object, ...], _Axes] = {}
-"""Axis setups made so far, by (COMPLY settings, forces, free axes)."""
-
-
-_CONTACT_AXES: dict[tuple[bytes, bytes], tuple[int, int]] = {}
-"""(axis, sign) of held contacts, by (task frame rotation, contact direction) bytes."""
-
-
-_COMPLIANCE_KEYS: dict[int, tuple[tuple[object, ...], tuple[object, ...]]] = {}
-"""By id of a state's COMPLY tuple: (that tuple, kept alive; its settings without spans)."""
-
-
-def _compliance_key(compliance: tuple[AxisCompliance | None, ...]) -> tuple[object, ...]:
-    """The COMPLY settings as (stiffness, damping) per axis: what an axis setup depends on.
-
-    Two COMPLY statements with equal numbers give equal keys (their spans differ).
-    """
-    found = _COMPLIANCE_KEYS.get(id(compliance))
-    if found is not None and found[0] is compliance:
-        return found[1]
-    key = tuple(None if c is None else (c.stiffness, c.damping) for c in compliance)
-    if len(_COMPLIANCE_KEYS) >= 1024:
-        _COMPLIANCE_KEYS.clear()
-    _COMPLIANCE_KEYS[id(compliance)] = (compliance, key)
-    return key
-
 
 def _held_since(contact: HeldContact | None) -> str:
     """``"the contact held since line 3"``, for messages."""
@@ -96,22 +70,9 @@ class AxisRules(MotionBuilderBase):
     __slots__ = ()
 
     def _axes(self, forces: dict[int, float], free: set[int]) -> _Axes:
-        """Axis setup: COMPLY in force, then zero-force axes ``free``, then ``forces``.
-
-        Equal setups share one (read-only) value: a program repeats a few of them.
-        """
-        compliance = self.state.compliance
-        if not forces and not free and compliance == NO_COMPLIANCE:
+        """Axis setup: COMPLY in force, then zero-force axes ``free``, then ``forces``."""
+        if not forces and not free and self.state.compliance == NO_COMPLIANCE:
             return _ALL_MOTION
-        key = (_compliance_key(compliance), tuple(forces.items()), tuple(free))
-        axes = _AXES_SEEN.get(key)
-        if axes is None:
-            axes = self._new_axes(forces, free)
-            if len(_AXES_SEEN) < 1024:
-                _AXES_SEEN[key] = axes
-        return axes
-
-    def _new_axes(self, forces: dict[int, float], free: set[int]) -> _Axes:
         motion = [True] * 6
         force = [0.0] * 6
         stiffness: list[float | None] = [None] * 6
@@ -168,17 +129,10 @@ class AxisRules(MotionBuilderBase):
 
     def _contact_axis(self, contact: HeldContact, frame: TaskFrame, span: Span) -> tuple[int, int]:
         """The task axis (0..2) and sign along which the contact pushes."""
-        key = (frame.rotation.tobytes(), contact.direction_world.tobytes())
-        found = _CONTACT_AXES.get(key)
-        if found is not None:
-            return found
         projections = (frame.rotation.T @ contact.direction_world).tolist()
         for axis in range(3):
             if abs(projections[axis]) >= _ALIGNED:
-                found = axis, 1 if projections[axis] > 0 else -1
-                if len(_CONTACT_AXES) < 1024:
-                    _CONTACT_AXES[key] = found
-                return found
+                return axis, 1 if projections[axis] > 0 else -1
         raise ProgramError(
             f"the contact held along {_vector_text(contact.direction_world)} in the world "
             f"(CONTACT at line {contact.span.line}) is not along an axis of frame "

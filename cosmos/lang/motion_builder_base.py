@@ -15,32 +15,12 @@ from typing import TYPE_CHECKING
 from cosmos import plan
 from cosmos.errors import Span
 from cosmos.lang import ast
-from cosmos.lang.frozen_new import quick
 from cosmos.lang.motion_clauses import _completions
 from cosmos.lang.state import CompileState, Defaults, TaskFrame
 from cosmos.lang.values import Evaluator
 
 if TYPE_CHECKING:
     from cosmos.lang.motion_axes import _Axes
-
-_new = object.__new__
-_set_attribute = object.__setattr__
-_absolute_target = quick(plan.AbsoluteTarget)
-
-
-def _relative_target(offset_world: plan.FloatArray) -> plan.RelativeTarget:
-    """``plan.RelativeTarget(offset_world)`` without the frozen ``__setattr__``."""
-    target = _new(plan.RelativeTarget)
-    target.__dict__["offset_world"] = offset_world
-    return target
-
-
-_QUICK_SEGMENT = tuple(plan.Segment.__dataclass_fields__) == (
-    "index", "kind", "statement_index", "span", "line", "statement", "context", "frame_name",
-    "frame_rotation", "motion_axes", "force_setpoint", "stiffness", "damping", "target", "via",
-    "via_radius_m", "speed_limit_mps", "duration_s", "completion", "until", "timeout_s", "jam_check",
-) and not hasattr(plan.Segment, "__post_init__")  # fmt: skip
-"""Whether :meth:`MotionBuilderBase._add` fills a Segment's fields itself (they are the ones it knows)."""
 
 
 class MotionBuilderBase:
@@ -109,33 +89,28 @@ class MotionBuilderBase:
         if span is not self._text_span:  # a statement's segments share its text
             self._text_span = span
             self._text = self.text_of(span)
-        fields = {
-            "index": self.state.segment_count + len(self._segments),
-            "kind": kind,
-            "statement_index": self.state.statement_count,
-            "span": span,
-            "line": span.line,
-            "statement": self._text,
-            "context": self.context,
-            "frame_name": frame.name,
-            "frame_rotation": frame.rotation,
-            "motion_axes": axes.motion,
-            "force_setpoint": axes.force,
-            "stiffness": axes.stiffness,
-            "damping": axes.damping,
-            "target": target,
-            "via": via,
-            "via_radius_m": self.defaults.via_radius_m if via else None,
-            "speed_limit_mps": speed,
-            "duration_s": duration,
-            "completion": completion,
-            "until": until,
-            "timeout_s": timeout,
-            "jam_check": jam_check,
-        }
-        if _QUICK_SEGMENT:  # what Segment's __init__ makes, without its frozen __setattr__s
-            segment = _new(plan.Segment)
-            _set_attribute(segment, "__dict__", fields)  # the new dict itself, not a copy
-        else:
-            segment = plan.Segment(**fields)  # type: ignore[arg-type]
+        segment = plan.Segment(
+            index=self.state.segment_count + len(self._segments),
+            kind=kind,
+            statement_index=self.state.statement_count,
+            span=span,
+            line=span.line,
+            statement=self._text,
+            context=self.context,
+            frame_name=frame.name,
+            frame_rotation=frame.rotation,
+            motion_axes=axes.motion,
+            force_setpoint=axes.force,
+            stiffness=axes.stiffness,
+            damping=axes.damping,
+            target=target,
+            via=via,
+            via_radius_m=self.defaults.via_radius_m if via else None,
+            speed_limit_mps=speed,
+            duration_s=duration,
+            completion=completion,
+            until=until,
+            timeout_s=timeout,
+            jam_check=jam_check,
+        )
         self._segments.append(segment)

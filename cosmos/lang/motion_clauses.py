@@ -38,10 +38,7 @@ def _clauses_of(clauses: tuple[ast.Clause, ...]) -> _Clauses:
     if not clauses:
         return _NO_CLAUSES
     exprs: dict[ast.ClauseKind, ast.Expr] = {}
-    found = _new(_Clauses)  # the fields set here, without the dataclass __init__
-    found.given = clauses
-    found.exprs = exprs
-    found.via = found.until = found.comply = None
+    found = _Clauses(clauses, exprs, None, None, None)
     for clause in clauses:
         kind = type(clause)
         if kind is _VALUE_CLAUSE:
@@ -62,8 +59,6 @@ _VIA_CLAUSE = ast.ViaClause
 _UNTIL_CLAUSE = ast.UntilClause
 
 
-_new = object.__new__
-
 # Enum members read in every statement, looked up once (a member lookup on an
 # Enum class costs about 0.3 us in Python 3.11).
 _SPEED = ast.ClauseKind.SPEED
@@ -82,16 +77,9 @@ class _Completions:
     jam_check: plan.JamCheck
 
 
-_COMPLETIONS: dict[int, tuple[Defaults, _Completions]] = {}
-"""By id of a Defaults (kept alive here): its completions, made once."""
-
-
 def _completions(defaults: Defaults) -> _Completions:
-    """The goal tolerances and jam check of ``defaults`` (a Defaults is hashed slowly: by id)."""
-    found = _COMPLETIONS.get(id(defaults))
-    if found is not None and found[0] is defaults:
-        return found[1]
-    made = _Completions(
+    """The goal tolerances and jam check of ``defaults``."""
+    return _Completions(
         plan.GoalReached(
             position_tolerance_m=defaults.position_tolerance_m,
             orientation_tolerance_rad=defaults.orientation_tolerance_rad,
@@ -102,7 +90,3 @@ def _completions(defaults: Defaults) -> _Completions:
             stall_time_s=defaults.jam_stall_time_s,
         ),
     )
-    if len(_COMPLETIONS) >= 64:
-        _COMPLETIONS.clear()
-    _COMPLETIONS[id(defaults)] = (defaults, made)
-    return made

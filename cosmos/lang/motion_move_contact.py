@@ -11,36 +11,16 @@ import numpy as np
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.frozen_new import quick
 from cosmos.lang.motion_axes import _ALL_MOTION, _NO_FORCES, _NO_FREE, AxisRules, _axis_list
-from cosmos.lang.motion_builder_base import _absolute_target, _relative_target
 from cosmos.lang.motion_clause_values import _IN_WORLD, ClauseValues
 from cosmos.lang.motion_clauses import _IN, _SPEED, _clauses_of
-from cosmos.lang.rotations import IDENTITY, readonly, readonly_of, signed_column
+from cosmos.lang.rotations import IDENTITY, readonly, signed_column
 from cosmos.lang.state import HeldContact
 
 _MOVE_TO = ast.MoveMode.TO
 _MOVE = plan.SegmentKind.MOVE
 _CONTACT_APPROACH = plan.SegmentKind.CONTACT_APPROACH
 _CONTACT_HOLD = plan.SegmentKind.CONTACT_HOLD
-
-_NORMS: dict[bytes, float] = {}
-"""Euclidean norms of offsets, by the offset's bytes."""
-
-_contact_touch = quick(plan.ContactTouch)
-_force_settled = quick(plan.ForceSettled)
-_new_held_contact = quick(HeldContact)
-
-
-def _norm(offset: plan.FloatArray) -> float:
-    """``float(np.linalg.norm(offset))``, remembered for equal offsets."""
-    key = offset.tobytes()
-    norm = _NORMS.get(key)
-    if norm is None:
-        norm = float(np.linalg.norm(offset))
-        if len(_NORMS) < 4096:
-            _NORMS[key] = norm
-    return norm
 
 
 _ContactChange = tuple[HeldContact | None, Span | None]
@@ -74,7 +54,7 @@ class MoveAndContact(AxisRules, ClauseValues):
         distance: float | None = None
         if statement.mode is _MOVE_TO:
             goal = self.evaluator.expect_position(statement.target, "MOVE TO")
-            target = _absolute_target(goal.position, goal.rotation)
+            target = plan.AbsoluteTarget(goal.position, goal.rotation)
         else:
             if isinstance(statement.target, ast.Pose):
                 raise ProgramError(
@@ -82,17 +62,17 @@ class MoveAndContact(AxisRules, ClauseValues):
                     statement.target.span,
                 )
             offset = self.evaluator.expect_vector3(statement.target, units.LENGTH, "MOVE BY")
-            distance = _norm(offset)
+            distance = float(np.linalg.norm(offset))
             if distance == 0:
                 self.warn("MOVE BY (0, 0, 0) goes nowhere", statement.target.span)
             if frame.rotation is IDENTITY:  # the world's axes: the offset as it is (read-only)
-                target = _relative_target(offset)
+                target = plan.RelativeTarget(offset)
             else:
-                target = _relative_target(readonly(frame.rotation @ offset))
+                target = plan.RelativeTarget(readonly(frame.rotation @ offset))
         via: tuple[plan.AbsoluteTarget, ...] = ()
         if clauses.via is not None:
             via = tuple(
-                _absolute_target(p.position, p.rotation)
+                plan.AbsoluteTarget(p.position, p.rotation)
                 for p in (self.evaluator.expect_position(point, "VIA") for point in clauses.via.points)
             )
         axes = self._axes(_NO_FORCES, _NO_FREE)
@@ -156,9 +136,9 @@ class MoveAndContact(AxisRules, ClauseValues):
             statement,
             frame,
             self._axes(_NO_FORCES, _NO_FREE),
-            target=_relative_target(readonly_of(tuple([d * travel for d in direction]))),
+            target=plan.RelativeTarget(readonly(tuple([d * travel for d in direction]))),
             speed=speed,
-            completion=_contact_touch(
+            completion=plan.ContactTouch(
                 direction_world, min(self.defaults.touch_threshold_n, 0.5 * force), travel
             ),
             until=until,
@@ -171,7 +151,7 @@ class MoveAndContact(AxisRules, ClauseValues):
             self._axes({axis: sign * force}, _NO_FREE),
             target=None,
             speed=speed,
-            completion=_force_settled(
+            completion=plan.ForceSettled(
                 max(self.defaults.settle_tolerance_n, 0.1 * force),
                 self.defaults.settle_time_s,
                 self.defaults.settle_max_time_s,
@@ -179,6 +159,6 @@ class MoveAndContact(AxisRules, ClauseValues):
             until=until,
             timeout=timeout,
         )
-        contact = _new_held_contact(direction_world, force, frame, statement.span)
+        contact = HeldContact(direction_world, force, frame, statement.span)
         released = statement.span if self.state.contact is not None else self.state.contact_released_by
         return contact, released

@@ -11,19 +11,15 @@ from cosmos import plan
 from cosmos.errors import ProgramError
 from cosmos.lang import ast, units
 from cosmos.lang.conditions import comparisons
-from cosmos.lang.frozen_new import quick
 from cosmos.lang.motion_axes import _AXIS_NAMES, _NO_FREE, AxisRules, _held_since
-from cosmos.lang.motion_builder_base import _relative_target
 from cosmos.lang.motion_clause_values import _IN_WORLD, ClauseValues
 from cosmos.lang.motion_clauses import _BY, _DEPTH, _FORCE, _IN, _clauses_of
-from cosmos.lang.rotations import readonly_of, signed_column
+from cosmos.lang.rotations import readonly, signed_column
 from cosmos.lang.state import WORLD
 
 _SLIDE = plan.SegmentKind.SLIDE
 _INSERT = plan.SegmentKind.INSERT
 _WAIT = plan.SegmentKind.WAIT
-
-_depth_reached = quick(plan.DepthReached)
 
 
 class SlideInsertWait(AxisRules, ClauseValues):
@@ -62,7 +58,7 @@ class SlideInsertWait(AxisRules, ClauseValues):
             statement,
             frame,
             self._axes({contact_axis: contact_sign * force}, _NO_FREE),
-            target=_relative_target(readonly_of(offset)),
+            target=plan.RelativeTarget(readonly(offset)),
             speed=speed,
             completion=self._goal_reached,
             until=None if clauses.until is None else self._until(clauses, frame, force_expected=True),
@@ -125,7 +121,7 @@ class SlideInsertWait(AxisRules, ClauseValues):
             self._axes(forces, free),
             target=None,
             speed=self._speed(clauses, self.defaults.insert_speed_mps),
-            completion=_depth_reached(direction_world, depth),
+            completion=plan.DepthReached(direction_world, depth),
             until=None if clauses.until is None else self._until(clauses, frame, force_expected=True),
             timeout=self._timeout(clauses),
             jam_check=self._jam_check,

@@ -1,13 +1,10 @@
-"""Source text to syntax tree: the Lark parser, the fast path, and their errors.
+"""Source text to syntax tree: the Lark parser and its errors.
 
 The grammar is ``grammar/cosmos.lark`` (shipped inside the wheel as
 ``cosmos/grammar/cosmos.lark``). Lark runs LALR with the contextual lexer and
-calls the tree builder (:mod:`cosmos.lang.tree_builder`) as each rule is reduced
-(an inline transformer), so no parse tree is kept and nesting costs no
-recursion. Every token is kept, and a node's span runs from its first token to
-its last. Programs are first parsed by the fast path (:mod:`cosmos.lang.fastparse`,
-on Lark's own table, with the same builder); whatever it does not accept Lark
-parses again, so every syntax error comes from Lark.
+calls the tree builder (:mod:`cosmos.lang.tree_builder`, a ``Transformer``) as
+each rule is reduced, so no parse tree is kept. Every token is kept, and a
+node's span runs from its first token to its last.
 """
 
 from __future__ import annotations
@@ -19,13 +16,9 @@ from typing import Any
 
 from lark import Lark
 from lark.exceptions import UnexpectedInput, UnexpectedToken
-from lark.lexer import PatternStr
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
-from cosmos.lang.fastparse import GiveUp, parse
-from cosmos.lang.gc_pause import gc_paused
-from cosmos.lang.lalr_tables import Tables, build_tables
 from cosmos.lang.spans import FILE
 from cosmos.lang.syntax import MAX_NESTING, check_nesting, syntax_error
 from cosmos.lang.tree_builder import TreeBuilder
@@ -52,10 +45,6 @@ class _WordsEverywhere:
         return stream
 
 
-_Builder = TreeBuilder
-"""The builder Lark and the fast parser call (tests name it so)."""
-
-
 @cache
 def lark_parser() -> Lark:
     """The shared Lark parser (LALR, contextual lexer, builds AST nodes inline)."""
@@ -65,19 +54,17 @@ def lark_parser() -> Lark:
         lexer="contextual",
         keep_all_tokens=True,
         maybe_placeholders=True,
-        cache=True,
         postlex=_WordsEverywhere(),
-        transformer=_Builder(),
+        transformer=TreeBuilder(),
     )
 
 
 @cache
 def _keywords() -> dict[str, str]:
-    parser = lark_parser()
     return {
         terminal.name: terminal.pattern.value
-        for terminal in parser.terminals
-        if isinstance(terminal.pattern, PatternStr) and terminal.pattern.value.isalpha()
+        for terminal in lark_parser().terminals
+        if terminal.pattern.type == "str" and terminal.pattern.value.isalpha()
     }
 
 
@@ -89,19 +76,6 @@ def keyword_of(terminal_name: str) -> str | None:
 def keywords() -> frozenset[str]:
     """Every keyword of the language, upper case."""
     return frozenset(word.upper() for word in _keywords().values())
-
-
-@cache
-def _tables() -> Tables:
-    return build_tables(lark_parser(), _Builder())
-
-
-def _fast_parse(text: str) -> Any:
-    """What :func:`_raw_parse` gives, faster; None where Lark is to decide (errors)."""
-    try:
-        return parse(text if text.endswith("\n") else text + "\n", _tables())
-    except GiveUp:
-        return None
 
 
 def _raw_parse(text: str) -> Any:
@@ -123,10 +97,7 @@ def parse_program(source: str, file: str = "<input>") -> ast.Program:
         check_nesting(source, file)
         token = FILE.set(file)
         try:
-            with gc_paused():
-                statements = _fast_parse(source)
-            if statements is None:  # not accepted as is: Lark parses it and says why
-                statements = _raw_parse(source)
+            statements = _raw_parse(source)
         finally:
             FILE.reset(token)
     except UnexpectedInput as error:

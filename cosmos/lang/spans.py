@@ -3,7 +3,7 @@
 A node's span starts where its first child that has a place in the text starts
 (a token, or a node's span) and ends where its last one ends; line breaks and
 placeholders have none. Only the two ends are looked at, so a span costs the
-same however large the node. Shared by the fast parser and Lark's tree builder.
+same however large the node.
 """
 
 from __future__ import annotations
@@ -15,17 +15,14 @@ from typing import Any
 from lark import Token
 
 from cosmos.errors import Span
-from cosmos.lang.frozen_new import quick
-from cosmos.lang.lalr_run import Tok
 
 FILE: contextvars.ContextVar[str] = contextvars.ContextVar("cosmos_source_file", default="<input>")
 """The name the spans being built carry (set around each parse)."""
 
-new_span = quick(Span)
-"""``Span(file, line, column, end_line, end_column)``, made quickly (:mod:`cosmos.lang.frozen_new`)."""
 
-TOKENS = (Token, Tok)
-"""Token classes: Lark's (when Lark parses) and the fast path's."""
+def span_between(first: Any, last: Any) -> Span:
+    """The span from where ``first`` starts to where ``last`` ends (tokens or spans)."""
+    return Span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
 
 
 def _place(item: Any) -> Any:
@@ -34,18 +31,17 @@ def _place(item: Any) -> Any:
     A token is its own place (a line break has none), a node's is its span, a
     sequence's runs from its first placed item to its last one.
     """
-    kind = type(item)
-    if kind is Tok or kind is Token:
+    if isinstance(item, Token):
         return None if item.type == "_NL" or item.line is None else item
     if item is None:
         return None
     span = getattr(item, "span", None)
     if span is not None:
         return span
-    if kind is tuple or kind is list:
+    if isinstance(item, tuple | list):
         first, last = _ends(item)
         if first is not None:
-            return new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
+            return span_between(first, last)
     return None
 
 
@@ -65,11 +61,11 @@ def _ends(items: Sequence[Any]) -> tuple[Any, Any]:
 
 
 def span_of(children: Sequence[Any]) -> Span:
-    """The span from the first to the last placed child: O(1) for a node's children.
+    """The span from the first to the last placed child.
 
     Only the ends are looked at (a child's span already covers its own children).
     """
     first, last = _ends(children)
     if first is None:
         return Span(FILE.get(), 1, 1, 1, 1)
-    return new_span(FILE.get(), first.line, first.column, last.end_line, last.end_column)
+    return span_between(first, last)

@@ -8,7 +8,7 @@ names, frames, procedures, compliance and the held contact between them.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Protocol, TypeVar
 
@@ -163,64 +163,4 @@ class CompileState:
 
     def bind(self, key: str, binding: Binding) -> CompileState:
         """A state with ``key`` bound."""
-        return _changed(self, {"names": frozen_map({**self.names, key: binding})})
-
-    # The hot changes, without dataclasses.replace's per-call look at the fields.
-
-    def with_speed(self, speed_mps: float) -> CompileState:
-        """A state with the default speed set [m/s]."""
-        return _changed(self, {"default_speed_mps": speed_mps})
-
-    def with_compliance(self, compliance: tuple[AxisCompliance | None, ...]) -> CompileState:
-        """A state with the COMPLY settings of X..RZ set."""
-        return _changed(self, {"compliance": compliance})
-
-    def with_contact(self, contact: HeldContact | None, released_by: Span | None) -> CompileState:
-        """A state with the held contact, and what released the last one, set."""
-        return _changed(self, {"contact": contact, "contact_released_by": released_by})
-
-    def with_contact_and_counts(
-        self,
-        contact: HeldContact | None,
-        released_by: Span | None,
-        statement_count: int,
-        segment_count: int,
-    ) -> CompileState:
-        """``with_contact`` then ``with_counts``, in one new state."""
-        fields = self.__dict__.copy()
-        fields["contact"] = contact
-        fields["contact_released_by"] = released_by
-        fields["statement_count"] = statement_count
-        fields["segment_count"] = segment_count
-        return _with_fields(fields)
-
-    def with_counts(self, statement_count: int, segment_count: int) -> CompileState:
-        """A state with the motion statement and segment counts set."""
-        fields = self.__dict__.copy()
-        fields["statement_count"] = statement_count
-        fields["segment_count"] = segment_count
-        return _with_fields(fields)
-
-
-def _changed(state: CompileState, changes: dict[str, object]) -> CompileState:
-    """``dataclasses.replace(state, **changes)``, for field names known to be right."""
-    fields = state.__dict__.copy()
-    fields.update(changes)
-    return _with_fields(fields)
-
-
-def _with_fields(fields: dict[str, object]) -> CompileState:
-    """A CompileState whose instance dictionary is ``fields`` (every field, in order).
-
-    CompileState has no ``__post_init__``, so a dictionary of its fields is all
-    its ``__init__`` (or ``dataclasses.replace``) makes; this skips the frozen
-    ``__setattr__`` of each of the ten fields (it runs for every statement
-    compiled) and hands the instance the dictionary itself rather than a copy.
-    """
-    state = _object_new(CompileState)
-    _set_attribute(state, "__dict__", fields)
-    return state
-
-
-_object_new = object.__new__
-_set_attribute = object.__setattr__
+        return replace(self, names=frozen_map({**self.names, key: binding}))

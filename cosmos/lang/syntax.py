@@ -239,20 +239,19 @@ def _acceptable(error: UnexpectedToken) -> set[str]:
     """Terminals the parser could take where it failed.
 
     Lark's ``accepts`` tries each terminal on a copy of the parser (exact, where
-    LALR's merged lookaheads are not); when the contextual lexer failed first it
-    is not available, and the parse table's row for the state stands in.
+    LALR's merged lookaheads are not); where it finds none, the terminals the
+    parser state has actions for (the interactive parser's ``choices``) stand in.
     """
+    parser = error.interactive_parser
     try:
         accepts = error.accepts
     except Exception:  # noqa: BLE001 - Lark's interactive parser is best effort here
         accepts = None
     if accepts:
         return set(accepts)
-    state = error.state
-    try:
-        return set(state.parse_conf.parse_table.states[state.position])
-    except AttributeError:
-        return set(error.expected)
+    if parser is not None:
+        return set(parser.choices())
+    return set(error.expected)
 
 
 def _token_span(token: Any, file: str) -> Span:

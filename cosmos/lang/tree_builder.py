@@ -1,15 +1,8 @@
 """The tree builder: AST nodes from the children of each reduced grammar rule.
 
-Lark (and the fast parser, :mod:`cosmos.lang.fastparse`) call the builder's
-method named for a rule or alias as the rule is reduced, with every token kept,
-so a node's span runs from its first token to its last
-(:mod:`cosmos.lang.spans`). The nodes and spans made most often are made
-without their frozen ``__init__`` (:mod:`cosmos.lang.frozen_new`).
-
-The fast parser hands over one shared token, with no text and no place, for
-every comma, ``=``, ``*`` and line break (:data:`cosmos.lang.fastparse.UNREAD`):
-no method here may read those tokens' text or place (the tests comparing the
-fast parser's trees and spans with Lark's would fail).
+Lark calls the builder's method named for a rule or alias as the rule is
+reduced, with every token kept, so a node's span runs from its first token to
+its last (:mod:`cosmos.lang.spans`).
 """
 
 from __future__ import annotations
@@ -20,20 +13,17 @@ from typing import Any
 
 from lark import Token, Transformer, Tree
 
-from cosmos.errors import Span
 from cosmos.lang import ast
-from cosmos.lang.fastparse import Tok
-from cosmos.lang.frozen_new import quick, spanned
-from cosmos.lang.spans import FILE, TOKENS, span_of
+from cosmos.lang.spans import span_between, span_of
 
 
 def _nodes(children: Iterable[Any]) -> tuple[Any, ...]:
     """The children that are not tokens or placeholders."""
-    return tuple(c for c in children if c is not None and not isinstance(c, TOKENS))
+    return tuple(c for c in children if c is not None and not isinstance(c, Token))
 
 
-def _ident(token: Token | Tok) -> ast.Ident:
-    return _Ident(token.value, _file(), token.line, token.column, token.end_line, token.end_column)
+def _ident(token: Token) -> ast.Ident:
+    return ast.Ident(token.value, span_between(token, token))
 
 
 _QUANTITY = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(.*)", re.I | re.S)
@@ -41,35 +31,6 @@ _QUANTITY = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(.*)", re.I | 
 _CLAUSE_KINDS = {kind.name: kind for kind in ast.ClauseKind}
 _AXES = {axis.name: axis for axis in ast.Axis}
 _MOVE_MODES = {mode.name: mode for mode in ast.MoveMode}
-
-_file = FILE.get
-# Nodes made quickly (cosmos/lang/frozen_new.py): with their span in one call
-# (the node's fields, then the span's file, line, column, end_line, end_column)
-_Number = spanned(ast.Number, Span)
-_Name = spanned(ast.Name, Span)
-_Vector = spanned(ast.Vector, Span)
-_Binary = spanned(ast.Binary, Span)
-_Unary = spanned(ast.Unary, Span)
-_Pose = spanned(ast.Pose, Span)
-_ValueClause = spanned(ast.ValueClause, Span)
-_ViaClause = spanned(ast.ViaClause, Span)
-_UntilClause = spanned(ast.UntilClause, Span)
-_AxisRef = spanned(ast.AxisRef, Span)
-_Direction = spanned(ast.Direction, Span)
-_Comparison = spanned(ast.Comparison, Span)
-_Move = spanned(ast.Move, Span)
-_Contact = spanned(ast.Contact, Span)
-_Slide = spanned(ast.Slide, Span)
-_Insert = spanned(ast.Insert, Span)
-_Let = spanned(ast.Let, Span)
-_Ident = spanned(ast.Ident, Span)
-# ... or given a span made already.
-_Wait = quick(ast.Wait)
-_SetSpeed = quick(ast.SetSpeed)
-_Comply = quick(ast.Comply)
-_ComplyClause = quick(ast.ComplyClause)
-_AnyOf = quick(ast.AnyOf)
-_AllOf = quick(ast.AllOf)
 
 
 def _quantity_parts(text: str) -> tuple[float, str | None]:
@@ -108,31 +69,31 @@ class _Builder(Transformer):
     def move(self, children: list[Any]) -> ast.Move:
         first, last = children[0], children[-1].span  # the target or a clause
         mode, target, clauses = _MOVE_MODES[children[1].type], children[2], tuple(children[3:])
-        return _Move(mode, target, clauses, _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.Move(mode, target, clauses, span_between(first, last))
 
     def contact(self, children: list[Any]) -> ast.Contact:
         first, last = children[0], children[-1].span
         direction, clauses = children[1], tuple(children[2:])
-        return _Contact(direction, clauses, _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.Contact(direction, clauses, span_between(first, last))
 
     def slide(self, children: list[Any]) -> ast.Slide:
         first, last = children[0], children[-1].span
         direction, clauses = children[1], tuple(children[2:])
-        return _Slide(direction, clauses, _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.Slide(direction, clauses, span_between(first, last))
 
     def insert(self, children: list[Any]) -> ast.Insert:
         first, last = children[0], children[-1].span
         direction, clauses = children[1], tuple(children[2:])
-        return _Insert(direction, clauses, _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.Insert(direction, clauses, span_between(first, last))
 
     def wait(self, children: list[Any]) -> ast.Wait:
-        return _Wait(children[1], tuple(children[2:]), span_of(children))
+        return ast.Wait(children[1], tuple(children[2:]), span_of(children))
 
     def speed(self, children: list[Any]) -> ast.SetSpeed:
-        return _SetSpeed(children[1], span_of(children))
+        return ast.SetSpeed(children[1], span_of(children))
 
     def comply(self, children: list[Any]) -> ast.Comply:
-        return _Comply(children[1], tuple(children[2:]), span_of(children))
+        return ast.Comply(children[1], tuple(children[2:]), span_of(children))
 
     def obstacle(self, children: list[Any]) -> ast.Obstacle:
         _, name, shape, *clauses = children
@@ -144,7 +105,7 @@ class _Builder(Transformer):
     def let(self, children: list[Any]) -> ast.Let:
         first, last = children[0], children[-1].span
         name, value = _ident(children[1]), children[3]
-        return _Let(name, value, _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.Let(name, value, span_between(first, last))
 
     def frame(self, children: list[Any]) -> ast.FrameDef:
         return ast.FrameDef(_ident(children[1]), children[3], span_of(children))
@@ -168,20 +129,18 @@ class _Builder(Transformer):
         keyword, value = children
         last = value.span
         kind = _CLAUSE_KINDS[keyword.type]
-        return _ValueClause(
-            kind, value, _file(), keyword.line, keyword.column, last.end_line, last.end_column
-        )
+        return ast.ValueClause(kind, value, span_between(keyword, last))
 
     def via_clause(self, children: list[Any]) -> ast.ViaClause:
         first, last = children[0], children[-1].span
-        return _ViaClause(_nodes(children), _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.ViaClause(_nodes(children), span_between(first, last))
 
     def until_clause(self, children: list[Any]) -> ast.UntilClause:
         first, last = children[0], children[-1].span
-        return _UntilClause(children[1], _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.UntilClause(children[1], span_between(first, last))
 
     def comply_clause(self, children: list[Any]) -> ast.ComplyClause:
-        return _ComplyClause(children[1], span_of(children))
+        return ast.ComplyClause(children[1], span_of(children))
 
     def axes(self, children: list[Any]) -> tuple[ast.AxisRef, ...]:
         return tuple(child for child in children if isinstance(child, ast.AxisRef))
@@ -189,29 +148,27 @@ class _Builder(Transformer):
     def axis(self, children: list[Token]) -> ast.AxisRef:
         token = children[0]
         axis = _AXES[token.type]
-        return _AxisRef(axis, _file(), token.line, token.column, token.end_line, token.end_column)
+        return ast.AxisRef(axis, span_between(token, token))
 
     def direction(self, children: list[Any]) -> ast.Direction:
         first, last = children[0], children[-1]
-        if isinstance(last, TOKENS):  # UP or DOWN
+        if isinstance(last, Token):  # UP or DOWN
             sign = 1 if last.type == "UP" else -1
-            return _Direction(
-                ast.Axis.Z, sign, _file(), last.line, last.column, last.end_line, last.end_column
-            )
+            return ast.Direction(ast.Axis.Z, sign, span_between(last, last))
         end = last.span
         if first is last:  # an axis without a sign
             sign, first = 1, end
         else:
             sign = -1 if first.type == "MINUS" else 1
-        return _Direction(last.axis, sign, _file(), first.line, first.column, end.end_line, end.end_column)
+        return ast.Direction(last.axis, sign, span_between(first, end))
 
     # --------------------------------------------------------- conditions
 
     def any_of(self, children: list[Any]) -> ast.AnyOf:
-        return _AnyOf(_flatten(_nodes(children), ast.AnyOf), span_of(children))
+        return ast.AnyOf(_flatten(_nodes(children), ast.AnyOf), span_of(children))
 
     def all_of(self, children: list[Any]) -> ast.AllOf:
-        return _AllOf(_flatten(_nodes(children), ast.AllOf), span_of(children))
+        return ast.AllOf(_flatten(_nodes(children), ast.AllOf), span_of(children))
 
     def conjunction(self, children: list[Any]) -> ast.Condition:
         """A parenthesised condition: ``( condition )``."""
@@ -220,10 +177,7 @@ class _Builder(Transformer):
     def comparison(self, children: list[Any]) -> ast.Comparison:
         (first, sensed, direction), op, value = children
         last = value.span
-        line, column = first.line, first.column
-        return _Comparison(
-            sensed, direction, op.value, value, _file(), line, column, last.end_line, last.end_column
-        )
+        return ast.Comparison(sensed, direction, op.value, value, span_between(first, last))
 
     def sensed(self, children: list[Any]) -> tuple[Token, ast.Sensed, ast.Direction | None]:
         direction = children[1] if len(children) > 1 else None
@@ -236,7 +190,7 @@ class _Builder(Transformer):
         if rpy is None:
             return position
         first, last = position.span, rpy.span
-        return _Pose(position, rpy, _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.Pose(position, rpy, span_between(first, last))
 
     def add(self, children: list[Any]) -> ast.Binary:
         return _binary("+", children)
@@ -260,30 +214,30 @@ class _Builder(Transformer):
     def vector(self, children: list[Any]) -> ast.Vector:
         first, last = children[0], children[-1]
         items = tuple(children[1:-1:2])
-        return _Vector(items, _file(), first.line, first.column, last.end_line, last.end_column)
+        return ast.Vector(items, span_between(first, last))
 
     def quantity(self, children: list[Token]) -> ast.Number:
         token = children[0]
         number, unit = _quantity_parts(token.value)
-        return _Number(number, unit, _file(), token.line, token.column, token.end_line, token.end_column)
+        return ast.Number(number, unit, span_between(token, token))
 
     def name(self, children: list[Token]) -> ast.Name:
         token = children[0]
-        return _Name(token.value, _file(), token.line, token.column, token.end_line, token.end_column)
+        return ast.Name(token.value, span_between(token, token))
 
 
 def _binary(op: str, children: list[Any]) -> ast.Binary:
     left, _, right = children
     first, last = left.span, right.span
-    return _Binary(op, left, right, _file(), first.line, first.column, last.end_line, last.end_column)
+    return ast.Binary(op, left, right, span_between(first, last))
 
 
 def _unary(op: str, children: list[Any]) -> ast.Unary:
     first, last = children[0], children[1].span
-    return _Unary(op, children[1], _file(), first.line, first.column, last.end_line, last.end_column)
+    return ast.Unary(op, children[1], span_between(first, last))
 
 
-def _tag(token: Token | Tok | None) -> str | None:
+def _tag(token: Token | None) -> str | None:
     return None if token is None else token.type
 
 

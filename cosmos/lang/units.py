@@ -96,19 +96,6 @@ def parse_unit(text: str) -> Unit:
     Raises:
         UnknownUnit: The text is not a known unit.
     """
-    unit = _parsed.get(text)
-    if unit is None:
-        unit = _parse_unit(text)
-        if len(_parsed) < 1024:  # a program writes few distinct units
-            _parsed[text] = unit
-    return unit
-
-
-_parsed: dict[str, Unit] = {}
-"""Units parsed so far, by their text (a Unit is immutable)."""
-
-
-def _parse_unit(text: str) -> Unit:
     compact = "".join(ch for ch in text.casefold() if ch not in " \t.*")
     numerator, _, denominator = compact.partition("/")
     num = _NUMERATORS.get(numerator)
@@ -152,14 +139,4 @@ def example(dim: Dim) -> str:
 
 def multiply(a: Dim, b: Dim) -> Dim:
     """The dimension of a product."""
-    known = _products.get((a, b))
-    if known is not None:
-        return known
-    product: Dim = tuple(x + y for x, y in zip(a, b, strict=True))  # type: ignore[assignment]
-    if len(_products) < 1024:
-        _products[a, b] = product
-    return product
-
-
-_products: dict[tuple[Dim, Dim], Dim] = {}
-"""Dimensions of products so far, by the factors' dimensions."""
+    return tuple(x + y for x, y in zip(a, b, strict=True))  # type: ignore[return-value]

@@ -17,8 +17,7 @@ from math import isfinite
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.frozen_new import quick
-from cosmos.lang.rotations import FloatArray, readonly_of, rpy_to_matrix
+from cosmos.lang.rotations import FloatArray, readonly, rpy_to_matrix
 from cosmos.lang.units import Dim
 
 
@@ -55,10 +54,7 @@ class FrameValue:
 
 Value = Scalar | Vec | FrameValue
 
-_scalar = quick(Scalar)
-_vec = quick(Vec)
 _NUMBER = ast.Number
-_frame_value = quick(FrameValue)
 
 
 class BindingKind(enum.Enum):
@@ -118,7 +114,7 @@ class Evaluator:
         kind = type(expr)
         if kind is ast.Number:
             number, dim = self._number_value(expr)  # type: ignore[arg-type]
-            return _scalar(number, dim)
+            return Scalar(number, dim)
         if kind is ast.Name:
             return self._lookup(expr)  # type: ignore[arg-type]
         if kind is ast.Vector:
@@ -161,7 +157,7 @@ class Evaluator:
 
     def _evaluate(self, expr: ast.Expr) -> Value:
         if isinstance(expr, ast.Number):
-            return _scalar(*self._number_value(expr))
+            return Scalar(*self._number_value(expr))
         if isinstance(expr, ast.Name):
             return self._lookup(expr)
         if isinstance(expr, ast.Vector):
@@ -214,7 +210,7 @@ class Evaluator:
                         item.span,
                     )
             values.append(number)
-        return _vec(tuple(values), dim)
+        return Vec(tuple(values), dim)
 
     def _scale(self, value: Value, factor: float, span: Span) -> Value:
         if isinstance(value, Scalar):
@@ -238,7 +234,7 @@ class Evaluator:
             moved = (x + sign * float(dx), y + sign * float(dy), z + sign * float(dz))
             if not (isfinite(moved[0]) and isfinite(moved[1]) and isfinite(moved[2])):
                 raise ProgramError("this number is too large", expr.span)
-            return _frame_value(readonly_of(moved), left.rotation)
+            return FrameValue(readonly(moved), left.rotation)
         if isinstance(right, FrameValue):
             raise ProgramError(
                 f"write the frame first: {self.text_of(expr.right.span)} {expr.op} ...", expr.span
@@ -252,14 +248,14 @@ class Evaluator:
         dim = self._common_dim(left.dim, right.dim, expr)
         if isinstance(left, Scalar):
             assert isinstance(right, Scalar)
-            return _scalar(left.value + sign * right.value, dim)
+            return Scalar(left.value + sign * right.value, dim)
         assert isinstance(left, Vec) and isinstance(right, Vec)
         if len(left.values) != len(right.values):
             raise ProgramError(
                 f"cannot combine vectors of {len(left.values)} and {len(right.values)} components",
                 expr.span,
             )
-        return _vec(tuple(a + sign * b for a, b in zip(left.values, right.values, strict=True)), dim)
+        return Vec(tuple(a + sign * b for a, b in zip(left.values, right.values, strict=True)), dim)
 
     def _common_dim(self, a: Dim | None, b: Dim | None, expr: ast.Binary) -> Dim | None:
         if a is None or b is None or a == b:
@@ -280,8 +276,8 @@ class Evaluator:
         if left.dim is not None or right.dim is not None:
             dim = units.multiply(left.dim or units.DIMENSIONLESS, right.dim or units.DIMENSIONLESS)
         if isinstance(right, Scalar):
-            return _scalar(left.value * right.value, dim)
-        return _vec(tuple([left.value * v for v in right.values]), dim)
+            return Scalar(left.value * right.value, dim)
+        return Vec(tuple([left.value * v for v in right.values]), dim)
 
     def _pose(self, expr: ast.Pose) -> FrameValue:
         position = self.expect_position(expr.position, "a pose's position")
@@ -290,7 +286,7 @@ class Evaluator:
         assert isinstance(angles, Vec)  # expect_vector refuses anything else
         # The floats themselves (a zero's sign aside, as the array had them: the
         # matrix is the same, its zeros made +0.0 by readonly).
-        return _frame_value(position.position, rpy_to_matrix(*angles.values))
+        return FrameValue(position.position, rpy_to_matrix(*angles.values))
 
     # ----------------------------------------------------------------- slots
 
@@ -323,7 +319,7 @@ class Evaluator:
 
     def expect_vector(self, expr: ast.Expr, value: Value, size: int, dim: Dim, what: str) -> FloatArray:
         """``value`` (of ``expr``) as a read-only (size,) SI array of dimension ``dim``."""
-        return readonly_of(self._vector_values(expr, value, size, dim, what))
+        return readonly(self._vector_values(expr, value, size, dim, what))
 
     def _vector_values(
         self, expr: ast.Expr, value: Value, size: int, dim: Dim, what: str
@@ -361,7 +357,7 @@ class Evaluator:
                 f"{self.text_of(expr.span)} is {kind_of(value)}",
                 expr.span,
             )
-        return _frame_value(self.expect_vector(expr, value, 3, units.LENGTH, what), None)
+        return FrameValue(self.expect_vector(expr, value, 3, units.LENGTH, what), None)
 
 
 def _finite(value: Value) -> bool:

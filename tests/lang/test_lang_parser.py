@@ -6,7 +6,8 @@ import pytest
 
 from cosmos.errors import ProgramError
 from cosmos.lang import ast, needs_more_input, parse_program
-from cosmos.lang.parser import _Builder, lark_parser
+from cosmos.lang.parser import lark_parser
+from cosmos.lang.tree_builder import TreeBuilder
 from cosmos.lang.units import KNOWN_UNITS
 
 
@@ -22,7 +23,7 @@ def test_every_grammar_rule_has_a_builder() -> None:
         name = rule.alias or rule.origin.name
         if name.startswith("_") or (rule.options.expand1 and len(rule.expansion) == 1):
             continue
-        if not hasattr(_Builder, name):
+        if not hasattr(TreeBuilder, name):
             missing.add(name)
     assert not missing
 
