@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cosmos.errors import CosmosError, Span
-from cosmos.lang.rotations import matrix_to_quaternion
+from cosmos.rotations import matrix_to_quaternion
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]

@@ -18,9 +18,8 @@ from rich.console import Console
 from rich.table import Table
 
 from cosmos import plan
-from cosmos.lang.compiler import compile_program
-from cosmos.lang.source import read_source
-from cosmos.lang.state import FrameLike
+from cosmos.lang import compile_program, read_source
+from cosmos.lang.compile.state import FrameLike
 
 _AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
 

@@ -16,7 +16,7 @@ import click
 from cosmos.errors import CosmosError, UsageError
 from cosmos.execution.executor import Executor, Progress
 from cosmos.execution.session import Session
-from cosmos.lang.compiler import compile_program
+from cosmos.lang import compile_program
 from cosmos.plan import Plan
 from cosmos.runlog.writer import default_log_path
 from cosmos.runtime.rates import Rates

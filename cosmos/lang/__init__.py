@@ -1,7 +1,9 @@
 """The COSMOS task language: parse, check and compile programs to plans.
 
-Entry points (imported lazily, so that :mod:`cosmos.plan` can use the helpers
-of this package without an import cycle):
+The subpackages read as the pipeline: ``parse`` (file and text to the syntax
+tree of :mod:`cosmos.lang.ast`), ``check`` (what a statement alone can tell),
+``evaluate`` (expressions and units, :mod:`cosmos.lang.units`) and ``compile``
+(statements to plan steps). Entry points (imported lazily):
 
 - :func:`compile_program` (source, file, fixtures) -> :class:`cosmos.plan.Plan`
 - :class:`Compiler` for statement-by-statement compilation (the REPL), with
@@ -9,6 +11,7 @@ of this package without an import cycle):
 - :func:`parse_program` (source, file) -> :class:`cosmos.lang.ast.Program`
 - :func:`needs_more_input` (text) -> whether a REPL input has an open block
 - :func:`bench_compile` (lines) -> seconds to parse and compile a long program
+- :func:`read_program` (path) -> the text of a program file, read with bounds
 """
 
 from __future__ import annotations
@@ -18,32 +21,33 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from cosmos.lang.bench import bench_compile, bench_program
-    from cosmos.lang.compiler import (
+    from cosmos.lang.compile.compiler import (
         Compiler,
         ProgramErrors,
         StatementResult,
         compile_program,
         statement_text,
     )
-    from cosmos.lang.parser import needs_more_input, parse_program
-    from cosmos.lang.source import decode_source, read_source
-    from cosmos.lang.state import CompileState, Defaults, HeldContact
+    from cosmos.lang.compile.state import CompileState, Defaults, HeldContact
+    from cosmos.lang.parse.parser import needs_more_input, parse_program
+    from cosmos.lang.parse.source_file import decode_source, read_program, read_source
 
 _EXPORTS = {
     "bench_compile": "cosmos.lang.bench",
     "bench_program": "cosmos.lang.bench",
-    "Compiler": "cosmos.lang.compiler",
-    "ProgramErrors": "cosmos.lang.compiler",
-    "StatementResult": "cosmos.lang.compiler",
-    "compile_program": "cosmos.lang.compiler",
-    "statement_text": "cosmos.lang.compiler",
-    "needs_more_input": "cosmos.lang.parser",
-    "parse_program": "cosmos.lang.parser",
-    "decode_source": "cosmos.lang.source",
-    "read_source": "cosmos.lang.source",
-    "CompileState": "cosmos.lang.state",
-    "Defaults": "cosmos.lang.state",
-    "HeldContact": "cosmos.lang.state",
+    "Compiler": "cosmos.lang.compile.compiler",
+    "ProgramErrors": "cosmos.lang.compile.compiler",
+    "StatementResult": "cosmos.lang.compile.compiler",
+    "compile_program": "cosmos.lang.compile.compiler",
+    "statement_text": "cosmos.lang.compile.compiler",
+    "needs_more_input": "cosmos.lang.parse.parser",
+    "parse_program": "cosmos.lang.parse.parser",
+    "decode_source": "cosmos.lang.parse.source_file",
+    "read_program": "cosmos.lang.parse.source_file",
+    "read_source": "cosmos.lang.parse.source_file",
+    "CompileState": "cosmos.lang.compile.state",
+    "Defaults": "cosmos.lang.compile.state",
+    "HeldContact": "cosmos.lang.compile.state",
 }
 
 __all__ = [
@@ -59,6 +63,7 @@ __all__ = [
     "decode_source",
     "needs_more_input",
     "parse_program",
+    "read_program",
     "read_source",
     "statement_text",
 ]

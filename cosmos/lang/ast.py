@@ -16,8 +16,6 @@ from cosmos.errors import Span
 class Axis(enum.Enum):
     """One of the six axes of a task frame; ``value`` is its index in a 6-vector."""
 
-    __hash__ = object.__hash__  # members are unique: hash by identity, in C (Enum's is Python code)
-
     X = 0
     Y = 1
     Z = 2
@@ -131,8 +129,6 @@ class AxisRef:
 class Sensed(enum.Enum):
     """What a condition of UNTIL measures."""
 
-    __hash__ = object.__hash__  # members are unique: hash by identity, in C (Enum's is Python code)
-
     FORCE = "FORCE"
     TORQUE = "TORQUE"
     DISTANCE = "DISTANCE"
@@ -173,8 +169,6 @@ Condition = Comparison | AllOf | AnyOf
 
 class ClauseKind(enum.Enum):
     """The keyword of a clause that takes one value."""
-
-    __hash__ = object.__hash__  # members are unique: hash by identity, in C (Enum's is Python code)
 
     SPEED = "SPEED"
     FORCE = "FORCE"
@@ -236,16 +230,12 @@ Clause = ValueClause | ViaClause | UntilClause | ComplyClause
 class MoveMode(enum.Enum):
     """``MOVE TO`` an absolute target or ``MOVE BY`` an offset."""
 
-    __hash__ = object.__hash__  # members are unique: hash by identity, in C (Enum's is Python code)
-
     TO = "TO"
     BY = "BY"
 
 
 class Shape(enum.Enum):
     """Obstacle primitives."""
-
-    __hash__ = object.__hash__  # members are unique: hash by identity, in C (Enum's is Python code)
 
     SPHERE = "SPHERE"
     CYLINDER = "CYLINDER"

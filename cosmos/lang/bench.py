@@ -6,8 +6,8 @@ import math
 import re
 import time
 
-from cosmos.lang.compiler import compile_program
-from cosmos.lang.rotations import FloatArray, readonly, rpy_to_matrix
+from cosmos.lang.compile.compiler import compile_program
+from cosmos.rotations import FloatArray, readonly, rpy_to_matrix
 
 _BLOCK = """\
 MOVE TO hole + (0, 0, 80 mm) SPEED 0.2 m/s

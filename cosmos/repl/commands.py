@@ -11,7 +11,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from cosmos.lang.state import CompileState
+from cosmos.lang import CompileState
 from cosmos.repl.engine import ReplEngine
 from cosmos.repl.names import frame_table
 from cosmos.repl.output import Tone

@@ -8,8 +8,8 @@ from functools import cache
 from prompt_toolkit.completion import CompleteEvent, Completer, Completion, PathCompleter
 from prompt_toolkit.document import Document
 
-from cosmos.lang.parser import keywords
-from cosmos.lang.state import CompileState
+from cosmos.lang import CompileState
+from cosmos.lang.parse.grammar import keywords
 from cosmos.repl.commands import COMMANDS
 from cosmos.repl.names import all_names
 

@@ -21,11 +21,8 @@ from cosmos.errors import CosmosError, ProgramError, Span
 from cosmos.execution.executor import Executor, Interrupted
 from cosmos.execution.monitor import statement_head
 from cosmos.execution.session import Session
-from cosmos.lang import ast
-from cosmos.lang.compiler import Compiler, StatementResult
-from cosmos.lang.parser import parse_program
-from cosmos.lang.source import read_source
-from cosmos.lang.state import frozen_map
+from cosmos.lang import Compiler, StatementResult, ast, parse_program, read_source
+from cosmos.lang.compile.state import frozen_map
 from cosmos.plan import Diagnostic, Plan, RemoveObstacle, Segment, Step
 from cosmos.repl.names import changed_names, describe_value
 from cosmos.repl.output import Printer, Tone

@@ -19,8 +19,7 @@ from prompt_toolkit.lexers import Lexer
 from prompt_toolkit.styles import Style
 
 from cosmos.lang import units
-from cosmos.lang.parser import keywords
-from cosmos.lang.syntax import STATEMENT_KEYWORDS
+from cosmos.lang.parse.grammar import STATEMENT_KEYWORDS, keywords
 
 STYLE = Style.from_dict(
     {

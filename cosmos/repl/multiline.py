@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import re
 
-from cosmos.lang.parser import needs_more_input
+from cosmos.lang import needs_more_input
 
 INDENT = "    "
 """What a line inside a block is indented by."""

@@ -10,9 +10,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from cosmos.lang import units
-from cosmos.lang.state import CompileState
-from cosmos.lang.values import Binding, BindingKind, FrameValue, Scalar, Vec
+from cosmos.lang import CompileState, units
+from cosmos.lang.evaluate.values import Binding, BindingKind, FrameValue, Scalar, Vec
 from cosmos.repl.status import format_pose, format_vector
 
 _SI_SYMBOLS = {

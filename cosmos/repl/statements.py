@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cosmos.errors import CosmosError, Span
-from cosmos.lang.state import CompileState, frozen_map
+from cosmos.lang.compile.state import CompileState, frozen_map
 from cosmos.plan import AddObstacle, RemoveObstacle, Segment, Step
 
 REPL_FILE = "<repl>"

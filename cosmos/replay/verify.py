@@ -65,7 +65,7 @@ def rerun(settings: RunSettings, log_path: Path) -> str | None:
     from cosmos.commands.run import TerminalProgress, execute_plan
     from cosmos.execution.executor import Interrupted
     from cosmos.execution.session import Session
-    from cosmos.lang.compiler import compile_program
+    from cosmos.lang import compile_program
     from cosmos.workcell import fixture_frames
 
     try:

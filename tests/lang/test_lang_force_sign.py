@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from cosmos.lang.compiler import compile_program
+from cosmos.lang import compile_program
 
 
 def sign_warnings(source: str) -> list[str]:

@@ -6,8 +6,8 @@ import pytest
 
 from cosmos.errors import ProgramError
 from cosmos.lang import ast, needs_more_input, parse_program
-from cosmos.lang.parser import lark_parser
-from cosmos.lang.tree_builder import TreeBuilder
+from cosmos.lang.parse.builder import TreeBuilder
+from cosmos.lang.parse.grammar import lark_parser
 from cosmos.lang.units import KNOWN_UNITS
 
 

@@ -10,7 +10,7 @@ from lang_support import compile_text
 
 from cosmos import plan
 from cosmos.lang import bench_compile
-from cosmos.lang.rotations import matrix_to_quaternion, rpy_to_matrix
+from cosmos.rotations import matrix_to_quaternion, rpy_to_matrix
 
 
 def until(condition: str) -> plan.Condition:

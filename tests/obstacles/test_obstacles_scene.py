@@ -156,7 +156,7 @@ def test_home_pose_has_no_collision() -> None:
 
 
 def test_a_compiled_program_builds_the_scene_and_the_field() -> None:
-    from cosmos.lang.compiler import compile_program
+    from cosmos.lang import compile_program
     from cosmos.obstacles import ObstacleField, from_step
     from tests.obstacles.obstacle_scenes import robot
 

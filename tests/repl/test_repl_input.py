@@ -10,8 +10,7 @@ from prompt_toolkit.completion import CompleteEvent
 from prompt_toolkit.document import Document
 from prompt_toolkit.history import FileHistory, InMemoryHistory
 
-from cosmos.lang.compiler import Compiler
-from cosmos.lang.parser import parse_program
+from cosmos.lang import Compiler, parse_program
 from cosmos.repl.completion import ReplCompleter
 from cosmos.repl.highlight import highlight_line
 from cosmos.repl.multiline import input_complete, next_indent

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from cosmos.errors import ProgramError
-from cosmos.lang.compiler import Compiler
-from cosmos.lang.rotations import rpy_to_matrix
+from cosmos.lang import Compiler
 from cosmos.plan import AddObstacle, Segment
 from cosmos.repl.statements import state_after_failure, statement_groups
 from cosmos.repl.status import force_directions, format_pose, matrix_to_rpy
 from cosmos.repl.transcript import Transcript
+from cosmos.rotations import rpy_to_matrix
 from cosmos.workcell import fixture_frames
 
 

@@ -115,7 +115,7 @@ def test_log_without_source_is_a_clear_error(tmp_path: Path) -> None:
 def test_interrupted_run_is_compared_up_to_the_interruption(tmp_path: Path) -> None:
     from cosmos.execution.executor import Interrupted, Progress
     from cosmos.execution.session import Session
-    from cosmos.lang.compiler import compile_program
+    from cosmos.lang import compile_program
     from cosmos.runtime.rates import Rates
     from cosmos.workcell import fixture_frames
 

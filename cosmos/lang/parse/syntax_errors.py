@@ -4,8 +4,8 @@ Lark reports an unexpected token and the set of terminals it expected. This
 module turns that into a message: an unknown unit after a number, a misspelt
 keyword (the nearest expected keyword, by difflib), a misspelt statement at the
 start of a line, a block left open at the end of the file, or one of the common
-slips recognised with Lark's ``match_examples`` (a MOVE without TO or BY, a
-CONTACT without a direction, ...). Whatever is left reads "unexpected X;
+slips (:mod:`cosmos.lang.parse.slips`: a MOVE without TO or BY, a CONTACT
+without a direction, ...). Whatever is left reads "unexpected X;
 expected A, B or C".
 """
 
@@ -20,14 +20,8 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import units
-
-MAX_NESTING = 64
-"""Deepest parenthesis nesting accepted (deeper input is refused before parsing)."""
-
-STATEMENT_KEYWORDS = (
-    "MOVE", "CONTACT", "SLIDE", "INSERT", "COMPLY", "OBSTACLE", "LET", "FRAME", "SPEED",
-    "WAIT", "PROC", "REPEAT", "CALL",
-)  # fmt: skip
+from cosmos.lang.parse.grammar import STATEMENT_KEYWORDS
+from cosmos.lang.parse.slips import match_slip
 
 # Display of non-keyword terminals in "expected ..." lists.
 _PUNCTUATION = {
@@ -44,165 +38,6 @@ _PUNCTUATION = {
     "QUANTITY": "a number",
     "WORD": "a name",
 }
-
-_DIRECTIONS = "+X -X +Y -Y +Z -Z, UP or DOWN"
-
-# Common slips, recognised by the parser state they fail in (Lark match_examples).
-_EXAMPLES: dict[str, list[str]] = {
-    "expected TO or BY after MOVE: MOVE TO (0.5, 0.1, 0.3), MOVE TO hole, or MOVE BY (0, 0, -50 mm)": [
-        "MOVE (0.5, 0.1, 0.3)",
-        "MOVE 5 mm",
-        "MOVE",
-        "MOVE SPEED 3",
-    ],
-    f"CONTACT needs a direction first: {_DIRECTIONS} (as in CONTACT DOWN FORCE 10 N)": [
-        "CONTACT FORCE 10 N",
-        "CONTACT",
-        "CONTACT (0, 0, 1)",
-        "CONTACT 5",
-    ],
-    f"SLIDE needs a direction first: {_DIRECTIONS} (as in SLIDE +X BY 100 mm)": [
-        "SLIDE BY 100 mm",
-        "SLIDE",
-        "SLIDE (1, 0, 0)",
-        "SLIDE 5",
-    ],
-    f"INSERT needs a direction first: {_DIRECTIONS} (as in INSERT DOWN DEPTH 25 mm FORCE 15 N)": [
-        "INSERT DEPTH 25 mm",
-        "INSERT",
-        "INSERT (0, 0, 1)",
-        "INSERT 5",
-    ],
-    "expected '=' after the name: LET name = value": ["LET x 5", "LET x", "LET x (1, 2, 3)"],
-    "expected '=' after the name: FRAME name = (x, y, z) RPY (roll, pitch, yaw)": [
-        "FRAME f (0, 0, 0)",
-        "FRAME f",
-        "FRAME f 5",
-    ],
-    "LET needs a name: LET name = value": ["LET = 5", "LET 5 = 3", "LET"],
-    "FRAME needs a name: FRAME name = (x, y, z)": ["FRAME = (0, 0, 0)", "FRAME 5", "FRAME"],
-    "COMPLY needs axes (X Y Z RX RY RZ) or NONE, as in COMPLY X Y": [
-        "COMPLY",
-        "COMPLY STIFFNESS 3",
-        "COMPLY 5",
-        "COMPLY (1, 0, 0)",
-    ],
-    "OBSTACLE needs a name, then a shape (SPHERE, CYLINDER, BOX or PLANE): "
-    "OBSTACLE ball SPHERE AT (0.4, 0.2, 0.5) RADIUS 50 mm": [
-        "OBSTACLE ball AT (1, 2, 3)",
-        "OBSTACLE ball",
-        "OBSTACLE ball 5",
-        "OBSTACLE",
-        "OBSTACLE 5",
-        "OBSTACLE (1, 2, 3)",
-    ],
-    "OBSTACLE REMOVE needs the obstacle's name": ["OBSTACLE REMOVE", "OBSTACLE REMOVE 3"],
-    "UNTIL needs a comparison with > or <, as in UNTIL FORCE > 5 N": [
-        "MOVE BY (0, 0, 1) UNTIL FORCE 5 N",
-        "MOVE BY (0, 0, 1) UNTIL FORCE",
-        "MOVE BY (0, 0, 1) UNTIL FORCE Z 5 N",
-        "MOVE BY (0, 0, 1) UNTIL FORCE Z",
-        "MOVE BY (0, 0, 1) UNTIL DISTANCE 4 mm",
-        "MOVE BY (0, 0, 1) UNTIL DISTANCE",
-    ],
-    "UNTIL compares FORCE, TORQUE or DISTANCE with a value, as in UNTIL FORCE > 5 N": [
-        "MOVE BY (0, 0, 1) UNTIL 5 N",
-        "MOVE BY (0, 0, 1) UNTIL",
-        "MOVE BY (0, 0, 1) UNTIL x > 3",
-        "MOVE BY (0, 0, 1) UNTIL FORCE > 5 N AND",
-        "MOVE BY (0, 0, 1) UNTIL FORCE > 5 N OR 3",
-    ],
-    "REPEAT needs a count: REPEAT 3 ... END": ["REPEAT\nEND", "REPEAT TIMES\nEND"],
-    "PROC needs a name: PROC name ... END": ["PROC\nEND", "PROC 3\nEND"],
-    "VIA needs one or more positions: MOVE TO p VIA a, b": [
-        "MOVE TO (0, 0, 0) VIA",
-        "MOVE TO (0, 0, 0) VIA SPEED 3",
-    ],
-    "CALL needs the name of a PROC": ["CALL", "CALL 3"],
-    "RPY needs three angles: RPY (180 deg, 0, 0)": ["FRAME f = (0, 0, 0) RPY"],
-}
-
-
-_PREFIXES = ("", "WAIT 1 s\n", "PROC p\n", "PROC p\nWAIT 1 s\n")
-"""Each slip is also tried after a line and inside a PROC: the parser's stack
-differs there, and parser states are compared whole."""
-
-_example_errors: list[tuple[str, UnexpectedToken, set[str]]] | None = None
-
-
-def _match_example(error: UnexpectedToken, parse: Callable[[str], Any]) -> str | None:
-    """The label of the common slip that fails in the same parser state as ``error``.
-
-    Like Lark's ``UnexpectedInput.match_examples``, but the examples are parsed
-    once per process rather than on every error.
-    """
-    global _example_errors
-    if _example_errors is None:
-        found = []
-        for label, examples in _EXAMPLES.items():
-            for prefix in _PREFIXES:
-                for example in examples:
-                    try:
-                        parse(prefix + example)
-                    except UnexpectedToken as failure:
-                        found.append((label, failure, set(failure.accepts or failure.expected)))
-                    except UnexpectedInput:
-                        pass
-        _example_errors = found
-    accepts = set(error.accepts or error.expected)
-    candidate = None
-    for label, example_error, example_accepts in _example_errors:
-        if example_error.state == error.state and example_accepts == accepts:
-            if example_error.token.type == error.token.type:
-                return label
-            candidate = candidate or label
-    return candidate
-
-
-_COMMENT = re.compile("#[^\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029]*")
-"""A comment, to the end of its line as ``str.splitlines`` ends lines."""
-_ONLY_PARENS = {code: None for code in range(128) if chr(code) not in "()"}
-"""A ``str.translate`` table that drops every ASCII character but parentheses."""
-
-
-def _surely_shallow(source: str) -> bool:
-    """Whether no parenthesis outside comments is nested deeper than :data:`MAX_NESTING`.
-
-    Told with string operations alone (no loop over the parentheses): each
-    round drops the innermost pairs ``()``; when none is left after ``rounds``,
-    a parenthesis lies inside at most ``rounds`` pairs and the unmatched ``(``
-    left. False where that bound is over the limit (or a character outside
-    ASCII stands between parentheses): then they are counted one by one.
-    """
-    parens = _COMMENT.sub("", source).translate(_ONLY_PARENS)
-    for rounds in range(MAX_NESTING + 1):
-        inner = parens.replace("()", "")
-        if inner == parens:
-            return rounds + parens.count("(") <= MAX_NESTING
-        parens = inner
-    return False
-
-
-def check_nesting(source: str, file: str) -> None:
-    """Refuse parentheses nested deeper than :data:`MAX_NESTING` (before parsing).
-
-    Raises:
-        ProgramError: At the first parenthesis past the limit.
-    """
-    if _surely_shallow(source):
-        return
-    depth = 0
-    for line_number, line in enumerate(source.splitlines(), start=1):
-        for column, char in enumerate(line.split("#", 1)[0], start=1):
-            if char == "(":
-                depth += 1
-                if depth > MAX_NESTING:
-                    raise ProgramError(
-                        f"parentheses nested more than {MAX_NESTING} deep",
-                        Span(file, line_number, column, line_number, column + 1),
-                    )
-            elif char == ")":
-                depth = max(depth - 1, 0)
 
 
 def _display(name: str, terminal_text: Callable[[str], str | None]) -> str:
@@ -368,7 +203,7 @@ def syntax_error(
         if first and first[1].upper() not in STATEMENT_KEYWORDS and first[1].upper() != "END":
             return _unknown_statement(first, span.line, file, keywords)
 
-    label = _match_example(error, parse)
+    label = match_slip(error, parse)
     if label is not None:
         return ProgramError(label, span)
 

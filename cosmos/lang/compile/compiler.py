@@ -1,14 +1,11 @@
 """Syntax tree to plan: the statement-by-statement compiler.
 
 :class:`Compiler` turns statements into plan steps while threading a
-:class:`~cosmos.lang.state.CompileState` through them: the default speed, the
-COMPLY settings, the held contact, names, procedures and obstacles. Motion
-statements are built in :mod:`cosmos.lang.motion`; one pass over a text is
-:mod:`cosmos.lang.compile_pass`, which hands the other statements to
-:mod:`cosmos.lang.compile_settings` (SPEED, LET, FRAME, COMPLY),
-:mod:`cosmos.lang.compile_obstacles` (the scene) and
-:mod:`cosmos.lang.compile_blocks` (PROC, CALL, REPEAT). This module collects
-errors and holds the public entry points.
+:class:`~cosmos.lang.compile.state.CompileState` through them: the default
+speed, the COMPLY settings, the held contact, names, procedures and obstacles.
+One pass over a text is :mod:`cosmos.lang.compile.statement_pass`, which hands
+each statement to its handler. This module collects errors and holds the
+public entry points.
 """
 
 from __future__ import annotations
@@ -21,12 +18,12 @@ import numpy as np
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
-from cosmos.lang.compile_pass import _Run
-from cosmos.lang.compile_pass import statement_text as statement_text  # public here, as before
-from cosmos.lang.parser import parse_program
-from cosmos.lang.rotations import IDENTITY, readonly
-from cosmos.lang.state import CompileState, Defaults, FrameLike, frozen_map
-from cosmos.lang.values import Binding, BindingKind, FrameValue, SuppressedError
+from cosmos.lang.compile.context import statement_text as statement_text  # public here, as before
+from cosmos.lang.compile.state import CompileState, Defaults, FrameLike, frozen_map
+from cosmos.lang.compile.statement_pass import StatementPass
+from cosmos.lang.evaluate.values import Binding, BindingKind, FrameValue, SuppressedError
+from cosmos.lang.parse.parser import parse_program
+from cosmos.rotations import IDENTITY, readonly
 
 MAX_ERRORS = 20
 """Errors reported before the compiler stops looking for more."""
@@ -95,6 +92,9 @@ class Compiler:
             self._split = (source, source.splitlines())
         return self._split[1]
 
+    def _pass(self, source: str) -> StatementPass:
+        return StatementPass(self.defaults, self._fixture_names, self.lines_of, source)
+
     def initial_state(self) -> CompileState:
         """The state at the start of a program: home pose, no names but the fixtures."""
         return CompileState(default_speed_mps=self.defaults.speed_mps, names=self._fixture_names)
@@ -112,7 +112,7 @@ class Compiler:
         Raises:
             ProgramError: The statement is wrong; ``state`` still holds.
         """
-        run = _Run(self, source)
+        run = self._pass(source)
         new_state = run.top_level(statement, state)
         return StatementResult(tuple(run.steps), new_state, tuple(run.warnings))
 
@@ -123,7 +123,7 @@ class Compiler:
             ProgramError: A syntax or check error (all errors, as :class:`ProgramErrors`).
         """
         program = parse_program(text, file)
-        run = _Run(self, text)  # one pass: a failed statement's steps and warnings are dropped
+        run = self._pass(text)  # one pass: a failed statement's steps and warnings are dropped
         top_level = run.top_level
         errors: list[ProgramError] = []
         for statement in program.statements:

@@ -7,9 +7,9 @@ from collections.abc import Callable
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.rotations import signed_column
-from cosmos.lang.state import TaskFrame
-from cosmos.lang.values import Evaluator
+from cosmos.lang.compile.state import TaskFrame
+from cosmos.lang.evaluate.evaluator import Evaluator
+from cosmos.rotations import signed_column
 
 _QUANTITY_DIM = {
     plan.Quantity.FORCE: units.FORCE,

@@ -1,4 +1,4 @@
-"""Rotation helpers for the compiler, on top of :mod:`cosmos.osc.orientation`.
+"""Rotation helpers for the language and the plan, on top of :mod:`cosmos.osc.orientation`.
 
 Rotation matrices map frame coordinates to world coordinates: the columns of
 ``rotation_frame_to_world`` are the frame's x, y, z axes expressed in the world.

@@ -14,12 +14,11 @@ commanded force (the contact's, INSERT's) may not also be under COMPLY, and the
 direction a statement moves along (SLIDE, the CONTACT approach) may be neither
 force-controlled nor compliant at zero stiffness. Breaking it is an error.
 
-:class:`MotionBuilder` is put together from the modules that hold its parts:
-:mod:`~cosmos.lang.motion_move_contact` and :mod:`~cosmos.lang.motion_slide_insert_wait`
-(the statements), :mod:`~cosmos.lang.motion_axes` (axis setups and the axis rule),
-:mod:`~cosmos.lang.motion_clause_values` (clause values and warnings),
-:mod:`~cosmos.lang.motion_clauses` (clauses by keyword, shared completions) and
-:mod:`~cosmos.lang.motion_builder_base` (its attributes and the segment writer).
+:class:`MotionBuilder` is put together from the modules that hold its parts: one
+per statement (``move``, ``contact``, ``slide``, ``insert``, ``wait``), on
+``axis_rules`` (axis setups and the axis rule), ``clause_values`` (clause values
+and warnings), ``clauses`` (clauses by keyword, shared completions) and ``base``
+(its attributes and the segment writer).
 """
 
 from __future__ import annotations
@@ -30,12 +29,20 @@ from typing import Any
 
 from cosmos import plan
 from cosmos.lang import ast
-from cosmos.lang.motion_move_contact import MoveAndContact, _ContactChange
-from cosmos.lang.motion_slide_insert_wait import SlideInsertWait
-from cosmos.lang.state import CompileState
+from cosmos.lang.compile.motion.base import ContactChange
+from cosmos.lang.compile.motion.contact import Contact
+from cosmos.lang.compile.motion.insert import Insert
+from cosmos.lang.compile.motion.move import Move
+from cosmos.lang.compile.motion.slide import Slide
+from cosmos.lang.compile.motion.wait import Wait
+from cosmos.lang.compile.state import CompileState
+
+BuildStatement = Callable[[Any, Any], ContactChange | None]
+"""One of the builder's statement methods (``MotionBuilder.move``, ...): the change of
+the held contact it makes, None for none."""
 
 
-class MotionBuilder(MoveAndContact, SlideInsertWait):
+class MotionBuilder(Move, Contact, Slide, Insert, Wait):
     """Builds the segments of motion statements, one statement per :meth:`build`.
 
     One builder serves a whole compilation pass: ``build`` points it at each
@@ -52,6 +59,7 @@ class MotionBuilder(MoveAndContact, SlideInsertWait):
 
     def build(
         self,
+        build_statement: BuildStatement,
         statement: ast.Move | ast.Contact | ast.Slide | ast.Insert | ast.Wait,
         state: CompileState,
         context: str,
@@ -59,6 +67,7 @@ class MotionBuilder(MoveAndContact, SlideInsertWait):
         """The statement's segments and the state after it.
 
         Args:
+            build_statement: The method for the statement's type (``MotionBuilder.move``, ...).
             statement: The motion statement.
             state: The compile state before it (the evaluator reads its names).
             context: Where an expanded statement came from (see ``Segment.context``).
@@ -70,7 +79,7 @@ class MotionBuilder(MoveAndContact, SlideInsertWait):
         self.context = context
         segments: list[plan.Segment] = []
         self._segments = segments
-        change: _ContactChange | None = _BUILDERS[type(statement)](self, statement)
+        change = build_statement(self, statement)
         state = replace(
             state,
             statement_count=state.statement_count + 1,
@@ -80,13 +89,3 @@ class MotionBuilder(MoveAndContact, SlideInsertWait):
             contact, released_by = change
             state = replace(state, contact=contact, contact_released_by=released_by)
         return segments, state
-
-
-_BUILDERS: dict[type, Callable[[MotionBuilder, Any], _ContactChange | None]] = {
-    ast.Move: MotionBuilder._move,
-    ast.Contact: MotionBuilder._contact,
-    ast.Slide: MotionBuilder._slide,
-    ast.Insert: MotionBuilder._insert,
-    ast.Wait: MotionBuilder._wait,
-}
-"""The builder of each motion statement type; those that change the held contact say how."""

@@ -14,8 +14,8 @@ from typing import Protocol, TypeVar
 
 from cosmos.errors import Span
 from cosmos.lang import ast
-from cosmos.lang.rotations import IDENTITY, FloatArray
-from cosmos.lang.values import Binding
+from cosmos.lang.evaluate.values import Binding
+from cosmos.rotations import IDENTITY, FloatArray
 
 
 class FrameLike(Protocol):

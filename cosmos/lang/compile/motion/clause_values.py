@@ -15,15 +15,15 @@ import numpy as np
 from cosmos import plan
 from cosmos.errors import ProgramError
 from cosmos.lang import ast, units
-from cosmos.lang.conditions import comparisons, compile_condition, holds_at_start
-from cosmos.lang.motion_axes import _vector_text
-from cosmos.lang.motion_builder_base import MotionBuilderBase
-from cosmos.lang.motion_clauses import _FORCE, _IN, _SPEED, _TIMEOUT, _Clauses
-from cosmos.lang.rotations import IDENTITY
-from cosmos.lang.state import WORLD, TaskFrame
-from cosmos.lang.values import BindingKind, FrameValue, Scalar
+from cosmos.lang.compile.motion.axes import vector_text
+from cosmos.lang.compile.motion.base import MotionBuilderBase
+from cosmos.lang.compile.motion.clauses import Clauses
+from cosmos.lang.compile.motion.conditions import comparisons, compile_condition, holds_at_start
+from cosmos.lang.compile.state import WORLD, TaskFrame
+from cosmos.lang.evaluate.values import BindingKind, FrameValue, Scalar
+from cosmos.rotations import IDENTITY
 
-_IN_WORLD: tuple[TaskFrame, float | None, str | None] = (WORLD, None, None)
+IN_WORLD: tuple[TaskFrame, float | None, str | None] = (WORLD, None, None)
 """What ``_frame`` gives a statement without IN: the world frame, no duration, no fixture."""
 
 _FIXTURE = BindingKind.FIXTURE
@@ -37,12 +37,12 @@ class ClauseValues(MotionBuilderBase):
     # ---------------------------------------------------------------- values
 
     def _frame(
-        self, clauses: _Clauses, keyword: str, *, allow_duration: bool
+        self, clauses: Clauses, keyword: str, *, allow_duration: bool
     ) -> tuple[TaskFrame, float | None, str | None]:
         """(task frame, duration of IN t, fixture named by IN)."""
-        expr = clauses.exprs.get(_IN)
+        expr = clauses.exprs.get(ast.ClauseKind.IN)
         if expr is None:
-            return _IN_WORLD
+            return IN_WORLD
         value = self.evaluator.evaluate(expr)
         if isinstance(value, FrameValue):
             rotation = IDENTITY if value.rotation is None else value.rotation
@@ -74,28 +74,28 @@ class ClauseValues(MotionBuilderBase):
             )
         return value
 
-    def _force(self, clauses: _Clauses) -> float:
-        expr = clauses.exprs.get(_FORCE)
+    def _force(self, clauses: Clauses) -> float:
+        expr = clauses.exprs.get(ast.ClauseKind.FORCE)
         assert expr is not None  # the checker requires FORCE where there is no default
         force = self._positive_scalar(expr, units.FORCE, "FORCE")
         if force > 100:
             self.warn(f"FORCE {force:g} N is a lot for the PUMA 560's wrist", expr.span)
         return force
 
-    def _speed(self, clauses: _Clauses, default: float | None) -> float:
-        expr = clauses.exprs.get(_SPEED)
+    def _speed(self, clauses: Clauses, default: float | None) -> float:
+        expr = clauses.exprs.get(ast.ClauseKind.SPEED)
         if expr is None:
             assert default is not None
             return default
         return self._positive_scalar(expr, units.SPEED, "SPEED")
 
-    def _timeout(self, clauses: _Clauses) -> float | None:
-        expr = clauses.exprs.get(_TIMEOUT)
+    def _timeout(self, clauses: Clauses) -> float | None:
+        expr = clauses.exprs.get(ast.ClauseKind.TIMEOUT)
         return None if expr is None else self._positive_scalar(expr, units.TIME, "TIMEOUT")
 
     def _until(
         self,
-        clauses: _Clauses,
+        clauses: Clauses,
         frame: TaskFrame,
         *,
         force_expected: bool,
@@ -134,7 +134,7 @@ class ClauseValues(MotionBuilderBase):
             rising = comparison.op in (plan.CompareOp.GT, plan.CompareOp.GE)
             if abs(grows) > 0.7 and (grows < 0) == rising and (comparison.value > 0) == rising:
                 self.warn(
-                    f"this move pushes along {_vector_text(heading)} when it meets something, so "
+                    f"this move pushes along {vector_text(heading)} when it meets something, so "
                     f"the force along that way grows but {comparison.text} needs the opposite sign; "
                     "see 'Sign of forces' in the language reference",
                     comparison.span,
@@ -146,7 +146,7 @@ class ClauseValues(MotionBuilderBase):
         distance: float | None,
         speed: float | None,
         duration: float | None,
-        clauses: _Clauses,
+        clauses: Clauses,
     ) -> None:
         if timeout is None:
             return
@@ -156,7 +156,7 @@ class ClauseValues(MotionBuilderBase):
         if needed is not None and timeout < needed:
             self.warn(
                 f"TIMEOUT {timeout:g} s is shorter than the {needed:.3g} s this motion needs",
-                clauses.span_of(_TIMEOUT),
+                clauses.span_of(ast.ClauseKind.TIMEOUT),
             )
 
     def _warn_away_from_fixture(self, direction: ast.Direction, fixture: str | None, keyword: str) -> None:

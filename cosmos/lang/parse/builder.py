@@ -2,7 +2,7 @@
 
 Lark calls the builder's method named for a rule or alias as the rule is
 reduced, with every token kept, so a node's span runs from its first token to
-its last (:mod:`cosmos.lang.spans`).
+its last (:mod:`cosmos.lang.parse.spans`).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import Any
 from lark import Token, Transformer, Tree
 
 from cosmos.lang import ast
-from cosmos.lang.spans import span_between, span_of
+from cosmos.lang.parse.spans import span_between, span_of
 
 
 def _nodes(children: Iterable[Any]) -> tuple[Any, ...]:
@@ -54,7 +54,7 @@ class _Builder(Transformer):
     def __default__(self, data: Any, children: Any, meta: Any) -> Any:
         if str(data).startswith("_"):  # an inlined rule: its parent splices the children in
             return Tree(data, children)
-        raise NotImplementedError(f"grammar rule '{data}' has no builder in cosmos/lang/tree_builder.py")
+        raise NotImplementedError(f"grammar rule '{data}' has no builder in cosmos/lang/parse/builder.py")
 
     # ------------------------------------------------------------ program
 

@@ -14,7 +14,7 @@ from typing import Any
 
 from cosmos.errors import ProgramError
 from cosmos.lang import ast
-from cosmos.lang.syntax import STATEMENT_KEYWORDS
+from cosmos.lang.parse.grammar import STATEMENT_KEYWORDS
 
 _SHAPE_CLAUSES: dict[ast.Shape, tuple[set[ast.ClauseKind], set[ast.ClauseKind]]] = {
     # shape: (required, allowed besides AT, MOVING, INFLUENCE, GAIN)

@@ -1,91 +1,31 @@
 """Evaluating expressions: numbers with units, vectors, frames, names.
 
-Values carry a dimension (cosmos.lang.units) or none: a bare number keeps
-``dim=None`` until it meets a slot, where it takes the slot's SI unit. The
-``expect_*`` functions are those slots: they check kind, size and dimension and
-raise a :class:`ProgramError` that points at the offending expression.
+A bare number keeps ``dim=None`` until it meets a slot, where it takes the
+slot's SI unit (:mod:`cosmos.lang.evaluate.values`). The ``expect_*`` methods
+are those slots: they check kind, size and dimension and raise a
+:class:`ProgramError` that points at the offending expression.
 """
 
 from __future__ import annotations
 
 import difflib
-import enum
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 from math import isfinite
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.rotations import FloatArray, readonly, rpy_to_matrix
+from cosmos.lang.evaluate.values import (
+    Binding,
+    FrameValue,
+    Scalar,
+    SuppressedError,
+    Value,
+    Vec,
+    kind_of,
+)
 from cosmos.lang.units import Dim
-
-
-@dataclass(frozen=True)
-class Scalar:
-    """A number in SI; ``dim`` None for a bare number."""
-
-    value: float
-    dim: Dim | None
-
-
-@dataclass(frozen=True)
-class Vec:
-    """Two or more numbers in SI sharing one dimension (None if all bare)."""
-
-    values: tuple[float, ...]
-    dim: Dim | None
-
-
-@dataclass(frozen=True, eq=False)
-class FrameValue:
-    """A frame: an origin in the world and, optionally, an orientation.
-
-    Attributes:
-        position: Origin [m], world, (3,).
-        rotation: Frame to world, (3, 3); None for a frame given as a bare position
-            (it has the world's axes under IN, and keeps the tool's orientation as a
-            MOVE target).
-    """
-
-    position: FloatArray
-    rotation: FloatArray | None
-
-
-Value = Scalar | Vec | FrameValue
-
-_NUMBER = ast.Number
-
-
-class BindingKind(enum.Enum):
-    """Where a name comes from."""
-
-    LET = "LET"
-    FRAME = "FRAME"
-    FIXTURE = "fixture"
-
-
-@dataclass(frozen=True)
-class Binding:
-    """A name's value; ``value`` None marks a name whose definition had an error."""
-
-    value: Value | None
-    kind: BindingKind
-    span: Span | None
-
-
-class SuppressedError(ProgramError):
-    """An error caused by an earlier, already reported one (a broken definition)."""
-
-
-def kind_of(value: Value) -> str:
-    """``"a length"``, ``"a vector of 3 lengths"``, ``"a frame"`` for messages."""
-    if isinstance(value, FrameValue):
-        return "a frame"
-    if isinstance(value, Vec):
-        inner = "numbers" if value.dim is None else units.plural(value.dim)
-        return f"a vector of {len(value.values)} {inner}"
-    return "a plain number" if value.dim is None else units.describe(value.dim)
+from cosmos.rotations import FloatArray, readonly, rpy_to_matrix
 
 
 class Evaluator:
@@ -185,7 +125,7 @@ class Evaluator:
         dim: Dim | None = None
         first_with_dim: ast.Expr | None = None
         for item in expr.items:
-            if type(item) is _NUMBER:  # most components: no Scalar made
+            if type(item) is ast.Number:  # most components: no Scalar made
                 number, unit = item.value, item.unit
                 if unit is None and isfinite(number):  # a bare number: itself
                     values.append(number)
@@ -298,7 +238,7 @@ class Evaluator:
             dim: The slot's dimension; a bare number is read in its SI unit.
             what: The slot, for messages (``"FORCE"``).
         """
-        if type(expr) is _NUMBER:  # most slots: a number as written, no Scalar made
+        if type(expr) is ast.Number:  # most slots: a number as written, no Scalar made
             number, number_dim = self._number_value(expr)
             if number_dim is None or number_dim == dim:
                 return number

@@ -1,6 +1,6 @@
 """What a motion builder holds, and how it writes a plan segment.
 
-:class:`MotionBuilderBase` is the root of :class:`cosmos.lang.motion.MotionBuilder`:
+:class:`MotionBuilderBase` is the root of :class:`cosmos.lang.compile.motion.builder.MotionBuilder`:
 its slots (one compilation pass's defaults, evaluator and callbacks; the state of
 the statement being built) and :meth:`MotionBuilderBase._add`, which appends one
 segment. The other parts of the builder (axes, clause values, the statements)
@@ -10,17 +10,17 @@ are subclasses of it.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from cosmos import plan
 from cosmos.errors import Span
 from cosmos.lang import ast
-from cosmos.lang.motion_clauses import _completions
-from cosmos.lang.state import CompileState, Defaults, TaskFrame
-from cosmos.lang.values import Evaluator
+from cosmos.lang.compile.motion.axes import Axes
+from cosmos.lang.compile.motion.clauses import completions_of
+from cosmos.lang.compile.state import CompileState, Defaults, HeldContact, TaskFrame
+from cosmos.lang.evaluate.evaluator import Evaluator
 
-if TYPE_CHECKING:
-    from cosmos.lang.motion_axes import _Axes
+ContactChange = tuple[HeldContact | None, Span | None]
+"""What MOVE and CONTACT change in the state: the held contact, and what released the last."""
 
 
 class MotionBuilderBase:
@@ -60,7 +60,7 @@ class MotionBuilderBase:
         self.warn = warn
         self.state: CompileState
         self.context = ""
-        completions = _completions(defaults)
+        completions = completions_of(defaults)
         self._goal_reached = completions.goal_reached
         self._jam_check = completions.jam_check
         self._segments: list[plan.Segment] = []
@@ -74,7 +74,7 @@ class MotionBuilderBase:
         kind: plan.SegmentKind,
         statement: ast.Statement,
         frame: TaskFrame,
-        axes: _Axes,
+        axes: Axes,
         *,
         target: plan.Target | None,
         speed: float | None,

@@ -8,15 +8,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.state import NO_COMPLIANCE, AxisCompliance, CompileState
-from cosmos.lang.values import Binding, BindingKind
-
-if TYPE_CHECKING:
-    from cosmos.lang.compile_pass import _Run
+from cosmos.lang.compile.context import CompileContext
+from cosmos.lang.compile.state import NO_COMPLIANCE, AxisCompliance, CompileState
+from cosmos.lang.evaluate.values import Binding, BindingKind
 
 _LET = BindingKind.LET
 _FRAME = BindingKind.FRAME
@@ -24,18 +21,20 @@ _STIFFNESS = ast.ClauseKind.STIFFNESS
 _DAMPING = ast.ClauseKind.DAMPING
 
 
-def compile_speed(run: _Run, statement: ast.SetSpeed, state: CompileState) -> CompileState:
+def compile_speed(run: CompileContext, statement: ast.SetSpeed, state: CompileState) -> CompileState:
     """Set the default speed of the motion statements that follow."""
-    speed = run._evaluator(state).expect_scalar(statement.value, units.SPEED, "SPEED")
+    speed = run.evaluator_for(state).expect_scalar(statement.value, units.SPEED, "SPEED")
     _positive(speed, statement.value.span, "SPEED")
     if speed > 1.5:
         run.warn(f"SPEED {speed:g} m/s is faster than the PUMA 560 moves its tool", statement.value.span)
     return replace(state, default_speed_mps=speed)
 
 
-def compile_definition(run: _Run, statement: ast.Let | ast.FrameDef, state: CompileState) -> CompileState:
+def compile_definition(
+    run: CompileContext, statement: ast.Let | ast.FrameDef, state: CompileState
+) -> CompileState:
     """Bind a LET value or a FRAME to its name."""
-    evaluator = run._evaluator(state)
+    evaluator = run.evaluator_for(state)
     key = statement.name.key
     previous = state.names.get(key)
     if previous is not None and previous.kind is BindingKind.FIXTURE:
@@ -52,11 +51,11 @@ def compile_definition(run: _Run, statement: ast.Let | ast.FrameDef, state: Comp
     return state.bind(key, Binding(value, kind, statement.name.span))
 
 
-def compile_comply(run: _Run, statement: ast.Comply, state: CompileState) -> CompileState:
+def compile_comply(run: CompileContext, statement: ast.Comply, state: CompileState) -> CompileState:
     """Set the compliance of the given task axes; COMPLY with no axes clears it."""
     if not statement.axes:
         return replace(state, compliance=NO_COMPLIANCE)
-    evaluator = run._evaluator(state)
+    evaluator = run.evaluator_for(state)
     clauses = {c.kind: c for c in statement.clauses if type(c) is ast.ValueClause}
     rotations = {ref.axis.is_rotation for ref in statement.axes}
     if len(rotations) > 1 and clauses:

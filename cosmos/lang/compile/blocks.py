@@ -9,24 +9,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 from cosmos.errors import ProgramError
 from cosmos.lang import ast, units
-from cosmos.lang.state import CompileState, ProcEntry, frozen_map
-from cosmos.lang.syntax import STATEMENT_KEYWORDS
-from cosmos.lang.values import suggest
-
-if TYPE_CHECKING:
-    from cosmos.lang.compile_pass import _Run
+from cosmos.lang.compile.context import CompileContext
+from cosmos.lang.compile.state import CompileState, ProcEntry, frozen_map
+from cosmos.lang.evaluate.evaluator import suggest
+from cosmos.lang.parse.grammar import STATEMENT_KEYWORDS
 
 MAX_STEPS = 100_000
 """Most steps a program may expand to (procedures and loops included)."""
-MAX_CALL_DEPTH = 32
-"""Deepest chain of procedure calls."""
+MAX_EXPANSION_DEPTH = 150
+"""Deepest nesting of procedure calls and REPEAT passes while expanding (each is
+compiled recursively; the parser bounds the blocks written inside each other)."""
 
 
-def register_procedure(run: _Run, statement: ast.ProcDef, state: CompileState) -> CompileState:
+def register_procedure(run: CompileContext, statement: ast.ProcDef, state: CompileState) -> CompileState:
     """Register a PROC; its body is compiled where it is called."""
     key = statement.name.key
     if key in state.procedures and state.procedures[key].definition.span.file == statement.span.file:
@@ -39,7 +37,7 @@ def register_procedure(run: _Run, statement: ast.ProcDef, state: CompileState) -
     return replace(state, procedures=frozen_map({**state.procedures, key: entry}))
 
 
-def expand_call(run: _Run, statement: ast.Call, state: CompileState) -> CompileState:
+def expand_call(run: CompileContext, statement: ast.Call, state: CompileState) -> CompileState:
     """Compile the called procedure's body in place, from its own text."""
     key = statement.name.key
     entry = state.procedures.get(key)
@@ -52,13 +50,14 @@ def expand_call(run: _Run, statement: ast.Call, state: CompileState) -> CompileS
             f"unknown procedure '{statement.name.name}'{suggest(statement.name.name, state.procedures)}",
             statement.name.span,
         )
-    if key in run.call_stack or len(run.call_stack) >= MAX_CALL_DEPTH:
+    if key in run.call_stack:
         chain = " -> ".join([*run.call_stack, key])
         raise ProgramError(f"procedures call each other without end: {chain}", statement.span)
+    _bounded_depth(run, statement)
     state = replace(state, called=state.called | {key})
     outer_source, outer_lines = run.source, run.lines
     run.source = entry.source
-    run.lines = run.compiler.lines_of(entry.source)
+    run.lines = run.lines_of(entry.source)
     run.call_stack.append(key)
     run.context.append(f"PROC {entry.definition.name.name} called at line {statement.span.line}")
     try:
@@ -71,9 +70,9 @@ def expand_call(run: _Run, statement: ast.Call, state: CompileState) -> CompileS
     return state
 
 
-def expand_repeat(run: _Run, statement: ast.Repeat, state: CompileState) -> CompileState:
+def expand_repeat(run: CompileContext, statement: ast.Repeat, state: CompileState) -> CompileState:
     """Compile a REPEAT's body once per pass."""
-    count_value = run._evaluator(state).expect_scalar(statement.count, units.DIMENSIONLESS, "REPEAT")
+    count_value = run.evaluator_for(state).expect_scalar(statement.count, units.DIMENSIONLESS, "REPEAT")
     if not math.isfinite(count_value) or count_value != int(count_value) or count_value < 0:
         raise ProgramError(
             f"REPEAT needs a whole number of times, not {run.text_of(statement.count.span)}",
@@ -84,6 +83,8 @@ def expand_repeat(run: _Run, statement: ast.Repeat, state: CompileState) -> Comp
         run.warn("REPEAT 0 runs its block no times", statement.count.span)
     if count > MAX_STEPS:
         raise ProgramError(f"REPEAT {count} is more than {MAX_STEPS} passes", statement.count.span)
+    if count:
+        _bounded_depth(run, statement)
     for index in range(count):
         run.context.append(f"REPEAT pass {index + 1} of {count} at line {statement.span.line}")
         try:
@@ -92,3 +93,18 @@ def expand_repeat(run: _Run, statement: ast.Repeat, state: CompileState) -> Comp
         finally:
             run.context.pop()
     return state
+
+
+def _bounded_depth(run: CompileContext, statement: ast.Call | ast.Repeat) -> None:
+    """Refuse to expand one level deeper than :data:`MAX_EXPANSION_DEPTH`.
+
+    Raises:
+        ProgramError: At the CALL or REPEAT, naming the outermost expansions.
+    """
+    if len(run.context) >= MAX_EXPANSION_DEPTH:
+        outer = "; ".join(run.context[:3])
+        raise ProgramError(
+            f"procedure calls and REPEAT blocks nest more than {MAX_EXPANSION_DEPTH} deep here "
+            f"(from {outer}; ...); call fewer procedures from inside each other",
+            statement.span,
+        )

@@ -1,67 +1,22 @@
-"""Per-axis setup of a motion segment, and the axis rule.
+"""The axis rule: an axis takes one job, and the axis setup that follows from it.
 
-The diagonal of the seed's selection matrix Omega (motion) and its complement
-(force), the force setpoint, stiffness and damping of each task axis
-(:class:`_Axes`), made by :meth:`AxisRules._axes`; and the checks of the axis
-rule (an axis takes one job) shared by the motion statements.
+:meth:`AxisRules._axes` makes a segment's :class:`~cosmos.lang.compile.motion.axes.Axes`
+from the COMPLY in force and the statement's forces; the other methods are the
+checks of the axis rule shared by the motion statements.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
-from cosmos.lang.motion_builder_base import MotionBuilderBase
-from cosmos.lang.rotations import readonly
-from cosmos.lang.state import NO_COMPLIANCE, HeldContact, TaskFrame
-
-_ALIGNED = math.cos(math.radians(1.0))
-"""A contact direction within 1 degree of a task axis counts as along it."""
-
-_AXIS_NAMES = tuple(axis.name for axis in ast.Axis)
-
-
-@dataclass(frozen=True)
-class _Axes:
-    """Per-axis setup of a segment in its task frame."""
-
-    motion: np.ndarray  # (6,) bool
-    force: np.ndarray  # (6,) float
-    stiffness: tuple[float | None, ...]
-    damping: tuple[float | None, ...]
-    all_motion: bool  # motion.all()
-
-
-_NO_FORCES: dict[int, float] = {}  # never changed
-_NO_FREE: set[int] = set()  # never changed
-
-
-def _all_motion() -> _Axes:
-    """Every axis under motion control (no COMPLY, no force); its arrays are read-only."""
-    motion = np.ones(6, dtype=bool)
-    motion.flags.writeable = False
-    return _Axes(motion, readonly(np.zeros(6)), (None,) * 6, (None,) * 6, True)
-
-
-_ALL_MOTION = _all_motion()
-
-
-def _held_since(contact: HeldContact | None) -> str:
-    """``"the contact held since line 3"``, for messages."""
-    return f"the contact held since line {contact.span.line}" if contact else ""
-
-
-def _axis_list(axes: list[int] | set[int]) -> str:
-    return " ".join(_AXIS_NAMES[i] for i in sorted(axes))
-
-
-def _vector_text(vector: np.ndarray) -> str:
-    return "(" + ", ".join(f"{v:.3g}" if abs(v) > 1e-12 else "0" for v in vector) + ")"
+from cosmos.lang.compile.motion.axes import ALIGNED_COS, ALL_MOTION, AXIS_NAMES, Axes, vector_text
+from cosmos.lang.compile.motion.base import MotionBuilderBase
+from cosmos.lang.compile.state import NO_COMPLIANCE, HeldContact, TaskFrame
+from cosmos.rotations import readonly
 
 
 class AxisRules(MotionBuilderBase):
@@ -69,10 +24,10 @@ class AxisRules(MotionBuilderBase):
 
     __slots__ = ()
 
-    def _axes(self, forces: dict[int, float], free: set[int]) -> _Axes:
+    def _axes(self, forces: dict[int, float], free: set[int]) -> Axes:
         """Axis setup: COMPLY in force, then zero-force axes ``free``, then ``forces``."""
         if not forces and not free and self.state.compliance == NO_COMPLIANCE:
-            return _ALL_MOTION
+            return ALL_MOTION
         motion = [True] * 6
         force = [0.0] * 6
         stiffness: list[float | None] = [None] * 6
@@ -93,13 +48,13 @@ class AxisRules(MotionBuilderBase):
             stiffness[i] = 0.0
         motion_array = np.array(motion, dtype=bool)
         motion_array.flags.writeable = False
-        return _Axes(motion_array, readonly(force), tuple(stiffness), tuple(damping), all(motion))
+        return Axes(motion_array, readonly(force), tuple(stiffness), tuple(damping), all(motion))
 
     def _no_compliance(self, axis: int, what: Callable[[], str], span: Span) -> None:
         compliance = self.state.compliance[axis]
         if compliance is not None:
             raise ProgramError(
-                f"{_AXIS_NAMES[axis]} is compliant (COMPLY at line {compliance.span.line}) and "
+                f"{AXIS_NAMES[axis]} is compliant (COMPLY at line {compliance.span.line}) and "
                 f"{what()} commands a force along it; an axis takes one job: COMPLY NONE first, "
                 "or comply other axes",
                 span,
@@ -109,7 +64,7 @@ class AxisRules(MotionBuilderBase):
         compliance = self.state.compliance[axis]
         if compliance is not None and compliance.stiffness == 0:
             raise ProgramError(
-                f"{what()} moves along {_AXIS_NAMES[axis]}, but {_AXIS_NAMES[axis]} is compliant "
+                f"{what()} moves along {AXIS_NAMES[axis]}, but {AXIS_NAMES[axis]} is compliant "
                 f"with zero stiffness (COMPLY at line {compliance.span.line}), so it cannot be "
                 "moved; COMPLY NONE first",
                 span,
@@ -131,10 +86,10 @@ class AxisRules(MotionBuilderBase):
         """The task axis (0..2) and sign along which the contact pushes."""
         projections = (frame.rotation.T @ contact.direction_world).tolist()
         for axis in range(3):
-            if abs(projections[axis]) >= _ALIGNED:
+            if abs(projections[axis]) >= ALIGNED_COS:
                 return axis, 1 if projections[axis] > 0 else -1
         raise ProgramError(
-            f"the contact held along {_vector_text(contact.direction_world)} in the world "
+            f"the contact held along {vector_text(contact.direction_world)} in the world "
             f"(CONTACT at line {contact.span.line}) is not along an axis of frame "
             f"'{frame.name}'; give this statement IN {contact.frame.name}",
             span,

@@ -4,25 +4,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.compile_settings import _positive
-from cosmos.lang.rotations import IDENTITY, readonly
-from cosmos.lang.state import CompileState, frozen_map
-from cosmos.lang.values import suggest
-
-if TYPE_CHECKING:
-    from cosmos.lang.compile_pass import _Run
+from cosmos.lang.compile.context import CompileContext
+from cosmos.lang.compile.settings import _positive
+from cosmos.lang.compile.state import CompileState, frozen_map
+from cosmos.lang.evaluate.evaluator import suggest
+from cosmos.rotations import IDENTITY, readonly
 
 
-def compile_obstacle(run: _Run, statement: ast.Obstacle, state: CompileState) -> CompileState:
+def compile_obstacle(run: CompileContext, statement: ast.Obstacle, state: CompileState) -> CompileState:
     """Add an obstacle to the scene (an AddObstacle step)."""
-    evaluator = run._evaluator(state)
+    evaluator = run.evaluator_for(state)
     key = statement.name.key
     if key in state.obstacles:
         first = state.obstacles[key]
@@ -92,7 +89,9 @@ def compile_obstacle(run: _Run, statement: ast.Obstacle, state: CompileState) ->
     return replace(state, obstacles=frozen_map({**state.obstacles, key: statement.span}))
 
 
-def compile_remove_obstacle(run: _Run, statement: ast.RemoveObstacle, state: CompileState) -> CompileState:
+def compile_remove_obstacle(
+    run: CompileContext, statement: ast.RemoveObstacle, state: CompileState
+) -> CompileState:
     """Remove an obstacle from the scene (a RemoveObstacle step)."""
     key = statement.name.key
     if key not in state.obstacles:

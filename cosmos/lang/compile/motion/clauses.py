@@ -1,6 +1,6 @@
 """A motion statement's clauses sorted by keyword, and the completions its segments share.
 
-Part of the motion builder (:mod:`cosmos.lang.motion`): the clause kinds every
+Part of the motion builder (:mod:`cosmos.lang.compile.motion.builder`): the clause kinds every
 statement reads, looked up once, and the goal and jam checks one ``Defaults``
 gives every segment that needs them.
 """
@@ -12,11 +12,11 @@ from dataclasses import dataclass
 from cosmos import plan
 from cosmos.errors import Span
 from cosmos.lang import ast
-from cosmos.lang.state import Defaults
+from cosmos.lang.compile.state import Defaults
 
 
 @dataclass(slots=True)
-class _Clauses:
+class Clauses:
     """A statement's clauses by keyword (the checker has refused duplicates).
 
     ``exprs`` holds the value of each value clause by its kind (``.get``: None where absent).
@@ -33,12 +33,12 @@ class _Clauses:
         return next(c.span for c in self.given if type(c) is _VALUE_CLAUSE and c.kind is kind)
 
 
-def _clauses_of(clauses: tuple[ast.Clause, ...]) -> _Clauses:
+def clauses_of(clauses: tuple[ast.Clause, ...]) -> Clauses:
     """A statement's clauses sorted by keyword (one shared, never changed, value for none)."""
     if not clauses:
         return _NO_CLAUSES
     exprs: dict[ast.ClauseKind, ast.Expr] = {}
-    found = _Clauses(clauses, exprs, None, None, None)
+    found = Clauses(clauses, exprs, None, None, None)
     for clause in clauses:
         kind = type(clause)
         if kind is _VALUE_CLAUSE:
@@ -52,34 +52,24 @@ def _clauses_of(clauses: tuple[ast.Clause, ...]) -> _Clauses:
     return found
 
 
-_NO_CLAUSES = _Clauses((), {}, None, None, None)
+_NO_CLAUSES = Clauses((), {}, None, None, None)
 """The clauses of a statement without any (its dictionaries stay empty)."""
 _VALUE_CLAUSE = ast.ValueClause
 _VIA_CLAUSE = ast.ViaClause
 _UNTIL_CLAUSE = ast.UntilClause
 
 
-# Enum members read in every statement, looked up once (a member lookup on an
-# Enum class costs about 0.3 us in Python 3.11).
-_SPEED = ast.ClauseKind.SPEED
-_BY = ast.ClauseKind.BY
-_FORCE = ast.ClauseKind.FORCE
-_DEPTH = ast.ClauseKind.DEPTH
-_IN = ast.ClauseKind.IN
-_TIMEOUT = ast.ClauseKind.TIMEOUT
-
-
 @dataclass(frozen=True, eq=False)
-class _Completions:
+class Completions:
     """The immutable plan values one ``Defaults`` gives every segment that needs them."""
 
     goal_reached: plan.GoalReached
     jam_check: plan.JamCheck
 
 
-def _completions(defaults: Defaults) -> _Completions:
+def completions_of(defaults: Defaults) -> Completions:
     """The goal tolerances and jam check of ``defaults``."""
-    return _Completions(
+    return Completions(
         plan.GoalReached(
             position_tolerance_m=defaults.position_tolerance_m,
             orientation_tolerance_rad=defaults.orientation_tolerance_rad,

@@ -1,0 +1,1 @@
+"""Motion statements to plan segments: one module per statement, on a shared base."""

@@ -1,0 +1,81 @@
+"""INSERT to a segment: push along one direction to a depth, compliant across it."""
+
+from __future__ import annotations
+
+from cosmos import plan
+from cosmos.errors import ProgramError
+from cosmos.lang import ast, units
+from cosmos.lang.compile.motion.axes import held_since
+from cosmos.lang.compile.motion.axis_rules import AxisRules
+from cosmos.lang.compile.motion.clause_values import ClauseValues
+from cosmos.lang.compile.motion.clauses import clauses_of
+from cosmos.rotations import signed_column
+
+_INSERT = plan.SegmentKind.INSERT
+
+
+class Insert(AxisRules, ClauseValues):
+    """The motion builder's INSERT (it keeps the held contact)."""
+
+    __slots__ = ()
+
+    def insert(self, statement: ast.Insert) -> None:
+        """INSERT: one segment, force along the direction, compliant across it."""
+        clauses = clauses_of(statement.clauses)
+        frame, _, fixture = self._frame(clauses, "INSERT", allow_duration=False)
+        axis, sign = self._translation(statement.direction, "INSERT")
+        direction_world = signed_column(frame.rotation, axis, sign)[0]
+        depth_expr = clauses.exprs.get(ast.ClauseKind.DEPTH)
+        assert depth_expr is not None  # the checker requires DEPTH
+        depth = self._positive_scalar(depth_expr, units.LENGTH, "DEPTH")
+        force = self._force(clauses)
+        contact = self.state.contact
+        forces = {axis: sign * force}
+        contact_axis = None
+        if contact is not None:
+            contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
+            if contact_axis != axis:
+                forces[contact_axis] = contact_sign * contact.force_n
+
+        def what() -> str:  # for messages only: built when one is given
+            return f"INSERT {statement.direction.text}"
+
+        if clauses.comply is not None:
+            free = {ref.axis._value_ for ref in clauses.comply.axes}
+            for ref in clauses.comply.axes:
+                if ref.axis._value_ in forces:
+                    because = (
+                        f"{what()} pushes along it"
+                        if ref.axis._value_ == axis
+                        else f"it carries {held_since(contact)}"
+                    )
+                    raise ProgramError(
+                        f"{ref.axis.name} cannot be compliant here: {because}; leave it out of COMPLY",
+                        ref.span,
+                    )
+        else:
+            lateral = [i for i in range(3) if i != axis]
+            free = {i for i in lateral + [i + 3 for i in lateral] if i != contact_axis}
+        self._no_compliance(axis, what, statement.direction.span)
+        if contact_axis is not None and contact_axis != axis:
+            self._no_compliance(contact_axis, lambda: held_since(contact), statement.span)
+        if contact is None:
+            self.warn(
+                f"no contact is held, so {what()} pushes {force:g} N into free space (at up to "
+                f"{self._speed(clauses, self.defaults.insert_speed_mps) * 1000:g} mm/s) until it "
+                "meets something; make a CONTACT first",
+                statement.span,
+            )
+        self._warn_away_from_fixture(statement.direction, fixture, "INSERT")
+        self._add(
+            _INSERT,
+            statement,
+            frame,
+            self._axes(forces, free),
+            target=None,
+            speed=self._speed(clauses, self.defaults.insert_speed_mps),
+            completion=plan.DepthReached(direction_world, depth),
+            until=None if clauses.until is None else self._until(clauses, frame, force_expected=True),
+            timeout=self._timeout(clauses),
+            jam_check=self._jam_check,
+        )

@@ -1,0 +1,1 @@
+"""Evaluate: expressions to values with units (``values``), by the ``evaluator``."""
