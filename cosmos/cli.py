@@ -33,7 +33,8 @@ def _report(error: CosmosError) -> None:
     sys.exit(EXIT_USAGE if isinstance(error, UsageError) else EXIT_FAILED)
 
 
-program_argument = click.argument("program", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+# the program file is read (and refused if it is not one) by cosmos.lang.read_program
+program_argument = click.argument("program", type=click.Path(path_type=Path))
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})

@@ -18,7 +18,7 @@ from rich.console import Console
 from rich.table import Table
 
 from cosmos import plan
-from cosmos.lang import compile_program, read_source
+from cosmos.lang import compile_program, read_program
 from cosmos.lang.compile.state import FrameLike
 
 _AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
@@ -58,7 +58,7 @@ def check_program(
     """
     out = out or sys.stdout
     err = err or sys.stderr
-    source = read_source(program)
+    source = read_program(program)
     compiled = compile_program(source, str(program), load_fixtures() if fixtures is None else fixtures)
     for warning in compiled.warnings:
         print(warning.render(source), file=err)

@@ -13,22 +13,14 @@ from types import FrameType
 
 import click
 
-from cosmos.errors import CosmosError, UsageError
+from cosmos.errors import CosmosError
 from cosmos.execution.executor import Executor, Progress
 from cosmos.execution.session import Session
-from cosmos.lang import compile_program
+from cosmos.lang import compile_program, read_program
 from cosmos.plan import Plan
 from cosmos.runlog.writer import default_log_path
 from cosmos.runtime.rates import Rates
 from cosmos.workcell import fixture_frames
-
-
-def read_program(path: Path) -> str:
-    """The program's text; a UsageError if it cannot be read as UTF-8."""
-    try:
-        return path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise UsageError(f"{path}: cannot read the program: {error}") from None
 
 
 def compile_file(path: Path) -> Plan:

@@ -17,11 +17,11 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from cosmos.errors import CosmosError, ProgramError, Span
+from cosmos.errors import CosmosError, ProgramError, Span, UsageError
 from cosmos.execution.executor import Executor, Interrupted
 from cosmos.execution.monitor import statement_head
 from cosmos.execution.session import Session
-from cosmos.lang import Compiler, StatementResult, ast, parse_program, read_source
+from cosmos.lang import Compiler, StatementResult, ast, parse_program, read_program
 from cosmos.lang.compile.state import frozen_map
 from cosmos.plan import Diagnostic, Plan, RemoveObstacle, Segment, Step
 from cosmos.repl.names import changed_names, describe_value
@@ -100,7 +100,7 @@ class ReplEngine:
         self.transcript.add_command(f":load {path}")
         self.executor.stop_requested = False
         try:
-            text = normalise_newlines(read_source(path))
+            text = read_program_file(path)
             self._compile(text, str(path))  # errors and warnings point into the file
             loaded = LoadedFile(path, text, self.transcript.line_count + 1)
             source = self.transcript.placed(text)
@@ -232,3 +232,28 @@ class ReplEngine:
         hold = dataclasses.replace(hold, statement=":reset", span=span, line=line)
         self.executor.run(Plan(REPL_FILE, source, (hold,), ()))
         self.printer.write("the arm is home; names, frames, procedures and settings are reset", Tone.OK)
+
+
+def read_program_file(path: Path) -> str:
+    """The text of a file given to ``:load``, read as ``cosmos check`` reads it.
+
+    A file that is not a program shows none of its content (``:load /etc/passwd``
+    must not print a line of it): bytes that are not UTF-8 text, or a file whose
+    name does not end in ``.cos`` and that does not parse, are refused in one line.
+
+    Raises:
+        UsageError: The file is not a program, or cannot be read.
+        ProgramError: A ``.cos`` file with a syntax error.
+    """
+    try:
+        text = read_program(path)
+    except ProgramError:
+        raise UsageError(f"{path}: not UTF-8 text, so not a program file") from None
+    if path.suffix.lower() != ".cos":
+        try:
+            parse_program(text, str(path))
+        except ProgramError:
+            raise UsageError(
+                f"{path}: not a COSMOS program (it does not parse); a program file's name ends in .cos"
+            ) from None
+    return text

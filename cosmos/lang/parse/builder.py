@@ -26,7 +26,7 @@ def _ident(token: Token) -> ast.Ident:
     return ast.Ident(token.value, span_between(token, token))
 
 
-_QUANTITY = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?)[ \t]*(.*)", re.I | re.S)
+_QUANTITY = re.compile(r"((?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:e[+-]?[0-9]+)?)[ \t]*(.*)", re.I | re.S)
 """A QUANTITY token: the number, then the unit as written (the terminal ends in the unit)."""
 _CLAUSE_KINDS = {kind.name: kind for kind in ast.ClauseKind}
 _AXES = {axis.name: axis for axis in ast.Axis}

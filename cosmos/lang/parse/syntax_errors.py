@@ -165,6 +165,8 @@ def syntax_error(
         char = source[position] if 0 <= position < len(source) else "?"
         shown = repr(char) if not char.isprintable() else f"'{char}'"
         hint = " (strings are not part of the language)" if char in "\"'" else ""
+        if char.isdigit() and not char.isascii():
+            hint = " (a digit outside ASCII: write numbers with 0-9)"
         span = Span(file, error.line, error.column, error.line, error.column + 1)
         return ProgramError(f"unexpected character {shown}{hint}", span)
     if not isinstance(error, UnexpectedToken):
