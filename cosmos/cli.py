@@ -75,11 +75,12 @@ def run(
 @cli.command()
 @program_argument
 @click.option("--json", "as_json", is_flag=True, help="Print the plan as JSON.")
-def check(program: Path, as_json: bool) -> None:
+@click.option("--full", is_flag=True, help="Print every step of a long plan, not a summary.")
+def check(program: Path, as_json: bool, full: bool) -> None:
     """Parse, check and compile PROGRAM without running it; print the plan."""
     from cosmos.commands.check import check_program
 
-    _finish(check_program(program, as_json))
+    _finish(check_program(program, as_json, full=full))
 
 
 @cli.command()

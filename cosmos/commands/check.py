@@ -1,14 +1,21 @@
-"""``cosmos check PROGRAM [--json]``: parse, check and compile; print the plan.
+"""``cosmos check PROGRAM [--json] [--full]``: parse, check and compile; print the plan.
 
 Exit status 0 when the program compiles (warnings are printed on stderr and do
 not change it); a syntax or check error raises a :class:`ProgramError`, which
 the command line renders on stderr with exit status 1.
+
+Printing costs what the plan is worth: a plan of up to :data:`SCREEN_STEPS`
+steps prints as a table; a longer one as a summary and its first steps, one
+plain line each (``--full``: every step). ``--json`` writes the plan step by
+step as it goes.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
+from collections import Counter
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TextIO
@@ -22,6 +29,11 @@ from cosmos.lang import compile_program, read_program
 from cosmos.lang.compile.state import FrameLike
 
 _AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
+
+SCREEN_STEPS = 40
+"""Plans of at most this many steps print as a table; longer ones as plain lines."""
+SUMMARY_STEPS = 20
+"""Steps a summary of a long plan lists (``--full`` lists them all)."""
 
 
 def load_fixtures() -> Mapping[str, FrameLike]:
@@ -42,6 +54,7 @@ def check_program(
     fixtures: Mapping[str, FrameLike] | None = None,
     out: TextIO | None = None,
     err: TextIO | None = None,
+    full: bool = False,
 ) -> int:
     """Compile ``program`` and print its plan; return the exit status (0).
 
@@ -51,6 +64,7 @@ def check_program(
         fixtures: Fixture frames; by default the workcell's.
         out: Where the plan goes (stdout).
         err: Where warnings go (stderr).
+        full: Print every step of a long plan, not a summary.
 
     Raises:
         ProgramError: Syntax or check errors.
@@ -63,11 +77,64 @@ def check_program(
     for warning in compiled.warnings:
         print(warning.render(source), file=err)
     if as_json:
-        json.dump(plan.plan_to_json(compiled), out, indent=2)
-        out.write("\n")
-    else:
+        write_plan_json(compiled, out)
+    elif len(compiled.steps) <= SCREEN_STEPS:
         Console(file=out, width=max(Console(file=out).width, 140)).print(plan_table(compiled))
+    else:
+        write_plan_lines(compiled, out, full)
     return 0
+
+
+def write_plan_json(compiled: plan.Plan, out: TextIO) -> None:
+    """The plan as :func:`cosmos.plan.plan_to_json` gives it, written one step at a time."""
+    head = plan.plan_to_json(dataclasses.replace(compiled, steps=()))
+    out.write("{")
+    for index, (key, value) in enumerate(head.items()):
+        out.write(f"{',' if index else ''}\n  {json.dumps(key)}: ")
+        if key != "steps":
+            out.write(json.dumps(value))
+            continue
+        out.write("[")
+        for number, step in enumerate(compiled.steps):
+            out.write(f"{',' if number else ''}\n    {json.dumps(plan.step_to_json(step))}")
+        out.write("\n  ]")
+    out.write("\n}\n")
+
+
+def write_plan_lines(compiled: plan.Plan, out: TextIO, full: bool) -> None:
+    """A long plan as plain text: counts by kind, then one line per step.
+
+    Only the first :data:`SUMMARY_STEPS` steps are listed, unless ``full``.
+    """
+    steps = compiled.steps
+    kinds = Counter(_kind(step) for step in steps)
+    out.write(
+        f"{compiled.file}: {len(compiled.segments)} segments, {len(steps)} steps ("
+        + ", ".join(f"{kind} {count}" for kind, count in kinds.items())
+        + ")\n"
+    )
+    shown = steps if full else steps[:SUMMARY_STEPS]
+    out.write("".join(step_line(step) + "\n" for step in shown))
+    if len(shown) < len(steps):
+        out.write(f"... {len(steps) - len(shown)} more steps; cosmos check --full prints every one\n")
+
+
+def _kind(step: plan.Step) -> str:
+    if isinstance(step, plan.Segment):
+        return step.kind.value
+    return f"add {step.shape.value}" if isinstance(step, plan.AddObstacle) else "remove obstacle"
+
+
+def step_line(step: plan.Step) -> str:
+    """One step as one plain line: index, line, kind, statement, then what it does."""
+    if not isinstance(step, plan.Segment):
+        return f"{'':>6} {step.line:>6}  {_kind(step):<16}  {step.statement}"
+    index, line, _, kind, frame, motion, force, setpoints, goal, ends = _segment_row(step)
+    context = f"  [{step.context}]" if step.context else ""
+    return (
+        f"{index:>6} {line:>6}  {kind:<16}  {step.statement}{context}  | frame {frame}; motion {motion}; "
+        f"force {force}; {setpoints}; {goal}; ends {ends}"
+    )
 
 
 def plan_table(compiled: plan.Plan) -> Table:

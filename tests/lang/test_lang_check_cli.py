@@ -13,6 +13,7 @@ from lang_support import FIXTURES
 
 from cosmos.cli import cli
 from cosmos.commands import check as check_command
+from cosmos.plan import plan_to_json
 
 PEG = """\
 FRAME above = hole + (2 mm, 0, 80 mm)
@@ -125,3 +126,38 @@ def test_console_script_end_to_end(tmp_path: Path) -> None:
     )
     assert result.returncode == 0, result.stderr
     assert json.loads(result.stdout)["steps"][0]["kind"] == "move"
+
+
+LONG = "SPEED 0.2 m/s\n" + "MOVE TO hole + (0, 0, 50 mm)\nWAIT 0.5 s\n" * 60  # 120 steps
+
+
+def test_a_plan_longer_than_a_screen_prints_a_summary_in_plain_lines(tmp_path: Path) -> None:
+    """Catches a long plan drawn as a rich table row by row (31 of 33 s of a 10,000-line check)."""
+    status, out, _ = run(tmp_path, LONG)
+    assert status == 0
+    lines = out.splitlines()
+    assert lines[0] == f"{tmp_path / 'prog.cos'}: 120 segments, 120 steps (move 60, wait 60)"
+    assert len(lines) == 1 + check_command.SUMMARY_STEPS + 1
+    assert lines[-1] == "... 100 more steps; cosmos check --full prints every one"
+    assert "│" not in out  # no table
+    assert lines[1].split()[:4] == ["0", "2", "move", "MOVE"]
+
+
+def test_full_prints_one_plain_line_per_step(tmp_path: Path) -> None:
+    """Catches --full dropping steps or a step spread over several lines."""
+    status, out, _ = run(tmp_path, LONG, "--full")
+    assert status == 0
+    lines = out.splitlines()
+    assert len(lines) == 1 + 120
+    assert [line.split()[0] for line in lines[1:]] == [str(i) for i in range(120)]
+    assert all(" wait " in line for line in lines[2::2])
+
+
+def test_json_written_step_by_step_is_the_plan_as_json(tmp_path: Path) -> None:
+    """Catches the streamed JSON drifting from plan_to_json (a key lost, a step out of order)."""
+    status, out, _ = run(tmp_path, LONG + "OBSTACLE ball SPHERE AT (0.4, 0.2, 0.5) RADIUS 50 mm\n", "--json")
+    assert status == 0
+    compiled = check_command.compile_program(
+        LONG + "OBSTACLE ball SPHERE AT (0.4, 0.2, 0.5) RADIUS 50 mm\n", str(tmp_path / "prog.cos"), FIXTURES
+    )
+    assert json.loads(out) == json.loads(json.dumps(plan_to_json(compiled)))

@@ -7,18 +7,25 @@ each rule is reduced, so no parse tree is kept. Every token is kept, so a
 node's span runs from its first token to its last (an inline transformer gets
 no ``meta``, so Lark's ``propagate_positions`` would add nothing).
 
-Lark's ``cache=True`` is not used: it pickles the parser into the shared temporary
-directory and unpickles whatever file it finds there on the next start; building
-the parser takes about 0.2 s.
+The analysed grammar is cached in the user's own cache directory
+(``$XDG_CACHE_HOME/cosmos``, else ``~/.cache/cosmos``), which saves about 0.1 s
+per start. Lark's ``cache=True`` is not used: it writes a pickle under a
+predictable name in the shared temporary directory and loads whatever file it
+finds there. Where the cache directory cannot be made (a read-only home), the
+parser is built each time; a stale or broken cache file is rebuilt by Lark.
 """
 
 from __future__ import annotations
 
+import hashlib
+import os
+import sys
 from functools import cache
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import lark
 from lark import Lark
 
 from cosmos.lang.parse.builder import TreeBuilder
@@ -51,17 +58,32 @@ class _WordsEverywhere:
         return stream
 
 
+def _cache_file(grammar: str) -> str | bool:
+    """Where the analysed grammar is cached (named by the grammar, Lark and Python), or False."""
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    directory = Path(base) / "cosmos"
+    try:
+        directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+    except OSError:
+        return False
+    digest = hashlib.sha256(grammar.encode("utf-8")).hexdigest()[:16]
+    python = f"{sys.version_info[0]}{sys.version_info[1]}"
+    return str(directory / f"grammar-{digest}-lark{lark.__version__}-py{python}.cache")
+
+
 @cache
 def lark_parser() -> Lark:
     """The shared Lark parser (LALR, contextual lexer, builds AST nodes inline)."""
+    grammar = _grammar_text()
     return Lark(
-        _grammar_text(),
+        grammar,
         parser="lalr",
         lexer="contextual",
         keep_all_tokens=True,
         maybe_placeholders=True,
         postlex=_WordsEverywhere(),
         transformer=TreeBuilder(),
+        cache=_cache_file(grammar),
     )
 
 
