@@ -2,7 +2,9 @@
 
 The tree stays close to the text: numbers keep the unit as written, names keep
 their spelling (lookups fold case), and clauses keep their order. Meaning
-(units, frames, selection axes) is given by the compiler.
+(units, frames, selection axes) is given by the compiler. This module holds the
+statements; the parts they are made of (expressions, conditions, clauses) are
+in :mod:`cosmos.lang.expressions` and are named here too.
 """
 
 from __future__ import annotations
@@ -11,218 +13,72 @@ import enum
 from dataclasses import dataclass
 
 from cosmos.errors import Span
-
-
-class Axis(enum.Enum):
-    """One of the six axes of a task frame; ``value`` is its index in a 6-vector."""
-
-    X = 0
-    Y = 1
-    Z = 2
-    RX = 3
-    RY = 4
-    RZ = 5
-
-    @property
-    def is_rotation(self) -> bool:
-        """True for RX, RY, RZ."""
-        return self._value_ >= 3
-
-
-# ---------------------------------------------------------------- expressions
-
-
-@dataclass(frozen=True)
-class Number:
-    """A number as written, with its unit text (``None`` for a bare number)."""
-
-    value: float
-    unit: str | None
-    span: Span
-
-
-@dataclass(frozen=True)
-class Name:
-    """A reference to a LET, FRAME or fixture name."""
-
-    name: str
-    span: Span
-
-
-@dataclass(frozen=True)
-class Vector:
-    """``(a, b, c)``: a parenthesised list of two or more expressions."""
-
-    items: tuple[Expr, ...]
-    span: Span
-
-
-@dataclass(frozen=True)
-class Unary:
-    """``-x`` or ``+x``."""
-
-    op: str
-    operand: Expr
-    span: Span
-
-
-@dataclass(frozen=True)
-class Binary:
-    """``a + b``, ``a - b`` or ``a * b``."""
-
-    op: str
-    left: Expr
-    right: Expr
-    span: Span
-
-
-@dataclass(frozen=True)
-class Pose:
-    """``position RPY (roll, pitch, yaw)``, angles about the fixed world axes."""
-
-    position: Expr
-    rpy: Expr
-    span: Span
-
-
-Expr = Number | Name | Vector | Unary | Binary | Pose
-
-
-@dataclass(frozen=True)
-class Ident:
-    """A name where it is defined or used as a label (PROC, OBSTACLE, LET)."""
-
-    name: str
-    span: Span
-
-    @property
-    def key(self) -> str:
-        """The case-folded name used for lookups."""
-        return self.name.casefold()
-
-
-@dataclass(frozen=True)
-class Direction:
-    """``+X``, ``-Z``, ``UP`` (= +Z), ``DOWN`` (= -Z), or a bare axis (= +axis)."""
-
-    axis: Axis
-    sign: int
-    span: Span
-
-    @property
-    def text(self) -> str:
-        """The direction as ``+X`` / ``-RZ``."""
-        return f"{'+' if self.sign > 0 else '-'}{self.axis.name}"
-
-
-@dataclass(frozen=True)
-class AxisRef:
-    """An axis named in COMPLY or an INSERT's COMPLY clause."""
-
-    axis: Axis
-    span: Span
-
-
-# ----------------------------------------------------------------- conditions
-
-
-class Sensed(enum.Enum):
-    """What a condition of UNTIL measures."""
-
-    FORCE = "FORCE"
-    TORQUE = "TORQUE"
-    DISTANCE = "DISTANCE"
-
-
-@dataclass(frozen=True)
-class Comparison:
-    """``FORCE > 5 N``, ``FORCE Z < -3 N``, ``TORQUE RZ > 1 Nm``, ``DISTANCE > 40 mm``."""
-
-    sensed: Sensed
-    direction: Direction | None
-    op: str
-    value: Expr
-    span: Span
-
-
-@dataclass(frozen=True)
-class AllOf:
-    """Conditions joined by AND."""
-
-    items: tuple[Condition, ...]
-    span: Span
-
-
-@dataclass(frozen=True)
-class AnyOf:
-    """Conditions joined by OR."""
-
-    items: tuple[Condition, ...]
-    span: Span
-
-
-Condition = Comparison | AllOf | AnyOf
-
-
-# -------------------------------------------------------------------- clauses
-
-
-class ClauseKind(enum.Enum):
-    """The keyword of a clause that takes one value."""
-
-    SPEED = "SPEED"
-    FORCE = "FORCE"
-    TIMEOUT = "TIMEOUT"
-    IN = "IN"
-    BY = "BY"
-    DEPTH = "DEPTH"
-    STIFFNESS = "STIFFNESS"
-    DAMPING = "DAMPING"
-    AT = "AT"
-    RADIUS = "RADIUS"
-    HEIGHT = "HEIGHT"
-    SIZE = "SIZE"
-    MOVING = "MOVING"
-    NORMAL = "NORMAL"
-    INFLUENCE = "INFLUENCE"
-    GAIN = "GAIN"
-
-
-@dataclass(frozen=True)
-class ValueClause:
-    """A clause made of a keyword and a value: ``SPEED 0.1 m/s``, ``AT (0.4, 0, 0)``."""
-
-    kind: ClauseKind
-    value: Expr
-    span: Span
-
-
-@dataclass(frozen=True)
-class ViaClause:
-    """``VIA a, b``: intermediate goals, in order."""
-
-    points: tuple[Expr, ...]
-    span: Span
-
-
-@dataclass(frozen=True)
-class UntilClause:
-    """``UNTIL condition``."""
-
-    condition: Condition
-    span: Span
-
-
-@dataclass(frozen=True)
-class ComplyClause:
-    """``COMPLY X Y RX RY`` inside INSERT; ``axes`` is empty for ``COMPLY NONE``."""
-
-    axes: tuple[AxisRef, ...]
-    span: Span
-
-
-Clause = ValueClause | ViaClause | UntilClause | ComplyClause
-
+from cosmos.lang.expressions import (
+    AllOf as AllOf,
+)
+from cosmos.lang.expressions import (
+    AnyOf as AnyOf,
+)
+from cosmos.lang.expressions import (
+    Axis as Axis,
+)
+from cosmos.lang.expressions import (
+    AxisRef as AxisRef,
+)
+from cosmos.lang.expressions import (
+    Binary as Binary,
+)
+from cosmos.lang.expressions import (
+    Clause as Clause,
+)
+from cosmos.lang.expressions import (
+    ClauseKind as ClauseKind,
+)
+from cosmos.lang.expressions import (
+    Comparison as Comparison,
+)
+from cosmos.lang.expressions import (
+    ComplyClause as ComplyClause,
+)
+from cosmos.lang.expressions import (
+    Condition as Condition,
+)
+from cosmos.lang.expressions import (
+    Direction as Direction,
+)
+from cosmos.lang.expressions import (
+    Expr as Expr,
+)
+from cosmos.lang.expressions import (
+    Ident as Ident,
+)
+from cosmos.lang.expressions import (
+    Name as Name,
+)
+from cosmos.lang.expressions import (
+    Number as Number,
+)
+from cosmos.lang.expressions import (
+    Pose as Pose,
+)
+from cosmos.lang.expressions import (
+    Sensed as Sensed,
+)
+from cosmos.lang.expressions import (
+    Unary as Unary,
+)
+from cosmos.lang.expressions import (
+    UntilClause as UntilClause,
+)
+from cosmos.lang.expressions import (
+    ValueClause as ValueClause,
+)
+from cosmos.lang.expressions import (
+    Vector as Vector,
+)
+from cosmos.lang.expressions import (
+    ViaClause as ViaClause,
+)
 
 # ----------------------------------------------------------------- statements
 

@@ -19,7 +19,7 @@ from prompt_toolkit.lexers import Lexer
 from prompt_toolkit.styles import Style
 
 from cosmos.lang import units
-from cosmos.lang.parse.grammar import STATEMENT_KEYWORDS, keywords
+from cosmos.lang.parse.grammar import keywords, statement_keywords
 
 STYLE = Style.from_dict(
     {
@@ -72,7 +72,7 @@ def highlight_line(line: str, known_names: set[str]) -> StyleAndTextTuples:
             at_start = text == ";"
         if kind == "word":
             upper = text.upper()
-            if starts and (upper in STATEMENT_KEYWORDS or upper == "END"):
+            if starts and (upper in statement_keywords() or upper == "END"):
                 style = "class:statement"
             elif text.casefold() in known_names:
                 style = "class:name"

@@ -14,7 +14,7 @@ from typing import Any
 
 from cosmos.errors import ProgramError
 from cosmos.lang import ast
-from cosmos.lang.parse.grammar import STATEMENT_KEYWORDS
+from cosmos.lang.parse.grammar import statement_keywords
 
 _SHAPE_CLAUSES: dict[ast.Shape, tuple[set[ast.ClauseKind], set[ast.ClauseKind]]] = {
     # shape: (required, allowed besides AT, MOVING, INFLUENCE, GAIN)
@@ -102,8 +102,10 @@ def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None
         ProgramError: The first problem found.
     """
     check = _CHECKS.get(type(statement))
-    if check is not None:  # statements without clauses or blocks have nothing to check here
+    if check is not None:
         check(statement, in_block)
+    elif hasattr(statement, "clauses"):  # a statement with no rule of its own: no clause twice
+        _check_clauses(type(statement).__name__.upper(), statement.clauses)
 
 
 def _check_move(statement: ast.Move, in_block: bool) -> None:
@@ -150,7 +152,7 @@ def _check_comply(statement: ast.Comply, in_block: bool) -> None:
 def _check_proc(statement: ast.ProcDef, in_block: bool) -> None:
     if in_block:
         raise ProgramError("define PROC at the top level of the program, not inside a block", statement.span)
-    if statement.name.name.upper() in STATEMENT_KEYWORDS or statement.name.key == "end":
+    if statement.name.name.upper() in statement_keywords() or statement.name.key == "end":
         raise ProgramError(
             f"'{statement.name.name}' is a keyword; give the PROC another name",
             statement.name.span,

@@ -12,10 +12,10 @@ from dataclasses import replace
 
 from cosmos.errors import ProgramError
 from cosmos.lang import ast, units
-from cosmos.lang.compile.context import CompileContext
+from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.state import CompileState, ProcEntry, frozen_map
 from cosmos.lang.evaluate.evaluator import suggest
-from cosmos.lang.parse.grammar import STATEMENT_KEYWORDS
+from cosmos.lang.parse.grammar import statement_keywords
 
 MAX_STEPS = 100_000
 """Most steps a program may expand to (procedures and loops included)."""
@@ -44,7 +44,7 @@ def expand_call(run: CompileContext, statement: ast.Call, state: CompileState) -
     if entry is None:
         if key == "end":
             raise ProgramError("END without a PROC or REPEAT to close", statement.span)
-        if statement.name.name.upper() in STATEMENT_KEYWORDS:
+        if statement.name.name.upper() in statement_keywords():
             raise ProgramError(f"{statement.name.name.upper()} needs more after it", statement.span)
         raise ProgramError(
             f"unknown procedure '{statement.name.name}'{suggest(statement.name.name, state.procedures)}",
@@ -108,3 +108,11 @@ def _bounded_depth(run: CompileContext, statement: ast.Call | ast.Repeat) -> Non
             f"(from {outer}; ...); call fewer procedures from inside each other",
             statement.span,
         )
+
+
+HANDLERS: dict[type, Handler] = {
+    ast.ProcDef: register_procedure,
+    ast.Call: expand_call,
+    ast.Repeat: expand_repeat,
+}
+"""The handler of each statement type of this module (merged into the compiler's one table)."""

@@ -8,8 +8,8 @@ handler imports the pass that calls it.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import Protocol
+from collections.abc import Callable, Sequence
+from typing import Any, Protocol
 
 from cosmos import plan
 from cosmos.errors import Span
@@ -58,6 +58,14 @@ class CompileContext(Protocol):
     def statement(self, statement: ast.Statement, state: CompileState) -> CompileState:
         """Compile one statement of a block's body; the state after it."""
         ...
+
+    def motion(self, build: Callable[[Any, Any], Any], statement: Any, state: CompileState) -> CompileState:
+        """Compile a motion statement with the motion builder's method ``build`` for it."""
+        ...
+
+
+Handler = Callable[[CompileContext, Any, CompileState], CompileState]
+"""Compiles one statement of a type: (pass, statement, state before) -> state after."""
 
 
 def statement_text(span: Span, source: str | list[str]) -> str:

@@ -10,7 +10,7 @@ import numpy as np
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.compile.context import CompileContext
+from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.settings import _positive
 from cosmos.lang.compile.state import CompileState, frozen_map
 from cosmos.lang.evaluate.evaluator import suggest
@@ -124,3 +124,7 @@ def _rotation_with_z(normal: np.ndarray, span: Span) -> np.ndarray:
     x /= np.linalg.norm(x)
     y = np.cross(z, x)
     return readonly(np.column_stack([x, y, z]))
+
+
+HANDLERS: dict[type, Handler] = {ast.Obstacle: compile_obstacle, ast.RemoveObstacle: compile_remove_obstacle}
+"""The handler of each statement type of this module (merged into the compiler's one table)."""

@@ -11,7 +11,7 @@ from dataclasses import replace
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
-from cosmos.lang.compile.context import CompileContext
+from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.state import NO_COMPLIANCE, AxisCompliance, CompileState
 from cosmos.lang.evaluate.values import Binding, BindingKind
 
@@ -92,3 +92,12 @@ def _positive(value: float, span: Span, what: str) -> None:
 def _not_negative(value: float, span: Span, what: str) -> None:
     if not value >= 0 or not math.isfinite(value):
         raise ProgramError(f"{what} cannot be negative ({value:g})", span)
+
+
+HANDLERS: dict[type, Handler] = {
+    ast.SetSpeed: compile_speed,
+    ast.Let: compile_definition,
+    ast.FrameDef: compile_definition,
+    ast.Comply: compile_comply,
+}
+"""The handler of each statement type of this module (merged into the compiler's one table)."""

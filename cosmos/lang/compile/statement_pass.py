@@ -3,7 +3,7 @@
 :class:`StatementPass` holds what a pass over one text shares (its source, the
 steps and warnings emitted, the evaluator and motion builder) and dispatches each
 statement to its handler in :data:`STATEMENT_HANDLERS`, the one table from
-statement type to what compiles it.
+statement type to what compiles it (each module of handlers gives its rows).
 """
 
 from __future__ import annotations
@@ -15,11 +15,11 @@ from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
 from cosmos.lang.check.statements import check_statement
-from cosmos.lang.compile.blocks import MAX_STEPS, expand_call, expand_repeat, register_procedure
-from cosmos.lang.compile.context import statement_text
+from cosmos.lang.compile import blocks, obstacles, settings
+from cosmos.lang.compile.blocks import MAX_STEPS
+from cosmos.lang.compile.context import Handler, statement_text
+from cosmos.lang.compile.motion import builder as motion
 from cosmos.lang.compile.motion.builder import BuildStatement, MotionBuilder
-from cosmos.lang.compile.obstacles import compile_obstacle, compile_remove_obstacle
-from cosmos.lang.compile.settings import compile_comply, compile_definition, compile_speed
 from cosmos.lang.compile.state import CompileState, Defaults
 from cosmos.lang.evaluate.evaluator import Evaluator
 from cosmos.lang.evaluate.values import Binding, SuppressedError
@@ -141,36 +141,14 @@ class StatementPass:
         return state
 
 
-Handler = Callable[[StatementPass, Any, CompileState], CompileState]
-"""Compiles one statement of a type: (pass, statement, state before) -> state after."""
-
-
-def _motion(build: BuildStatement) -> Handler:
-    """The handler of a motion statement: the motion builder's method for it."""
-
-    def handler(run: StatementPass, statement: Any, state: CompileState) -> CompileState:
-        return run.motion(build, statement, state)
-
-    return handler
-
-
 STATEMENT_HANDLERS: dict[type, Handler] = {
-    ast.Move: _motion(MotionBuilder.move),
-    ast.Contact: _motion(MotionBuilder.contact),
-    ast.Slide: _motion(MotionBuilder.slide),
-    ast.Insert: _motion(MotionBuilder.insert),
-    ast.Wait: _motion(MotionBuilder.wait),
-    ast.SetSpeed: compile_speed,
-    ast.Comply: compile_comply,
-    ast.Let: compile_definition,
-    ast.FrameDef: compile_definition,
-    ast.Obstacle: compile_obstacle,
-    ast.RemoveObstacle: compile_remove_obstacle,
-    ast.ProcDef: register_procedure,
-    ast.Repeat: expand_repeat,
-    ast.Call: expand_call,
+    **motion.HANDLERS,
+    **settings.HANDLERS,
+    **obstacles.HANDLERS,
+    **blocks.HANDLERS,
 }
-"""How a statement of each type is compiled: the one table from statement to handler."""
+"""How a statement of each type is compiled: the one table from statement type to handler,
+made of the tables of the modules that hold the handlers."""
 
 
 def _dispatch(run: StatementPass, statement: ast.Statement, state: CompileState) -> CompileState:

@@ -30,12 +30,6 @@ from lark import Lark
 
 from cosmos.lang.parse.builder import TreeBuilder
 
-STATEMENT_KEYWORDS = (
-    "MOVE", "CONTACT", "SLIDE", "INSERT", "COMPLY", "OBSTACLE", "LET", "FRAME", "SPEED",
-    "WAIT", "PROC", "REPEAT", "CALL",
-)  # fmt: skip
-"""The keywords a statement starts with (a line may also be a procedure's name alone)."""
-
 
 def _grammar_text() -> str:
     """The grammar, from the installed package or else from the source tree."""
@@ -104,3 +98,24 @@ def keyword_of(terminal_name: str) -> str | None:
 def keywords() -> frozenset[str]:
     """Every keyword of the language, upper case."""
     return frozenset(word.upper() for word in _keywords().values())
+
+
+@cache
+def statement_keywords() -> tuple[str, ...]:
+    """The keywords a statement starts with, in the grammar's order (``MOVE``, ``CONTACT``, ...).
+
+    Read from the grammar: the first keyword of each rule ``_statement`` names, so a
+    statement added there is known to the messages, the checker and the REPL.
+    """
+    parser = lark_parser()
+    found: list[str] = []
+    for rule in parser.rules:
+        if rule.origin.name != "_statement":
+            continue
+        statement = rule.expansion[0].name
+        for alternative in parser.rules:
+            if alternative.origin.name == statement and alternative.expansion:
+                word = keyword_of(alternative.expansion[0].name)
+                if word is not None:
+                    found.append(word.upper())
+    return tuple(dict.fromkeys(found))

@@ -20,7 +20,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import units
-from cosmos.lang.parse.grammar import STATEMENT_KEYWORDS
+from cosmos.lang.parse.grammar import statement_keywords
 from cosmos.lang.parse.slips import match_slip
 
 # Display of non-keyword terminals in "expected ..." lists.
@@ -196,13 +196,13 @@ def syntax_error(
             if keyword is None or (unit is not None and unit[1] > keyword[1]):
                 return ProgramError(f"'{text}' is not a unit{units.suggest_unit(text)}", span)
         first = re.match(r"\s*([A-Za-z_]\w*)\s*$", before)
-        if first and first[1].upper() not in STATEMENT_KEYWORDS:
+        if first and first[1].upper() not in statement_keywords():
             return _unknown_statement(first, span.line, file, keywords)
         if keyword is not None:
             return ProgramError(f"unknown word '{text}'; did you mean {keyword[0].upper()}?", span)
     else:
         first = re.match(r"\s*([A-Za-z_]\w*)\s*$", before)
-        if first and first[1].upper() not in STATEMENT_KEYWORDS and first[1].upper() != "END":
+        if first and first[1].upper() not in statement_keywords() and first[1].upper() != "END":
             return _unknown_statement(first, span.line, file, keywords)
 
     label = match_slip(error, parse)
@@ -212,7 +212,7 @@ def syntax_error(
     statement = re.match(r"\s*([A-Za-z_]\w*)", _line_text(source, span.line))
     if (
         statement
-        and statement[1].upper() in STATEMENT_KEYWORDS
+        and statement[1].upper() in statement_keywords()
         and terminal_text(token.type)
         and token.type not in expected
         and "_NL" in expected
@@ -225,7 +225,7 @@ def syntax_error(
     if "MOVE" in expected:
         return ProgramError(
             f"unexpected {_describe_token(token)}: a line starts with a statement "
-            f"({', '.join(STATEMENT_KEYWORDS)}), or is a PROC's name alone (a call)",
+            f"({', '.join(statement_keywords())}), or is a PROC's name alone (a call)",
             span,
         )
     return ProgramError(
@@ -242,14 +242,14 @@ def _unknown_statement(first: re.Match[str], line: int, file: str, keywords: fro
     if word.upper() in keywords:
         return ProgramError(
             f"{word.upper()} does not start a statement; a line starts with "
-            f"{', '.join(STATEMENT_KEYWORDS)}, or is a PROC's name alone (a call)",
+            f"{', '.join(statement_keywords())}, or is a PROC's name alone (a call)",
             span,
         )
-    match = _closest(word, STATEMENT_KEYWORDS, 0.6)
+    match = _closest(word, statement_keywords(), 0.6)
     if match:
         return ProgramError(f"unknown statement '{word}'; did you mean {match[0]}?", span)
     return ProgramError(
         f"unknown statement '{word}': a line starts with a statement "
-        f"({', '.join(STATEMENT_KEYWORDS)}), or is a PROC's name alone (a call)",
+        f"({', '.join(statement_keywords())}), or is a PROC's name alone (a call)",
         span,
     )

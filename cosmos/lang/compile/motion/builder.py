@@ -29,6 +29,7 @@ from typing import Any
 
 from cosmos import plan
 from cosmos.lang import ast
+from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.motion.base import ContactChange
 from cosmos.lang.compile.motion.contact import Contact
 from cosmos.lang.compile.motion.insert import Insert
@@ -89,3 +90,22 @@ class MotionBuilder(Move, Contact, Slide, Insert, Wait):
             contact, released_by = change
             state = replace(state, contact=contact, contact_released_by=released_by)
         return segments, state
+
+
+def _handler(build: BuildStatement) -> Handler:
+    """The compiler's handler of a motion statement: the builder's method for it, in the pass."""
+
+    def handler(run: CompileContext, statement: Any, state: CompileState) -> CompileState:
+        return run.motion(build, statement, state)
+
+    return handler
+
+
+HANDLERS: dict[type, Handler] = {
+    ast.Move: _handler(MotionBuilder.move),
+    ast.Contact: _handler(MotionBuilder.contact),
+    ast.Slide: _handler(MotionBuilder.slide),
+    ast.Insert: _handler(MotionBuilder.insert),
+    ast.Wait: _handler(MotionBuilder.wait),
+}
+"""The handler of each motion statement type (merged into the compiler's one table)."""

@@ -1,0 +1,223 @@
+"""The parts statements are made of: expressions, names, directions, conditions and clauses.
+
+Frozen dataclasses, each with its source span; :mod:`cosmos.lang.ast` holds the
+statements and names these parts too (``ast.Number``, ``ast.ValueClause``).
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+from cosmos.errors import Span
+
+
+class Axis(enum.Enum):
+    """One of the six axes of a task frame; ``value`` is its index in a 6-vector."""
+
+    X = 0
+    Y = 1
+    Z = 2
+    RX = 3
+    RY = 4
+    RZ = 5
+
+    @property
+    def is_rotation(self) -> bool:
+        """True for RX, RY, RZ."""
+        return self._value_ >= 3
+
+
+# ---------------------------------------------------------------- expressions
+
+
+@dataclass(frozen=True)
+class Number:
+    """A number as written, with its unit text (``None`` for a bare number)."""
+
+    value: float
+    unit: str | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class Name:
+    """A reference to a LET, FRAME or fixture name."""
+
+    name: str
+    span: Span
+
+
+@dataclass(frozen=True)
+class Vector:
+    """``(a, b, c)``: a parenthesised list of two or more expressions."""
+
+    items: tuple[Expr, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
+class Unary:
+    """``-x`` or ``+x``."""
+
+    op: str
+    operand: Expr
+    span: Span
+
+
+@dataclass(frozen=True)
+class Binary:
+    """``a + b``, ``a - b`` or ``a * b``."""
+
+    op: str
+    left: Expr
+    right: Expr
+    span: Span
+
+
+@dataclass(frozen=True)
+class Pose:
+    """``position RPY (roll, pitch, yaw)``, angles about the fixed world axes."""
+
+    position: Expr
+    rpy: Expr
+    span: Span
+
+
+Expr = Number | Name | Vector | Unary | Binary | Pose
+
+
+@dataclass(frozen=True)
+class Ident:
+    """A name where it is defined or used as a label (PROC, OBSTACLE, LET)."""
+
+    name: str
+    span: Span
+
+    @property
+    def key(self) -> str:
+        """The case-folded name used for lookups."""
+        return self.name.casefold()
+
+
+@dataclass(frozen=True)
+class Direction:
+    """``+X``, ``-Z``, ``UP`` (= +Z), ``DOWN`` (= -Z), or a bare axis (= +axis)."""
+
+    axis: Axis
+    sign: int
+    span: Span
+
+    @property
+    def text(self) -> str:
+        """The direction as ``+X`` / ``-RZ``."""
+        return f"{'+' if self.sign > 0 else '-'}{self.axis.name}"
+
+
+@dataclass(frozen=True)
+class AxisRef:
+    """An axis named in COMPLY or an INSERT's COMPLY clause."""
+
+    axis: Axis
+    span: Span
+
+
+# ----------------------------------------------------------------- conditions
+
+
+class Sensed(enum.Enum):
+    """What a condition of UNTIL measures."""
+
+    FORCE = "FORCE"
+    TORQUE = "TORQUE"
+    DISTANCE = "DISTANCE"
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """``FORCE > 5 N``, ``FORCE Z < -3 N``, ``TORQUE RZ > 1 Nm``, ``DISTANCE > 40 mm``."""
+
+    sensed: Sensed
+    direction: Direction | None
+    op: str
+    value: Expr
+    span: Span
+
+
+@dataclass(frozen=True)
+class AllOf:
+    """Conditions joined by AND."""
+
+    items: tuple[Condition, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
+class AnyOf:
+    """Conditions joined by OR."""
+
+    items: tuple[Condition, ...]
+    span: Span
+
+
+Condition = Comparison | AllOf | AnyOf
+
+
+# -------------------------------------------------------------------- clauses
+
+
+class ClauseKind(enum.Enum):
+    """The keyword of a clause that takes one value."""
+
+    SPEED = "SPEED"
+    FORCE = "FORCE"
+    TIMEOUT = "TIMEOUT"
+    IN = "IN"
+    BY = "BY"
+    DEPTH = "DEPTH"
+    STIFFNESS = "STIFFNESS"
+    DAMPING = "DAMPING"
+    AT = "AT"
+    RADIUS = "RADIUS"
+    HEIGHT = "HEIGHT"
+    SIZE = "SIZE"
+    MOVING = "MOVING"
+    NORMAL = "NORMAL"
+    INFLUENCE = "INFLUENCE"
+    GAIN = "GAIN"
+
+
+@dataclass(frozen=True)
+class ValueClause:
+    """A clause made of a keyword and a value: ``SPEED 0.1 m/s``, ``AT (0.4, 0, 0)``."""
+
+    kind: ClauseKind
+    value: Expr
+    span: Span
+
+
+@dataclass(frozen=True)
+class ViaClause:
+    """``VIA a, b``: intermediate goals, in order."""
+
+    points: tuple[Expr, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
+class UntilClause:
+    """``UNTIL condition``."""
+
+    condition: Condition
+    span: Span
+
+
+@dataclass(frozen=True)
+class ComplyClause:
+    """``COMPLY X Y RX RY`` inside INSERT; ``axes`` is empty for ``COMPLY NONE``."""
+
+    axes: tuple[AxisRef, ...]
+    span: Span
+
+
+Clause = ValueClause | ViaClause | UntilClause | ComplyClause
