@@ -3,8 +3,8 @@
 The tree stays close to the text: numbers keep the unit as written, names keep
 their spelling (lookups fold case), and clauses keep their order. Meaning
 (units, frames, selection axes) is given by the compiler. This module holds the
-statements; the parts they are made of (expressions, conditions, clauses) are
-in :mod:`cosmos.lang.expressions` and are named here too.
+statements and their clauses; the parts they are made of (expressions, names,
+directions, conditions) are in :mod:`cosmos.lang.expressions` and are named here too.
 """
 
 from __future__ import annotations
@@ -14,71 +14,127 @@ from dataclasses import dataclass
 
 from cosmos.errors import Span
 from cosmos.lang.expressions import (
-    AllOf as AllOf,
+    AllOf,
+    AnyOf,
+    Axis,
+    AxisRef,
+    Binary,
+    Comparison,
+    Condition,
+    Direction,
+    Expr,
+    Ident,
+    Name,
+    Number,
+    Pose,
+    Sensed,
+    Unary,
+    Vector,
 )
-from cosmos.lang.expressions import (
-    AnyOf as AnyOf,
-)
-from cosmos.lang.expressions import (
-    Axis as Axis,
-)
-from cosmos.lang.expressions import (
-    AxisRef as AxisRef,
-)
-from cosmos.lang.expressions import (
-    Binary as Binary,
-)
-from cosmos.lang.expressions import (
-    Clause as Clause,
-)
-from cosmos.lang.expressions import (
-    ClauseKind as ClauseKind,
-)
-from cosmos.lang.expressions import (
-    Comparison as Comparison,
-)
-from cosmos.lang.expressions import (
-    ComplyClause as ComplyClause,
-)
-from cosmos.lang.expressions import (
-    Condition as Condition,
-)
-from cosmos.lang.expressions import (
-    Direction as Direction,
-)
-from cosmos.lang.expressions import (
-    Expr as Expr,
-)
-from cosmos.lang.expressions import (
-    Ident as Ident,
-)
-from cosmos.lang.expressions import (
-    Name as Name,
-)
-from cosmos.lang.expressions import (
-    Number as Number,
-)
-from cosmos.lang.expressions import (
-    Pose as Pose,
-)
-from cosmos.lang.expressions import (
-    Sensed as Sensed,
-)
-from cosmos.lang.expressions import (
-    Unary as Unary,
-)
-from cosmos.lang.expressions import (
-    UntilClause as UntilClause,
-)
-from cosmos.lang.expressions import (
-    ValueClause as ValueClause,
-)
-from cosmos.lang.expressions import (
-    Vector as Vector,
-)
-from cosmos.lang.expressions import (
-    ViaClause as ViaClause,
-)
+
+__all__ = [  # the statements and clauses here, and the parts of cosmos.lang.expressions
+    "AllOf",
+    "AnyOf",
+    "Axis",
+    "AxisRef",
+    "Binary",
+    "Call",
+    "Clause",
+    "ClauseKind",
+    "Comparison",
+    "Comply",
+    "ComplyClause",
+    "Condition",
+    "Contact",
+    "Direction",
+    "Expr",
+    "FrameDef",
+    "Ident",
+    "Insert",
+    "Let",
+    "Move",
+    "MoveMode",
+    "Name",
+    "Number",
+    "Obstacle",
+    "Pose",
+    "ProcDef",
+    "Program",
+    "RemoveObstacle",
+    "Repeat",
+    "Sensed",
+    "SetSpeed",
+    "Shape",
+    "Slide",
+    "Statement",
+    "Unary",
+    "UntilClause",
+    "ValueClause",
+    "Vector",
+    "ViaClause",
+    "Wait",
+]
+
+
+# -------------------------------------------------------------------- clauses
+
+
+class ClauseKind(enum.Enum):
+    """The keyword of a clause that takes one value."""
+
+    SPEED = "SPEED"
+    FORCE = "FORCE"
+    TIMEOUT = "TIMEOUT"
+    IN = "IN"
+    BY = "BY"
+    DEPTH = "DEPTH"
+    STIFFNESS = "STIFFNESS"
+    DAMPING = "DAMPING"
+    AT = "AT"
+    RADIUS = "RADIUS"
+    HEIGHT = "HEIGHT"
+    SIZE = "SIZE"
+    MOVING = "MOVING"
+    NORMAL = "NORMAL"
+    INFLUENCE = "INFLUENCE"
+    GAIN = "GAIN"
+
+
+@dataclass(frozen=True)
+class ValueClause:
+    """A clause made of a keyword and a value: ``SPEED 0.1 m/s``, ``AT (0.4, 0, 0)``."""
+
+    kind: ClauseKind
+    value: Expr
+    span: Span
+
+
+@dataclass(frozen=True)
+class ViaClause:
+    """``VIA a, b``: intermediate goals, in order."""
+
+    points: tuple[Expr, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
+class UntilClause:
+    """``UNTIL condition``."""
+
+    condition: Condition
+    span: Span
+
+
+@dataclass(frozen=True)
+class ComplyClause:
+    """``COMPLY X Y RX RY`` inside INSERT; ``axes`` is empty for ``COMPLY NONE``."""
+
+    axes: tuple[AxisRef, ...]
+    span: Span
+
+
+Clause = ValueClause | ViaClause | UntilClause | ComplyClause
+
 
 # ----------------------------------------------------------------- statements
 

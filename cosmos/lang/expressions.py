@@ -1,7 +1,7 @@
-"""The parts statements are made of: expressions, names, directions, conditions and clauses.
+"""The parts statements are made of: expressions, names, directions and conditions.
 
 Frozen dataclasses, each with its source span; :mod:`cosmos.lang.ast` holds the
-statements and names these parts too (``ast.Number``, ``ast.ValueClause``).
+statements and their clauses, and names these parts too (``ast.Number``, ``ast.Comparison``).
 """
 
 from __future__ import annotations
@@ -161,63 +161,3 @@ class AnyOf:
 
 
 Condition = Comparison | AllOf | AnyOf
-
-
-# -------------------------------------------------------------------- clauses
-
-
-class ClauseKind(enum.Enum):
-    """The keyword of a clause that takes one value."""
-
-    SPEED = "SPEED"
-    FORCE = "FORCE"
-    TIMEOUT = "TIMEOUT"
-    IN = "IN"
-    BY = "BY"
-    DEPTH = "DEPTH"
-    STIFFNESS = "STIFFNESS"
-    DAMPING = "DAMPING"
-    AT = "AT"
-    RADIUS = "RADIUS"
-    HEIGHT = "HEIGHT"
-    SIZE = "SIZE"
-    MOVING = "MOVING"
-    NORMAL = "NORMAL"
-    INFLUENCE = "INFLUENCE"
-    GAIN = "GAIN"
-
-
-@dataclass(frozen=True)
-class ValueClause:
-    """A clause made of a keyword and a value: ``SPEED 0.1 m/s``, ``AT (0.4, 0, 0)``."""
-
-    kind: ClauseKind
-    value: Expr
-    span: Span
-
-
-@dataclass(frozen=True)
-class ViaClause:
-    """``VIA a, b``: intermediate goals, in order."""
-
-    points: tuple[Expr, ...]
-    span: Span
-
-
-@dataclass(frozen=True)
-class UntilClause:
-    """``UNTIL condition``."""
-
-    condition: Condition
-    span: Span
-
-
-@dataclass(frozen=True)
-class ComplyClause:
-    """``COMPLY X Y RX RY`` inside INSERT; ``axes`` is empty for ``COMPLY NONE``."""
-
-    axes: tuple[AxisRef, ...]
-    span: Span
-
-
-Clause = ValueClause | ViaClause | UntilClause | ComplyClause
