@@ -86,6 +86,10 @@ class Unit:
     dim: Dim
 
 
+_SEPARATORS = str.maketrans("", "", " \t.*")
+"""What may stand between the words of a unit (``N m``, ``N.m``, ``N*m``), dropped."""
+
+
 class UnknownUnit(ValueError):
     """A unit the language does not know; ``str()`` says which and suggests one."""
 
@@ -96,7 +100,7 @@ def parse_unit(text: str) -> Unit:
     Raises:
         UnknownUnit: The text is not a known unit.
     """
-    compact = "".join(ch for ch in text.casefold() if ch not in " \t.*")
+    compact = text.casefold().translate(_SEPARATORS)
     numerator, _, denominator = compact.partition("/")
     num = _NUMERATORS.get(numerator)
     den = _DENOMINATORS.get(denominator) if denominator else (1.0, DIMENSIONLESS)
