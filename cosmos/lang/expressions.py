@@ -25,7 +25,7 @@ class Axis(enum.Enum):
     @property
     def is_rotation(self) -> bool:
         """True for RX, RY, RZ."""
-        return self._value_ >= 3
+        return self.value >= 3
 
 
 # ---------------------------------------------------------------- expressions

@@ -38,17 +38,11 @@ _EXAMPLES = {
     ast.ClauseKind.SIZE: "SIZE (0.1, 0.2, 0.3)",
 }
 
-# Enum members read for every statement, looked up once (costly in Python 3.11).
-_FORCE = ast.ClauseKind.FORCE
-_BY = ast.ClauseKind.BY
-_DEPTH = ast.ClauseKind.DEPTH
-_MOVE_BY = ast.MoveMode.BY
-
 
 def clause_key(clause: ast.Clause) -> str:
     """The clause's keyword (``"SPEED"``, ``"VIA"``, ...)."""
     kind = type(clause)
-    return clause.kind._value_ if kind is _VALUE_CLAUSE else _KEYWORDS[kind]  # type: ignore[union-attr]
+    return clause.kind.value if kind is ast.ValueClause else _KEYWORDS[kind]  # type: ignore[union-attr]
 
 
 def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | dict[str, ast.Clause]:
@@ -58,11 +52,11 @@ def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | 
     if len(clauses) == 1:
         clause = clauses[0]
         kind = type(clause)
-        return {clause.kind._value_ if kind is _VALUE_CLAUSE else _KEYWORDS[kind]: clause}  # type: ignore[union-attr]
+        return {clause.kind.value if kind is ast.ValueClause else _KEYWORDS[kind]: clause}  # type: ignore[union-attr]
     seen: dict[str, ast.Clause] = {}
     for clause in clauses:
         kind = type(clause)
-        key = clause.kind._value_ if kind is _VALUE_CLAUSE else _KEYWORDS[kind]  # type: ignore[union-attr]
+        key = clause.kind.value if kind is ast.ValueClause else _KEYWORDS[kind]  # type: ignore[union-attr]
         if key in seen:
             first = seen[key].span
             hint = "; join conditions with AND or OR" if key == "UNTIL" else ""
@@ -76,7 +70,6 @@ def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | 
 
 
 _NONE_PRESENT: set[str] = set()  # never changed
-_VALUE_CLAUSE = ast.ValueClause
 _KEYWORDS: dict[type, str] = {ast.ViaClause: "VIA", ast.UntilClause: "UNTIL", ast.ComplyClause: "COMPLY"}
 """The keyword of each clause type other than a value clause."""
 
@@ -84,7 +77,7 @@ _KEYWORDS: dict[type, str] = {ast.ViaClause: "VIA", ast.UntilClause: "UNTIL", as
 def _require(
     keyword: str, present: set[str] | dict[str, ast.Clause], needed: ast.ClauseKind, statement: ast.Statement
 ) -> None:
-    if needed._value_ not in present:
+    if needed.value not in present:
         raise ProgramError(
             f"{keyword} needs {needed.value}, as in {keyword} ... {_EXAMPLES[needed]}",
             statement.span,
@@ -110,23 +103,23 @@ def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None
 
 def _check_move(statement: ast.Move, in_block: bool) -> None:
     present = _check_clauses("MOVE", statement.clauses)
-    if statement.mode is _MOVE_BY and "VIA" in present:
+    if statement.mode is ast.MoveMode.BY and "VIA" in present:
         via = next(c for c in statement.clauses if isinstance(c, ast.ViaClause))
         raise ProgramError("VIA goes with MOVE TO, not MOVE BY", via.span)
 
 
 def _check_contact(statement: ast.Contact, in_block: bool) -> None:
-    _require("CONTACT", _check_clauses("CONTACT", statement.clauses), _FORCE, statement)
+    _require("CONTACT", _check_clauses("CONTACT", statement.clauses), ast.ClauseKind.FORCE, statement)
 
 
 def _check_slide(statement: ast.Slide, in_block: bool) -> None:
-    _require("SLIDE", _check_clauses("SLIDE", statement.clauses), _BY, statement)
+    _require("SLIDE", _check_clauses("SLIDE", statement.clauses), ast.ClauseKind.BY, statement)
 
 
 def _check_insert(statement: ast.Insert, in_block: bool) -> None:
     present = _check_clauses("INSERT", statement.clauses)
-    _require("INSERT", present, _DEPTH, statement)
-    _require("INSERT", present, _FORCE, statement)
+    _require("INSERT", present, ast.ClauseKind.DEPTH, statement)
+    _require("INSERT", present, ast.ClauseKind.FORCE, statement)
 
 
 def _check_wait(statement: ast.Wait, in_block: bool) -> None:

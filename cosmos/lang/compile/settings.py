@@ -80,7 +80,7 @@ def compile_comply(run: CompileContext, statement: ast.Comply, state: CompileSta
     compliance = list(state.compliance)
     setting = AxisCompliance(stiffness, damping, statement.span)  # immutable: shared by the axes
     for ref in statement.axes:
-        compliance[ref.axis._value_] = setting
+        compliance[ref.axis.value] = setting
     return replace(state, compliance=tuple(compliance))
 
 

@@ -102,4 +102,4 @@ class AxisRules(MotionBuilderBase):
                 f"not {direction.axis.name}",
                 direction.span,
             )
-        return direction.axis._value_, direction.sign
+        return direction.axis.value, direction.sign

@@ -1,8 +1,8 @@
 """A motion statement's clauses sorted by keyword, and the completions its segments share.
 
-Part of the motion builder (:mod:`cosmos.lang.compile.motion.builder`): the clause kinds every
-statement reads, looked up once, and the goal and jam checks one ``Defaults``
-gives every segment that needs them.
+Part of the motion builder (:mod:`cosmos.lang.compile.motion.builder`): a statement's
+clauses by keyword, and the goal and jam checks one ``Defaults`` gives every
+segment that needs them.
 """
 
 from __future__ import annotations

@@ -18,8 +18,6 @@ _QUANTITY_DIM = {
     plan.Quantity.TORQUE_ABOUT: units.TORQUE,
     plan.Quantity.DISTANCE: units.LENGTH,
 }
-_DIM_BY_VALUE = {quantity._value_: dim for quantity, dim in _QUANTITY_DIM.items()}
-"""``_QUANTITY_DIM`` by the quantity's value (an Enum member hashes in Python, its value in C)."""
 _MAGNITUDES = (plan.Quantity.FORCE, plan.Quantity.TORQUE, plan.Quantity.DISTANCE)
 _OPS = {op.value: op for op in plan.CompareOp}
 """CompareOp by its text (``plan.CompareOp(text)`` for the texts the grammar gives)."""
@@ -51,7 +49,7 @@ def compile_condition(
     if isinstance(condition, ast.AnyOf):
         return plan.AnyOf(tuple([compile_condition(c, frame, evaluator, text_of) for c in condition.items]))
     quantity, direction_world = _quantity(condition, frame)
-    dim = _DIM_BY_VALUE[quantity._value_]
+    dim = _QUANTITY_DIM[quantity]
     value_expr = condition.value
     value: float | None = None
     if type(value_expr) is _NUMBER:  # the usual case: no name needed unless there is an error
@@ -68,7 +66,7 @@ def compile_condition(
 
 def _name(condition: ast.Comparison, text_of: Callable[[Span], str]) -> str:
     """What a comparison senses, as written (``"FORCE Z"``), for messages."""
-    name: str = condition.sensed._value_
+    name: str = condition.sensed.value
     if condition.direction is not None:
         name += f" {text_of(condition.direction.span)}"
     return name
@@ -83,7 +81,7 @@ def _quantity(condition: ast.Comparison, frame: TaskFrame) -> tuple[plan.Quantit
         if sensed is _SENSED_FORCE:
             return _FORCE, None
         return _TORQUE, None
-    axis = direction.axis._value_
+    axis = direction.axis.value
     if sensed is _SENSED_FORCE:
         if direction.axis.is_rotation:
             raise ProgramError(

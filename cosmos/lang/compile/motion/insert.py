@@ -41,12 +41,12 @@ class Insert(AxisRules, ClauseValues):
             return f"INSERT {statement.direction.text}"
 
         if clauses.comply is not None:
-            free = {ref.axis._value_ for ref in clauses.comply.axes}
+            free = {ref.axis.value for ref in clauses.comply.axes}
             for ref in clauses.comply.axes:
-                if ref.axis._value_ in forces:
+                if ref.axis.value in forces:
                     because = (
                         f"{what()} pushes along it"
-                        if ref.axis._value_ == axis
+                        if ref.axis.value == axis
                         else f"it carries {held_since(contact)}"
                     )
                     raise ProgramError(
