@@ -18,15 +18,16 @@ import sys
 from collections import Counter
 from collections.abc import Mapping
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 import numpy as np
-from rich.console import Console
-from rich.table import Table
 
 from cosmos import plan
 from cosmos.lang import compile_program, read_program
 from cosmos.lang.compile.state import FrameLike
+
+if TYPE_CHECKING:
+    from rich.table import Table
 
 _AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
 
@@ -79,6 +80,8 @@ def check_program(
     if as_json:
         write_plan_json(compiled, out)
     elif len(compiled.steps) <= SCREEN_STEPS:
+        from rich.console import Console  # only plans that fit a screen are drawn
+
         Console(file=out, width=max(Console(file=out).width, 140)).print(plan_table(compiled))
     else:
         write_plan_lines(compiled, out, full)
@@ -139,6 +142,8 @@ def step_line(step: plan.Step) -> str:
 
 def plan_table(compiled: plan.Plan) -> Table:
     """The plan as a table: one row per step."""
+    from rich.table import Table
+
     table = Table(title=f"{compiled.file}: {len(compiled.segments)} segments", title_justify="left")
     for header in ("#", "line", "statement", "kind", "frame", "motion", "force", "setpoints", "goal", "ends"):
         table.add_column(header, overflow="fold")
