@@ -61,7 +61,7 @@ def read_program(program: ProgramArg, name: str | None = None) -> tuple[str, str
         UsageError: The file cannot be read, or ``program`` is neither text nor a path.
         ProgramError: The file is not UTF-8.
     """
-    from cosmos.lang.source import read_source
+    from cosmos.lang import read_source
 
     if isinstance(program, os.PathLike) or (isinstance(program, str) and _is_path(program)):
         path = Path(program)
@@ -94,7 +94,7 @@ def check(program: ProgramArg, *, name: str | None = None) -> Plan:
             the line and a caret; ``error.span`` has the place.
         UsageError: The file cannot be read.
     """
-    from cosmos.lang.compiler import compile_program
+    from cosmos.lang import compile_program
     from cosmos.workcell import fixture_frames
 
     source, file = read_program(program, name)
