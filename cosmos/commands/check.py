@@ -35,6 +35,8 @@ SCREEN_STEPS = 40
 """Plans of at most this many steps print as a table; longer ones as plain lines."""
 SUMMARY_STEPS = 20
 """Steps a summary of a long plan lists (``--full`` lists them all)."""
+SUMMARY_WARNINGS = 20
+"""Warnings printed (``--full`` prints them all)."""
 
 
 def load_fixtures() -> Mapping[str, FrameLike]:
@@ -65,7 +67,7 @@ def check_program(
         fixtures: Fixture frames; by default the workcell's.
         out: Where the plan goes (stdout).
         err: Where warnings go (stderr).
-        full: Print every step of a long plan, not a summary.
+        full: Print every step of a long plan and every warning, not a summary.
 
     Raises:
         ProgramError: Syntax or check errors.
@@ -75,8 +77,12 @@ def check_program(
     err = err or sys.stderr
     source = read_program(program)
     compiled = compile_program(source, str(program), load_fixtures() if fixtures is None else fixtures)
-    for warning in compiled.warnings:
+    warnings = compiled.warnings if full else compiled.warnings[:SUMMARY_WARNINGS]
+    for warning in warnings:
         print(warning.render(source), file=err)
+    if len(warnings) < len(compiled.warnings):
+        more = len(compiled.warnings) - len(warnings)
+        print(f"... {more} more warnings; cosmos check --full prints every one", file=err)
     if as_json:
         write_plan_json(compiled, out)
     elif len(compiled.steps) <= SCREEN_STEPS:

@@ -161,3 +161,15 @@ def test_json_written_step_by_step_is_the_plan_as_json(tmp_path: Path) -> None:
         LONG + "OBSTACLE ball SPHERE AT (0.4, 0.2, 0.5) RADIUS 50 mm\n", str(tmp_path / "prog.cos"), FIXTURES
     )
     assert json.loads(out) == json.loads(json.dumps(plan_to_json(compiled)))
+
+
+def test_warnings_past_twenty_are_counted_not_printed_unless_full(tmp_path: Path) -> None:
+    """Catches 10,000 warnings each rendered from the whole source (quadratic: seconds of printing)."""
+    source = "MOVE BY (0, 0, 0)\n" * 30
+    status, _, err = run(tmp_path, source)
+    assert status == 0
+    assert err.count("warning: MOVE BY (0, 0, 0) goes nowhere") == check_command.SUMMARY_WARNINGS
+    assert err.splitlines()[-1] == "... 10 more warnings; cosmos check --full prints every one"
+    status, _, err = run(tmp_path, source, "--full")
+    assert err.count("warning: MOVE BY (0, 0, 0) goes nowhere") == 30
+    assert "more warnings" not in err
