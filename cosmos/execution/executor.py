@@ -4,8 +4,11 @@ Each segment starts from the measured state: the parameters are re-evaluated,
 relative targets resolved against the measured pose, and force setpoints ramp
 from the sensed force, so there is no jump at a switch between motion and
 force control. Stop conditions, completion and timeouts are judged every servo
-tick. A failed statement leaves the arm holding its pose (all axes under
-position control, no force commanded), writes a ``failed`` event, and raises
+tick, on the measured tool pose (:mod:`cosmos.execution.arrival`), and so are
+the protective stops (:mod:`cosmos.execution.supervision`). A failed statement
+leaves the arm holding its pose (all axes under position control, no force
+commanded), writes a ``failed`` event (after a ``protective_stop`` one, and a
+``collision`` one, where it was that), and raises
 :class:`~cosmos.errors.TaskFailure` naming the statement and the reason.
 """
 
@@ -17,12 +20,24 @@ from dataclasses import dataclass
 import numpy as np
 
 from cosmos.errors import TaskFailure
+from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, stall_cause
 from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict, statement_head
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
+from cosmos.execution.supervision import Supervisor
+from cosmos.lang.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
-from cosmos.plan import AddObstacle, GoalReached, Plan, RemoveObstacle, Segment, SegmentKind, Step
+from cosmos.plan import (
+    AbsoluteTarget,
+    AddObstacle,
+    GoalReached,
+    Plan,
+    RemoveObstacle,
+    Segment,
+    SegmentKind,
+    Step,
+)
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -70,6 +85,14 @@ class Executor:
         self.obstacles = obstacles
         self.segment_count = 0
         self._source: str | None = None
+        self._stopped_at: float | None = None
+        self.meter = ToolMeter(runtime.plant)
+        robot = runtime.robot
+        self.supervisor = Supervisor(
+            runtime.plant,
+            np.minimum(-robot.tau_lower_nm, robot.tau_upper_nm),
+            1.0 / runtime.rates.servo_hz,
+        )
 
     # ------------------------------------------------------------------ plan
 
@@ -84,14 +107,15 @@ class Executor:
 
     def _run_statement(self, segments: list[Segment]) -> None:
         """Run a statement's segments; an UNTIL that holds ends the statement with success."""
-        statement_start = (self.runtime.time_s, self._position())
+        statement_start = (self.runtime.time_s, self.meter.position.copy())
         self._event("start", segments[0], "")
         for segment in segments:
             outcome = self.run_segment(segment, *statement_start)
             if outcome.verdict is Verdict.FAILED:
-                self._fail(segment, outcome.reason)
+                self._fail(segment, outcome)
             if outcome.verdict is Verdict.STOPPED:
                 self._event("stopped", segment, outcome.reason)
+                self._stopped_at = self.runtime.time_s
                 break
             if segment.kind is SegmentKind.CONTACT_APPROACH:
                 self._event("contact", segment, outcome.reason)
@@ -111,13 +135,9 @@ class Executor:
             self.hold(HOLD_AFTER_FAILURE_S)
             raise TaskFailure(failure.message, step.span, self._source) from None
         self._event("done", step, "")
+        self.supervisor.obstacle_names = self.obstacles.scene.body_names()
 
     # --------------------------------------------------------------- segment
-
-    def _position(self) -> np.ndarray:
-        """The tool point as the controller estimates it now (x_e + J (q - q_e)), world [m]."""
-        ev = self.runtime.evaluation
-        return ev.position + self.runtime.servo.last_displacement[:3]
 
     def run_segment(
         self, segment: Segment, statement_start_s: float, statement_start_position: np.ndarray
@@ -127,17 +147,46 @@ class Executor:
         rt.reset_clocks()  # a fresh evaluation at the measured state
         ev = rt.evaluation
         start_s = rt.time_s
-        goals = [goal_pose(via, ev.position, ev.rotation_tool_to_world) for via in segment.via]
-        goals.append(goal_pose(segment.target, ev.position, ev.rotation_tool_to_world))
+        meter = self.meter
+        start_position, start_rotation = meter.position.copy(), meter.rotation.copy()
+        goals = [goal_pose(via, start_position, start_rotation) for via in segment.via]
+        goals.append(goal_pose(segment.target, start_position, start_rotation))
+        if isinstance(segment.target, AbsoluteTarget):
+            beyond = out_of_reach(*goals[-1])
+            if beyond is not None:
+                return Outcome(Verdict.FAILED, f"cannot reach its goal: {beyond}")
+        if segment.duration_s is not None:
+            error = goal_error(start_position, start_rotation, *goals[-1])
+            infeasible = timed_move_problem(error.distance_m, error.angle_rad, segment.duration_s)
+            if infeasible is not None:
+                return Outcome(Verdict.FAILED, infeasible)
         goal_index = 0
         setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s)
         rt.set_setpoint(setpoint)
         self._log_segment(segment, setpoint)
         trajectory = setpoint.trajectory
         timed_until = None if trajectory is None else start_s + trajectory.duration_s
+        robot = rt.robot
+
+        def cause() -> str:
+            final_position, final_rotation = goals[-1]
+            return stall_cause(
+                rt.q, robot.q_lower_rad, robot.q_upper_rad, rt.evaluation.jacobian,
+                float(np.linalg.norm(rt.wrench[:3])), final_position, final_rotation,
+            )  # fmt: skip
+
         monitor = SegmentMonitor(
-            segment, start_s, ev.position.copy(), statement_start_s, statement_start_position, timed_until
+            segment,
+            start_s,
+            start_position,
+            statement_start_s,
+            statement_start_position,
+            timed_until,
+            goals[-1],
+            cause,
         )
+        supervisor = self.supervisor
+        supervisor.start(segment, start_position, goals[0][0])
         via_radius = segment.via_radius_m or 0.01
         ticks = 0
         servo = rt.servo
@@ -145,6 +194,7 @@ class Executor:
         watch_minima = obstacles is not None and isinstance(segment.completion, GoalReached)
         if obstacles is not None:
             obstacles.start_goal()
+        position = meter.position
         while True:
             if obstacles is not None:
                 obstacles.before_tick()
@@ -153,18 +203,22 @@ class Executor:
             if obstacles is not None:
                 for reason in obstacles.after_tick():
                     self._event("collision", segment, reason)
+                supervisor.field_acting = obstacles.active and bool(obstacles.field.influences)
             if self.stop_requested:
                 self.stop_requested = False
                 self.hold()
-                self._event("stopped", segment, "interrupted")
+                self._event("interrupted", segment, "stopped from outside (Ctrl-C or SIGTERM)")
                 raise Interrupted(
                     f"{statement_head(segment.statement)} interrupted", segment.span, self._source
                 )
-            position = self._position()
-            snapshot = Snapshot(rt.time_s, position, servo.last_error, servo.last_velocity, rt.wrench)
+            stop = supervisor.check(rt.time_s, rt.wrench, servo.torque, position)
+            if stop is not None:
+                return Outcome(Verdict.FAILED, stop.message, stop)
+            snapshot = Snapshot(rt.time_s, position, meter.rotation, servo.last_velocity, rt.wrench)
             if goal_index < len(goals) - 1:
                 if float(np.linalg.norm(position - goals[goal_index][0])) < via_radius:
                     goal_index += 1
+                    supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
                     rt.set_setpoint(
                         setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s)
                     )
@@ -201,7 +255,12 @@ class Executor:
         while rt.time_s < end - 1e-9:
             rt.tick()
 
-    def _fail(self, segment: Segment, reason: str) -> None:
+    def _fail(self, segment: Segment, outcome: Outcome) -> None:
+        reason = outcome.reason
+        if outcome.stop is not None:
+            if outcome.stop.collision:
+                self._event("collision", segment, outcome.stop.collision)
+            self._event("protective_stop", segment, reason)
         self._event("failed", segment, reason)
         self.hold(HOLD_AFTER_FAILURE_S)
         if self.log is not None:
@@ -221,8 +280,8 @@ class Executor:
         index = self.segment_count
         self.segment_count += 1
         if self.recorder is not None:
-            self.recorder.segment = index
-            self.recorder.line = segment.line
+            self.recorder.start_segment(index, segment.line, self._stopped_at)
+        self._stopped_at = None
         if self.log is None:
             return
         # The servo's unit-mass gains times the effective masses: physical stiffness and damping.

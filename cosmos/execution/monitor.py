@@ -1,23 +1,34 @@
 """Per-tick judgement of a running segment: done, stopped by UNTIL, failed, or still running.
 
 Evaluated every servo tick (issue: stop conditions and timeouts are checked at
-the servo rate), so it works on the estimates the servo already made.
+the servo rate). Arrival is judged on the measured tool pose, position and
+orientation both (:mod:`cosmos.execution.arrival`), and only once the tool has
+settled there; a timed move (``IN t``) ends only on arrival, and fails with
+the measured error if it has not arrived :data:`TIMED_SETTLE_S` after its time.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
 
+from cosmos.execution.arrival import GoalError, goal_error
+from cosmos.execution.supervision import ProtectiveStop
 from cosmos.plan import (
+    AllOf,
+    AnyOf,
+    Comparison,
+    Condition,
     ContactTouch,
     DepthReached,
     Elapsed,
     ForceSettled,
     GoalReached,
+    Quantity,
     Segment,
     SegmentKind,
     condition_holds,
@@ -29,10 +40,12 @@ FloatArray = np.ndarray
 STALL_TIME_S = 2.0
 """A goal motion that gets no closer by STALL_PROGRESS_M for this long has stalled [s]."""
 STALL_PROGRESS_M = 0.0005
-BLOCKED_N = 2.0
-"""A stalled goal motion pushing harder than this [N] is blocked, else out of reach."""
-STALL_ACCEPT = 3.0
-"""A stall within this many position tolerances of the goal counts as arrival."""
+STALL_ANGLE_SCALE_M = 0.1
+"""Progress in orientation counts as this many metres per radian."""
+SETTLE_S = 0.02
+"""The tool must stay within tolerance and at rest this long to have arrived [s]."""
+TIMED_SETTLE_S = 1.0
+"""A timed move that has not arrived this long after its duration fails [s]."""
 
 
 class Verdict(Enum):
@@ -45,10 +58,11 @@ class Verdict(Enum):
 
 @dataclass(frozen=True)
 class Outcome:
-    """A segment's end: the verdict and why, in words."""
+    """A segment's end: the verdict and why, in words; a protective stop's details if it was one."""
 
     verdict: Verdict
     reason: str
+    stop: ProtectiveStop | None = None
 
 
 @dataclass(frozen=True)
@@ -57,15 +71,15 @@ class Snapshot:
 
     Attributes:
         t_s: Simulated time, in [s].
-        position: Estimated tool point, in [m]. # (3,)
-        error: Pose error ``x - x_d`` of the motion command, in [m, rad]. # (6,)
-        velocity: Tool twist, in [m/s, rad/s]. # (6,)
-        wrench: Wrench the tool applies to the environment, in [N, N m]. # (6,)
+        position: Measured tool point, in [m]. # (3,)
+        rotation: Measured tool orientation, tool to world. # (3, 3)
+        velocity: Tool twist ``J qd`` from the encoders, in [m/s, rad/s]. # (6,)
+        wrench: Wrench the tool applies to the environment (wrist sensor), in [N, N m]. # (6,)
     """
 
     t_s: float
     position: FloatArray
-    error: FloatArray
+    rotation: FloatArray
     velocity: FloatArray
     wrench: FloatArray
 
@@ -92,8 +106,13 @@ class SegmentMonitor:
         statement_start_s: float,
         statement_start_position: FloatArray,
         timed_until_s: float | None,
+        goal: tuple[FloatArray, FloatArray],
+        stall_cause: Callable[[], str],
     ):
         self.segment = segment
+        self.goal_position, self.goal_rotation = goal
+        self.stall_cause = stall_cause
+        self.last_error: GoalError | None = None
         self.start_s = start_s
         self.start_position = start_position
         self.statement_start_s = statement_start_s
@@ -128,7 +147,10 @@ class SegmentMonitor:
         if seg.until is not None:
             distance = _norm3(snap.position - self.statement_start_position)
             if condition_holds(seg.until, force, snap.wrench[3:], distance):
-                return Outcome(Verdict.STOPPED, f"UNTIL {_until_text(seg)} held")
+                measured = _measured(seg.until, force, snap.wrench[3:], distance)
+                return Outcome(
+                    Verdict.STOPPED, f"UNTIL {condition_text(seg.until)}: {measured} at {snap.t_s:.2f} s"
+                )
         done = self._completion(snap) if completion else None
         if done is not None:
             return done
@@ -171,46 +193,59 @@ class SegmentMonitor:
         return None
 
     def _goal_reached(self, snap: Snapshot, goal: GoalReached) -> Outcome | None:
-        if self.timed_until_s is not None and snap.t_s < self.timed_until_s:
+        error = goal_error(snap.position, snap.rotation, self.goal_position, self.goal_rotation)
+        self.last_error = error
+        timed = self.timed_until_s
+        if timed is not None and snap.t_s < timed:
             return None
         r_t = self._rotation_t
-        position_error = r_t.dot(snap.error[:3])[self._motion[:3]]
-        stalled = self._stalled(snap, float(np.linalg.norm(position_error)), goal)
-        if stalled is not None:
-            return stalled
-        if _norm3(snap.velocity[:3]) > goal.speed_tolerance_mps:
+        position_error = r_t.dot(error.position_m)[self._motion[:3]]
+        rotation_error = r_t.dot(error.rotation_rad)[self._motion[3:]]
+        arrived = (
+            _norm3(snap.velocity[:3]) <= goal.speed_tolerance_mps
+            and not (
+                position_error.size and float(np.max(np.abs(position_error))) > goal.position_tolerance_m
+            )
+            and not (
+                rotation_error.size and float(np.max(np.abs(rotation_error))) > goal.orientation_tolerance_rad
+            )
+        )
+        if arrived:
+            if self._settled_since is None:
+                self._settled_since = snap.t_s
+            if snap.t_s - self._settled_since >= SETTLE_S - 1e-9:
+                return Outcome(Verdict.DONE, f"arrived: {error.text()}")
             return None
-        rotation_error = r_t.dot(snap.error[3:])[self._motion[3:]]
-        if position_error.size and float(np.max(np.abs(position_error))) > goal.position_tolerance_m:
-            return None
-        if rotation_error.size and float(np.max(np.abs(rotation_error))) > goal.orientation_tolerance_rad:
-            return None
-        return Outcome(Verdict.DONE, "")
+        self._settled_since = None
+        if timed is not None and snap.t_s >= timed + TIMED_SETTLE_S:
+            duration = timed - self.start_s
+            return Outcome(
+                Verdict.FAILED,
+                f"did not arrive within {TIMED_SETTLE_S:g} s after its {duration:g} s: {error.text()}",
+            )
+        progress = float(np.linalg.norm(position_error)) + STALL_ANGLE_SCALE_M * float(
+            np.linalg.norm(rotation_error)
+        )
+        return self._stalled(snap, progress, error)
 
-    def _stalled(self, snap: Snapshot, distance_m: float, goal: GoalReached) -> Outcome | None:
-        """A goal the arm stopped getting closer to: something in the way, or out of reach.
+    def _stalled(self, snap: Snapshot, distance_m: float, error: GoalError) -> Outcome | None:
+        """A goal the arm stopped getting closer to: the measured error and the real cause.
 
         Without it a MOVE into the table (or past a joint limit) would push for ever.
-        Within a few tolerances of the goal it counts as reached, and says so.
         """
         if distance_m < self._closest_m - STALL_PROGRESS_M:
             self._closest_m, self._closest_s = distance_m, snap.t_s
             return None
         if snap.t_s - self._closest_s < STALL_TIME_S:
             return None
-        if distance_m <= STALL_ACCEPT * goal.position_tolerance_m:
-            return Outcome(Verdict.DONE, f"settled {distance_m * 1e3:.1f} mm from its goal")
         if self._sprung:
             return Outcome(
-                Verdict.DONE, f"settled on its COMPLY spring {distance_m * 1e3:.1f} mm from its goal"
+                Verdict.DONE, f"settled on its COMPLY spring {error.distance_m * 1e3:.1f} mm from its goal"
             )
-        push = _norm3(snap.wrench[:3])
-        short = f"stopped {distance_m * 1e3:.0f} mm short for {STALL_TIME_S:g} s"
-        if push > BLOCKED_N:
-            return Outcome(
-                Verdict.FAILED, f"is blocked: {short}, pushing {push:.1f} N against something in the way"
-            )
-        return Outcome(Verdict.FAILED, f"cannot reach its goal: {short}, the pose is out of the arm's reach")
+        return Outcome(
+            Verdict.FAILED,
+            f"cannot reach its goal: stopped {error.text()} for {STALL_TIME_S:g} s; {self.stall_cause()}",
+        )
 
     def _force_settled(self, snap: Snapshot, settled: ForceSettled, elapsed: float) -> Outcome | None:
         r_t = self._rotation_t
@@ -256,11 +291,49 @@ class SegmentMonitor:
         return None
 
 
-def _until_text(segment: Segment) -> str:
-    until = segment.until
-    text = getattr(until, "text", None)
-    if text:
-        return str(text)
-    statement = segment.statement
-    index = statement.upper().find("UNTIL")
-    return statement[index + 5 :].strip() if index >= 0 else "condition"
+_UNITS = {
+    Quantity.FORCE: (1.0, "N", 1),
+    Quantity.FORCE_ALONG: (1.0, "N", 1),
+    Quantity.TORQUE: (1.0, "N m", 2),
+    Quantity.TORQUE_ABOUT: (1.0, "N m", 2),
+    Quantity.DISTANCE: (1e3, "mm", 1),
+}
+
+
+def condition_text(condition: Condition) -> str:
+    """The condition as written: a comparison's own text, AND and OR in parentheses."""
+    if isinstance(condition, Comparison):
+        return condition.text
+    joiner = " AND " if isinstance(condition, AllOf) else " OR "
+    return "(" + joiner.join(condition_text(term) for term in condition.terms) + ")"
+
+
+def _value(comparison: Comparison, force: FloatArray, torque: FloatArray, distance_m: float) -> float:
+    quantity = comparison.quantity
+    if quantity is Quantity.FORCE:
+        return _norm3(force)
+    if quantity is Quantity.TORQUE:
+        return _norm3(torque)
+    if quantity is Quantity.FORCE_ALONG:
+        return float(np.dot(force, comparison.direction_world))  # type: ignore[arg-type]
+    if quantity is Quantity.TORQUE_ABOUT:
+        return float(np.dot(torque, comparison.direction_world))  # type: ignore[arg-type]
+    return distance_m
+
+
+def _measured(condition: Condition, force: FloatArray, torque: FloatArray, distance_m: float) -> str:
+    """What each term of a condition measured: ``4.6 N``, or ``DISTANCE 20.3 mm, FORCE 0.4 N``."""
+    terms = _terms(condition)
+    parts = []
+    for term in terms:
+        scale, unit, digits = _UNITS[term.quantity]
+        value = f"{_value(term, force, torque, distance_m) * scale:.{digits}f} {unit}"
+        parts.append(value if len(terms) == 1 else f"{term.text.partition(term.op.value)[0].strip()} {value}")
+    return ", ".join(parts)
+
+
+def _terms(condition: Condition) -> list[Comparison]:
+    if isinstance(condition, Comparison):
+        return [condition]
+    assert isinstance(condition, AllOf | AnyOf)
+    return [leaf for term in condition.terms for leaf in _terms(term)]

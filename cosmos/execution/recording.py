@@ -42,6 +42,24 @@ class LogRecorder:
         self._xquat = data.xquat  # (nbody, 4) world, w x y z
         self._quat = np.empty(4)
         self._count = 0
+        self.last_t_s = -1.0
+        """Time of the last state sample recorded [s]."""
+        self._pending: tuple[int, int] | None = None
+
+    def start_segment(self, segment: int, line: int, after_s: float | None = None) -> None:
+        """Tag the samples from now on with ``segment`` and ``line``.
+
+        Args:
+            segment: The segment's index.
+            line: Its statement's line.
+            after_s: The previous segment ended at this time because its UNTIL held: the
+                first sample at or after it still belongs to that segment (it shows what
+                fired the condition), so the new tag starts after that sample.
+        """
+        if after_s is not None and self.last_t_s < after_s - 1e-9:
+            self._pending = (segment, line)
+        else:
+            self.segment, self.line, self._pending = segment, line, None
 
     def record(
         self,
@@ -65,6 +83,10 @@ class LogRecorder:
         log = self.log
         _mat2quat(self._quat, self._site_xmat)
         log.state(t_s, q, qd, tau, self._site_xpos, self._quat, twist, wrench, self.segment, self.line)
+        self.last_t_s = t_s
+        if self._pending is not None:
+            self.segment, self.line = self._pending
+            self._pending = None
         self._count += 1
         if self._count % TRANSFORM_EVERY == 1:
             log.transforms(t_s, self._xpos, self._xquat, self._bodies)

@@ -132,7 +132,7 @@ def compare_runs(logged: RunRecord, again: RunRecord, tolerance: float = DEFAULT
     if logged.truncated:
         cut_s = logged.end_time
         notes.append(f"the log is cut short at t = {cut_s:.3f} s: compared up to there")
-    elif events and events[-1].kind == "stopped" and events[-1].reason == "interrupted":
+    elif events and events[-1].kind == "interrupted":
         cut_s = events.pop().t
         notes.append(f"the run was interrupted at t = {cut_s:.3f} s: compared up to there")
     again_events = _upto(again.events, cut_s, len(events))

@@ -17,7 +17,7 @@ from cosmos.replay.timeline import StatementRun
 from cosmos.runlog.reader import RunRecord, SegmentRecord
 
 FORCE_SHADE = "#f2a541"
-OUTCOME_COLORS = {"done": "#2b6cb0", "stopped": "#2f855a", "failed": "#c53030"}
+OUTCOME_COLORS = {"done": "#2b6cb0", "stopped": "#2f855a", "failed": "#c53030", "interrupted": "#b7791f"}
 UNFINISHED_COLOR = "#718096"
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from cosmos.runlog.reader import RunRecord
 from cosmos.runlog.schemas import OUTCOME_KINDS, EventKind
 
@@ -69,6 +71,11 @@ def statement_timeline(record: RunRecord) -> list[StatementRun]:
 
     def close(item: _Open, end: float, outcome: str, reason: str) -> None:
         inside = (t >= item.start) & (t <= end)
+        if outcome == EventKind.STOPPED:
+            # The first sample at or after an UNTIL fired belongs to the statement it stopped.
+            fired = int(np.searchsorted(t, end - 1e-9))
+            if fired < len(t):
+                inside[fired] = True
         peak = float(force[inside].max()) if inside.any() else float("nan")
         final = float(force[inside][-1]) if inside.any() else float("nan")
         runs.append(

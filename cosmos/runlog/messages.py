@@ -24,6 +24,8 @@ _EVENT_LEVELS: Final = {
     EventKind.FAILED: LogLevel.ERROR,
     EventKind.COLLISION: LogLevel.WARNING,
     EventKind.WARNING: LogLevel.WARNING,
+    EventKind.PROTECTIVE_STOP: LogLevel.ERROR,
+    EventKind.INTERRUPTED: LogLevel.WARNING,
 }
 
 

@@ -60,9 +60,11 @@ class EventKind(StrEnum):
     CONTACT = "contact"
     COLLISION = "collision"
     WARNING = "warning"
+    PROTECTIVE_STOP = "protective_stop"
+    INTERRUPTED = "interrupted"
 
 
-OUTCOME_KINDS: Final = frozenset(("done", "stopped", "failed"))
+OUTCOME_KINDS: Final = frozenset(("done", "stopped", "failed", "interrupted"))
 """Event kinds that end a statement."""
 
 

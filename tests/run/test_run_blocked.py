@@ -1,10 +1,11 @@
-"""A goal motion that something blocks fails after a stall instead of pushing for ever."""
+"""A goal motion that something blocks stops at once (protective stop) instead of pushing for ever."""
 
 from __future__ import annotations
 
 import re
 from pathlib import Path
 
+import numpy as np
 from run_support import run_in_process, write_program
 
 from cosmos.runlog.reader import read_log
@@ -13,14 +14,24 @@ from cosmos.runlog.reader import read_log
 INTO_THE_TABLE = "MOVE BY (0, 0, -300 mm) SPEED 0.1 m/s\n"
 
 
-def test_a_move_into_the_table_fails_once_it_stops_getting_closer(tmp_path: Path) -> None:
+def test_a_move_into_the_table_is_a_protective_stop_at_the_touch(tmp_path: Path) -> None:
+    """A free MOVE expects to touch nothing: it used to push 2 s into the table before failing."""
     run = run_in_process(write_program(tmp_path, "blocked", INTO_THE_TABLE), tmp_path / "blocked.mcap")
     assert run.returncode == 1
-    assert re.search(r"blocked\.cos:1:1: MOVE BY is blocked: stopped \d+ mm short .* pushing", run.stderr)
+    assert re.search(
+        r"blocked\.cos:1:1: MOVE BY protective stop: tool hit fixture 'table' at \d+\.\d+ s, \d+\.\d N",
+        run.stderr,
+    )
     record = read_log(tmp_path / "blocked.mcap")
-    failed = [e for e in record.events if e.kind == "failed"]
-    # 2.6 s to reach the table at 0.1 m/s, then the 2 s stall window.
-    assert failed and 4.0 < failed[0].t < 6.0
+    kinds = [e.kind for e in record.events]
+    assert kinds[-3:] == ["collision", "protective_stop", "failed"], kinds
+    # 2.57 s to cover the 257 mm to the table top at 0.1 m/s: stopped at the touch.
+    failed = record.events[-1]
+    assert 2.4 < failed.t < 2.8, failed.t
+    # Held: the tool stays where it stopped, on the table top, not 43 mm into it.
+    after = record.state.t >= failed.t
+    z = record.state.x[after, 2]
+    assert float(z.min()) > 0.19 and float(np.ptp(z)) < 0.003, (z.min(), np.ptp(z))
 
 
 def test_a_pose_out_of_reach_fails_saying_so(tmp_path: Path) -> None:

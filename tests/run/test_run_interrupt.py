@@ -39,5 +39,4 @@ def test_a_signal_stops_the_run_and_closes_a_valid_log(tmp_path: Path, signum: i
         assert make_reader(f).get_summary() is not None  # complete: summary and footer
     record = read_log(log)
     assert not record.truncated
-    assert [e.kind for e in record.events][-1] == "stopped"
-    assert record.events[-1].reason == "interrupted"
+    assert [e.kind for e in record.events][-1] == "interrupted"  # not "stopped": that is an UNTIL

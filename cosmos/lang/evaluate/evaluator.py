@@ -14,7 +14,7 @@ from collections.abc import Callable, Mapping
 from math import isfinite
 
 from cosmos.errors import ProgramError, Span
-from cosmos.lang import ast, units
+from cosmos.lang import ast, limits, units
 from cosmos.lang.evaluate.values import (
     Binding,
     FrameValue,
@@ -241,7 +241,7 @@ class Evaluator:
         if type(expr) is ast.Number:  # most slots: a number as written, no Scalar made
             number, number_dim = self._number_value(expr)
             if number_dim is None or number_dim == dim:
-                return number
+                return self._in_range(expr, dim, what, number)
         value = self.evaluate(expr)
         if not isinstance(value, Scalar):
             raise ProgramError(
@@ -255,7 +255,14 @@ class Evaluator:
                 f"{self.text_of(expr.span)} is {units.describe(value.dim)}",
                 expr.span,
             )
-        return value.value
+        return self._in_range(expr, dim, what, value.value)
+
+    def _in_range(self, expr: ast.Expr, dim: Dim, what: str, value: float) -> float:
+        """``value``, if within the slot's physical range (:mod:`cosmos.lang.limits`)."""
+        problem = limits.scalar_problem(what, dim, value, self.text_of(expr.span))
+        if problem is not None:
+            raise ProgramError(problem, expr.span)
+        return value
 
     def expect_vector(self, expr: ast.Expr, value: Value, size: int, dim: Dim, what: str) -> FloatArray:
         """``value`` (of ``expr``) as a read-only (size,) SI array of dimension ``dim``."""
@@ -280,6 +287,9 @@ class Evaluator:
                 f"{self.text_of(expr.span)} holds {units.plural(value.dim)}",
                 expr.span,
             )
+        problem = limits.vector_problem(what, dim, value.values, self.text_of(expr.span))
+        if problem is not None:
+            raise ProgramError(problem, expr.span)
         return value.values
 
     def expect_vector3(self, expr: ast.Expr, dim: Dim, what: str) -> FloatArray:

@@ -7,6 +7,7 @@ its last (:mod:`cosmos.lang.parse.spans`).
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Iterable
 from typing import Any
@@ -171,8 +172,8 @@ class _Builder(Transformer):
         return ast.AllOf(_flatten(_nodes(children), ast.AllOf), span_of(children))
 
     def conjunction(self, children: list[Any]) -> ast.Condition:
-        """A parenthesised condition: ``( condition )``."""
-        return children[1]
+        """A parenthesised condition: ``( condition )``, its span taking in the parentheses."""
+        return dataclasses.replace(children[1], span=span_of(children))
 
     def comparison(self, children: list[Any]) -> ast.Comparison:
         (first, sensed, direction), op, value = children

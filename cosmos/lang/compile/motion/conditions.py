@@ -6,7 +6,7 @@ from collections.abc import Callable
 
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
-from cosmos.lang import ast, units
+from cosmos.lang import ast, limits, units
 from cosmos.lang.compile.state import TaskFrame
 from cosmos.lang.evaluate.evaluator import Evaluator
 from cosmos.rotations import signed_column
@@ -58,6 +58,9 @@ def compile_condition(
             value = None
     if value is None:
         value = evaluator.expect_scalar(value_expr, dim, _name(condition, text_of))
+    problem = limits.scalar_problem(_name(condition, text_of), dim, value, text_of(value_expr.span))
+    if problem is not None:
+        raise ProgramError(f"UNTIL {problem}", value_expr.span)
     op = _OPS.get(condition.op) or plan.CompareOp(condition.op)
     if quantity in _MAGNITUDES:
         _check_magnitude(condition, op, value, text_of)

@@ -9,7 +9,7 @@ import numpy as np
 
 from cosmos import plan
 from cosmos.errors import ProgramError
-from cosmos.lang import ast, units
+from cosmos.lang import ast, limits, units
 from cosmos.lang.compile.motion.axes import ALL_MOTION, NO_FORCES, NO_FREE, axis_list
 from cosmos.lang.compile.motion.axis_rules import AxisRules
 from cosmos.lang.compile.motion.base import ContactChange
@@ -80,6 +80,10 @@ class Move(AxisRules, ClauseValues):
         timeout = self._timeout(clauses)
         if timeout is not None:
             self._warn_timeout(timeout, distance, speed, duration, clauses)
+        if duration is not None and distance is not None:
+            problem = limits.timed_move_problem(distance, 0.0, duration)
+            if problem is not None:
+                raise ProgramError(f"the arm {problem}", clauses.span_of(ast.ClauseKind.IN))
         self._add(
             _MOVE,
             statement,

@@ -1,0 +1,152 @@
+"""Where the tool really is, how far from its goal, and why a motion that stopped short did.
+
+Outcomes are measurements. The executor judges arrival on the *measured* tool
+pose: MuJoCo's tool site, the plant's true state. Not on the controller's
+estimate ``x_e + J (q - q_e)``, which is the controller's belief: if its model
+is wrong (a tool mis-calibrated, a joint off), the estimate says the goal was
+reached where the arm is not, and a log of that is a lie. On a real cell the
+measurement would be the encoders through a calibrated kinematic model (an
+external tracker where accuracy matters); in this simulation the plant's state
+is that measurement, and the log's ``/cosmos/state`` pose is the same site, so
+the outcome and the log agree.
+
+When a goal motion stops getting closer, :func:`stall_cause` names the real
+reason from the measured joints: something in the way, a joint at its limit,
+a singularity, or a goal out of the arm's reach, and only then "out of reach".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from cosmos.osc.orientation import so3_log
+from cosmos.plant import Plant
+from cosmos.workcell import ARM_CAPABILITY, TOOL, TOOL_SITE
+
+FloatArray = np.ndarray
+
+SHOULDER_M = np.array([0.0, 0.0, 0.67183])
+"""Joint 2's axis on joint 1's (DH d1), world [m]: where the arm's reach is measured from."""
+JOINT_LIMIT_MARGIN_RAD = math.radians(2.0)
+"""A joint this close to a limit counts as at it."""
+WRIST_SINGULAR_RAD = math.radians(3.0)
+"""|q5| below this: the wrist singularity (axes 4 and 6 aligned)."""
+SINGULAR_CONDITION = 0.02
+"""Smallest over largest singular value of the (scaled) Jacobian below which the arm is singular."""
+LENGTH_SCALE_M = 0.3
+"""Makes the Jacobian's rotation rows commensurate with its translation rows [m]."""
+BLOCKED_N = 2.0
+"""A stalled motion pushing harder than this is blocked by something [N]."""
+
+
+class ToolMeter:
+    """The measured tool pose: views of MuJoCo's tool site (valid after each physics step)."""
+
+    def __init__(self, plant: Plant):
+        data = plant.data
+        site = mujoco.mj_name2id(plant.model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)
+        self.position: FloatArray = data.site_xpos[site]  # (3,) world [m], a live view
+        self._xmat = data.site_xmat[site]  # (9,) row-major, a live view
+
+    @property
+    def rotation(self) -> FloatArray:
+        """Tool frame to world. # (3, 3)."""
+        return self._xmat.reshape(3, 3)
+
+
+@dataclass(frozen=True)
+class GoalError:
+    """The measured pose minus the goal, world axes.
+
+    Attributes:
+        position_m: Tool point minus goal point [m]. # (3,)
+        rotation_rad: Rotation vector of ``R R_goal^T`` [rad]. # (3,)
+    """
+
+    position_m: FloatArray
+    rotation_rad: FloatArray
+
+    @property
+    def distance_m(self) -> float:
+        """How far the tool point is from its goal [m]."""
+        return float(np.linalg.norm(self.position_m))
+
+    @property
+    def angle_rad(self) -> float:
+        """How far the tool is turned from its goal orientation [rad]."""
+        return float(np.linalg.norm(self.rotation_rad))
+
+    def text(self) -> str:
+        """``12 mm and 66.0 deg from its goal``."""
+        return f"{self.distance_m * 1e3:.1f} mm and {math.degrees(self.angle_rad):.1f} deg from its goal"
+
+
+def goal_error(
+    position: FloatArray, rotation: FloatArray, goal_position: FloatArray, goal_rotation: FloatArray
+) -> GoalError:
+    """The measured pose's error from the goal pose (world axes)."""
+    return GoalError(position - goal_position, so3_log(rotation @ goal_rotation.T))
+
+
+def wrist_centre(position: FloatArray, rotation: FloatArray) -> FloatArray:
+    """Where the wrist centre (the flange origin, DH frame 6) is for a tool pose, world [m]."""
+    rotation_flange = rotation @ TOOL.tool_rotation_in_flange.T
+    return position - rotation_flange @ TOOL.tool_position_in_flange
+
+
+def out_of_reach(goal_position: FloatArray, goal_rotation: FloatArray) -> str | None:
+    """Why a goal pose is out of the arm's reach, or None if its wrist centre is within reach."""
+    reach = float(np.linalg.norm(wrist_centre(goal_position, goal_rotation) - SHOULDER_M))
+    if reach <= ARM_CAPABILITY.reach_m:
+        return None
+    beyond = (reach - ARM_CAPABILITY.reach_m) * 1e3
+    return (
+        f"the pose is out of the arm's reach: its wrist centre would be {beyond:.0f} mm beyond "
+        f"the arm's {ARM_CAPABILITY.reach_m * 1e3:.0f} mm"
+    )
+
+
+def stall_cause(
+    q: FloatArray,
+    q_lower: FloatArray,
+    q_upper: FloatArray,
+    jacobian: FloatArray,
+    push_n: float,
+    goal_position: FloatArray,
+    goal_rotation: FloatArray,
+) -> str:
+    """Why a goal motion stopped short, from what is measured now.
+
+    Args:
+        q: Measured joint angles [rad]. # (6,)
+        q_lower: Lower joint limits [rad]. # (6,)
+        q_upper: Upper joint limits [rad]. # (6,)
+        jacobian: Tool Jacobian at q, rows linear then angular, world. # (6, 6)
+        push_n: Magnitude of the force the tool applies [N].
+        goal_position: The goal tool point, world [m]. # (3,)
+        goal_rotation: The goal orientation, tool to world. # (3, 3)
+    """
+    if push_n > BLOCKED_N:
+        return f"is blocked, pushing {push_n:.1f} N against something in the way"
+    beyond = out_of_reach(goal_position, goal_rotation)
+    if beyond is not None:
+        return beyond
+    for joint in range(len(q)):
+        for limit in (q_lower[joint], q_upper[joint]):
+            if abs(q[joint] - limit) < JOINT_LIMIT_MARGIN_RAD:
+                return f"joint {joint + 1} at its limit of {math.degrees(limit):.0f} deg"
+    if abs(math.sin(q[4])) < math.sin(WRIST_SINGULAR_RAD):
+        return (
+            f"the wrist is at its singularity (joint 5 at {math.degrees(q[4]):.1f} deg: joints 4 and 6 "
+            "aligned), which prevents progress"
+        )
+    scaled = jacobian.copy()
+    scaled[3:] *= LENGTH_SCALE_M
+    singular = np.linalg.svd(scaled, compute_uv=False)
+    if singular[-1] < SINGULAR_CONDITION * singular[0]:
+        return "the arm is at a singularity, which prevents progress"
+    return "the controller made no progress (nothing in the way, no joint at a limit, no singularity)"

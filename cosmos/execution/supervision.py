@@ -1,0 +1,373 @@
+"""Protective stops: what the runtime watches every tick besides the statement's own goal.
+
+Like an industrial controller's protective stop (UR), force supervision (ABB's
+FCSupv) or reflexes (Franka), every servo tick the executor asks a
+:class:`Supervisor` whether the arm is doing something no statement asked for:
+
+- **contact**: a link or the tool touches something the running statement does
+  not expect to touch (MuJoCo's contact list, ``data.ncon`` and geom ids against
+  geom sets made once). A free motion expects nothing; a statement that holds or
+  seeks contact (CONTACT, SLIDE, INSERT, a WAIT or MOVE while a contact is held, a
+  COMPLY spring) expects the tool against the fixtures; a guarded motion (UNTIL on
+  a force or moment) expects the tool against anything. A link never touches
+  anything. A contact the tool already had when the statement began (lifting off
+  the table) is allowed until it has been gone for :data:`CONTACT_GONE_S`.
+- **force**: the wrist sensor's force above the statement's expected range for
+  :data:`FORCE_TICKS` ticks in a row (:func:`force_limit_n`); while the tool is
+  still in a contact the statement began with (pulling a peg out of its hole),
+  up to the sensor's rating.
+- **path**: the measured tool point more than :data:`PATH_DEVIATION_M` off the
+  commanded straight line on the motion-controlled axes (not while an obstacle's
+  potential field acts: the field pushes the arm off the line on purpose, and not
+  on a COMPLY spring's axes).
+- **drive**: a joint's torque at its drive's limit for :data:`SATURATION_S`.
+
+Each is a :class:`ProtectiveStop` naming what, where and how hard; the executor
+ends the statement as failed, logs ``protective_stop`` (and ``collision`` for a
+contact) and holds the arm.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from enum import IntEnum
+
+import mujoco
+import numpy as np
+
+from cosmos.execution.fixtures import FIXTURES
+from cosmos.obstacles.capsules import LINK_BODIES
+from cosmos.obstacles.scene import SLOT_PREFIX
+from cosmos.plan import AllOf, AnyOf, Condition, Quantity, Segment, SegmentKind
+from cosmos.plant import Plant
+from cosmos.workcell import TOOL_BODY, WRIST_SENSOR
+
+FloatArray = np.ndarray
+
+FREE_MOTION_FORCE_N = 20.0
+"""Force limit in free motion [N], unless a program sets its own with ``LIMIT FORCE``.
+
+Above what the tool's own inertia gives the wrist sensor at the arm's
+accelerations (a 50 mm reversal at 100 mm/s reads about 6 N)."""
+CONTACT_FORCE_MARGIN_N = 30.0
+"""A contact statement's force range: twice its FORCE (or UNTIL threshold) plus this [N]
+(impacts on touching, a force loop's overshoot)."""
+FORCE_TICKS = 3
+"""Ticks in a row above the range before the stop (a one-tick impact spike is not a stop)."""
+PATH_DEVIATION_M = 0.05
+"""Largest distance of the measured tool point from its commanded line [m]."""
+SATURATION_S = 0.05
+"""A drive at its torque limit this long is a protective stop [s]."""
+SATURATION_FRACTION = 0.999
+"""A torque at or above this fraction of its limit counts as at the limit."""
+CONTACT_GONE_S = 0.05
+"""A contact the tool had at a statement's start stays allowed until gone this long [s]."""
+
+
+_RATING2 = WRIST_SENSOR.force_n**2
+
+
+class Role(IntEnum):
+    """What a geom belongs to, for the contact supervision."""
+
+    NONE = 0  # touches nothing (contype = conaffinity = 0) or not named
+    LINK = 1
+    TOOL = 2
+    FIXTURE = 3  # table, hole, plate, floor
+    OBSTACLE = 4  # an OBSTACLE slot
+
+
+class StopKind(IntEnum):
+    """Why the supervisor stopped the arm."""
+
+    CONTACT = 1
+    FORCE = 2
+    PATH = 3
+    DRIVE = 4
+
+
+@dataclass(frozen=True)
+class ProtectiveStop:
+    """A hazard the supervisor found.
+
+    Attributes:
+        kind: Which supervision tripped.
+        message: ``protective stop: link 3 hit obstacle 'ball' at 2.31 s, 14.2 N``.
+        collision: For a contact, ``link3 touches ball`` (the ``collision`` event's reason); else "".
+    """
+
+    kind: StopKind
+    message: str
+    collision: str = ""
+
+
+def _has_force_term(condition: Condition | None) -> tuple[bool, float]:
+    """Whether an UNTIL compares a force or moment, and its largest threshold [N or N m]."""
+    if condition is None:
+        return False, 0.0
+    if isinstance(condition, AllOf | AnyOf):
+        found, largest = False, 0.0
+        for term in condition.terms:
+            has, value = _has_force_term(term)
+            found, largest = found or has, max(largest, value)
+        return found, largest
+    if condition.quantity is Quantity.DISTANCE:
+        return False, 0.0
+    return True, abs(condition.value)
+
+
+def expects_contact(segment: Segment) -> bool:
+    """Whether the statement holds or seeks the tool's contact with the fixtures."""
+    if segment.kind in (SegmentKind.CONTACT_APPROACH, SegmentKind.CONTACT_HOLD):
+        return True
+    if segment.kind in (SegmentKind.SLIDE, SegmentKind.INSERT):
+        return True
+    if not bool(np.all(segment.motion_axes)):
+        return True  # a contact held (force-controlled axes)
+    return any(s is not None and s > 0.0 for s in segment.stiffness)  # a COMPLY spring
+
+
+def force_limit_n(segment: Segment, free_limit_n: float) -> float:
+    """The largest force the statement may see at the wrist [N] (module docstring).
+
+    Args:
+        segment: The running segment.
+        free_limit_n: The free-motion limit in force (default or ``LIMIT FORCE``).
+    """
+    limit = free_limit_n
+    guarded, threshold = _has_force_term(segment.until)
+    if guarded:
+        limit = max(limit, 2.0 * threshold + CONTACT_FORCE_MARGIN_N)
+    if expects_contact(segment):
+        setpoint = float(np.max(np.abs(segment.force_setpoint[:3])))
+        limit = max(limit, 2.0 * setpoint + CONTACT_FORCE_MARGIN_N)
+    return min(limit, WRIST_SENSOR.force_n)
+
+
+def _roles(plant: Plant) -> np.ndarray:
+    model = plant.model
+    roles = np.zeros(model.ngeom, dtype=np.int8)
+    for geom, owner in enumerate(plant.geom_owners):
+        if model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0:
+            continue
+        if owner in LINK_BODIES:
+            roles[geom] = Role.LINK
+        elif owner == TOOL_BODY:
+            roles[geom] = Role.TOOL
+        elif owner.startswith(SLOT_PREFIX):
+            roles[geom] = Role.OBSTACLE
+        elif owner in FIXTURES or owner == "world":
+            roles[geom] = Role.FIXTURE
+    roles.setflags(write=False)
+    return roles
+
+
+def _arm_part(owner: str) -> str:
+    """``link3`` -> ``link 3``; ``tool`` stays."""
+    return f"link {owner.removeprefix('link')}" if owner.startswith("link") else owner
+
+
+class Supervisor:
+    """Watches one arm every tick (module docstring); reset at every segment.
+
+    Args:
+        plant: The workcell (its contact list, its drives' limits).
+        torque_limits_nm: The drives' symmetric torque limits [N m]. # (6,)
+        servo_dt_s: Servo period [s].
+    """
+
+    def __init__(self, plant: Plant, torque_limits_nm: FloatArray, servo_dt_s: float):
+        self._plant = plant
+        self._data = plant.data
+        self._roles = _roles(plant)
+        self._roles_list = self._roles.tolist()
+        self._owners = plant.geom_owners
+        self._saturated_at = SATURATION_FRACTION * np.asarray(torque_limits_nm, dtype=float)
+        self._torque_limits = np.asarray(torque_limits_nm, dtype=float)
+        self._saturated_ticks = np.zeros(6, dtype=np.int64)
+        self._saturation_ticks = max(1, round(SATURATION_S / servo_dt_s))
+        self._gone_ticks = max(1, round(CONTACT_GONE_S / servo_dt_s))
+        self._dt_s = servo_dt_s
+        self.free_force_limit_n = FREE_MOTION_FORCE_N
+        """The free-motion force limit now in force [N] (``LIMIT FORCE`` sets it)."""
+        self.obstacle_names: Mapping[str, str] = {}
+        """MuJoCo body name of each occupied obstacle slot -> the obstacle's name."""
+        self.field_acting = False
+        """Set by the executor while an obstacle's field acts: the path is not supervised."""
+        self._segment: Segment | None = None
+        self._expect_fixture = False
+        self._guarded = False
+        self._force_limit2 = FREE_MOTION_FORCE_N**2
+        self._force_limit = FREE_MOTION_FORCE_N
+        self._over = 0
+        self._inherited = False
+        self._since_touch = 0
+        self._line_start = np.zeros(3)
+        self._line_end = np.zeros(3)
+        self._path_mask = np.zeros((0, 3))  # rows: the task frame's free translation axes, world
+
+    # --------------------------------------------------------------- segments
+
+    def start(self, segment: Segment, position: FloatArray, goal_position: FloatArray) -> None:
+        """A segment starts at the measured tool point ``position`` toward ``goal_position``."""
+        self._segment = segment
+        self._expect_fixture = expects_contact(segment)
+        self._guarded = _has_force_term(segment.until)[0]
+        self._force_limit = force_limit_n(segment, self.free_force_limit_n)
+        self._force_limit2 = self._force_limit**2
+        self._over = 0
+        self._saturated_ticks[:] = 0
+        self._inherited = self._tool_touches_fixture()
+        self._since_touch = 0
+        rows = [
+            segment.frame_rotation[:, i]
+            for i in range(3)
+            if segment.motion_axes[i] and segment.stiffness[i] is None
+        ]
+        self._path_mask = np.array(rows, dtype=float).reshape(len(rows), 3)
+        self.leg(position, goal_position)
+
+    def leg(self, start: FloatArray, end: FloatArray) -> None:
+        """The commanded straight line changes (a VIA point passed): from ``start`` to ``end``."""
+        self._line_start = np.array(start, dtype=float)
+        self._line_end = np.array(end, dtype=float)
+
+    @property
+    def force_limit(self) -> float:
+        """The running segment's force limit [N]."""
+        return self._force_limit
+
+    # ------------------------------------------------------------------ ticks
+
+    def check(
+        self, t_s: float, wrench: FloatArray, torque: FloatArray, position: FloatArray
+    ) -> ProtectiveStop | None:
+        """The hazard found at this tick, if any.
+
+        Args:
+            t_s: Simulated time [s].
+            wrench: The wrench the tool applies, as the wrist sensor gave it, world [N, N m]. # (6,)
+            torque: The torques the drives apply [N m]. # (6,)
+            position: The measured tool point, world [m]. # (3,)
+        """
+        if self._data.ncon:
+            stop = self._contacts(t_s)
+            if stop is not None:
+                return stop
+        elif self._inherited:
+            self._since_touch += 1
+            if self._since_touch >= self._gone_ticks:
+                self._inherited = False
+        fx, fy, fz = wrench[0], wrench[1], wrench[2]
+        if fx * fx + fy * fy + fz * fz > (_RATING2 if self._inherited else self._force_limit2):
+            self._over += 1
+            if self._over >= FORCE_TICKS:
+                push = math.sqrt(fx * fx + fy * fy + fz * fz)
+                limit = WRIST_SENSOR.force_n if self._inherited else self._force_limit
+                return ProtectiveStop(
+                    StopKind.FORCE,
+                    f"protective stop: {push:.1f} N at the wrist at {t_s:.2f} s, above this "
+                    f"statement's limit of {limit:g} N",
+                )
+        else:
+            self._over = 0
+        saturated = np.abs(torque) >= self._saturated_at
+        if saturated.any():
+            ticks = self._saturated_ticks
+            ticks += saturated
+            ticks *= saturated
+            worst = int(np.argmax(ticks))
+            if ticks[worst] >= self._saturation_ticks:
+                return ProtectiveStop(
+                    StopKind.DRIVE,
+                    f"protective stop: drive {worst + 1} at its torque limit of "
+                    f"{self._torque_limits[worst]:g} N m for {ticks[worst] * self._dt_s * 1e3:.0f} ms "
+                    f"at {t_s:.2f} s",
+                )
+        elif self._saturated_ticks.any():
+            self._saturated_ticks[:] = 0
+        if self._path_mask.shape[0] and not self.field_acting:
+            off = path_deviation(position, self._line_start, self._line_end, self._path_mask)
+            if off > PATH_DEVIATION_M:
+                return ProtectiveStop(
+                    StopKind.PATH,
+                    f"protective stop: the tool is {off * 1e3:.0f} mm off its path at {t_s:.2f} s "
+                    f"(limit {PATH_DEVIATION_M * 1e3:g} mm)",
+                )
+        return None
+
+    def _tool_touches_fixture(self) -> bool:
+        data = self._data
+        if not data.ncon:
+            return False
+        roles = self._roles_list
+        for g1, g2 in data.contact.geom.tolist():
+            pair = {roles[g1], roles[g2]}
+            if pair == {Role.TOOL, Role.FIXTURE}:
+                return True
+        return False
+
+    def _contacts(self, t_s: float) -> ProtectiveStop | None:
+        """A stop for the first contact the statement does not expect; tracks inherited ones."""
+        roles = self._roles_list
+        touching_fixture = False
+        for index, (g1, g2) in enumerate(self._data.contact.geom.tolist()):
+            r1, r2 = roles[g1], roles[g2]
+            if r1 == Role.LINK or r1 == Role.TOOL:
+                arm, other, r_other = g1, g2, r2
+            elif r2 == Role.LINK or r2 == Role.TOOL:
+                arm, other, r_other = g2, g1, r1
+            else:
+                continue
+            if r_other == Role.LINK or r_other == Role.TOOL or r_other == Role.NONE:
+                continue  # the arm's own parts (MuJoCo filters these; kept for safety)
+            if roles[arm] == Role.TOOL:
+                if r_other == Role.FIXTURE:
+                    touching_fixture = True
+                    if self._expect_fixture or self._guarded or self._inherited:
+                        continue
+                elif self._guarded:
+                    continue
+            return self._contact_stop(index, arm, other, r_other, t_s)
+        if self._inherited:
+            self._since_touch = 0 if touching_fixture else self._since_touch + 1
+            if self._since_touch >= self._gone_ticks:
+                self._inherited = False
+        return None
+
+    def _contact_stop(self, index: int, arm: int, other: int, role: int, t_s: float) -> ProtectiveStop:
+        plant = self._plant
+        force = np.zeros(6)
+        mujoco.mj_contactForce(plant.model, self._data, index, force)
+        owner = self._owners[other]
+        if role == Role.OBSTACLE:
+            name = self.obstacle_names.get(owner, owner)
+            what = f"obstacle '{name}'"
+        elif owner == "world":
+            name, what = "floor", "the floor"
+        else:
+            name, what = owner, f"fixture '{owner}'"
+        arm_owner = self._owners[arm]
+        return ProtectiveStop(
+            StopKind.CONTACT,
+            f"protective stop: {_arm_part(arm_owner)} hit {what} at {t_s:.2f} s, {abs(force[0]):.1f} N",
+            collision=f"{arm_owner} touches {name}",
+        )
+
+
+def path_deviation(position: FloatArray, start: FloatArray, end: FloatArray, axes: FloatArray) -> float:
+    """Distance of ``position`` from the segment ``start``-``end`` along the rows of ``axes`` [m].
+
+    Args:
+        position: The measured tool point, world [m]. # (3,)
+        start: The line's start, world [m]. # (3,)
+        end: Its end, world [m]. # (3,)
+        axes: Orthonormal world directions the distance is measured along. # (k, 3)
+    """
+    line = end - start
+    length2 = float(line.dot(line))
+    along = 0.0 if length2 < 1e-12 else min(1.0, max(0.0, float((position - start).dot(line)) / length2))
+    off = position - (start + along * line)
+    return float(np.linalg.norm(axes.dot(off)))

@@ -1,0 +1,95 @@
+"""The protective stops' and the stall diagnosis' pieces, without a run; and the checker's limits."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cosmos.errors import ProgramError
+from cosmos.execution.arrival import stall_cause
+from cosmos.execution.supervision import SATURATION_S, Supervisor, path_deviation
+from cosmos.lang import compile_program
+from cosmos.obstacles import obstacle_scene_xml
+from cosmos.plant import Plant
+from cosmos.robot_model import build_robot_model
+from cosmos.workcell import HOME_Q, fixture_frames
+
+ROBOT = build_robot_model()
+TOOL_DOWN = np.diag([1.0, -1.0, -1.0])
+
+
+def test_path_deviation_is_the_distance_to_the_segment_on_the_given_axes() -> None:
+    """A tool pushed sideways off its line must be measured as off it, not along it."""
+    start, end = np.zeros(3), np.array([1.0, 0.0, 0.0])
+    axes = np.eye(3)
+    assert path_deviation(np.array([0.5, 0.03, 0.04]), start, end, axes) == pytest.approx(0.05)
+    assert path_deviation(np.array([1.5, 0.0, 0.0]), start, end, axes) == pytest.approx(0.5)  # past the end
+    only_y = np.array([[0.0, 1.0, 0.0]])  # z force-controlled: not the path's business
+    assert path_deviation(np.array([0.5, 0.03, 0.04]), start, end, only_y) == pytest.approx(0.03)
+
+
+def _cause(q: np.ndarray, goal: np.ndarray, push_n: float = 0.0) -> str:
+    jacobian = np.eye(6)
+    return stall_cause(q, ROBOT.q_lower_rad, ROBOT.q_upper_rad, jacobian, push_n, goal, TOOL_DOWN)
+
+
+def test_a_joint_at_its_limit_is_named() -> None:
+    """A goal blocked by a joint limit was reported as "out of the arm's reach"."""
+    q = np.array(HOME_Q)
+    q[5] = ROBOT.q_upper_rad[5] - math.radians(0.5)
+    assert _cause(q, np.array([0.5, 0.0, 0.4])) == "joint 6 at its limit of 266 deg"
+
+
+def test_the_wrist_singularity_is_named() -> None:
+    """A roll at q5 = 1 deg that could not progress was reported as out of reach."""
+    q = np.array(HOME_Q)
+    q[4] = math.radians(1.0)
+    assert "wrist is at its singularity (joint 5 at 1.0 deg" in _cause(q, np.array([0.5, 0.0, 0.4]))
+
+
+def test_out_of_reach_only_when_it_is() -> None:
+    """ "Out of reach" must come from the goal's distance, not from any stall."""
+    assert "out of the arm's reach" in _cause(np.array(HOME_Q), np.array([2.0, 0.0, 0.5]))
+    assert "blocked, pushing 9.0 N" in _cause(np.array(HOME_Q), np.array([0.5, 0.0, 0.4]), push_n=9.0)
+
+
+def test_a_drive_at_its_limit_for_50_ms_is_a_protective_stop() -> None:
+    """Three drives sat at their torque limits while an obstacle pushed the arm, without a word."""
+    plant = Plant(obstacle_scene_xml())
+    limits = np.minimum(-ROBOT.tau_lower_nm, ROBOT.tau_upper_nm)
+    supervisor = Supervisor(plant, limits, 0.001)
+    plan = compile_program("WAIT 1 s\n", "w.cos", fixture_frames())
+    position = plant.data.site_xpos[-1].copy()
+    supervisor.start(plan.segments[0], position, position)
+    torque = np.zeros(6)
+    torque[2] = -limits[2]
+    ticks = round(SATURATION_S / 0.001)
+    stops = [supervisor.check(i * 0.001, np.zeros(6), torque, position) for i in range(ticks)]
+    assert stops[:-1] == [None] * (ticks - 1)
+    assert stops[-1] is not None
+    assert stops[-1].message.startswith("protective stop: drive 3 at its torque limit of 89.4 N m for 50 ms")
+
+
+@pytest.mark.parametrize(
+    ("program", "message"),
+    [
+        ("CONTACT DOWN FORCE 5000 N\n", "FORCE 5000 N is out of its range: at most 130 N (the wrist sensor"),
+        ("SPEED 1e-300 m/s\n", "SPEED 1e-300 m/s is out of its range: at least 0.1 mm/s"),
+        ("MOVE BY (1e305 mm, 0, 0)\n", "MOVE BY (1e305 mm, 0, 0) is out of its range: at most 2000 mm"),
+        ("WAIT 1e308 s\n", "WAIT 1e308 s is out of its range: at most 3600 s (one hour)"),
+        ("WAIT UNTIL FORCE > 2 N TIMEOUT 120 min\n", "TIMEOUT 120 min is out of its range: at most 3600 s"),
+        ("MOVE BY (0, 0, 100 mm) IN 1e-300 s\n", "IN 1e-300 s is out of its range: at least 0.001 s"),
+        ("MOVE BY (0, 0, 100 mm) IN 0.1 s\n", "the shortest feasible duration is 0.34 s"),
+        (
+            "MOVE BY (0, 0, -10 mm) UNTIL FORCE > 500 N\n",
+            "UNTIL FORCE 500 N is out of its range: at most 130 N",
+        ),
+    ],
+)
+def test_requests_beyond_the_workcell_are_check_errors(program: str, message: str) -> None:
+    """``CONTACT DOWN FORCE 5000 N`` was a warning and pressed 405 N; ``WAIT 1e308 s`` ran for ever."""
+    with pytest.raises(ProgramError) as error:
+        compile_program(program, "limits.cos", fixture_frames())
+    assert message in error.value.message
