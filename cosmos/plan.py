@@ -362,6 +362,8 @@ class Segment:
             (a CONTACT_HOLD carries its CONTACT's TIMEOUT, which bounds only the
             search for the surface: the hold is bounded by ``ForceSettled.max_time_s``).
         jam_check: INSERT only: when to fail as jammed.
+        force_limit_n: The protective stop's force limit in free motion set by the last
+            ``LIMIT FORCE`` [N]; None for the executor's default.
     """
 
     index: int
@@ -386,6 +388,7 @@ class Segment:
     until: Condition | None
     timeout_s: float | None
     jam_check: JamCheck | None
+    force_limit_n: float | None = None
 
     @property
     def force_axes(self) -> BoolArray:
@@ -558,6 +561,7 @@ def segment_to_json(segment: Segment) -> dict[str, Any]:
         "timeout": segment.timeout_s,
         "completion": _completion_json(segment.completion),
         "until": None if segment.until is None else condition_to_json(segment.until),
+        "force_limit": segment.force_limit_n,
         "jam_check": None
         if segment.jam_check is None
         else {

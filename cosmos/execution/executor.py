@@ -25,7 +25,7 @@ from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict,
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
-from cosmos.execution.supervision import Supervisor
+from cosmos.execution.supervision import FREE_MOTION_FORCE_N, Supervisor
 from cosmos.lang.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
@@ -186,6 +186,7 @@ class Executor:
             cause,
         )
         supervisor = self.supervisor
+        supervisor.free_force_limit_n = segment.force_limit_n or FREE_MOTION_FORCE_N
         supervisor.start(segment, start_position, goals[0][0])
         via_radius = segment.via_radius_m or 0.01
         ticks = 0

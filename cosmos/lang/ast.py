@@ -63,6 +63,7 @@ __all__ = [  # the statements and clauses here, and the parts of cosmos.lang.exp
     "RemoveObstacle",
     "Repeat",
     "Sensed",
+    "SetLimit",
     "SetSpeed",
     "Shape",
     "Slide",
@@ -246,6 +247,14 @@ class SetSpeed:
 
 
 @dataclass(frozen=True)
+class SetLimit:
+    """``LIMIT FORCE f``: the protective stop's force limit in free motion, for what follows."""
+
+    value: Expr
+    span: Span
+
+
+@dataclass(frozen=True)
 class Wait:
     """``WAIT [t] [UNTIL c] [TIMEOUT t]``."""
 
@@ -293,6 +302,7 @@ Statement = (
     | Let
     | FrameDef
     | SetSpeed
+    | SetLimit
     | Wait
     | ProcDef
     | Repeat

@@ -72,7 +72,7 @@ def test_ctrl_c_mid_motion_stops_the_arm_and_returns_to_the_prompt(session: Driv
 
 
 def test_the_arm_holds_where_it_stopped(session: Driven) -> None:
-    stopped = next(e for e in session.log.events if e.kind == "stopped")
+    stopped = next(e for e in session.log.events if e.kind == "interrupted")
     after_wait = session.position_at(session.done_time("WAIT 0.3 s"))
     assert np.linalg.norm(after_wait - session.position_at(stopped.t)) < 5e-3
 

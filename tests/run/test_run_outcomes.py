@@ -156,3 +156,21 @@ def test_statement_text_keeps_its_final_parenthesis(tmp_path: Path) -> None:
     assert {e.statement for e in run.log.events} == {statement}
     kind, reason, _ = _outcome(run, 1)
     assert kind == "stopped" and reason.startswith("UNTIL (DISTANCE > 20 mm AND FORCE < 1 N): "), reason
+
+
+def test_limit_force_sets_the_free_motion_limit(tmp_path: Path) -> None:
+    """The free-motion force limit must be settable per program (``LIMIT FORCE``), and enforced.
+
+    A move from rest puts the tool's own inertia on the wrist sensor (several N):
+    within the default 20 N, beyond a LIMIT of 0.5 N.
+    """
+    motion = "MOVE BY (0, 0, -100 mm) SPEED 0.25 m/s\n"
+    free = run_in_process(write_program(tmp_path, "free", motion), tmp_path / "free.mcap")
+    assert free.returncode == 0, free.describe()
+    limited = run_in_process(
+        write_program(tmp_path, "lim", "LIMIT FORCE 0.5 N\n" + motion), tmp_path / "l.mcap"
+    )
+    assert limited.returncode == 1, limited.describe()
+    kind, reason, _ = _outcome(limited, 2)
+    assert kind == "failed" and "above this statement's limit of 0.5 N" in reason, reason
+    assert limited.events("protective_stop", line=2)

@@ -25,9 +25,14 @@ def compile_speed(run: CompileContext, statement: ast.SetSpeed, state: CompileSt
     """Set the default speed of the motion statements that follow."""
     speed = run.evaluator_for(state).expect_scalar(statement.value, units.SPEED, "SPEED")
     _positive(speed, statement.value.span, "SPEED")
-    if speed > 1.5:
-        run.warn(f"SPEED {speed:g} m/s is faster than the PUMA 560 moves its tool", statement.value.span)
     return replace(state, default_speed_mps=speed)
+
+
+def compile_limit(run: CompileContext, statement: ast.SetLimit, state: CompileState) -> CompileState:
+    """Set the free-motion force limit of the protective stop for the statements that follow."""
+    force = run.evaluator_for(state).expect_scalar(statement.value, units.FORCE, "LIMIT FORCE")
+    _positive(force, statement.value.span, "LIMIT FORCE")
+    return replace(state, force_limit_n=force)
 
 
 def compile_definition(
@@ -96,6 +101,7 @@ def _not_negative(value: float, span: Span, what: str) -> None:
 
 HANDLERS: dict[type, Handler] = {
     ast.SetSpeed: compile_speed,
+    ast.SetLimit: compile_limit,
     ast.Let: compile_definition,
     ast.FrameDef: compile_definition,
     ast.Comply: compile_comply,

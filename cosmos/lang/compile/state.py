@@ -148,6 +148,7 @@ class CompileState:
         called: Case-folded names of procedures called so far.
         statement_count: Motion statements compiled so far (next statement_index).
         segment_count: Segments emitted so far (next segment index).
+        force_limit_n: Free-motion force limit set by the last LIMIT FORCE [N], or None.
     """
 
     default_speed_mps: float
@@ -160,6 +161,7 @@ class CompileState:
     called: frozenset[str] = frozenset()
     statement_count: int = 0
     segment_count: int = 0
+    force_limit_n: float | None = None
 
     def bind(self, key: str, binding: Binding) -> CompileState:
         """A state with ``key`` bound."""

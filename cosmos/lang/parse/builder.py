@@ -93,6 +93,9 @@ class _Builder(Transformer):
     def speed(self, children: list[Any]) -> ast.SetSpeed:
         return ast.SetSpeed(children[1], span_of(children))
 
+    def limit(self, children: list[Any]) -> ast.SetLimit:
+        return ast.SetLimit(children[-1], span_of(children))
+
     def comply(self, children: list[Any]) -> ast.Comply:
         return ast.Comply(children[1], tuple(children[2:]), span_of(children))
 

@@ -112,5 +112,6 @@ class MotionBuilderBase:
             until=until,
             timeout_s=timeout,
             jam_check=jam_check,
+            force_limit_n=self.state.force_limit_n,
         )
         self._segments.append(segment)
