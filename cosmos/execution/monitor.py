@@ -42,6 +42,8 @@ STALL_TIME_S = 2.0
 STALL_PROGRESS_M = 0.0005
 STALL_ANGLE_SCALE_M = 0.1
 """Progress in orientation counts as this many metres per radian."""
+JUDGE_MOVING_EVERY = 10
+"""While the tool moves, its error (for a stall or an overrun) is judged every this many ticks."""
 SETTLE_S = 0.02
 """The tool must stay within tolerance and at rest this long to have arrived [s]."""
 TIMED_SETTLE_S = 1.0
@@ -112,13 +114,13 @@ class SegmentMonitor:
         self.segment = segment
         self.goal_position, self.goal_rotation = goal
         self.stall_cause = stall_cause
-        self.last_error: GoalError | None = None
         self.start_s = start_s
         self.start_position = start_position
         self.statement_start_s = statement_start_s
         self.statement_start_position = statement_start_position
         self.timed_until_s = timed_until_s
         self._settled_since: float | None = None
+        self._ticks = 0
         self._closest_m = float("inf")
         self._closest_s = start_s
         self._last_depth = 0.0
@@ -193,11 +195,13 @@ class SegmentMonitor:
         return None
 
     def _goal_reached(self, snap: Snapshot, goal: GoalReached) -> Outcome | None:
-        error = goal_error(snap.position, snap.rotation, self.goal_position, self.goal_rotation)
-        self.last_error = error
         timed = self.timed_until_s
         if timed is not None and snap.t_s < timed:
             return None
+        self._ticks += 1
+        if _norm3(snap.velocity[:3]) > goal.speed_tolerance_mps and self._ticks % JUDGE_MOVING_EVERY:
+            return None  # on its way: the error is judged now and then (stall, overrun)
+        error = goal_error(snap.position, snap.rotation, self.goal_position, self.goal_rotation)
         r_t = self._rotation_t
         position_error = r_t.dot(error.position_m)[self._motion[:3]]
         rotation_error = r_t.dot(error.rotation_rad)[self._motion[3:]]

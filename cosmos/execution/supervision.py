@@ -22,6 +22,9 @@ FCSupv) or reflexes (Franka), every servo tick the executor asks a
   on a COMPLY spring's axes).
 - **drive**: a joint's torque at its drive's limit for :data:`SATURATION_S`.
 
+Contacts and force are looked at every tick; the path and the drives every
+:data:`SLOW_CHECK_EVERY` ticks, which keeps the cost per tick near 2 us.
+
 Each is a :class:`ProtectiveStop` naming what, where and how hard; the executor
 ends the statement as failed, logs ``protective_stop`` (and ``collision`` for a
 contact) and holds the arm.
@@ -60,6 +63,9 @@ PATH_DEVIATION_M = 0.05
 """Largest distance of the measured tool point from its commanded line [m]."""
 SATURATION_S = 0.05
 """A drive at its torque limit this long is a protective stop [s]."""
+SLOW_CHECK_EVERY = 4
+"""The path and the drives are looked at every this many ticks (4 ms: 4 mm at 1 m/s);
+contacts and force every tick."""
 SATURATION_FRACTION = 0.999
 """A torque at or above this fraction of its limit counts as at the limit."""
 CONTACT_GONE_S = 0.05
@@ -184,10 +190,11 @@ class Supervisor:
         self._roles = _roles(plant)
         self._roles_list = self._roles.tolist()
         self._owners = plant.geom_owners
-        self._saturated_at = SATURATION_FRACTION * np.asarray(torque_limits_nm, dtype=float)
-        self._torque_limits = np.asarray(torque_limits_nm, dtype=float)
-        self._saturated_ticks = np.zeros(6, dtype=np.int64)
-        self._saturation_ticks = max(1, round(SATURATION_S / servo_dt_s))
+        self._torque_limits = [float(t) for t in torque_limits_nm]
+        self._saturated_at = [SATURATION_FRACTION * t for t in self._torque_limits]
+        self._saturated_ticks = [0] * len(self._torque_limits)
+        self._saturation_looks = max(1, math.ceil(SATURATION_S / (SLOW_CHECK_EVERY * servo_dt_s) - 1e-9))
+        self._tick = 0
         self._gone_ticks = max(1, round(CONTACT_GONE_S / servo_dt_s))
         self._dt_s = servo_dt_s
         self.free_force_limit_n = FREE_MOTION_FORCE_N
@@ -204,9 +211,9 @@ class Supervisor:
         self._over = 0
         self._inherited = False
         self._since_touch = 0
-        self._line_start = np.zeros(3)
-        self._line_end = np.zeros(3)
-        self._path_mask = np.zeros((0, 3))  # rows: the task frame's free translation axes, world
+        # The commanded line as floats (the check runs every tick): start, direction, length^2.
+        self._line: tuple[tuple[float, ...], tuple[float, ...], float] = ((0.0,) * 3, (0.0,) * 3, 0.0)
+        self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
 
     # --------------------------------------------------------------- segments
 
@@ -218,21 +225,25 @@ class Supervisor:
         self._force_limit = force_limit_n(segment, self.free_force_limit_n)
         self._force_limit2 = self._force_limit**2
         self._over = 0
-        self._saturated_ticks[:] = 0
+        self._saturated_ticks = [0] * len(self._saturated_at)
+        self._tick = 0
         self._inherited = self._tool_touches_fixture()
         self._since_touch = 0
-        rows = [
-            segment.frame_rotation[:, i]
+        self._path_axes = [
+            tuple(segment.frame_rotation[:, i].tolist())
             for i in range(3)
             if segment.motion_axes[i] and segment.stiffness[i] is None
         ]
-        self._path_mask = np.array(rows, dtype=float).reshape(len(rows), 3)
         self.leg(position, goal_position)
 
     def leg(self, start: FloatArray, end: FloatArray) -> None:
         """The commanded straight line changes (a VIA point passed): from ``start`` to ``end``."""
-        self._line_start = np.array(start, dtype=float)
-        self._line_end = np.array(end, dtype=float)
+        line = np.asarray(end, dtype=float) - start
+        self._line = (
+            tuple(np.asarray(start, dtype=float).tolist()),
+            tuple(line.tolist()),
+            float(line @ line),
+        )
 
     @property
     def force_limit(self) -> float:
@@ -260,7 +271,7 @@ class Supervisor:
             self._since_touch += 1
             if self._since_touch >= self._gone_ticks:
                 self._inherited = False
-        fx, fy, fz = wrench[0], wrench[1], wrench[2]
+        fx, fy, fz = wrench[:3].tolist()
         if fx * fx + fy * fy + fz * fz > (_RATING2 if self._inherited else self._force_limit2):
             self._over += 1
             if self._over >= FORCE_TICKS:
@@ -273,23 +284,24 @@ class Supervisor:
                 )
         else:
             self._over = 0
-        saturated = np.abs(torque) >= self._saturated_at
-        if saturated.any():
-            ticks = self._saturated_ticks
-            ticks += saturated
-            ticks *= saturated
-            worst = int(np.argmax(ticks))
-            if ticks[worst] >= self._saturation_ticks:
-                return ProtectiveStop(
-                    StopKind.DRIVE,
-                    f"protective stop: drive {worst + 1} at its torque limit of "
-                    f"{self._torque_limits[worst]:g} N m for {ticks[worst] * self._dt_s * 1e3:.0f} ms "
-                    f"at {t_s:.2f} s",
-                )
-        elif self._saturated_ticks.any():
-            self._saturated_ticks[:] = 0
-        if self._path_mask.shape[0] and not self.field_acting:
-            off = path_deviation(position, self._line_start, self._line_end, self._path_mask)
+        self._tick += 1
+        if self._tick % SLOW_CHECK_EVERY:
+            return None
+        ticks = self._saturated_ticks
+        for joint, (tau, limit) in enumerate(zip(torque.tolist(), self._saturated_at, strict=True)):
+            if tau >= limit or -tau >= limit:
+                ticks[joint] += 1
+                if ticks[joint] >= self._saturation_looks:
+                    held_ms = ticks[joint] * SLOW_CHECK_EVERY * self._dt_s * 1e3
+                    return ProtectiveStop(
+                        StopKind.DRIVE,
+                        f"protective stop: drive {joint + 1} at its torque limit of "
+                        f"{self._torque_limits[joint]:g} N m for {held_ms:.0f} ms at {t_s:.2f} s",
+                    )
+            else:
+                ticks[joint] = 0
+        if self._path_axes and not self.field_acting:
+            off = _off_line(position.tolist(), *self._line, self._path_axes)
             if off > PATH_DEVIATION_M:
                 return ProtectiveStop(
                     StopKind.PATH,
@@ -355,6 +367,25 @@ class Supervisor:
             f"protective stop: {_arm_part(arm_owner)} hit {what} at {t_s:.2f} s, {abs(force[0]):.1f} N",
             collision=f"{arm_owner} touches {name}",
         )
+
+
+def _off_line(
+    p: list[float],
+    a: tuple[float, ...],
+    d: tuple[float, ...],
+    length2: float,
+    axes: list[tuple[float, ...]],
+) -> float:
+    """:func:`path_deviation` on floats (it runs every tick): ``a`` the start, ``d`` the line."""
+    rx, ry, rz = p[0] - a[0], p[1] - a[1], p[2] - a[2]
+    if length2 > 1e-12:
+        along = min(1.0, max(0.0, (rx * d[0] + ry * d[1] + rz * d[2]) / length2))
+        rx, ry, rz = rx - along * d[0], ry - along * d[1], rz - along * d[2]
+    total = 0.0
+    for ax, ay, az in axes:
+        component = rx * ax + ry * ay + rz * az
+        total += component * component
+    return math.sqrt(total)
 
 
 def path_deviation(position: FloatArray, start: FloatArray, end: FloatArray, axes: FloatArray) -> float:
