@@ -31,8 +31,9 @@ FloatArray = np.ndarray
 
 SHOULDER_M = np.array([0.0, 0.0, 0.67183])
 """Joint 2's axis on joint 1's (DH d1), world [m]: where the arm's reach is measured from."""
-JOINT_LIMIT_MARGIN_RAD = math.radians(2.0)
-"""A joint this close to a limit counts as at it."""
+JOINT_LIMIT_MARGIN_RAD = 0.15
+"""A joint this close to a limit counts as at it: where section 6's joint-limit field
+(rho_0 = 0.15 rad, :class:`cosmos.runtime.parameters.JointLimitField`) pushes it back."""
 WRIST_SINGULAR_RAD = math.radians(3.0)
 """|q5| below this: the wrist singularity (axes 4 and 6 aligned)."""
 SINGULAR_CONDITION = 0.02
@@ -135,10 +136,15 @@ def stall_cause(
     beyond = out_of_reach(goal_position, goal_rotation)
     if beyond is not None:
         return beyond
-    for joint in range(len(q)):
-        for limit in (q_lower[joint], q_upper[joint]):
-            if abs(q[joint] - limit) < JOINT_LIMIT_MARGIN_RAD:
-                return f"joint {joint + 1} at its limit of {math.degrees(limit):.0f} deg"
+    near = [
+        (abs(q[joint] - limit), joint, limit)
+        for joint in range(len(q))
+        for limit in (q_lower[joint], q_upper[joint])
+        if abs(q[joint] - limit) < JOINT_LIMIT_MARGIN_RAD
+    ]
+    if near:
+        _, joint, limit = min(near)
+        return f"joint {joint + 1} at its limit of {math.degrees(limit):.0f} deg"
     if abs(math.sin(q[4])) < math.sin(WRIST_SINGULAR_RAD):
         return (
             f"the wrist is at its singularity (joint 5 at {math.degrees(q[4]):.1f} deg: joints 4 and 6 "

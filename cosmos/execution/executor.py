@@ -266,7 +266,8 @@ class Executor:
         self.hold(HOLD_AFTER_FAILURE_S)
         if self.log is not None:
             self.log.flush()
-        raise TaskFailure(f"{statement_head(segment.statement)} {reason}", segment.span, self._source)
+        joiner = ": " if outcome.stop is not None else " "  # "MOVE BY: protective stop: ..."
+        raise TaskFailure(f"{statement_head(segment.statement)}{joiner}{reason}", segment.span, self._source)
 
     # ------------------------------------------------------------------- log
 

@@ -19,7 +19,7 @@ def test_a_move_into_the_table_is_a_protective_stop_at_the_touch(tmp_path: Path)
     run = run_in_process(write_program(tmp_path, "blocked", INTO_THE_TABLE), tmp_path / "blocked.mcap")
     assert run.returncode == 1
     assert re.search(
-        r"blocked\.cos:1:1: MOVE BY protective stop: tool hit fixture 'table' at \d+\.\d+ s, \d+\.\d N",
+        r"blocked\.cos:1:1: MOVE BY: protective stop: tool hit fixture 'table' at \d+\.\d+ s, \d+\.\d N",
         run.stderr,
     )
     record = read_log(tmp_path / "blocked.mcap")

@@ -174,3 +174,19 @@ def test_limit_force_sets_the_free_motion_limit(tmp_path: Path) -> None:
     kind, reason, _ = _outcome(limited, 2)
     assert kind == "failed" and "above this statement's limit of 0.5 N" in reason, reason
     assert limited.events("protective_stop", line=2)
+
+
+def test_a_goal_blocked_by_a_joint_limit_names_the_joint(tmp_path: Path) -> None:
+    """A goal blocked by a joint limit was reported as "out of the arm's reach".
+
+    From home (joint 6 at 180 deg), turning the tool -120 deg about its axis needs
+    joint 6 at 300 deg, past its 266 deg limit.
+    """
+    program = "MOVE TO (0.5963, -0.15005, 0.4575) RPY (180 deg, 0, -120 deg)\n"
+    run = run_in_process(write_program(tmp_path, "joint6", program), tmp_path / "joint6.mcap")
+    assert run.returncode == 1, run.describe()
+    kind, reason, t = _outcome(run, 1)
+    assert kind == "failed" and reason.endswith("joint 6 at its limit of 266 deg"), reason
+    assert "reach" not in reason.split(";")[-1]
+    q6_deg = math.degrees(run.log.state.q[_at(run, t), 5])
+    assert 266.0 - 8.6 < q6_deg <= 266.0, q6_deg  # within the joint-limit field's 0.15 rad
