@@ -113,6 +113,12 @@ def _scene_at_home() -> tuple[mujoco.MjModel, mujoco.MjData]:
     return model, data
 
 
+def _read_home_tool() -> tuple[np.ndarray, np.ndarray]:
+    model, data = _scene_at_home()
+    site = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)
+    return read_only(data.site_xpos[site]), read_only(data.site_xmat[site].reshape(3, 3))
+
+
 def _read_home_q() -> np.ndarray:
     model, _ = _scene_at_home()
     key = _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
@@ -190,6 +196,9 @@ def fixture_frames() -> dict[str, FixtureFrame]:
 
 HOME_Q: np.ndarray = _read_home_q()
 """Home configuration [rad], ``(6,)``, read-only: the scene's ``home`` keyframe."""
+
+HOME_TOOL_POSITION, HOME_TOOL_ROTATION = _read_home_tool()
+"""Where the tool point is at home, world [m] (3,), and its orientation, tool to world (3, 3)."""
 
 TOOL: ToolSpec = _read_tool()
 """The tool mounted in the scene, as the controller is allowed to know it."""

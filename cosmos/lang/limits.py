@@ -17,8 +17,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from cosmos import plan
+from cosmos.errors import Span
 from cosmos.lang import units
-from cosmos.workcell import ARM_CAPABILITY, WRIST_SENSOR
+from cosmos.workcell import ARM_CAPABILITY, HOME_TOOL_POSITION, HOME_TOOL_ROTATION, WRIST_SENSOR
 
 MAX_DURATION_S = 3600.0
 """Longest WAIT, TIMEOUT or timed move [s]: one hour."""
@@ -190,6 +194,47 @@ def timed_move_problem(distance_m: float, angle_rad: float, duration_s: float) -
         f"cannot move {distance_m * 1e3:.0f} mm"
         + (f" and turn {math.degrees(angle_rad):.0f} deg" if angle_rad > 1e-9 else "")
         + f" in {duration_s:g} s: the shortest feasible duration is {math.ceil(shortest * 100) / 100:g} s "
-        f"(tool speed at most {ARM_CAPABILITY.tool_speed_mps:g} m/s, acceleration at most "
-        f"{ARM_CAPABILITY.tool_acceleration_mps2:g} m/s^2)"
+        f"(the tool at most {ARM_CAPABILITY.tool_speed_mps:g} m/s and "
+        f"{ARM_CAPABILITY.tool_acceleration_mps2:g} m/s^2, its rotation at most "
+        f"{ARM_CAPABILITY.angular_speed_rad_s:g} rad/s and "
+        f"{ARM_CAPABILITY.angular_acceleration_rad_s2:g} rad/s^2)"
     )
+
+
+def first_infeasible_timed_move(steps: tuple[plan.Step, ...]) -> tuple[str, Span] | None:
+    """The first timed ``MOVE TO`` the arm cannot do in its time, where its start is known.
+
+    The tool starts at home; after a MOVE that ends where it was sent (no UNTIL) the
+    tool is known to be at its goal; after anything else (a contact, a slide, a
+    stopped motion) it is not known until the next such MOVE. (A timed MOVE BY is
+    judged at the statement, its distance being known without this.)
+
+    Returns:
+        The check error and the statement's span, or None.
+    """
+    position: np.ndarray | None = np.array(HOME_TOOL_POSITION)
+    rotation = np.array(HOME_TOOL_ROTATION)
+    for step in steps:
+        if not isinstance(step, plan.Segment):
+            continue
+        target = step.target
+        goal_rotation = rotation
+        if isinstance(target, plan.AbsoluteTarget) and target.rotation_world is not None:
+            goal_rotation = np.asarray(target.rotation_world)
+        if step.duration_s is not None and position is not None and isinstance(target, plan.AbsoluteTarget):
+            distance = float(np.linalg.norm(np.asarray(target.position_world) - position))
+            cosine = (float(np.trace(rotation.T @ goal_rotation)) - 1.0) / 2.0
+            angle = math.acos(min(1.0, max(-1.0, cosine)))
+            problem = timed_move_problem(distance, angle, step.duration_s)
+            if problem is not None:
+                return f"from where the program leaves the tool, the arm {problem}", step.span
+        holds_everything = bool(np.all(step.motion_axes)) and step.until is None
+        if step.kind is plan.SegmentKind.WAIT and holds_everything:
+            continue  # the pose is held
+        if step.kind is not plan.SegmentKind.MOVE or not holds_everything:
+            position = None  # a contact, a slide, a spring, a stop: where it ends is not known
+        elif isinstance(target, plan.AbsoluteTarget):
+            position, rotation = np.asarray(target.position_world), goal_rotation
+        elif isinstance(target, plan.RelativeTarget) and position is not None:
+            position = position + target.offset_world
+    return None

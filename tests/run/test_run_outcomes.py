@@ -12,9 +12,13 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 from run_support import ProgramRun, run_in_process, write_program
 
+from cosmos.errors import ProgramError
+from cosmos.lang import compile_program
 from cosmos.replay.timeline import statement_timeline
+from cosmos.workcell import fixture_frames
 
 
 def _rpy(roll_deg: float, pitch_deg: float, yaw_deg: float) -> np.ndarray:
@@ -50,16 +54,29 @@ def _outcome(run: ProgramRun, line: int) -> tuple[str, str, float]:
     return event.kind, event.reason, event.t
 
 
-def test_a_timed_move_the_arm_cannot_do_fails_without_claiming_done(tmp_path: Path) -> None:
+def test_a_timed_move_the_arm_cannot_do_is_a_check_error(tmp_path: Path) -> None:
     """``MOVE TO ... IN 1 ms`` was "done" at 1 ms with the tool 515 mm from its goal, exit 0."""
-    program = "MOVE TO (0.4, 0.3, 0.3) IN 1 ms\nWAIT 0.5 s\n"
+    for program, shortest in (
+        ("MOVE TO (0.4, 0.3, 0.3) IN 1 ms\nWAIT 0.5 s\n", "0.97 s"),  # from home: 516 mm
+        ("MOVE BY (0, 0, 100 mm) IN 1e-300 s\n", "at least 0.001 s"),
+        ("MOVE BY (0, 0, 100 mm) IN 0.2 s\n", "0.34 s"),
+    ):
+        with pytest.raises(ProgramError) as error:
+            compile_program(program, "quick.cos", fixture_frames())
+        assert shortest in error.value.message, error.value.message
+
+
+def test_a_timed_move_the_arm_cannot_do_fails_before_moving(tmp_path: Path) -> None:
+    """Where the start is only known at run time (after an UNTIL), the measured distance decides."""
+    program = "MOVE BY (0, 0, -50 mm) UNTIL DISTANCE > 10 mm\nMOVE TO (0.4, 0.3, 0.3) IN 50 ms\nWAIT 0.2 s\n"
     run = run_in_process(write_program(tmp_path, "quick", program), tmp_path / "quick.mcap")
     assert run.returncode == 1, run.describe()
-    kind, reason, _ = _outcome(run, 1)
+    kind, reason, t = _outcome(run, 2)
     assert kind == "failed" and "shortest feasible duration is" in reason, reason
-    assert not run.events("done", line=1)
-    travelled = np.linalg.norm(run.log.state.x - run.log.state.x[0], axis=1).max()
-    assert travelled < 0.005, travelled  # it failed before moving: no 515 mm lunge
+    assert not run.events("done", line=2)
+    start = run.events("start", line=2)[0].t
+    x = run.log.state.x
+    assert np.linalg.norm(x[_at(run, t + 0.2)] - x[_at(run, start)]) < 0.005  # no lunge
 
 
 def _orientation_run(tmp_path: Path, name: str, program: str, goal: np.ndarray, line: int) -> None:

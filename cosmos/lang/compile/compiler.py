@@ -17,7 +17,7 @@ import numpy as np
 
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
-from cosmos.lang import ast
+from cosmos.lang import ast, limits
 from cosmos.lang.compile.context import statement_text as statement_text  # public here, as before
 from cosmos.lang.compile.state import CompileState, Defaults, FrameLike, frozen_map
 from cosmos.lang.compile.statement_pass import StatementPass
@@ -160,6 +160,9 @@ class Compiler:
         if not source.strip():
             warnings.append(plan.Diagnostic("the program is empty", Span(file, 1, 1, 1, 1)))
         warnings.sort(key=lambda w: (w.span.line, w.span.column))
+        infeasible = limits.first_infeasible_timed_move(result.steps)
+        if infeasible is not None:
+            raise ProgramError(*infeasible).with_source(source)
         return plan.Plan(file=file, source=source, steps=result.steps, warnings=tuple(warnings))
 
 
