@@ -18,6 +18,7 @@ import numpy as np
 
 from cosmos.execution.arrival import GoalError, goal_error
 from cosmos.execution.supervision import ProtectiveStop
+from cosmos.lang.limits import MAX_DURATION_S
 from cosmos.plan import (
     AllOf,
     AnyOf,
@@ -31,6 +32,7 @@ from cosmos.plan import (
     Quantity,
     Segment,
     SegmentKind,
+    UntilOnly,
     condition_holds,
 )
 
@@ -159,6 +161,8 @@ class SegmentMonitor:
         # A CONTACT's TIMEOUT bounds the search for the surface (language.md); once it
         # touched, settling the force has its own bound (ForceSettled.max_time_s).
         timeout = None if seg.kind is SegmentKind.CONTACT_HOLD else seg.timeout_s
+        if timeout is None and isinstance(seg.completion, UntilOnly):
+            timeout = MAX_DURATION_S  # WAIT UNTIL without TIMEOUT: bounded all the same
         if timeout is not None and snap.t_s - self.statement_start_s >= timeout:
             return Outcome(Verdict.FAILED, self._timeout_reason(timeout))
         return None

@@ -264,7 +264,7 @@ class Supervisor:
             position: The measured tool point, world [m]. # (3,)
         """
         if self._data.ncon:
-            stop = self._contacts(t_s)
+            stop = self._contacts(t_s, wrench)
             if stop is not None:
                 return stop
         elif self._inherited:
@@ -321,7 +321,7 @@ class Supervisor:
                 return True
         return False
 
-    def _contacts(self, t_s: float) -> ProtectiveStop | None:
+    def _contacts(self, t_s: float, wrench: FloatArray) -> ProtectiveStop | None:
         """A stop for the first contact the statement does not expect; tracks inherited ones."""
         roles = self._roles_list
         touching_fixture = False
@@ -342,17 +342,27 @@ class Supervisor:
                         continue
                 elif self._guarded:
                     continue
-            return self._contact_stop(index, arm, other, r_other, t_s)
+            return self._contact_stop(index, arm, other, r_other, t_s, wrench)
         if self._inherited:
             self._since_touch = 0 if touching_fixture else self._since_touch + 1
             if self._since_touch >= self._gone_ticks:
                 self._inherited = False
         return None
 
-    def _contact_stop(self, index: int, arm: int, other: int, role: int, t_s: float) -> ProtectiveStop:
+    def _contact_stop(
+        self, index: int, arm: int, other: int, role: int, t_s: float, wrench: FloatArray
+    ) -> ProtectiveStop:
+        """The stop for contact ``index``.
+
+        Its force is the contact's normal force, and for the tool at least what the wrist
+        sensor reads: the stop comes at the first touch, before much force has built up.
+        """
         plant = self._plant
         force = np.zeros(6)
         mujoco.mj_contactForce(plant.model, self._data, index, force)
+        push = abs(float(force[0]))
+        if self._roles_list[arm] == Role.TOOL:
+            push = max(push, float(np.linalg.norm(wrench[:3])))
         owner = self._owners[other]
         if role == Role.OBSTACLE:
             name = self.obstacle_names.get(owner, owner)
@@ -364,7 +374,7 @@ class Supervisor:
         arm_owner = self._owners[arm]
         return ProtectiveStop(
             StopKind.CONTACT,
-            f"protective stop: {_arm_part(arm_owner)} hit {what} at {t_s:.2f} s, {abs(force[0]):.1f} N",
+            f"protective stop: {_arm_part(arm_owner)} hit {what} at {t_s:.2f} s, {push:.1f} N",
             collision=f"{arm_owner} touches {name}",
         )
 
