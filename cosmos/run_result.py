@@ -65,9 +65,9 @@ class Failure:
     @property
     def message(self) -> str:
         """``CONTACT UP found no contact within 1.5 s``: the statement's head and the reason."""
-        from cosmos.execution.monitor import statement_head  # as the executor names a statement
+        from cosmos.execution.monitor import failure_text  # as the executor words a failure
 
-        return f"{statement_head(self.statement)} {self.reason}".strip()
+        return failure_text(self.statement, self.reason)
 
     def error(self) -> TaskFailure:
         """The failure as the exception ``cosmos run`` reports (``raise run.outcome.error()``)."""
@@ -211,7 +211,8 @@ def _outcome(record: RunRecord) -> Failure | None:
         kind = None
         if event.kind == "failed":
             kind = OutcomeKind.FAILED
-        elif event.kind == "stopped" and event.reason == "interrupted":  # the executor's words
+        elif event.kind == "interrupted" or (event.kind == "stopped" and event.reason == "interrupted"):
+            # (logs written before "interrupted" was an outcome of its own said it this way)
             kind = OutcomeKind.INTERRUPTED
         if kind is not None:
             return _failure(kind, event, event.reason, program, record.source)

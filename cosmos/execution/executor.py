@@ -21,7 +21,14 @@ import numpy as np
 
 from cosmos.errors import TaskFailure
 from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, stall_cause
-from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict, statement_head
+from cosmos.execution.monitor import (
+    Outcome,
+    SegmentMonitor,
+    Snapshot,
+    Verdict,
+    failure_text,
+    statement_head,
+)
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
@@ -266,8 +273,7 @@ class Executor:
         self.hold(HOLD_AFTER_FAILURE_S)
         if self.log is not None:
             self.log.flush()
-        joiner = ": " if outcome.stop is not None else " "  # "MOVE BY: protective stop: ..."
-        raise TaskFailure(f"{statement_head(segment.statement)}{joiner}{reason}", segment.span, self._source)
+        raise TaskFailure(failure_text(segment.statement, reason), segment.span, self._source)
 
     # ------------------------------------------------------------------- log
 

@@ -99,6 +99,16 @@ def statement_head(statement: str) -> str:
     return " ".join(words[:2])
 
 
+def failure_text(statement: str, reason: str) -> str:
+    """A failed statement's message, its head and the reason.
+
+    ``CONTACT UP found no contact within 1.5 s``; a protective stop after a colon:
+    ``MOVE BY: protective stop: tool hit fixture 'table' at 2.60 s, 31.2 N``.
+    """
+    joiner = ": " if reason.startswith("protective stop") else " "
+    return f"{statement_head(statement)}{joiner}{reason}".strip()
+
+
 class SegmentMonitor:
     """Judges one segment; built when it starts."""
 
