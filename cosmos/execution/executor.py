@@ -111,6 +111,10 @@ class Executor:
                 self._scene_step(group)
             else:
                 self._run_statement(group)
+        if self._stopped_at is not None and self.recorder is not None:
+            # The last statement ended on its UNTIL: hold until the sample showing what
+            # fired it is in the log (one state period at most).
+            self.hold(1.0 / self.runtime.rates.state_hz)
 
     def _run_statement(self, segments: list[Segment]) -> None:
         """Run a statement's segments; an UNTIL that holds ends the statement with success."""

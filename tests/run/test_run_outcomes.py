@@ -151,8 +151,7 @@ def test_an_until_that_fired_shows_the_value_that_fired_it(tmp_path: Path) -> No
     program = (
         "MOVE TO table + (0, 0, 20 mm)\n"
         "MOVE BY (0, 0, -60 mm) SPEED 20 mm/s UNTIL FORCE > 4 N TIMEOUT 10 s\n"
-        "WAIT 0.05 s\n"
-    )
+    )  # the last statement: the run holds until the firing's sample is logged
     run = run_in_process(write_program(tmp_path, "guarded", program), tmp_path / "guarded.mcap")
     assert run.returncode == 0, run.describe()
     kind, reason, t = _outcome(run, 2)
