@@ -145,14 +145,25 @@ def stall_cause(
     if near:
         _, joint, limit = min(near)
         return f"joint {joint + 1} at its limit of {math.degrees(limit):.0f} deg"
+    singular = singularity(q, jacobian)
+    if singular is not None:
+        return f"{singular}, which prevents progress"
+    return "the controller made no progress (nothing in the way, no joint at a limit, no singularity)"
+
+
+def singularity(q: FloatArray, jacobian: FloatArray) -> str | None:
+    """The singularity the arm is at, in words, or None (seed section 5).
+
+    Args:
+        q: Measured joint angles [rad]. # (6,)
+        jacobian: Tool Jacobian at q, rows linear then angular, world. # (6, 6)
+    """
     if abs(math.sin(q[4])) < math.sin(WRIST_SINGULAR_RAD):
-        return (
-            f"the wrist is at its singularity (joint 5 at {math.degrees(q[4]):.1f} deg: joints 4 and 6 "
-            "aligned), which prevents progress"
-        )
+        q5_deg = math.degrees(q[4])
+        return f"the wrist is at its singularity (joint 5 at {q5_deg:.1f} deg: joints 4 and 6 aligned)"
     scaled = jacobian.copy()
     scaled[3:] *= LENGTH_SCALE_M
-    singular = np.linalg.svd(scaled, compute_uv=False)
-    if singular[-1] < SINGULAR_CONDITION * singular[0]:
-        return "the arm is at a singularity, which prevents progress"
-    return "the controller made no progress (nothing in the way, no joint at a limit, no singularity)"
+    values = np.linalg.svd(scaled, compute_uv=False)
+    if values[-1] < SINGULAR_CONDITION * values[0]:
+        return "the arm is at a singularity"
+    return None

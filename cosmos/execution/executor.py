@@ -15,12 +15,12 @@ commanded), writes a ``failed`` event (after a ``protective_stop`` one, and a
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from cosmos.errors import TaskFailure
-from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, stall_cause
+from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, singularity, stall_cause
 from cosmos.execution.monitor import (
     Outcome,
     SegmentMonitor,
@@ -32,7 +32,7 @@ from cosmos.execution.monitor import (
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
-from cosmos.execution.supervision import FREE_MOTION_FORCE_N, Supervisor
+from cosmos.execution.supervision import FREE_MOTION_FORCE_N, StopKind, Supervisor
 from cosmos.lang.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
@@ -225,6 +225,10 @@ class Executor:
                 )
             stop = supervisor.check(rt.time_s, rt.wrench, servo.torque, position)
             if stop is not None:
+                if stop.kind is StopKind.PATH:  # off its line: say if a singularity is why
+                    singular = singularity(rt.q, rt.evaluation.jacobian)
+                    if singular is not None:
+                        stop = replace(stop, message=f"{stop.message}; {singular}")
                 return Outcome(Verdict.FAILED, stop.message, stop)
             snapshot = Snapshot(rt.time_s, position, meter.rotation, servo.last_velocity, rt.wrench)
             if goal_index < len(goals) - 1:

@@ -219,14 +219,11 @@ class SegmentMonitor:
         r_t = self._rotation_t
         position_error = r_t.dot(error.position_m)[self._motion[:3]]
         rotation_error = r_t.dot(error.rotation_rad)[self._motion[3:]]
+        # The error's length on the motion axes: "1 mm and 1 deg" as the reason reports them.
         arrived = (
             _norm3(snap.velocity[:3]) <= goal.speed_tolerance_mps
-            and not (
-                position_error.size and float(np.max(np.abs(position_error))) > goal.position_tolerance_m
-            )
-            and not (
-                rotation_error.size and float(np.max(np.abs(rotation_error))) > goal.orientation_tolerance_rad
-            )
+            and float(np.linalg.norm(position_error)) <= goal.position_tolerance_m
+            and float(np.linalg.norm(rotation_error)) <= goal.orientation_tolerance_rad
         )
         if arrived:
             if self._settled_since is None:

@@ -206,3 +206,32 @@ def test_a_goal_blocked_by_a_joint_limit_names_the_joint(tmp_path: Path) -> None
     assert "reach" not in reason.split(";")[-1]
     q6_deg = math.degrees(run.log.state.q[_at(run, t), 5])
     assert 266.0 - 8.6 < q6_deg <= 266.0, q6_deg  # within the joint-limit field's 0.15 rad
+
+
+def test_a_roll_at_the_wrist_singularity_is_never_called_out_of_reach(tmp_path: Path) -> None:
+    """A 15 deg roll at q5 = 1 deg ran the tool 105 mm sideways and failed as "out of reach".
+
+    The first MOVE puts the wrist 1 deg from its singularity (the pose is the forward
+    kinematics of home with q5 = 1 deg, read from MuJoCo); the second rolls the tool
+    15 deg about world x in place. Whatever the controller makes of it, a "done" must be
+    measured true, and a failure must name the real cause, with the tool stopped near
+    the 50 mm the path supervision allows.
+    """
+    program = (
+        "MOVE TO (0.7402, -0.1500, 0.5185) RPY (180 deg, -46 deg, 0 deg)\n"
+        "MOVE TO (0.7402, -0.1500, 0.5185) RPY (-158.907 deg, -44.014 deg, -15.004 deg)\n"
+    )
+    run = run_in_process(write_program(tmp_path, "roll", program), tmp_path / "roll.mcap")
+    start = run.events("start", line=2)[0].t
+    assert abs(math.degrees(run.log.state.q[_at(run, start), 4])) < 3.0  # at the singularity
+    kind, reason, t = _outcome(run, 2)
+    x = run.log.state.x
+    travel = np.linalg.norm(x[_at(run, start) : _at(run, t) + 1] - x[_at(run, start)], axis=1).max()
+    if kind == "done":
+        measured = _quat_matrix(run.log.state.quat[_at(run, t)])
+        assert _angle_deg(measured, _rpy(-158.907, -44.014, -15.004)) < 1.0, reason
+        assert travel < 0.05, travel
+    else:
+        assert "out of the arm's reach" not in reason, reason
+        assert "singularity" in reason, reason
+        assert travel < 0.06, travel  # stopped at the path limit, not 105 mm away
