@@ -21,6 +21,7 @@ import numpy as np
 
 from cosmos.errors import TaskFailure
 from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, singularity, stall_cause
+from cosmos.execution.expected import FREE_MOTION_FORCE_N
 from cosmos.execution.monitor import (
     Outcome,
     SegmentMonitor,
@@ -32,7 +33,7 @@ from cosmos.execution.monitor import (
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
-from cosmos.execution.supervision import FREE_MOTION_FORCE_N, StopKind, Supervisor
+from cosmos.execution.supervision import StopKind, Supervisor
 from cosmos.lang.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (

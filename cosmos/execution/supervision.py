@@ -40,23 +40,22 @@ from enum import IntEnum
 import mujoco
 import numpy as np
 
+from cosmos.execution.expected import (
+    FREE_MOTION_FORCE_N,
+    expects_contact,
+    force_limit_n,
+    has_force_term,
+    off_line,
+)
 from cosmos.execution.fixtures import FIXTURES
 from cosmos.obstacles.capsules import LINK_BODIES
 from cosmos.obstacles.scene import SLOT_PREFIX
-from cosmos.plan import AllOf, AnyOf, Condition, Quantity, Segment, SegmentKind
+from cosmos.plan import Segment
 from cosmos.plant import Plant
 from cosmos.workcell import TOOL_BODY, WRIST_SENSOR
 
 FloatArray = np.ndarray
 
-FREE_MOTION_FORCE_N = 20.0
-"""Force limit in free motion [N], unless a program sets its own with ``LIMIT FORCE``.
-
-Above what the tool's own inertia gives the wrist sensor at the arm's
-accelerations (a 50 mm reversal at 100 mm/s reads about 6 N)."""
-CONTACT_FORCE_MARGIN_N = 30.0
-"""A contact statement's force range: twice its FORCE (or UNTIL threshold) plus this [N]
-(impacts on touching, a force loop's overshoot)."""
 FORCE_TICKS = 3
 """Ticks in a row above the range before the stop (a one-tick impact spike is not a stop)."""
 PATH_DEVIATION_M = 0.05
@@ -107,49 +106,6 @@ class ProtectiveStop:
     kind: StopKind
     message: str
     collision: str = ""
-
-
-def _has_force_term(condition: Condition | None) -> tuple[bool, float]:
-    """Whether an UNTIL compares a force or moment, and its largest threshold [N or N m]."""
-    if condition is None:
-        return False, 0.0
-    if isinstance(condition, AllOf | AnyOf):
-        found, largest = False, 0.0
-        for term in condition.terms:
-            has, value = _has_force_term(term)
-            found, largest = found or has, max(largest, value)
-        return found, largest
-    if condition.quantity is Quantity.DISTANCE:
-        return False, 0.0
-    return True, abs(condition.value)
-
-
-def expects_contact(segment: Segment) -> bool:
-    """Whether the statement holds or seeks the tool's contact with the fixtures."""
-    if segment.kind in (SegmentKind.CONTACT_APPROACH, SegmentKind.CONTACT_HOLD):
-        return True
-    if segment.kind in (SegmentKind.SLIDE, SegmentKind.INSERT):
-        return True
-    if not bool(np.all(segment.motion_axes)):
-        return True  # a contact held (force-controlled axes)
-    return any(s is not None and s > 0.0 for s in segment.stiffness)  # a COMPLY spring
-
-
-def force_limit_n(segment: Segment, free_limit_n: float) -> float:
-    """The largest force the statement may see at the wrist [N] (module docstring).
-
-    Args:
-        segment: The running segment.
-        free_limit_n: The free-motion limit in force (default or ``LIMIT FORCE``).
-    """
-    limit = free_limit_n
-    guarded, threshold = _has_force_term(segment.until)
-    if guarded:
-        limit = max(limit, 2.0 * threshold + CONTACT_FORCE_MARGIN_N)
-    if expects_contact(segment):
-        setpoint = float(np.max(np.abs(segment.force_setpoint[:3])))
-        limit = max(limit, 2.0 * setpoint + CONTACT_FORCE_MARGIN_N)
-    return min(limit, WRIST_SENSOR.force_n)
 
 
 def _roles(plant: Plant) -> np.ndarray:
@@ -221,7 +177,7 @@ class Supervisor:
         """A segment starts at the measured tool point ``position`` toward ``goal_position``."""
         self._segment = segment
         self._expect_fixture = expects_contact(segment)
-        self._guarded = _has_force_term(segment.until)[0]
+        self._guarded = has_force_term(segment.until)[0]
         self._force_limit = force_limit_n(segment, self.free_force_limit_n)
         self._force_limit2 = self._force_limit**2
         self._over = 0
@@ -244,11 +200,6 @@ class Supervisor:
             tuple(line.tolist()),
             float(line @ line),
         )
-
-    @property
-    def force_limit(self) -> float:
-        """The running segment's force limit [N]."""
-        return self._force_limit
 
     # ------------------------------------------------------------------ ticks
 
@@ -301,7 +252,7 @@ class Supervisor:
             else:
                 ticks[joint] = 0
         if self._path_axes and not self.field_acting:
-            off = _off_line(position.tolist(), *self._line, self._path_axes)
+            off = off_line(position.tolist(), *self._line, self._path_axes)
             if off > PATH_DEVIATION_M:
                 return ProtectiveStop(
                     StopKind.PATH,
@@ -377,38 +328,3 @@ class Supervisor:
             f"protective stop: {_arm_part(arm_owner)} hit {what} at {t_s:.2f} s, {push:.1f} N",
             collision=f"{arm_owner} touches {name}",
         )
-
-
-def _off_line(
-    p: list[float],
-    a: tuple[float, ...],
-    d: tuple[float, ...],
-    length2: float,
-    axes: list[tuple[float, ...]],
-) -> float:
-    """:func:`path_deviation` on floats (it runs every tick): ``a`` the start, ``d`` the line."""
-    rx, ry, rz = p[0] - a[0], p[1] - a[1], p[2] - a[2]
-    if length2 > 1e-12:
-        along = min(1.0, max(0.0, (rx * d[0] + ry * d[1] + rz * d[2]) / length2))
-        rx, ry, rz = rx - along * d[0], ry - along * d[1], rz - along * d[2]
-    total = 0.0
-    for ax, ay, az in axes:
-        component = rx * ax + ry * ay + rz * az
-        total += component * component
-    return math.sqrt(total)
-
-
-def path_deviation(position: FloatArray, start: FloatArray, end: FloatArray, axes: FloatArray) -> float:
-    """Distance of ``position`` from the segment ``start``-``end`` along the rows of ``axes`` [m].
-
-    Args:
-        position: The measured tool point, world [m]. # (3,)
-        start: The line's start, world [m]. # (3,)
-        end: Its end, world [m]. # (3,)
-        axes: Orthonormal world directions the distance is measured along. # (k, 3)
-    """
-    line = end - start
-    length2 = float(line.dot(line))
-    along = 0.0 if length2 < 1e-12 else min(1.0, max(0.0, float((position - start).dot(line)) / length2))
-    off = position - (start + along * line)
-    return float(np.linalg.norm(axes.dot(off)))

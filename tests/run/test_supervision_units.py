@@ -9,7 +9,8 @@ import pytest
 
 from cosmos.errors import ProgramError
 from cosmos.execution.arrival import stall_cause
-from cosmos.execution.supervision import SATURATION_S, Supervisor, path_deviation
+from cosmos.execution.expected import path_deviation
+from cosmos.execution.supervision import SATURATION_S, Supervisor
 from cosmos.lang import compile_program
 from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant

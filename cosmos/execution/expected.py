@@ -1,0 +1,104 @@
+"""What the running statement expects: whether it touches, how hard, along which line.
+
+The protective stops (:mod:`cosmos.execution.supervision`) compare the arm with
+these expectations every tick; they are pure functions of the segment and of
+positions, documented in docs/language.md ("Protective stops").
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cosmos.plan import AllOf, AnyOf, Condition, Quantity, Segment, SegmentKind
+from cosmos.workcell import WRIST_SENSOR
+
+FloatArray = np.ndarray
+
+FREE_MOTION_FORCE_N = 20.0
+"""Force limit in free motion [N], unless a program sets its own with ``LIMIT FORCE``.
+
+Above what the tool's own inertia gives the wrist sensor at the arm's
+accelerations (a 50 mm reversal at 100 mm/s reads about 6 N)."""
+CONTACT_FORCE_MARGIN_N = 30.0
+"""A contact statement's force range: twice its FORCE (or UNTIL threshold) plus this [N]
+(impacts on touching, a force loop's overshoot)."""
+
+
+def has_force_term(condition: Condition | None) -> tuple[bool, float]:
+    """Whether an UNTIL compares a force or moment, and its largest threshold [N or N m]."""
+    if condition is None:
+        return False, 0.0
+    if isinstance(condition, AllOf | AnyOf):
+        found, largest = False, 0.0
+        for term in condition.terms:
+            has, value = has_force_term(term)
+            found, largest = found or has, max(largest, value)
+        return found, largest
+    if condition.quantity is Quantity.DISTANCE:
+        return False, 0.0
+    return True, abs(condition.value)
+
+
+def expects_contact(segment: Segment) -> bool:
+    """Whether the statement holds or seeks the tool's contact with the fixtures."""
+    if segment.kind in (SegmentKind.CONTACT_APPROACH, SegmentKind.CONTACT_HOLD):
+        return True
+    if segment.kind in (SegmentKind.SLIDE, SegmentKind.INSERT):
+        return True
+    if not bool(np.all(segment.motion_axes)):
+        return True  # a contact held (force-controlled axes)
+    return any(s is not None and s > 0.0 for s in segment.stiffness)  # a COMPLY spring
+
+
+def force_limit_n(segment: Segment, free_limit_n: float) -> float:
+    """The largest force the statement may see at the wrist [N] (module docstring).
+
+    Args:
+        segment: The running segment.
+        free_limit_n: The free-motion limit in force (default or ``LIMIT FORCE``).
+    """
+    limit = free_limit_n
+    guarded, threshold = has_force_term(segment.until)
+    if guarded:
+        limit = max(limit, 2.0 * threshold + CONTACT_FORCE_MARGIN_N)
+    if expects_contact(segment):
+        setpoint = float(np.max(np.abs(segment.force_setpoint[:3])))
+        limit = max(limit, 2.0 * setpoint + CONTACT_FORCE_MARGIN_N)
+    return min(limit, WRIST_SENSOR.force_n)
+
+
+def off_line(
+    p: list[float],
+    a: tuple[float, ...],
+    d: tuple[float, ...],
+    length2: float,
+    axes: list[tuple[float, ...]],
+) -> float:
+    """:func:`path_deviation` on floats (it runs every tick): ``a`` the start, ``d`` the line."""
+    rx, ry, rz = p[0] - a[0], p[1] - a[1], p[2] - a[2]
+    if length2 > 1e-12:
+        along = min(1.0, max(0.0, (rx * d[0] + ry * d[1] + rz * d[2]) / length2))
+        rx, ry, rz = rx - along * d[0], ry - along * d[1], rz - along * d[2]
+    total = 0.0
+    for ax, ay, az in axes:
+        component = rx * ax + ry * ay + rz * az
+        total += component * component
+    return math.sqrt(total)
+
+
+def path_deviation(position: FloatArray, start: FloatArray, end: FloatArray, axes: FloatArray) -> float:
+    """Distance of ``position`` from the segment ``start``-``end`` along the rows of ``axes`` [m].
+
+    Args:
+        position: The measured tool point, world [m]. # (3,)
+        start: The line's start, world [m]. # (3,)
+        end: Its end, world [m]. # (3,)
+        axes: Orthonormal world directions the distance is measured along. # (k, 3)
+    """
+    line = end - start
+    length2 = float(line.dot(line))
+    along = 0.0 if length2 < 1e-12 else min(1.0, max(0.0, float((position - start).dot(line)) / length2))
+    off = position - (start + along * line)
+    return float(np.linalg.norm(axes.dot(off)))
