@@ -94,9 +94,13 @@ def _norm3(v: FloatArray) -> float:
 
 
 def statement_head(statement: str) -> str:
-    """The statement's keyword and its first operand, as messages name it (``CONTACT UP``)."""
+    """The statement's keyword and its first operand, as messages name it (``CONTACT UP``, ``WAIT 2 s``)."""
     words = statement.split()
-    return " ".join(words[:2])
+    unit = len(words) > 2 and words[1][:1].isdigit() and words[2].isalpha()  # WAIT 2 s
+    return " ".join(words[:3] if unit and words[2].upper() not in _CLAUSE_WORDS else words[:2])
+
+
+_CLAUSE_WORDS = frozenset(("UNTIL", "TIMEOUT", "IN", "SPEED"))
 
 
 def failure_text(statement: str, reason: str) -> str:

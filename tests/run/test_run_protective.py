@@ -71,7 +71,7 @@ def test_a_push_on_the_forearm_stops_the_arm(tmp_path: Path) -> None:
             message = failure.message
         else:
             message = ""
-    assert message.startswith("WAIT 2: protective stop: drive 1 at its torque limit of 97.6 N m"), message
+    assert message.startswith("WAIT 2 s: protective stop: drive 1 at its torque limit of 97.6 N m"), message
     record = read_log(log)
     failed = [e for e in record.events if e.kind == "failed"][0]
     assert 0.5 < failed.t < 0.7, failed.t
