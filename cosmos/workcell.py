@@ -7,7 +7,10 @@ once, so the XML stays the one place where the workcell is defined:
 - :func:`fixture_frames`: the predefined frames ``table``, ``hole``, ``slope``
   of the task language, z axis pointing into the surface (approach direction);
 - :data:`TOOL`: what the controller may know about the tool (its datasheet):
-  mass properties and the sensor and tool-point frames, relative to the flange.
+  mass properties and the sensor and tool-point frames, relative to the flange;
+- :data:`WRIST_SENSOR` and :data:`ARM_CAPABILITY`: the sensor's rating and what
+  the arm can do at the tool (declared in :mod:`cosmos.capabilities`, below the
+  language, which checks programs against them).
 
 World frame = PUMA base frame: z up, origin on the floor on the joint-1 axis.
 """
@@ -21,6 +24,8 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from cosmos.capabilities import ARM_CAPABILITY as ARM_CAPABILITY
+from cosmos.capabilities import WRIST_SENSOR as WRIST_SENSOR
 from cosmos.errors import CosmosError
 
 MODEL_DIR = Path(__file__).resolve().parent / "models" / "puma560"
@@ -198,76 +203,9 @@ HOME_Q: np.ndarray = _read_home_q()
 """Home configuration [rad], ``(6,)``, read-only: the scene's ``home`` keyframe."""
 
 HOME_TOOL_POSITION, HOME_TOOL_ROTATION = _read_home_tool()
-"""Where the tool point is at home, world [m] (3,), and its orientation, tool to world (3, 3)."""
+"""Where the tool point is at home, world [m] (3,), and its orientation, tool to world (3, 3),
+read from the scene (:data:`cosmos.capabilities.HOME_TOOL` states the same numbers for the
+language, which may not import this module; tests/run/test_supervision_units.py compares)."""
 
 TOOL: ToolSpec = _read_tool()
 """The tool mounted in the scene, as the controller is allowed to know it."""
-
-
-# ------------------------------------------------------------- capabilities
-
-
-@dataclass(frozen=True)
-class SensorRating:
-    """The wrist force/torque sensor's measuring range (any direction).
-
-    Attributes:
-        force_n: Largest force it measures [N].
-        torque_nm: Largest moment it measures [N m].
-    """
-
-    force_n: float
-    torque_nm: float
-
-
-@dataclass(frozen=True)
-class ArmCapability:
-    """What the arm with its drives and servo can do at the tool; programs stay within it.
-
-    Attributes:
-        tool_speed_mps: Largest tool-point speed [m/s].
-        tool_acceleration_mps2: Largest tool-point acceleration a timed move may ask [m/s^2].
-        angular_speed_rad_s: Largest tool rotation speed [rad/s].
-        angular_acceleration_rad_s2: Largest tool angular acceleration a timed move may ask [rad/s^2].
-        stiffness_n_per_m: Largest translational COMPLY stiffness the 1 kHz servo renders [N/m].
-        stiffness_nm_per_rad: Largest rotational COMPLY stiffness [N m/rad].
-        damping_ns_per_m: Largest translational damping [N s/m].
-        damping_nms_per_rad: Largest rotational damping [N m s/rad].
-        reach_m: Largest distance from the shoulder (joint 2's axis) to the wrist centre [m].
-    """
-
-    tool_speed_mps: float
-    tool_acceleration_mps2: float
-    angular_speed_rad_s: float
-    angular_acceleration_rad_s2: float
-    stiffness_n_per_m: float
-    stiffness_nm_per_rad: float
-    damping_ns_per_m: float
-    damping_nms_per_rad: float
-    reach_m: float
-
-
-WRIST_SENSOR = SensorRating(force_n=130.0, torque_nm=10.0)
-"""The wrist sensor's rating: a 6-axis sensor of the ATI Gamma class (130 N, 10 N m on
-every axis, the smaller of its x-y and z ranges). The largest FORCE a program may ask."""
-
-ARM_CAPABILITY = ArmCapability(
-    # The PUMA 560's tool speed is of the order of 1 m/s (Unimation's data sheet gives
-    # 0.5 m/s with full payload); the joint speed limits (8, 10, 10, 5, 5, 5) rad/s of
-    # the reference bound the rotation at the wrist. Accelerations: what the drives'
-    # torque limits leave after gravity for the effective masses of the arm at full
-    # reach (about 20 kg along the worst axis, 170 N of spare force), with margin.
-    tool_speed_mps=1.0,
-    tool_acceleration_mps2=5.0,
-    angular_speed_rad_s=3.0,
-    angular_acceleration_rad_s2=20.0,
-    # Stiffness: the servo's kp = K / lambda stays below (0.3 / dt)^2 at the smallest
-    # effective mass (about 1 kg) for a 1 kHz servo; damping likewise kv = D / lambda.
-    stiffness_n_per_m=20_000.0,
-    stiffness_nm_per_rad=200.0,
-    damping_ns_per_m=2_000.0,
-    damping_nms_per_rad=20.0,
-    # DH: a2 = 0.4318, a3 = 0.0203, d4 = 0.4318, d3 = 0.15005 (shoulder offset).
-    reach_m=float(np.hypot(0.15005, 0.4318 + np.hypot(0.0203, 0.4318))),
-)
-"""The arm's capabilities at the tool (the checker refuses requests beyond them)."""

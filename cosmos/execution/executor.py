@@ -34,7 +34,7 @@ from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
 from cosmos.execution.supervision import StopKind, Supervisor
-from cosmos.lang.limits import timed_move_problem
+from cosmos.lang.check.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
     AbsoluteTarget,

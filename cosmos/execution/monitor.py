@@ -18,7 +18,7 @@ import numpy as np
 
 from cosmos.execution.arrival import GoalError, goal_error
 from cosmos.execution.supervision import ProtectiveStop
-from cosmos.lang.limits import MAX_DURATION_S
+from cosmos.lang.check.limits import MAX_DURATION_S
 from cosmos.plan import (
     AllOf,
     AnyOf,

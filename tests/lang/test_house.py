@@ -20,7 +20,7 @@ PACKAGE = Path(__file__).parents[2] / "cosmos"
 LAYERS: list[tuple[str, ...]] = [
     # bottom first: a module may import from its own layer and the layers below it
     ("cosmos.errors", "cosmos.osc"),
-    ("cosmos.rotations",),
+    ("cosmos.rotations", "cosmos.capabilities"),
     ("cosmos.plan",),  # the contract between the language and the executor
     # the language, stage by stage (its vocabulary first, its facade last)
     ("cosmos.lang.expressions", "cosmos.lang.ast", "cosmos.lang.units"),

@@ -12,12 +12,12 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
-from cosmos.lang.compiler import compile_program
 from run_support import run_in_process, write_program
 
 from cosmos.errors import TaskFailure
 from cosmos.execution.executor import Progress
 from cosmos.execution.session import Session
+from cosmos.lang import compile_program
 from cosmos.runlog import read_log
 from cosmos.runlog.reader import RunRecord
 from cosmos.runtime.rates import Rates

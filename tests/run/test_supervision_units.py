@@ -96,3 +96,12 @@ def test_requests_beyond_the_workcell_are_check_errors(program: str, message: st
     with pytest.raises(ProgramError) as error:
         compile_program(program, "limits.cos", fixture_frames())
     assert message in error.value.message
+
+
+def test_the_declared_home_pose_is_the_scenes() -> None:
+    """The checker judges a first timed MOVE TO from a declared home pose: it must be the scene's."""
+    from cosmos.capabilities import HOME_TOOL
+    from cosmos.workcell import HOME_TOOL_POSITION, HOME_TOOL_ROTATION
+
+    assert np.allclose(HOME_TOOL.position, HOME_TOOL_POSITION, atol=1e-9)
+    assert np.allclose(HOME_TOOL.rotation, HOME_TOOL_ROTATION, atol=1e-9)

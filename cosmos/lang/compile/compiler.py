@@ -17,7 +17,8 @@ import numpy as np
 
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
-from cosmos.lang import ast, limits
+from cosmos.lang import ast
+from cosmos.lang.check import limits
 from cosmos.lang.compile.context import statement_text as statement_text  # public here, as before
 from cosmos.lang.compile.state import CompileState, Defaults, FrameLike, frozen_map
 from cosmos.lang.compile.statement_pass import StatementPass

@@ -14,7 +14,8 @@ from collections.abc import Callable, Mapping
 from math import isfinite
 
 from cosmos.errors import ProgramError, Span
-from cosmos.lang import ast, limits, units
+from cosmos.lang import ast, units
+from cosmos.lang.check import limits
 from cosmos.lang.evaluate.values import (
     Binding,
     FrameValue,

@@ -6,7 +6,8 @@ from collections.abc import Callable
 
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
-from cosmos.lang import ast, limits, units
+from cosmos.lang import ast, units
+from cosmos.lang.check import limits
 from cosmos.lang.compile.state import TaskFrame
 from cosmos.lang.evaluate.evaluator import Evaluator
 from cosmos.rotations import signed_column

@@ -9,7 +9,8 @@ import numpy as np
 
 from cosmos import plan
 from cosmos.errors import ProgramError
-from cosmos.lang import ast, limits, units
+from cosmos.lang import ast, units
+from cosmos.lang.check import limits
 from cosmos.lang.compile.motion.axes import ALL_MOTION, NO_FORCES, NO_FREE, axis_list
 from cosmos.lang.compile.motion.axis_rules import AxisRules
 from cosmos.lang.compile.motion.base import ContactChange

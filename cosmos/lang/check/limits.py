@@ -2,11 +2,11 @@
 
 Pure functions of values: each returns the message of a check error, or None.
 The checker calls them where a slot's value becomes a number
-(:meth:`cosmos.lang.values.Evaluator.expect_scalar` and ``expect_vector``), so
+(:meth:`cosmos.lang.evaluate.evaluator.Evaluator.expect_scalar` and ``expect_vector``), so
 nothing a program says runs unbounded (``WAIT 1e308 s``), crawls for ever
 (``SPEED 1e-300 m/s``) or overflows (``MOVE BY (1e305 mm, 0, 0)``), and a
 request beyond the workcell's declared capabilities
-(:data:`cosmos.workcell.WRIST_SENSOR`, :data:`cosmos.workcell.ARM_CAPABILITY`)
+(:data:`cosmos.capabilities.WRIST_SENSOR`, :data:`cosmos.capabilities.ARM_CAPABILITY`)
 is refused with the limit in the message. The table is documented in
 docs/language.md, "Limits"; a slot without a row of its own takes its
 dimension's row.
@@ -20,9 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from cosmos import plan
+from cosmos.capabilities import ARM_CAPABILITY, HOME_TOOL, WRIST_SENSOR
 from cosmos.errors import Span
 from cosmos.lang import units
-from cosmos.workcell import ARM_CAPABILITY, HOME_TOOL_POSITION, HOME_TOOL_ROTATION, WRIST_SENSOR
 
 MAX_DURATION_S = 3600.0
 """Longest WAIT, TIMEOUT or timed move [s]: one hour."""
@@ -212,8 +212,8 @@ def first_infeasible_timed_move(steps: tuple[plan.Step, ...]) -> tuple[str, Span
     Returns:
         The check error and the statement's span, or None.
     """
-    position: np.ndarray | None = np.array(HOME_TOOL_POSITION)
-    rotation = np.array(HOME_TOOL_ROTATION)
+    position: np.ndarray | None = np.array(HOME_TOOL.position)
+    rotation = np.array(HOME_TOOL.rotation)
     for step in steps:
         if not isinstance(step, plan.Segment):
             continue
