@@ -105,3 +105,10 @@ def test_the_declared_home_pose_is_the_scenes() -> None:
 
     assert np.allclose(HOME_TOOL.position, HOME_TOOL_POSITION, atol=1e-9)
     assert np.allclose(HOME_TOOL.rotation, HOME_TOOL_ROTATION, atol=1e-9)
+
+
+def test_limit_force_reaches_the_segments_after_it() -> None:
+    """LIMIT FORCE must set the limit of the statements after it, and only those."""
+    program = "WAIT 0.1 s\nLIMIT FORCE 40 N\nMOVE BY (0, 0, 10 mm)\nLIMIT FORCE 5 N\nWAIT 0.1 s\n"
+    plan = compile_program(program, "limit.cos", fixture_frames())
+    assert [s.force_limit_n for s in plan.segments] == [None, 40.0, 5.0]
