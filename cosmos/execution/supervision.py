@@ -84,6 +84,25 @@ class Role(IntEnum):
     OBSTACLE = 4  # an OBSTACLE slot
 
 
+_ROLES = len(Role)
+_IGNORED, _TOOL_FIXTURE, _TOOL_OBSTACLE, _LINK_ANY = 0, 1, 2, 3
+
+
+def _pair_kind(a: Role, b: Role) -> int:
+    """What a contact between geoms of roles ``a`` and ``b`` is, for the supervision."""
+    arm = {Role.LINK, Role.TOOL}
+    if (a in arm) == (b in arm) or Role.NONE in (a, b):
+        return _IGNORED  # nothing of the arm, or the arm on itself
+    part, other = (a, b) if a in arm else (b, a)
+    if part is Role.LINK:
+        return _LINK_ANY
+    return _TOOL_FIXTURE if other is Role.FIXTURE else _TOOL_OBSTACLE
+
+
+_PAIR_KINDS = [_pair_kind(a, b) for a in Role for b in Role]
+"""Per pair of roles (``role1 * len(Role) + role2``): what such a contact is (looked up per contact)."""
+
+
 class StopKind(IntEnum):
     """Why the supervisor stopped the arm."""
 
@@ -144,7 +163,7 @@ class Supervisor:
         self._plant = plant
         self._data = plant.data
         self._roles = _roles(plant)
-        self._roles_list = self._roles.tolist()
+        self._roles_list: list[int] = self._roles.tolist()
         self._owners = plant.geom_owners
         self._torque_limits = [float(t) for t in torque_limits_nm]
         self._saturated_at = [SATURATION_FRACTION * t for t in self._torque_limits]
@@ -274,26 +293,20 @@ class Supervisor:
 
     def _contacts(self, t_s: float, wrench: FloatArray) -> ProtectiveStop | None:
         """A stop for the first contact the statement does not expect; tracks inherited ones."""
-        roles = self._roles_list
+        roles, kinds = self._roles_list, _PAIR_KINDS
         touching_fixture = False
         for index, (g1, g2) in enumerate(self._data.contact.geom.tolist()):
-            r1, r2 = roles[g1], roles[g2]
-            if r1 == Role.LINK or r1 == Role.TOOL:
-                arm, other, r_other = g1, g2, r2
-            elif r2 == Role.LINK or r2 == Role.TOOL:
-                arm, other, r_other = g2, g1, r1
-            else:
+            kind = kinds[roles[g1] * _ROLES + roles[g2]]
+            if kind == _IGNORED:
                 continue
-            if r_other == Role.LINK or r_other == Role.TOOL or r_other == Role.NONE:
-                continue  # the arm's own parts (MuJoCo filters these; kept for safety)
-            if roles[arm] == Role.TOOL:
-                if r_other == Role.FIXTURE:
-                    touching_fixture = True
-                    if self._expect_fixture or self._guarded or self._inherited:
-                        continue
-                elif self._guarded:
+            if kind == _TOOL_FIXTURE:
+                touching_fixture = True
+                if self._expect_fixture or self._guarded or self._inherited:
                     continue
-            return self._contact_stop(index, arm, other, r_other, t_s, wrench)
+            elif kind == _TOOL_OBSTACLE and self._guarded:
+                continue
+            arm, other = (g1, g2) if roles[g1] in (Role.LINK, Role.TOOL) else (g2, g1)
+            return self._contact_stop(index, arm, other, roles[other], t_s, wrench)
         if self._inherited:
             self._since_touch = 0 if touching_fixture else self._since_touch + 1
             if self._since_touch >= self._gone_ticks:
