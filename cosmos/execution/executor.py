@@ -116,6 +116,7 @@ class Executor:
             # The last statement ended on its UNTIL: hold until the sample showing what
             # fired it is in the log (one state period at most).
             self.hold(1.0 / self.runtime.rates.state_hz)
+            self._stopped_at = None
 
     def _run_statement(self, segments: list[Segment]) -> None:
         """Run a statement's segments; an UNTIL that holds ends the statement with success."""
