@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -11,6 +10,8 @@ from typing import Any, TypeVar
 import numpy as np
 
 from cosmos.errors import CosmosError
+from cosmos.runlog import limits, validate
+from cosmos.runlog.printable import printable
 from cosmos.runlog.scan import McapContents, load_mcap
 from cosmos.runlog.schemas import (
     EVENT_TOPIC,
@@ -22,6 +23,8 @@ from cosmos.runlog.schemas import (
 
 R = TypeVar("R")
 Json = dict[str, Any]
+
+_MAX_KIND_CHARS = 64  # an event kind is a short word; new kinds are read, not refused
 
 
 @dataclass(frozen=True)
@@ -128,21 +131,31 @@ class RunRecord:
 
 
 def read_log(path: Path | str) -> RunRecord:
-    """Read a cosmos run log, complete or cut short.
+    """Read a cosmos run log, complete or cut short, checking every message it uses.
 
-    A complete file is read through its summary; a file without one (a killed
-    run) is read up to its last complete record and flagged ``truncated``.
+    A file without a footer (a killed run) is read up to its last complete
+    record and flagged ``truncated``. The file is untrusted: its size, records
+    and messages are capped (:mod:`cosmos.runlog.limits`) and every cosmos
+    message is checked against its schema (:mod:`cosmos.runlog.validate`).
 
     Raises:
         UsageError: If the file does not exist.
-        CosmosError: If it is not an MCAP file, not a cosmos log, or holds a
-            message that does not decode.
+        CosmosError: If it is not an MCAP file, not a cosmos log, past a cap, or
+            holds a message that does not match its schema (one line naming it).
     """
     path = Path(path)
-    contents = load_mcap(path)
+    return run_record(path, load_mcap(path))
+
+
+def run_record(path: Path, contents: McapContents) -> RunRecord:
+    """The :class:`RunRecord` of what :func:`~cosmos.runlog.scan.load_mcap` read from ``path``.
+
+    Raises:
+        CosmosError: As :func:`read_log`.
+    """
     topics = {cid: channel.topic for cid, channel in contents.channels.items()}
-    metadata = next((m.metadata for m in contents.metadata if m.name == METADATA_NAME), None)
-    if metadata is None and STATE_TOPIC not in topics.values():
+    records = [m for m in contents.metadata if m.name == METADATA_NAME]
+    if not records and STATE_TOPIC not in topics.values():
         if not contents.complete and not contents.messages:
             raise CosmosError(
                 f"{path}: cut short before any cosmos data was written "
@@ -151,20 +164,21 @@ def read_log(path: Path | str) -> RunRecord:
         raise CosmosError(
             f"{path}: not a cosmos run log (no '{METADATA_NAME}' metadata and no {STATE_TOPIC} channel)"
         )
+    metadata = _metadata(path, records[0].metadata if records else {})
     by_topic: dict[str, list[bytes]] = {}
     for message in contents.messages:
         by_topic.setdefault(topics[message.channel_id], []).append(message.data)
-    source, source_name = _source(contents, metadata or {})
-    events = _records(path, EVENT_TOPIC, by_topic.get(EVENT_TOPIC, []), _event)
-    segments = _records(path, SEGMENT_TOPIC, by_topic.get(SEGMENT_TOPIC, []), _segment)
+    source, source_name = _source(contents, metadata)
+    events = _checked(path, EVENT_TOPIC, by_topic, _event)
+    segments = _checked(path, SEGMENT_TOPIC, by_topic, _segment)
     return RunRecord(
         path=path,
-        metadata=dict(metadata or {}),
+        metadata=metadata,
         source=source,
         source_name=source_name,
         segments=tuple(sorted(segments, key=lambda s: s.t)),
         events=tuple(sorted(events, key=lambda e: e.t)),
-        state=_state(path, _decode(path, STATE_TOPIC, by_topic.get(STATE_TOPIC, []))),
+        state=_state(path, by_topic.get(STATE_TOPIC, [])),
         message_counts={topic: len(data) for topic, data in by_topic.items()},
         truncated=not contents.complete,
         readable_bytes=contents.readable_bytes,
@@ -172,71 +186,69 @@ def read_log(path: Path | str) -> RunRecord:
     )
 
 
+def _metadata(path: Path, metadata: Mapping[str, str]) -> dict[str, str]:
+    """The ``cosmos`` metadata record, lengths checked and control characters replaced."""
+    for key, value in metadata.items():
+        if len(key) > limits.MAX_TEXT_CHARS or len(value) > limits.MAX_TEXT_CHARS:
+            name = repr(printable(key[:40]))
+            raise CosmosError(
+                f"{path}: metadata '{METADATA_NAME}': {name} is longer than "
+                f"{limits.MAX_TEXT_CHARS:,} characters"
+            )
+    return {printable(key): printable(value) for key, value in metadata.items()}
+
+
 def _source(contents: McapContents, metadata: Mapping[str, str]) -> tuple[str | None, str | None]:
+    """The program text attached (raw: it is compiled, never printed as is) and its name."""
     texts = [a for a in contents.attachments if a.media_type.startswith("text/")]
     program_name = Path(metadata.get("program", "")).name
-    chosen = next((a for a in texts if a.name == program_name), texts[0] if texts else None)
+    chosen = next((a for a in texts if printable(a.name) == program_name), texts[0] if texts else None)
     if chosen is None:
         return None, None
-    return chosen.data.decode(errors="replace"), chosen.name
+    return chosen.data.decode(errors="replace"), printable(chosen.name[: limits.MAX_TEXT_CHARS])
 
 
-def _decode_one(path: Path, topic: str, index: int, data: bytes) -> Any:
-    try:
-        return json.loads(data)
-    except ValueError as error:
-        raise CosmosError(f"{path}: message {index} on {topic} is not JSON: {error}") from None
-
-
-def _decode(path: Path, topic: str, data: Sequence[bytes]) -> list[Json]:
-    """JSON-decode the messages of one topic (all at once; one by one to find a bad one)."""
-    try:
-        decoded = json.loads(b"[" + b",".join(data) + b"]")
-    except ValueError:
-        decoded = [_decode_one(path, topic, i, item) for i, item in enumerate(data)]
-    if not all(isinstance(m, dict) for m in decoded):
-        raise CosmosError(f"{path}: a message on {topic} is not a JSON object")
-    return decoded
-
-
-def _records(path: Path, topic: str, data: Sequence[bytes], build: Callable[[Json], R]) -> list[R]:
-    try:
-        return [build(m) for m in _decode(path, topic, data)]
-    except KeyError as error:
-        raise CosmosError(f"{path}: a {topic} message has no field {error}") from None
-    except (TypeError, ValueError) as error:
-        raise CosmosError(f"{path}: a {topic} message is malformed: {error}") from None
-
-
-def _floats(values: Sequence[Any] | None) -> tuple[float, ...] | None:
-    return None if values is None else tuple(float(v) for v in values)
-
-
-def _segment(m: dict[str, Any]) -> SegmentRecord:
-    return SegmentRecord(
-        t=float(m["t"]),
-        segment=int(m["segment"]),
-        line=int(m["line"]),
-        statement=str(m["statement"]),
-        kind=str(m["kind"]),
-        frame=tuple(float(v) for v in m["frame"]),
-        motion_axes=tuple(int(v) for v in m["motion_axes"]),
-        force_setpoint=tuple(float(v) for v in m["force_setpoint"]),
-        stiffness=tuple(float(v) for v in m["stiffness"]),
-        damping=tuple(float(v) for v in m["damping"]),
-        goal=_floats(m.get("goal")),
-        speed_limit=None if m.get("speed_limit") is None else float(m["speed_limit"]),
-        timeout=None if m.get("timeout") is None else float(m["timeout"]),
+def _checked(
+    path: Path, topic: str, by_topic: Mapping[str, Sequence[bytes]], build: Callable[[Json], R]
+) -> list[R]:
+    return validate.records(
+        _where(path, topic), by_topic.get(topic, []), build, limits.MAX_STATEMENT_MESSAGES
     )
 
 
-def _event(m: dict[str, Any]) -> EventRecord:
+def _where(path: Path, topic: str) -> Callable[[int], str]:
+    return lambda n: f"{path}: {topic} message {n}"
+
+
+def _segment(m: Json) -> SegmentRecord:
+    goal = None if m.get("goal") is None else validate.vector(m, "goal", (3, 7))
+    return SegmentRecord(
+        t=validate.time(m),
+        segment=validate.count(m, "segment", limits.MAX_SEGMENT),
+        line=validate.count(m, "line", limits.MAX_LINE),
+        statement=validate.text(m, "statement"),
+        kind=validate.text(m, "kind"),
+        frame=validate.vector(m, "frame", (4,)),
+        motion_axes=validate.axes(m, "motion_axes"),
+        force_setpoint=validate.vector(m, "force_setpoint", (6,)),
+        stiffness=validate.vector(m, "stiffness", (6,)),
+        damping=validate.vector(m, "damping", (6,)),
+        goal=goal,
+        speed_limit=validate.optional_number(m, "speed_limit"),
+        timeout=validate.optional_number(m, "timeout"),
+    )
+
+
+def _event(m: Json) -> EventRecord:
+    kind = validate.text(m, "kind")
+    if len(kind) > _MAX_KIND_CHARS:
+        raise validate.Invalid(f"kind is longer than {_MAX_KIND_CHARS} characters")
     return EventRecord(
-        t=float(m["t"]),
-        kind=str(m["kind"]),
-        line=int(m["line"]),
-        statement=str(m["statement"]),
-        reason=str(m.get("reason", "")),
+        t=validate.time(m),
+        kind=kind,
+        line=validate.count(m, "line", limits.MAX_LINE),
+        statement=validate.text(m, "statement"),
+        reason=validate.text(m, "reason", default=""),
     )
 
 
@@ -245,23 +257,18 @@ def _read_only(array: np.ndarray) -> np.ndarray:
     return array
 
 
-def _state(path: Path, messages: list[dict[str, Any]]) -> StateSeries:
-    try:
-        t = np.array([m["t"] for m in messages], dtype=float)
-        order = np.argsort(t, kind="stable")
-        columns = {
-            name: np.array([m[name] for m in messages], dtype=float).reshape(-1, n)[order]
-            for name, n in STATE_VECTORS
-        }
-        segment = np.array([m["segment"] for m in messages], dtype=np.int64)[order]
-        line = np.array([m["line"] for m in messages], dtype=np.int64)[order]
-    except KeyError as error:
-        raise CosmosError(f"{path}: a {STATE_TOPIC} message has no field {error}") from None
-    except (TypeError, ValueError) as error:
-        raise CosmosError(f"{path}: a {STATE_TOPIC} message is malformed: {error}") from None
+def _state(path: Path, data: Sequence[bytes]) -> StateSeries:
+    if len(data) > limits.MAX_MESSAGES:
+        raise CosmosError(f"{path}: more than {limits.MAX_MESSAGES:,} {STATE_TOPIC} messages")
+    t, rows, labels = validate.state_arrays(_where(path, STATE_TOPIC), data)
+    order = np.argsort(t, kind="stable")
+    columns, start = {}, 0
+    for name, n in STATE_VECTORS:
+        columns[name] = _read_only(np.ascontiguousarray(rows[order, start : start + n]))
+        start += n
     return StateSeries(
         t=_read_only(t[order]),
-        segment=_read_only(segment),
-        line=_read_only(line),
-        **{name: _read_only(array) for name, array in columns.items()},
+        segment=_read_only(labels[order, 0].copy()),
+        line=_read_only(labels[order, 1].copy()),
+        **columns,
     )

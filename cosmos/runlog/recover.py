@@ -8,6 +8,8 @@ from pathlib import Path
 from mcap.writer import CompressionType, Writer
 
 from cosmos.errors import UsageError
+from cosmos.runlog.output import written
+from cosmos.runlog.reader import RunRecord, run_record
 from cosmos.runlog.scan import load_mcap
 from cosmos.runlog.writer import DEFAULT_CHUNK_SIZE
 
@@ -24,6 +26,7 @@ class Recovery:
         readable_bytes: Bytes of the input that could be read.
         total_bytes: Size of the input.
         end_time_ns: Log time of the last message copied [ns] (0 if none).
+        record: The input as :func:`cosmos.runlog.read_log` reads it (checked the same way).
     """
 
     messages: int
@@ -33,25 +36,34 @@ class Recovery:
     readable_bytes: int
     total_bytes: int
     end_time_ns: int
+    record: RunRecord
 
 
-def recover(cut_path: Path | str, out_path: Path | str) -> Recovery:
+def recover(cut_path: Path | str, out_path: Path | str, *, force: bool = False) -> Recovery:
     """Write everything readable in ``cut_path`` to a complete MCAP file ``out_path``.
 
     Schemas, channels, messages (in their order), attachments and metadata are
     copied; the output has chunk and message indexes, statistics, a summary and
-    a footer. The input is not modified.
+    a footer. The input is not modified. It is read as :func:`cosmos.runlog.read_log`
+    reads it, within the same caps and with every cosmos message checked: a log
+    that ``cosmos replay`` refuses is not copied either.
+
+    Args:
+        cut_path: The log to recover.
+        out_path: The complete copy to write (its directory must exist).
+        force: Overwrite ``out_path`` if it exists.
 
     Raises:
-        UsageError: If ``cut_path`` does not exist or is the same file as ``out_path``.
-        CosmosError: If ``cut_path`` is not an MCAP file.
+        UsageError: If ``cut_path`` does not exist, is the same file as ``out_path``,
+            or ``out_path`` cannot be written (see :mod:`cosmos.runlog.output`).
+        CosmosError: If ``cut_path`` is not a cosmos log or holds a bad message.
     """
     cut_path, out_path = Path(cut_path), Path(out_path)
     if out_path.exists() and cut_path.exists() and out_path.samefile(cut_path):
         raise UsageError(f"{out_path}: recovering a log onto itself; choose another output path")
     contents = load_mcap(cut_path)
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    with open(out_path, "wb") as stream:
+    run = run_record(cut_path, contents)
+    with written(out_path, force=force) as stream:
         writer = Writer(stream, chunk_size=DEFAULT_CHUNK_SIZE, compression=CompressionType.ZSTD)
         header = contents.header
         if header is None:
@@ -100,4 +112,5 @@ def recover(cut_path: Path | str, out_path: Path | str) -> Recovery:
         readable_bytes=contents.readable_bytes,
         total_bytes=contents.total_bytes,
         end_time_ns=end_time_ns,
+        record=run,
     )

@@ -4,20 +4,24 @@ Times: every message's MCAP ``log_time`` and ``publish_time`` are the
 simulated time of the sample in integer nanoseconds since the start of the
 run, ``round(t * 1e9)``; ``t`` in a message is the same time in seconds.
 
-Durability: :meth:`RunLog.flush` (called by the runtime at statement
-boundaries) closes the chunk in progress, hands everything to the operating
-system and fsyncs it, so a run killed after a flush leaves a file that
-:func:`cosmos.runlog.read_log` reads up to that flush and
-:func:`cosmos.runlog.recover` completes. :meth:`RunLog.close` writes the
-summary and footer; leaving the ``with`` block closes, also on an exception.
+Durability: every :data:`FLUSH_EVERY_S` of simulated time (checked at each
+state sample) the chunk in progress is closed and handed to the operating
+system, so a run killed with SIGKILL loses at most that much; :meth:`RunLog.flush`
+(called by the executor at statement boundaries) does the same and also fsyncs.
+A run killed after a flush leaves a file that :func:`cosmos.runlog.read_log`
+reads up to that flush and :func:`cosmos.runlog.recover` completes.
+:meth:`RunLog.close` writes the summary and footer; leaving the ``with`` block
+closes, also on an exception, and so does the interpreter's exit.
 
-The file is written by Foxglove's SDK (its Rust MCAP writer); reading uses the
-``mcap`` package, so every log is checked by a second implementation.
+The file is written by Foxglove's SDK (its Rust MCAP writer) through a
+:class:`~cosmos.runlog.sink.LogSink`, so a write error (a full disk) is one
+:class:`~cosmos.errors.UsageError` naming the file, raised at the next flush;
+reading uses the ``mcap`` package, so every log is checked by a second implementation.
 """
 
 from __future__ import annotations
 
-import os
+import weakref
 from collections.abc import Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
@@ -25,7 +29,7 @@ from types import TracebackType
 from typing import Any, Final
 
 from foxglove import Channel, Context, Schema, open_mcap
-from foxglove.mcap import MCAPCompression, MCAPWriteOptions
+from foxglove.mcap import MCAPCompression, MCAPWriteOptions, MCAPWriter
 from mcap.well_known import MessageEncoding, SchemaEncoding
 from numpy.typing import ArrayLike
 
@@ -38,6 +42,7 @@ from cosmos.runlog.messages import (
     metadata_record,
     segment_message,
 )
+from cosmos.runlog.output import open_output
 from cosmos.runlog.scene import Primitive, entity
 from cosmos.runlog.schemas import (
     EVENT_SCHEMA,
@@ -52,7 +57,8 @@ from cosmos.runlog.schemas import (
     STATE_TOPIC,
     schema_bytes,
 )
-from cosmos.runlog.state_batch import StateBatches
+from cosmos.runlog.sink import LogSink
+from cosmos.runlog.state_batch import FLUSH_EVERY_S, StateBatches
 
 DEFAULT_CHUNK_SIZE: Final = 256 * 1024
 """Bytes of messages per chunk; at most this much is lost past the last flush."""
@@ -75,20 +81,20 @@ def default_log_path(program: Path, now: datetime) -> Path:
     return Path("logs") / f"{program.stem}-{utc:%Y%m%dT%H%M%SZ}.mcap"
 
 
-def _fsync(path: Path) -> None:
-    """Ask the OS to put the file's written data on disk (any descriptor of it will do)."""
-    fd = os.open(path, os.O_RDONLY)
+def _close_at_exit(writer: MCAPWriter, sink: LogSink) -> None:
+    """Close a log left open (at exit or when collected), while Python can still run the sink."""
     try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
+        writer.close()
+    except Exception:  # noqa: BLE001, S110 - nothing can be reported this late; the file stays readable
+        pass
+    sink.close()
 
 
 class RunLog(StateBatches):
     """The MCAP log of one run (or REPL session), open for writing.
 
     Args:
-        path: File to write; missing parent directories are created.
+        path: File to write (a regular file; see :mod:`cosmos.runlog.output`).
         program: The program's path as the user named it (``<repl>`` for a session).
         source: The program text, stored as an attachment named after the
             program file; None to attach it later with :meth:`attach_source`.
@@ -100,6 +106,12 @@ class RunLog(StateBatches):
         metadata: More ``name: value`` pairs for the ``cosmos`` metadata record.
         chunk_size: Bytes per MCAP chunk (compressed with zstd).
         frames: Child frames of :meth:`transforms`, in the order poses are given.
+        flush_every_s: Simulated time between flushes to the OS [s] (inf: only :meth:`flush`).
+        overwrite: Replace an existing file (``cosmos run`` checks ``--force`` first).
+        make_parents: Create missing parent directories.
+
+    Raises:
+        UsageError: If the file cannot be created, naming it and the reason.
     """
 
     def __init__(
@@ -116,10 +128,15 @@ class RunLog(StateBatches):
         metadata: Mapping[str, str] | None = None,
         chunk_size: int = DEFAULT_CHUNK_SIZE,
         frames: Sequence[str] = foxglove.ARM_FRAMES,
+        flush_every_s: float = FLUSH_EVERY_S,
+        overwrite: bool = True,
+        make_parents: bool = True,
     ):
         self.path = Path(path)
         self.program = program
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._sink = LogSink(
+            self.path, open_output(self.path, force=overwrite, make_parents=make_parents, buffered=False)
+        )
         # Foxglove's SDK writes the MCAP (its Rust writer costs a few microseconds a message,
         # a third of the pure-Python one's); each log has its own context and channels.
         self._context = Context()
@@ -129,12 +146,13 @@ class RunLog(StateBatches):
             chunk_size=chunk_size,
             compression_threads=0,
         )
-        self._writer = open_mcap(
-            self.path, allow_overwrite=True, context=self._context, writer_options=options
-        )
+        self._writer = open_mcap(self._sink, context=self._context, writer_options=options)
+        self._at_exit = weakref.finalize(self, _close_at_exit, self._writer, self._sink)
         self._channels: list[Channel] = []
         self._closed = False
         self._last_ns = 0
+        self._flush_every_s = flush_every_s
+        self._flush_due = flush_every_s
 
         channel = self._json_channel
         self._state = channel(STATE_TOPIC, STATE_SCHEMA_NAME, STATE_SCHEMA)
@@ -292,25 +310,45 @@ class RunLog(StateBatches):
         self._write(self._scene, t_ns, data)
 
     def flush(self) -> None:
-        """Write everything so far to disk: pending states, the open chunk, an fsync."""
+        """Write everything so far to disk: pending states, the open chunk, an fsync.
+
+        Raises:
+            UsageError: If a write to the file failed (since the last check).
+        """
+        self._flush_states()
+        self._sink.sync()
+        self._sink.check()
+
+    def _flush_states(self) -> None:
+        """Hand pending states and the open chunk to the OS (no fsync): what a SIGKILL keeps."""
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
         self._write_states()
         self._writer.flush()
-        _fsync(self.path)
+        self._flush_due = self._last_ns / 1e9 + self._flush_every_s
+        self._sink.check()
 
     def close(self) -> None:
-        """Write the summary and footer and close the file; later calls do nothing."""
+        """Write the summary and footer and close the file; later calls do nothing.
+
+        Raises:
+            UsageError: If a write to the file failed and no flush has said so yet.
+        """
         if self._closed:
             return
+        reported = self._sink.error is not None
         try:
             self._write_states()
             self._writer.close()
-            _fsync(self.path)
+            self._sink.sync()
         finally:
             self._closed = True
+            self._at_exit.detach()
             for channel in self._channels:
                 channel.close()
+            self._sink.close()
+        if not reported:
+            self._sink.check()
 
     def __enter__(self) -> RunLog:
         return self

@@ -61,14 +61,20 @@ def test_complete_log_reads_everything(written: WrittenRun) -> None:
     assert record.end_time == pytest.approx(4.0)
 
 
-def test_complete_log_is_read_through_its_summary(
-    written: WrittenRun, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    def no_scan(data: bytes) -> None:
-        raise AssertionError("a complete file must not need the record-by-record walk")
-
-    monkeypatch.setattr(scan_module, "_scan", no_scan)
-    assert len(read_log(written.path).state) == written.states
+def test_the_walk_reads_what_the_mcap_package_reads_through_the_summary(written: WrittenRun) -> None:
+    """The bounded record walk (which replaced reading through the summary) must find every
+    message, attachment and metadata record that the mcap package finds through the index."""
+    with open(written.path, "rb") as stream:
+        reader = make_reader(stream)
+        expected = [(c.topic, m.log_time, m.data) for _, c, m in reader.iter_messages(log_time_order=False)]
+        attachments = [(a.name, a.data) for a in reader.iter_attachments()]
+        metadata = [(m.name, m.metadata) for m in reader.iter_metadata()]
+    contents = scan_module.load_mcap(written.path)
+    walked = [(contents.channels[m.channel_id].topic, m.log_time, m.data) for m in contents.messages]
+    assert walked == expected
+    assert [(a.name, a.data) for a in contents.attachments] == attachments
+    assert [(m.name, m.metadata) for m in contents.metadata] == metadata
+    assert contents.complete
 
 
 def cut_copy(source: Path, size: int, directory: Path) -> Path:
@@ -101,7 +107,7 @@ def test_cut_log_reads_up_to_the_last_flush(written: WrittenRun, tmp_path: Path)
 def test_recovered_file_is_indexed(written: WrittenRun, tmp_path: Path, fraction: float) -> None:
     cut = cut_copy(written.path, int(written.path.stat().st_size * fraction), tmp_path)
     before = read_log(cut)
-    out = tmp_path / "recovered" / "run.mcap"
+    out = tmp_path / "recovered.mcap"
     recovery = recover(cut, out)
     with open(out, "rb") as stream:
         reader = make_reader(stream)

@@ -1,0 +1,99 @@
+"""The file the Rust MCAP writer writes through, so that its I/O errors reach Python as one line.
+
+Foxglove's writer, given a path, reports a failed write as ``RuntimeError:
+FoxgloveError: MCAP error: I/O error``, prints a line to stderr for every
+message after it, and, if it is still open when the interpreter shuts down,
+ends in a Rust panic. Given this file object instead, every write goes through
+:meth:`LogSink.write`: the first ``OSError`` is kept and later writes are
+dropped, so the writer never sees an error; :meth:`LogSink.check` raises it as
+a :class:`~cosmos.errors.UsageError` naming the path and the reason, at the
+next flush or close of the log.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from pathlib import Path
+from typing import BinaryIO
+
+from cosmos.runlog.output import cannot_write
+
+
+class LogSink(io.RawIOBase):
+    """An open output file that records its first write error instead of raising it.
+
+    Args:
+        path: The file's path, for the error message.
+        stream: The file, opened unbuffered for writing.
+    """
+
+    def __init__(self, path: Path, stream: BinaryIO):
+        super().__init__()
+        self.path = path
+        self._stream = stream
+        self.error: OSError | None = None
+
+    def writable(self) -> bool:
+        """Yes."""
+        return True
+
+    def seekable(self) -> bool:
+        """Yes (the writer goes back to fill in lengths)."""
+        return True
+
+    def write(self, data: bytes | bytearray | memoryview) -> int:  # type: ignore[override]
+        """Write all of ``data`` (or nothing after an error); report it all written."""
+        view = memoryview(data)
+        size = view.nbytes
+        if self.error is None:
+            try:
+                while view.nbytes:
+                    written = self._stream.write(view)
+                    view = view[written or 0 :]
+            except OSError as error:
+                self.error = error
+        return size
+
+    def seek(self, offset: int, whence: int = io.SEEK_SET) -> int:
+        """Move in the file (after an error: nothing, the file is lost anyway)."""
+        if self.error is None:
+            try:
+                return self._stream.seek(offset, whence)
+            except OSError as error:
+                self.error = error
+        return offset
+
+    def tell(self) -> int:
+        """Position in the file."""
+        return self._stream.tell() if self.error is None else 0
+
+    def flush(self) -> None:
+        """Nothing to do: the file is unbuffered (:meth:`sync` puts it on disk)."""
+
+    def sync(self) -> None:
+        """Ask the OS to put the written data on disk."""
+        if self.error is None:
+            try:
+                os.fsync(self._stream.fileno())
+            except OSError as error:
+                self.error = error
+
+    def check(self) -> None:
+        """Raise the first write error, if there was one.
+
+        Raises:
+            UsageError: Naming the path and the reason.
+        """
+        if self.error is not None:
+            raise cannot_write(self.path, self.error)
+
+    def close(self) -> None:
+        """Close the file; an error closing it is kept like a write error."""
+        if not self.closed:
+            try:
+                self._stream.close()
+            except OSError as error:
+                if self.error is None:
+                    self.error = error
+        super().close()
