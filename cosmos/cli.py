@@ -56,8 +56,14 @@ def cli() -> None:
 @click.option(
     "--seed", type=int, default=0, show_default=True, help="Seed of the wrist force/torque sensor's noise."
 )
+@click.option("--force", is_flag=True, help="Overwrite the --log file if it exists.")
 def run(
-    program: Path, log_path: Path | None, servo_hz: float | None, param_hz: float | None, seed: int
+    program: Path,
+    log_path: Path | None,
+    servo_hz: float | None,
+    param_hz: float | None,
+    seed: int,
+    force: bool,
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
     from cosmos.commands.run import run_program
@@ -69,7 +75,7 @@ def run(
         param_hz=param_hz or min(defaults.param_hz, servo_hz or defaults.servo_hz),
         state_hz=defaults.state_hz,
     )
-    _finish(run_program(program, log_path, rates, seed))
+    _finish(run_program(program, log_path, rates, seed, force))
 
 
 @cli.command()
@@ -121,6 +127,7 @@ def repl(log_path: Path | None) -> None:
     default=None,
     help="Start --view/--video this many seconds into the run.  [default: 0]",
 )
+@click.option("--force", is_flag=True, help="Overwrite existing --recover, --plot and --video files.")
 def replay(
     log: Path,
     plot: Path | None,
@@ -130,6 +137,7 @@ def replay(
     verify: bool,
     rate: float | None,
     start_s: float | None,
+    force: bool,
 ) -> None:
     """Summarise, plot, recover, play back or verify a run log."""
     from cosmos.commands.replay import ReplayOptions, replay_log
@@ -144,6 +152,7 @@ def replay(
         verify=verify,
         rate=1.0 if rate is None else rate,
         start_s=0.0 if start_s is None else start_s,
+        force=force,
     )
     _finish(replay_log(log, options))
 

@@ -3,6 +3,12 @@
 Each option is one step of :func:`replay_log`, run in this order: recover,
 summarise, plot, view, video, verify. The exit status is 1 if ``--verify``
 finds that the re-run departs from the log, else 0.
+
+The log is untrusted input: it is read within caps and every message checked
+(:func:`cosmos.runlog.read_log`; a bad log is one line and exit 1), and
+everything printed from it has its control characters replaced. Outputs
+(``--recover``, ``--plot``, ``--video``) follow :mod:`cosmos.runlog.output`: an
+existing file is overwritten only with ``--force``.
 """
 
 from __future__ import annotations
@@ -39,6 +45,7 @@ class ReplayOptions:
         verify: Re-run the program and compare with the log.
         rate: Playback speed for view and video: 2 plays twice as fast as the run.
         start_s: Simulated time at which view and video start [s].
+        force: Overwrite existing output files.
     """
 
     plot: Path | None = None
@@ -48,6 +55,7 @@ class ReplayOptions:
     verify: bool = False
     rate: float = 1.0
     start_s: float = 0.0
+    force: bool = False
 
     def __post_init__(self) -> None:
         if not self.rate > 0:
@@ -68,22 +76,23 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
 
         prefer_headless_gl()  # before anything imports mujoco
     if options.recover_to is not None:
-        recovery = recover(log, options.recover_to)
+        recovery = recover(log, options.recover_to, force=options.force)
         state = "was complete" if recovery.was_complete else "was cut short"
         click.echo(
             f"recovered {recovery.messages} messages up to t = {recovery.end_time_ns / 1e9:.3f} s "
             f"({recovery.readable_bytes} of {recovery.total_bytes} bytes readable; the log "
             f"{state}) into {options.recover_to}"
         )
-
-    record = read_log(log)
+        record = recovery.record
+    else:
+        record = read_log(log)
     timeline = statement_timeline(record)
     click.echo(format_summary(record, timeline))
 
     if options.plot is not None:
         from cosmos.replay.plot import plot_run  # matplotlib is slow to import
 
-        click.echo(f"plot written to {plot_run(record, timeline, options.plot)}")
+        click.echo(f"plot written to {plot_run(record, timeline, options.plot, options.force)}")
 
     if options.view or options.video is not None:
         from cosmos.replay.playback import Playback, view
@@ -96,16 +105,20 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
             )
             view(record, playback)
         if options.video is not None:
-            video = _render_with_progress(record, options.video, playback)
+            video = _render_with_progress(record, options.video, playback, options.force)
             click.echo(
                 f"video written to {video.path}: {video.frames} frames at {video.fps:g} fps, "
                 f"t = {video.start_s:.3f} .. {video.end_s:.3f} s at {options.rate:g}x"
             )
 
     if options.verify:
-        from cosmos.replay.verify import verify_log
+        from cosmos.replay.verify import time_bound, verify_log
 
-        click.echo(f"verify: re-running {record.metadata.get('program', 'the program')} ...")
+        click.echo(
+            f"verify: re-running {record.metadata.get('program', 'the program')} "
+            f"(stopped if it passes t = {time_bound(record.end_time):g} s: twice the logged "
+            f"{record.end_time:.3f} s plus 10 s) ..."
+        )
         verification = verify_log(record)
         click.echo(verification.render())
         if not verification.matches:
@@ -113,15 +126,21 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
     return EXIT_OK
 
 
-def _render_with_progress(record: RunRecord, path: Path, playback: Playback) -> Video:
+def _render_with_progress(record: RunRecord, path: Path, playback: Playback, force: bool) -> Video:
     """:func:`render_video`, with a frame counter on a terminal."""
     from cosmos.replay.playback import render_video
 
     if not sys.stderr.isatty():
-        return render_video(record, path, playback)
+        return render_video(record, path, playback, force=force)
     from rich.console import Console
+    from rich.markup import escape
 
-    with Console(stderr=True).status(f"rendering {path}") as status:
+    shown = escape(str(path))
+    with Console(stderr=True).status(f"rendering {shown}") as status:
         return render_video(
-            record, path, playback, lambda k, n: status.update(f"rendering {path}: frame {k + 1} of {n}")
+            record,
+            path,
+            playback,
+            lambda k, n: status.update(f"rendering {shown}: frame {k + 1} of {n}"),
+            force=force,
         )

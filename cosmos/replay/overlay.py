@@ -10,7 +10,6 @@ cylinders and spheres in the colour they were logged with.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -21,7 +20,12 @@ import numpy as np
 
 from cosmos.errors import CosmosError
 from cosmos.runlog.foxglove import SCENE_TOPIC
+from cosmos.runlog.limits import MAX_SCENE_MESSAGE_BYTES, MAX_TEXT_CHARS
 from cosmos.runlog.scan import load_mcap
+from cosmos.runlog.validate import Invalid, decode, number
+
+MAX_SHOWN = 1_000_000
+"""Most shapes :func:`scene_timeline` keeps, summed over the updates (each keeps all it shows)."""
 
 
 class ShapeKind(Enum):
@@ -65,8 +69,8 @@ class SceneTimeline:
         return self.shown[index] if index >= 0 else ()
 
 
-def _rotation(quat_xyzw: dict[str, float]) -> np.ndarray:
-    x, y, z, w = (float(quat_xyzw[k]) for k in ("x", "y", "z", "w"))
+def _rotation(quat_xyzw: np.ndarray) -> np.ndarray:
+    x, y, z, w = quat_xyzw
     norm = np.sqrt(w * w + x * x + y * y + z * z) or 1.0
     w, x, y, z = w / norm, x / norm, y / norm, z / norm
     return np.array(
@@ -78,54 +82,96 @@ def _rotation(quat_xyzw: dict[str, float]) -> np.ndarray:
     )
 
 
+def _object(value: Any, name: str) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise Invalid(f"{name} is not a JSON object")
+    return value
+
+
+def _list(parent: dict[str, Any], name: str) -> list[Any]:
+    value = parent.get(name, [])
+    if not isinstance(value, list):
+        raise Invalid(f"{name} is not a list")
+    return value
+
+
+def _numbers(parent: dict[str, Any], name: str, keys: str) -> np.ndarray:
+    """The finite numbers ``parent[name][k]`` for each key ``k`` of ``keys``."""
+    values = _object(parent.get(name), name)
+    try:
+        return np.array([number(values, k) for k in keys])
+    except Invalid as error:
+        raise Invalid(f"{name}.{error}") from None
+
+
 def _shapes(entity: dict[str, Any]) -> list[Shape]:
     shapes = []
     for kind in ShapeKind:
-        for item in entity.get(kind.value, []):
-            pose, size, color = item["pose"], item["size"], item["color"]
-            extent = np.array([size["x"], size["y"], size["z"]], dtype=float) / 2
+        for item in _list(entity, kind.value):
+            item = _object(item, kind.value)
+            pose = _object(item.get("pose"), "pose")
+            extent = _numbers(item, "size", "xyz") / 2
             if kind is ShapeKind.CYLINDER:
                 extent = np.array([extent[0], extent[0], extent[2]])
             shapes.append(
                 Shape(
                     kind=kind,
-                    position=np.array([pose["position"][k] for k in "xyz"], dtype=float),
-                    rotation_to_world=_rotation(pose["orientation"]),
+                    position=_numbers(pose, "position", "xyz"),
+                    rotation_to_world=_rotation(_numbers(pose, "orientation", "xyzw")),
                     half_sizes=extent,
-                    rgba=np.array([color[k] for k in "rgba"], dtype=float),
+                    rgba=_numbers(item, "color", "rgba"),
                 )
             )
     return shapes
 
 
+def _entity_id(item: Any, what: str) -> str:
+    value = _object(item, what).get("id")
+    if not isinstance(value, str) or len(value) > MAX_TEXT_CHARS:
+        raise Invalid(f"{what} id is not a string of at most {MAX_TEXT_CHARS:,} characters")
+    return value
+
+
+def _apply(update: dict[str, Any], current: dict[str, list[Shape]], drawn_already: Collection[str]) -> None:
+    """Apply one ``foxglove.SceneUpdate``: deletions first, then added or replaced entities."""
+    for deletion in _list(update, "deletions"):
+        current.pop(_entity_id(deletion, "deletion"), None)
+    for entity in _list(update, "entities"):
+        name = _entity_id(entity, "entity")
+        if name not in drawn_already:
+            current[name] = _shapes(entity)
+
+
 def scene_timeline(path: Path, drawn_already: Collection[str]) -> SceneTimeline:
-    """Read the obstacles of a log's ``/scene`` channel.
+    """Read the obstacles of a log's ``/scene`` channel (read and checked like every message).
 
     Args:
         path: The MCAP log (a cut one is read up to the cut).
         drawn_already: Entity ids to skip: the model's own geoms (fixtures).
 
     Raises:
-        CosmosError: If a ``/scene`` message is not a scene update cosmos wrote.
+        CosmosError: If a ``/scene`` message is not a scene update cosmos can draw
+            (one line naming it), or the scene holds more than ``MAX_SHOWN`` shapes.
     """
     contents = load_mcap(path)
     channels = {cid for cid, channel in contents.channels.items() if channel.topic == SCENE_TOPIC}
-    updates = sorted((m for m in contents.messages if m.channel_id in channels), key=lambda m: m.log_time)
+    updates = [m for m in contents.messages if m.channel_id in channels]
+    order = sorted(range(len(updates)), key=lambda i: updates[i].log_time)
     current: dict[str, list[Shape]] = {}
     times: list[float] = []
     shown: list[tuple[Shape, ...]] = []
-    for message in updates:
+    total = 0
+    for i in order:
+        message = updates[i]
         try:
-            update = json.loads(message.data)
-            for deletion in update.get("deletions", []):
-                current.pop(str(deletion["id"]), None)
-            for entity in update.get("entities", []):
-                if entity["id"] not in drawn_already:
-                    current[str(entity["id"])] = _shapes(entity)
-        except (ValueError, KeyError, TypeError) as error:
-            raise CosmosError(f"{path}: a {SCENE_TOPIC} message is malformed: {error!r}") from None
+            _apply(decode(message.data, MAX_SCENE_MESSAGE_BYTES), current, drawn_already)
+        except Invalid as error:
+            raise CosmosError(f"{path}: {SCENE_TOPIC} message {i + 1}: {error}") from None
         times.append(message.log_time / 1e9)
         shown.append(tuple(shape for shapes in current.values() for shape in shapes))
+        total += len(shown[-1])
+        if total > MAX_SHOWN:
+            raise CosmosError(f"{path}: {SCENE_TOPIC}: more than {MAX_SHOWN:,} shapes to draw over the run")
     return SceneTimeline(np.array(times, dtype=float), tuple(shown))
 
 

@@ -24,6 +24,8 @@ import numpy as np
 
 from cosmos.errors import CosmosError, UsageError
 from cosmos.replay.overlay import draw, scene_timeline
+from cosmos.runlog.output import check_output
+from cosmos.runlog.printable import printable
 from cosmos.runlog.reader import RunRecord, StateSeries
 
 if TYPE_CHECKING:
@@ -167,21 +169,27 @@ FrameCallback = Callable[[int, int], None]
 
 
 def render_video(
-    record: RunRecord, path: Path, playback: Playback, on_frame: FrameCallback | None = None
+    record: RunRecord,
+    path: Path,
+    playback: Playback,
+    on_frame: FrameCallback | None = None,
+    force: bool = False,
 ) -> Video:
     """Render the logged joint trajectory offscreen from the ``overview`` camera to an MP4 file.
 
     Software OpenGL (no GPU) takes ~0.1 to 0.4 s a frame at the video size.
 
     Raises:
-        UsageError: If ``path`` does not end in ``.mp4`` or ``--start`` is past the end.
-        CosmosError: If the encoder is missing, offscreen rendering is not
-            available, or the file cannot be written.
+        UsageError: If ``path`` does not end in ``.mp4``, ``--start`` is past the
+            end, or the file cannot be written (see :mod:`cosmos.runlog.output`;
+            ``force`` allows overwriting it).
+        CosmosError: If the encoder is missing or offscreen rendering is not available.
     """
     if path.suffix.lower() != ".mp4":
         raise UsageError(f"--video writes MP4: give a file name ending in .mp4 (got {path})")
     if path.is_dir():
         raise UsageError(f"--video {path}: is a directory; give a file name ending in .mp4")
+    check_output(path, force=force)
     times = frame_times(record.state.t, playback)
     positions = joint_positions_at(record.state, times)  # (frames, 6)
     prefer_headless_gl()
@@ -199,7 +207,6 @@ def render_video(
         ) from None
     with renderer:
         try:
-            path.parent.mkdir(parents=True, exist_ok=True)
             writer = _encoder(path, playback.fps)
             for k, (t_s, q) in enumerate(zip(times, positions, strict=True)):
                 if on_frame is not None:
@@ -213,7 +220,7 @@ def render_video(
             writer.close()
         except (OSError, RuntimeError) as error:
             first_line = str(error).strip().splitlines()[0] if str(error).strip() else repr(error)
-            raise CosmosError(f"--video: cannot write {path}: {first_line}") from None
+            raise UsageError(f"{path}: cannot write: {printable(first_line)}") from None
     return Video(path, int(times.size), playback.fps, float(times[0]), float(times[-1]))
 
 

@@ -14,6 +14,7 @@ from matplotlib.patches import Patch
 from cosmos.errors import CosmosError
 from cosmos.replay.summary import shorten
 from cosmos.replay.timeline import StatementRun
+from cosmos.runlog.output import written
 from cosmos.runlog.reader import RunRecord, SegmentRecord
 
 FORCE_SHADE = "#f2a541"
@@ -138,16 +139,20 @@ def figure_for_run(record: RunRecord, timeline: Sequence[StatementRun]) -> Figur
     return figure
 
 
-def plot_run(record: RunRecord, timeline: Sequence[StatementRun], out: Path) -> Path:
+def plot_run(record: RunRecord, timeline: Sequence[StatementRun], out: Path, force: bool = False) -> Path:
     """Write :func:`figure_for_run` to ``out`` as a PNG and return ``out``.
 
+    Args:
+        record: The log.
+        timeline: Its statements.
+        out: The PNG file (see :mod:`cosmos.runlog.output` for what may be written).
+        force: Overwrite ``out`` if it exists.
+
     Raises:
-        CosmosError: If the log has no state samples or the file cannot be written.
+        CosmosError: If the log has no state samples.
+        UsageError: If the file cannot be written, naming it and the reason.
     """
     figure = figure_for_run(record, timeline)
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        figure.savefig(out, dpi=100)
-    except OSError as error:
-        raise CosmosError(f"{out}: cannot write the plot: {error.strerror}") from None
+    with written(out, force=force) as stream:
+        figure.savefig(stream, dpi=100, format="png")
     return out

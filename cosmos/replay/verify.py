@@ -5,22 +5,68 @@ parameter and state rates and the same seed gives the same trajectory, bit for
 bit. :func:`verify_log` re-runs the log's source attachment (compiled under the
 program path recorded in the metadata) into a temporary log and compares the
 two with :func:`cosmos.replay.compare.compare_runs`.
+
+The log is untrusted: its settings are checked against the ranges ``cosmos
+run`` accepts, its program is compiled (and checked) like any program, and the
+re-run is stopped once it passes :func:`time_bound` of simulated time, twice
+the logged run's duration plus 10 s: a run that reproduces the log ends well
+before, and a program that would run without end (``WAIT`` for ever) does not.
 """
 
 from __future__ import annotations
 
+import math
 import sys
 import tempfile
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from cosmos.errors import CosmosError, ProgramError, TaskFailure
+from cosmos.errors import CosmosError, ProgramError, TaskFailure, UsageError
 from cosmos.replay.compare import DEFAULT_TOLERANCE, Verification, compare_runs
+from cosmos.runlog.limits import MAX_SOURCE_BYTES
+from cosmos.runlog.printable import printable
 from cosmos.runlog.reader import RunRecord, read_log
-from cosmos.runtime.rates import Rates
+from cosmos.runtime.rates import PHYSICS_HZ, Rates
+
+if TYPE_CHECKING:
+    from cosmos.execution.executor import Executor, Progress, ProgressCallback
 
 REPL_PROGRAM = "<repl>"
 """The ``program`` of a REPL session's log; its source is the session's transcript."""
+
+
+BOUND_FACTOR = 2.0
+BOUND_MARGIN_S = 10.0
+
+
+def time_bound(logged_s: float) -> float:
+    """Simulated time after which a re-run is stopped [s]: ``2 * logged_s + 10``."""
+    return BOUND_FACTOR * logged_s + BOUND_MARGIN_S
+
+
+class TimeBound:
+    """A progress callback that stops the executor once simulated time passes ``limit_s``.
+
+    Args:
+        limit_s: The bound [s].
+        inner: The progress display to pass progress on to, if any.
+    """
+
+    def __init__(self, limit_s: float, inner: ProgressCallback | None):
+        self.limit_s = limit_s
+        self.inner = inner
+        self.executor: Executor | None = None
+        self.stopped_at_s: float | None = None
+
+    def __call__(self, progress: Progress) -> None:
+        """Stop the run if it is past the bound; show progress."""
+        if progress.t_s > self.limit_s and self.executor is not None and self.stopped_at_s is None:
+            self.stopped_at_s = progress.t_s
+            self.executor.stop_requested = True
+        if self.inner is not None:
+            self.inner(progress)
 
 
 @dataclass(frozen=True)
@@ -42,28 +88,47 @@ def settings_from_log(record: RunRecord) -> RunSettings:
     meta = record.metadata
     if record.source is None:
         raise CosmosError(f"{record.path}: no program source attached: nothing to re-run")
+    if len(record.source.encode(errors="replace")) > MAX_SOURCE_BYTES:
+        raise CosmosError(
+            f"{record.path}: the program attached is larger than {MAX_SOURCE_BYTES:,} bytes: not re-run"
+        )
     try:
-        rates = Rates(float(meta["servo_hz"]), float(meta["param_hz"]), float(meta["state_hz"]))
+        servo_hz = _setting(meta, "servo_hz", 1.0, PHYSICS_HZ)
+        param_hz = _setting(meta, "param_hz", 1.0, servo_hz)
+        state_hz = _setting(meta, "state_hz", 100.0, PHYSICS_HZ)
         seed = int(meta.get("seed", "0"))
+        if not 0 <= seed < 2**63:
+            raise ValueError("seed is outside 0 .. 2**63 - 1")
+        rates = Rates(servo_hz, param_hz, state_hz)
     except KeyError as missing:
         raise CosmosError(f"{record.path}: the metadata has no {missing}: cannot re-run alike") from None
-    except ValueError as error:
-        raise CosmosError(f"{record.path}: a setting in the metadata is malformed: {error}") from None
+    except (ValueError, UsageError) as error:
+        message = error.message if isinstance(error, UsageError) else str(error)
+        raise CosmosError(f"{record.path}: a setting in the metadata is malformed: {message}") from None
     program = meta.get("program") or record.source_name or "<log>"
     return RunSettings(program=program, source=record.source, rates=rates, seed=seed)
 
 
-def rerun(settings: RunSettings, log_path: Path) -> str | None:
-    """Run ``settings.source`` on a fresh arm, logged to ``log_path``.
+def _setting(meta: Mapping[str, str], name: str, low: float, high: float) -> float:
+    value = float(meta[name])
+    if not (math.isfinite(value) and low <= value <= high):
+        raise ValueError(f"{name} = {value:g} is outside {low:g} .. {high:g} Hz")
+    return value
+
+
+def rerun(settings: RunSettings, log_path: Path, limit_s: float = math.inf) -> float | None:
+    """Run ``settings.source`` on a fresh arm, logged to ``log_path``, for at most ``limit_s``.
+
+    A failed statement ends the re-run as it ended the run; the log is complete either way.
 
     Returns:
-        The failure message if a statement failed (the log is complete either way), else None.
+        The simulated time at which the re-run was stopped for passing ``limit_s``, else None.
 
     Raises:
         CosmosError: If the program does not compile (any more), or the run is interrupted.
     """
-    from cosmos.commands.run import TerminalProgress, execute_plan
     from cosmos.execution.executor import Interrupted
+    from cosmos.execution.program import StopOnSignals, TerminalProgress, execute_plan
     from cosmos.execution.session import Session
     from cosmos.lang import compile_program
     from cosmos.workcell import fixture_frames
@@ -71,16 +136,23 @@ def rerun(settings: RunSettings, log_path: Path) -> str | None:
     try:
         plan = compile_program(settings.source, settings.program, fixture_frames())
     except ProgramError as error:
-        raise CosmosError(f"the program stored in the log does not compile:\n{error.render()}") from None
+        rendered = printable(error.render(), keep_newlines=True)
+        raise CosmosError(f"the program stored in the log does not compile:\n{rendered}") from None
     progress = TerminalProgress() if sys.stderr.isatty() else None
-    with Session(settings.program, plan.source, log_path, settings.rates, settings.seed, progress) as session:
-        try:
-            execute_plan(session, plan, progress)
-        except Interrupted:
-            raise CosmosError("--verify: the re-run was interrupted") from None
-        except TaskFailure as failure:
-            return failure.message
-    return None
+    bound = TimeBound(limit_s, progress)
+    rates, seed = settings.rates, settings.seed
+    with StopOnSignals() as signals:
+        with Session(settings.program, plan.source, log_path, rates, seed, bound) as session:
+            signals.attach(session.executor)
+            bound.executor = session.executor
+            try:
+                execute_plan(session, plan, progress)
+            except Interrupted:
+                if bound.stopped_at_s is None:
+                    raise CosmosError("--verify: the re-run was interrupted") from None
+            except TaskFailure:
+                pass
+    return bound.stopped_at_s
 
 
 def verify_log(record: RunRecord, tolerance: float = DEFAULT_TOLERANCE) -> Verification:
@@ -96,10 +168,17 @@ def verify_log(record: RunRecord, tolerance: float = DEFAULT_TOLERANCE) -> Verif
             the program does not compile).
     """
     settings = settings_from_log(record)
+    limit_s = time_bound(record.end_time)
     with tempfile.TemporaryDirectory(prefix="cosmos-verify-") as directory:
-        rerun(settings, Path(directory) / "rerun.mcap")
+        stopped_at_s = rerun(settings, Path(directory) / "rerun.mcap", limit_s)
         again = read_log(Path(directory) / "rerun.mcap")
     verification = compare_runs(record, again, tolerance)
+    if stopped_at_s is not None:
+        note = (
+            f"the re-run was stopped at t = {stopped_at_s:.3f} s, past its bound of {limit_s:g} s "
+            f"(twice the logged {record.end_time:.3f} s, plus {BOUND_MARGIN_S:g} s)"
+        )
+        verification = replace(verification, notes=(*verification.notes, note))
     if settings.program == REPL_PROGRAM and not verification.matches:
         note = (
             "a REPL session re-runs as one program of its transcript: it departs after a "

@@ -72,7 +72,7 @@ def test_figure_has_position_and_force_panels_marked_by_statement(written: Writt
 
 def test_plot_writes_a_png(written: WrittenRun, tmp_path: Path) -> None:
     record = read_log(written.path)
-    out = plot_run(record, statement_timeline(record), tmp_path / "plots" / "run.png")
+    out = plot_run(record, statement_timeline(record), tmp_path / "run.png")
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert out.stat().st_size > 30_000
     with Image.open(out) as image:
