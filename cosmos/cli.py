@@ -99,16 +99,16 @@ def repl(log_path: Path | None) -> None:
 
 
 @cli.command()
-@click.argument("log", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("log", type=click.Path(path_type=Path))
 @click.option(
     "--plot",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=click.Path(path_type=Path),
     help="Write position and force against time, statement by statement (PNG).",
 )
 @click.option(
     "--recover",
     "recover_to",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=click.Path(path_type=Path),
     help="Write what is readable in a cut log to a complete MCAP file.",
 )
 @click.option("--view", is_flag=True, help="Play back in the MuJoCo viewer.")

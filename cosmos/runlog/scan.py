@@ -320,14 +320,18 @@ def read_file(path: Path, what: str, cap: int) -> bytes:
         raise UsageError(f"{path}: no such file") from None
     except OSError as error:
         raise CosmosError(f"{path}: cannot read: {error.strerror}") from None
+    info = os.fstat(fd)
+    problem = None
+    if stat.S_ISDIR(info.st_mode):
+        problem = f"is a directory, not a {what}"
+    elif not stat.S_ISREG(info.st_mode):
+        problem = f"not a regular file, so not a {what}"
+    elif info.st_size > cap:
+        problem = f"{info.st_size:,} bytes, more than the {cap:,} a {what} may have"
+    if problem is not None:
+        os.close(fd)
+        raise CosmosError(f"{path}: {problem}")
     with os.fdopen(fd, "rb") as stream:
-        info = os.fstat(fd)
-        if stat.S_ISDIR(info.st_mode):
-            raise CosmosError(f"{path}: is a directory, not {what}")
-        if not stat.S_ISREG(info.st_mode):
-            raise CosmosError(f"{path}: not a regular file, so not {what}")
-        if info.st_size > cap:
-            raise CosmosError(f"{path}: {info.st_size:,} bytes, more than the {cap:,} a {what} may have")
         try:
             data = stream.read(cap + 1)
         except OSError as error:
