@@ -44,6 +44,7 @@ def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int, forc
     log_path = log_path or default_log_path(path, datetime.now(UTC))
     check_output(log_path, force=force, make_parents=make_parents)
     progress = TerminalProgress() if sys.stderr.isatty() else None
+    failure: CosmosError | None = None
     with StopOnSignals() as signals:
         with Session(str(path), plan.source, log_path, rates, seed, progress) as session:
             signals.attach(session.executor)
@@ -52,9 +53,9 @@ def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int, forc
             except UsageError:
                 raise
             except CosmosError as error:
-                session.close()
-                click.echo(error.render(), err=True)
-                click.echo(f"log: {session.log_path}")
-                return 1
-    click.echo(f"log: {session.log_path}")
-    return 0
+                failure = error
+        # The log is closed (summary and footer written); signals still only stop the arm.
+        if failure is not None:
+            click.echo(failure.render(), err=True)
+        click.echo(f"log: {session.log_path}")
+    return 0 if failure is None else 1

@@ -5,7 +5,8 @@ FoxgloveError: MCAP error: I/O error``, prints a line to stderr for every
 message after it, and, if it is still open when the interpreter shuts down,
 ends in a Rust panic. Given this file object instead, every write goes through
 :meth:`LogSink.write`: the first ``OSError`` is kept and later writes are
-dropped, so the writer never sees an error; :meth:`LogSink.check` raises it as
+dropped (the position moves on as if they were written: the writer checks it),
+so the writer never sees an error; :meth:`LogSink.check` raises it as
 a :class:`~cosmos.errors.UsageError` naming the path and the reason, at the
 next flush or close of the log.
 """
@@ -33,6 +34,8 @@ class LogSink(io.RawIOBase):
         self.path = path
         self._stream = stream
         self.error: OSError | None = None
+        self._position = 0  # where the writer believes it is: the file's, until an error
+        self._end = 0
 
     def writable(self) -> bool:
         """Yes."""
@@ -53,20 +56,24 @@ class LogSink(io.RawIOBase):
                     view = view[written or 0 :]
             except OSError as error:
                 self.error = error
+        self._position += size
+        self._end = max(self._end, self._position)
         return size
 
     def seek(self, offset: int, whence: int = io.SEEK_SET) -> int:
-        """Move in the file (after an error: nothing, the file is lost anyway)."""
+        """Move in the file (after an error, only the position the writer believes in)."""
+        base = {io.SEEK_SET: 0, io.SEEK_CUR: self._position, io.SEEK_END: self._end}[whence]
+        self._position = base + offset
         if self.error is None:
             try:
-                return self._stream.seek(offset, whence)
+                self._stream.seek(self._position)
             except OSError as error:
                 self.error = error
-        return offset
+        return self._position
 
     def tell(self) -> int:
         """Position in the file."""
-        return self._stream.tell() if self.error is None else 0
+        return self._position
 
     def flush(self) -> None:
         """Nothing to do: the file is unbuffered (:meth:`sync` puts it on disk)."""

@@ -81,10 +81,14 @@ def default_log_path(program: Path, now: datetime) -> Path:
     return Path("logs") / f"{program.stem}-{utc:%Y%m%dT%H%M%SZ}.mcap"
 
 
-def _close_at_exit(writer: MCAPWriter, sink: LogSink) -> None:
+def _close_at_exit(log: weakref.ref[RunLog], writer: MCAPWriter, sink: LogSink) -> None:
     """Close a log left open (at exit or when collected), while Python can still run the sink."""
     try:
-        writer.close()
+        still_open = log()
+        if still_open is not None:
+            still_open.close()  # at exit: the pending states too
+        else:
+            writer.close()
     except Exception:  # noqa: BLE001, S110 - nothing can be reported this late; the file stays readable
         pass
     sink.close()
@@ -147,7 +151,7 @@ class RunLog(StateBatches):
             compression_threads=0,
         )
         self._writer = open_mcap(self._sink, context=self._context, writer_options=options)
-        self._at_exit = weakref.finalize(self, _close_at_exit, self._writer, self._sink)
+        self._at_exit = weakref.finalize(self, _close_at_exit, weakref.ref(self), self._writer, self._sink)
         self._channels: list[Channel] = []
         self._closed = False
         self._last_ns = 0
