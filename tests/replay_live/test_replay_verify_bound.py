@@ -1,0 +1,37 @@
+"""``cosmos replay --verify`` re-runs an untrusted program only as long as the logged run lasted (twice, + 10 s)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from replay_live_logs import copy_with_source, cosmos, run_to_log
+
+from cosmos.replay.verify import time_bound, verify_log
+from cosmos.runlog import read_log
+
+
+def test_a_program_that_waits_for_ever_is_stopped_at_the_bound(tmp_path: Path) -> None:
+    """Catches --verify running whatever the attached program says for as long as it says (the
+    issue's WAIT 1e308 s ran until killed): a log of a 0.1 s run carrying a 100 s WAIT is re-run
+    for 2 * 0.1 + 10 s of simulated time, then reported as departing, with the bound named."""
+    log = run_to_log(tmp_path, "WAIT 0.1 s\n")
+    logged = read_log(log)
+    hostile = copy_with_source(log, tmp_path / "hostile.mcap", source="WAIT 100 s\n")
+    limit = time_bound(logged.end_time)
+    assert limit == 2 * logged.end_time + 10
+    verification = verify_log(read_log(hostile))
+    assert not verification.matches
+    (note,) = [n for n in verification.notes if "bound" in n]
+    stopped_at = float(note.split("stopped at t = ")[1].split(" s")[0])
+    assert limit < stopped_at < limit + 0.5  # stopped at the bound, not at the WAIT's end
+    assert f"bound of {limit:g} s" in note
+
+
+def test_the_command_says_what_the_bound_is(tmp_path: Path) -> None:
+    """Catches a bound that is applied without the user being told."""
+    log = run_to_log(tmp_path, "WAIT 0.1 s\n")
+    done = cosmos("replay", str(log), "--verify")
+    assert done.returncode == 0, done.stderr
+    bound = time_bound(read_log(log).end_time)
+    assert f"stopped if it passes t = {bound:g} s: twice the logged" in done.stdout
+    assert "verified:" in done.stdout
