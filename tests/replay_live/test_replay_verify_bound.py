@@ -1,4 +1,4 @@
-"""``cosmos replay --verify`` re-runs an untrusted program only as long as the logged run lasted (twice, + 10 s)."""
+"""``cosmos replay --verify`` re-runs an untrusted program only for twice the logged time plus 10 s."""
 
 from __future__ import annotations
 
