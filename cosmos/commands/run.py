@@ -42,7 +42,7 @@ def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int, forc
     plan = compile_file(path)
     make_parents = log_path is None
     log_path = log_path or default_log_path(path, datetime.now(UTC))
-    check_output(log_path, force=force, make_parents=make_parents)
+    check_output(log_path, what="the log", force=force, make_parents=make_parents)
     progress = TerminalProgress() if sys.stderr.isatty() else None
     failure: CosmosError | None = None
     with StopOnSignals() as signals:

@@ -189,7 +189,7 @@ def render_video(
         raise UsageError(f"--video writes MP4: give a file name ending in .mp4 (got {path})")
     if path.is_dir():
         raise UsageError(f"--video {path}: is a directory; give a file name ending in .mp4")
-    check_output(path, force=force)
+    check_output(path, what="the video", force=force)
     times = frame_times(record.state.t, playback)
     positions = joint_positions_at(record.state, times)  # (frames, 6)
     prefer_headless_gl()
@@ -220,7 +220,7 @@ def render_video(
             writer.close()
         except (OSError, RuntimeError) as error:
             first_line = str(error).strip().splitlines()[0] if str(error).strip() else repr(error)
-            raise UsageError(f"{path}: cannot write: {printable(first_line)}") from None
+            raise UsageError(f"{path}: cannot write the video: {printable(first_line)}") from None
     return Video(path, int(times.size), playback.fps, float(times[0]), float(times[-1]))
 
 

@@ -153,6 +153,6 @@ def plot_run(record: RunRecord, timeline: Sequence[StatementRun], out: Path, for
         UsageError: If the file cannot be written, naming it and the reason.
     """
     figure = figure_for_run(record, timeline)
-    with written(out, force=force) as stream:
+    with written(out, what="the plot", force=force) as stream:
         figure.savefig(stream, dpi=100, format="png")
     return out

@@ -23,17 +23,18 @@ from typing import BinaryIO
 from cosmos.errors import UsageError
 
 
-def cannot_write(path: Path, error: OSError) -> UsageError:
-    """The one-line error for an ``OSError`` while writing ``path``."""
+def cannot_write(path: Path, error: OSError, what: str) -> UsageError:
+    """The one-line error for an ``OSError`` while writing ``path``, the file of ``what``."""
     reason = error.strerror or str(error) or type(error).__name__
-    return UsageError(f"{path}: cannot write: {reason}")
+    return UsageError(f"{path}: cannot write {what}: {reason}")
 
 
-def check_output(path: Path, *, force: bool, make_parents: bool = False) -> None:
+def check_output(path: Path, *, what: str, force: bool, make_parents: bool = False) -> None:
     """Refuse ``path`` as an output unless it can be written under the rules above.
 
     Args:
         path: The output file.
+        what: What it holds, for messages: "the log", "the plot".
         force: Whether an existing regular file may be overwritten.
         make_parents: Create missing parent directories (only for the default ``logs/``).
 
@@ -45,7 +46,7 @@ def check_output(path: Path, *, force: bool, make_parents: bool = False) -> None
     except FileNotFoundError:
         info = None
     except OSError as error:
-        raise cannot_write(path, error) from None
+        raise cannot_write(path, error, what) from None
     if info is not None:
         if stat.S_ISDIR(info.st_mode):
             raise UsageError(f"{path}: is a directory; give a file name")
@@ -59,18 +60,20 @@ def check_output(path: Path, *, force: bool, make_parents: bool = False) -> None
         try:
             parent.mkdir(parents=True, exist_ok=True)
         except OSError as error:
-            raise cannot_write(path, error) from None
+            raise cannot_write(path, error, what) from None
     elif not parent.is_dir():
         raise UsageError(f"{path}: no such directory {parent}; create it first")
 
 
-def open_output(path: Path, *, force: bool, make_parents: bool = False, buffered: bool = True) -> BinaryIO:
+def open_output(
+    path: Path, *, what: str, force: bool, make_parents: bool = False, buffered: bool = True
+) -> BinaryIO:
     """Open ``path`` for writing under the rules above.
 
     Raises:
         UsageError: If the path is refused or cannot be opened, naming it and the reason.
     """
-    check_output(path, force=force, make_parents=make_parents)
+    check_output(path, what=what, force=force, make_parents=make_parents)
     flags = os.O_WRONLY | os.O_CREAT | getattr(os, "O_CLOEXEC", 0)
     flags |= os.O_TRUNC if force else os.O_EXCL
     try:
@@ -78,7 +81,7 @@ def open_output(path: Path, *, force: bool, make_parents: bool = False, buffered
     except FileExistsError:
         raise UsageError(f"{path}: already exists; pass --force to overwrite it") from None
     except OSError as error:
-        raise cannot_write(path, error) from None
+        raise cannot_write(path, error, what) from None
     if not stat.S_ISREG(os.fstat(fd).st_mode):  # replaced by something else since the check
         os.close(fd)
         raise UsageError(f"{path}: not a regular file; give a file name")
@@ -86,15 +89,15 @@ def open_output(path: Path, *, force: bool, make_parents: bool = False, buffered
 
 
 @contextmanager
-def written(path: Path, *, force: bool, make_parents: bool = False) -> Iterator[BinaryIO]:
+def written(path: Path, *, what: str, force: bool, make_parents: bool = False) -> Iterator[BinaryIO]:
     """``open_output`` as a context: an ``OSError`` while writing is a UsageError naming ``path``.
 
     A file left half-written by such an error is removed.
     """
-    stream = open_output(path, force=force, make_parents=make_parents)
+    stream = open_output(path, what=what, force=force, make_parents=make_parents)
     try:
         with stream:
             yield stream
     except OSError as error:
         path.unlink(missing_ok=True)
-        raise cannot_write(path, error) from None
+        raise cannot_write(path, error, what) from None

@@ -63,7 +63,7 @@ def recover(cut_path: Path | str, out_path: Path | str, *, force: bool = False) 
         raise UsageError(f"{out_path}: recovering a log onto itself; choose another output path")
     contents = load_mcap(cut_path)
     run = run_record(cut_path, contents)
-    with written(out_path, force=force) as stream:
+    with written(out_path, what="the log", force=force) as stream:
         writer = Writer(stream, chunk_size=DEFAULT_CHUNK_SIZE, compression=CompressionType.ZSTD)
         header = contents.header
         if header is None:

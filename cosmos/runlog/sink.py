@@ -93,7 +93,7 @@ class LogSink(io.RawIOBase):
             UsageError: Naming the path and the reason.
         """
         if self.error is not None:
-            raise cannot_write(self.path, self.error)
+            raise cannot_write(self.path, self.error, "the log")
 
     def close(self) -> None:
         """Close the file; an error closing it is kept like a write error."""

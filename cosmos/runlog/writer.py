@@ -139,7 +139,10 @@ class RunLog(StateBatches):
         self.path = Path(path)
         self.program = program
         self._sink = LogSink(
-            self.path, open_output(self.path, force=overwrite, make_parents=make_parents, buffered=False)
+            self.path,
+            open_output(
+                self.path, what="the log", force=overwrite, make_parents=make_parents, buffered=False
+            ),
         )
         # Foxglove's SDK writes the MCAP (its Rust writer costs a few microseconds a message,
         # a third of the pure-Python one's); each log has its own context and channels.

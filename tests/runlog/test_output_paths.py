@@ -160,7 +160,7 @@ def test_a_write_that_fails_during_the_run_is_one_line_and_no_panic(tmp_path: Pa
         env={**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")},
     )
     assert done.returncode == 2, done.stderr
-    assert done.stderr == f"{log}: cannot write: File too large\n"
+    assert done.stderr == f"{log}: cannot write the log: File too large\n"
     assert done.stdout == ""
     record = read_log(log)  # what was written before the limit is still a readable log
     assert record.truncated and len(record.state) > 0
