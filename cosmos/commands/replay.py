@@ -24,6 +24,7 @@ from cosmos.errors import UsageError
 from cosmos.replay.summary import format_summary
 from cosmos.replay.timeline import statement_timeline
 from cosmos.runlog import read_log, recover
+from cosmos.runlog.output import check_output
 
 if TYPE_CHECKING:
     from cosmos.replay.playback import Playback, Video
@@ -71,6 +72,10 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
         CosmosError: If the log cannot be read, an output cannot be written,
             there is no display for ``--view``, or the log cannot be re-run.
     """
+    outputs = ((options.recover_to, "the log"), (options.plot, "the plot"), (options.video, "the video"))
+    for path, what in outputs:  # refused before any work is done
+        if path is not None:
+            check_output(path, what=what, force=options.force)
     if options.video is not None:
         from cosmos.replay.playback import prefer_headless_gl
 

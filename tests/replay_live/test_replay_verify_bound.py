@@ -2,19 +2,26 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
-from replay_live_logs import copy_with_source, cosmos, run_to_log
+import pytest
+from replay_live_logs import copy_with_source, run_to_log
 
+from cosmos.cli import main
 from cosmos.replay.verify import time_bound, verify_log
 from cosmos.runlog import read_log
 
 
-def test_a_program_that_waits_for_ever_is_stopped_at_the_bound(tmp_path: Path) -> None:
+@pytest.fixture(scope="module")
+def log(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return run_to_log(tmp_path_factory.mktemp("bound"), "WAIT 0.1 s\n")
+
+
+def test_a_program_that_waits_for_ever_is_stopped_at_the_bound(log: Path, tmp_path: Path) -> None:
     """Catches --verify running whatever the attached program says for as long as it says (the
     issue's WAIT 1e308 s ran until killed): a log of a 0.1 s run carrying a 100 s WAIT is re-run
     for 2 * 0.1 + 10 s of simulated time, then reported as departing, with the bound named."""
-    log = run_to_log(tmp_path, "WAIT 0.1 s\n")
     logged = read_log(log)
     hostile = copy_with_source(log, tmp_path / "hostile.mcap", source="WAIT 100 s\n")
     limit = time_bound(logged.end_time)
@@ -27,11 +34,15 @@ def test_a_program_that_waits_for_ever_is_stopped_at_the_bound(tmp_path: Path) -
     assert f"bound of {limit:g} s" in note
 
 
-def test_the_command_says_what_the_bound_is(tmp_path: Path) -> None:
+def test_the_command_says_what_the_bound_is(
+    log: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Catches a bound that is applied without the user being told."""
-    log = run_to_log(tmp_path, "WAIT 0.1 s\n")
-    done = cosmos("replay", str(log), "--verify")
-    assert done.returncode == 0, done.stderr
+    monkeypatch.setattr(sys, "argv", ["cosmos", "replay", str(log), "--verify"])
+    with pytest.raises(SystemExit) as exit_status:
+        main()
+    out, err = capsys.readouterr()
+    assert exit_status.value.code == 0, err
     bound = time_bound(read_log(log).end_time)
-    assert f"stopped if it passes t = {bound:g} s: twice the logged" in done.stdout
-    assert "verified:" in done.stdout
+    assert f"stopped if it passes t = {bound:g} s: twice the logged" in out
+    assert "verified:" in out

@@ -121,7 +121,7 @@ def _check_record_or_error(path: Path) -> str | None:
     return None
 
 
-@settings(max_examples=120, deadline=5000, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=80, deadline=5000, suppress_health_check=[HealthCheck.too_slow])
 @given(log=hostile_logs())
 def test_hostile_content_is_read_or_refused_in_one_line(log: dict[str, Any]) -> None:
     """Catches any exception other than a one-line CosmosError (OverflowError, RecursionError,
