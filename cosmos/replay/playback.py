@@ -79,6 +79,10 @@ class Video:
     end_s: float
 
 
+MAX_FRAMES = 250_000
+"""Most frames of a playback (over two hours of video at 30 fps): a log's times are untrusted."""
+
+
 def frame_times(state_t: np.ndarray, playback: Playback) -> np.ndarray:
     """Simulated times of the playback's frames, from ``start_s`` to the last sample.
 
@@ -91,7 +95,8 @@ def frame_times(state_t: np.ndarray, playback: Playback) -> np.ndarray:
 
     Raises:
         CosmosError: If there are no samples.
-        UsageError: If ``start_s`` is past the last sample.
+        UsageError: If ``start_s`` is past the last sample, or the playback would
+            have more than ``MAX_FRAMES`` frames.
     """
     if state_t.size == 0:
         raise CosmosError("the log has no state samples: nothing to play back")
@@ -99,7 +104,13 @@ def frame_times(state_t: np.ndarray, playback: Playback) -> np.ndarray:
     if playback.start_s > end_s:
         raise UsageError(f"--start {playback.start_s:g} s is past the end of the run (t = {end_s:.3f} s)")
     step_s = playback.rate / playback.fps
-    count = int(np.floor((end_s - playback.start_s) / step_s + 1e-9)) + 1
+    frames = np.floor((end_s - playback.start_s) / step_s + 1e-9) + 1
+    if frames > MAX_FRAMES:
+        raise UsageError(
+            f"playing t = {playback.start_s:g} .. {end_s:.3f} s at {playback.rate:g}x takes {frames:,.0f} "
+            f"frames, more than {MAX_FRAMES:,}: start later (--start) or play faster (--rate)"
+        )
+    count = int(frames)
     return playback.start_s + step_s * np.arange(count)  # (frames,)
 
 

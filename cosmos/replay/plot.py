@@ -15,11 +15,20 @@ from cosmos.errors import CosmosError
 from cosmos.replay.summary import shorten
 from cosmos.replay.timeline import StatementRun
 from cosmos.runlog.output import written
+from cosmos.runlog.printable import printable
 from cosmos.runlog.reader import RunRecord, SegmentRecord
 
 FORCE_SHADE = "#f2a541"
 OUTCOME_COLORS = {"done": "#2b6cb0", "stopped": "#2f855a", "failed": "#c53030", "interrupted": "#b7791f"}
 UNFINISHED_COLOR = "#718096"
+PLOTTABLE = 1e9
+"""Values of larger magnitude in SI units (a diverged run, or a crafted log) are left out of the plot,
+as gaps (matplotlib fails on axes spanning ~1e300)."""
+
+
+def _plottable(values: np.ndarray) -> np.ndarray:
+    """``values`` with the non-finite and those past ``PLOTTABLE`` as NaN (matplotlib leaves a gap)."""
+    return np.where(np.abs(values) < PLOTTABLE, values, np.nan)
 
 
 def force_intervals(segments: Sequence[SegmentRecord], end: float) -> list[tuple[float, float]]:
@@ -85,14 +94,17 @@ def figure_for_run(record: RunRecord, timeline: Sequence[StatementRun]) -> Figur
     FigureCanvasAgg(figure)
     axes = figure.subplots(4, 1, sharex=True, height_ratios=(1, 1, 1, 1.6))
     for ax, index, name in zip(axes[:3], range(3), "xyz", strict=False):
-        ax.plot(state.t, state.x[:, index] * 1e3, color="#2d3748", linewidth=1.2)
+        ax.plot(state.t, _plottable(state.x[:, index]) * 1e3, color="#2d3748", linewidth=1.2)
         ax.set_ylabel(f"tool {name} [mm]")
         ax.ticklabel_format(axis="y", useOffset=False)
     force_ax = axes[3]
     colors = ("#e53e3e", "#38a169", "#3182ce")
     for index, (name, color) in enumerate(zip("xyz", colors, strict=True)):
-        force_ax.plot(state.t, state.wrench[:, index], color=color, linewidth=1.0, label=f"F{name}")
-    force_ax.plot(state.t, state.force_magnitude, color="black", linewidth=1.6, label="|F|")
+        force_ax.plot(
+            state.t, _plottable(state.wrench[:, index]), color=color, linewidth=1.0, label=f"F{name}"
+        )
+    magnitude = np.linalg.norm(_plottable(state.wrench[:, :3]), axis=1)
+    force_ax.plot(state.t, magnitude, color="black", linewidth=1.6, label="|F|")
     force_ax.set_ylabel("force on environment [N]")
     force_ax.set_xlabel("simulated time [s]")
     force_ax.axhline(0.0, color="#a0aec0", linewidth=0.6)
@@ -152,7 +164,11 @@ def plot_run(record: RunRecord, timeline: Sequence[StatementRun], out: Path, for
         CosmosError: If the log has no state samples.
         UsageError: If the file cannot be written, naming it and the reason.
     """
-    figure = figure_for_run(record, timeline)
-    with written(out, what="the plot", force=force) as stream:
-        figure.savefig(stream, dpi=100, format="png")
+    try:
+        figure = figure_for_run(record, timeline)
+        with written(out, what="the plot", force=force) as stream:
+            figure.savefig(stream, dpi=100, format="png")
+    except (ValueError, OverflowError, np.linalg.LinAlgError) as error:  # matplotlib on extreme data
+        out.unlink(missing_ok=True)
+        raise CosmosError(f"{record.path}: cannot plot this log: {printable(str(error))[:200]}") from None
     return out

@@ -85,8 +85,9 @@ class StateSeries:
 
     @property
     def force_magnitude(self) -> np.ndarray:
-        """Magnitude of the force the tool applies [N], one per sample."""
-        return np.linalg.norm(self.wrench[:, :3], axis=1)
+        """Magnitude of the force the tool applies [N], one per sample (inf past the largest float)."""
+        with np.errstate(over="ignore"):  # hypot: no overflow in the squares of a huge (logged) force
+            return np.hypot(np.hypot(self.wrench[:, 0], self.wrench[:, 1]), self.wrench[:, 2])
 
 
 @dataclass(frozen=True)

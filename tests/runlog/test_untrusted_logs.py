@@ -258,3 +258,34 @@ def test_the_command_line_prints_one_line_and_no_traceback(family: Family, tmp_p
     assert done.returncode == 1
     assert done.stdout == "" and done.stderr.count("\n") == 1 and "Traceback" not in done.stderr
     assert done.stderr.startswith(f"{path}: ") and family.says in done.stderr
+
+
+def test_extreme_but_finite_values_are_plotted_as_gaps(tmp_path: Path) -> None:
+    """Catches matplotlib failing (LinAlgError 'Singular matrix', overflow warnings) on a log whose
+    positions and forces are finite but near the largest double, as a diverged or crafted run has."""
+    import warnings
+
+    from cosmos.replay.plot import plot_run
+    from cosmos.replay.timeline import statement_timeline
+
+    huge = [
+        state(k, x=[1e300 * (k % 2), -1e300, 1e308], wrench=[1e308, -1e308, 1e308, 0, 0, 0])
+        for k in range(20)
+    ]
+    record = read_log(write_log(tmp_path / "run.mcap", states=[*huge, state(20)]))
+    assert record.state.force_magnitude[0] == pytest.approx(3**0.5 * 1e308)  # no overflow in the squares
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out = plot_run(record, statement_timeline(record), tmp_path / "run.png")
+    assert out.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_a_playback_longer_than_the_frame_cap_is_refused(tmp_path: Path) -> None:
+    """Catches --video/--view allocating a frame per 1/30 s of whatever duration a log claims
+    (t = 1e7 s is 3e8 frames: gigabytes before the first frame)."""
+    from cosmos.replay.playback import MAX_FRAMES, Playback, frame_times
+
+    record = read_log(write_log(tmp_path / "run.mcap", states=[state(0), state(1, t=1e7)]))
+    with hang_guard(5), pytest.raises(UsageError, match=f"more than {MAX_FRAMES:,}: start later"):
+        frame_times(record.state.t, Playback())
+    assert frame_times(record.state.t, Playback(start_s=1e7 - 10)).size == 301
