@@ -27,9 +27,10 @@ from cosmos.runlog.text_template import STATE_NOT_EXACT, STATE_WRITTEN, Template
 
 _BATCH: Final = 64  # state samples encoded together
 
-FLUSH_EVERY_S: Final = 0.2
+FLUSH_EVERY_S: Final = 0.24
 """Simulated time between flushes of the log to the OS [s]. A SIGKILL loses at most this plus
-one state period (0.204 s at the default 250 Hz), even when it lands during a flush."""
+one state period (0.244 s at the default 250 Hz, 0.25 s at the slowest state rate, 100 Hz), even
+when it lands during a flush. As long as that allows: each flush closes a chunk, about 100 us."""
 
 # JSON text of a state message. Vector components are written as integers with
 # a fixed exponent (125730e-6 is 0.125730): plain JSON, and much cheaper to

@@ -11,6 +11,7 @@ import os
 import resource
 import subprocess
 import sys
+import textwrap
 from pathlib import Path
 
 import pytest
@@ -214,3 +215,31 @@ def test_sigterm_during_shutdown_still_ends_with_a_complete_log_and_exit_1(tmp_p
     assert not record.truncated
     last = record.events[-1]
     assert "interrupted" in (last.kind, last.reason)  # kind "interrupted", or "stopped" for that reason
+
+
+def test_a_log_left_open_after_failed_writes_ends_quietly(tmp_path: Path) -> None:
+    """Catches the Rust writer still open at interpreter shutdown: it printed 'error logging
+    message' per message and ended in a pyo3 PanicException ('The Python interpreter is not
+    initialized'); a log left open is now closed at exit, its write error kept."""
+    child = textwrap.dedent(
+        """
+        import resource, sys
+        from pathlib import Path
+        from runlog_synthetic import open_log, state_args
+
+        log = open_log(Path(sys.argv[1]), chunk_size=2048)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (20_000, 20_000))
+        for k in range(3000):
+            log.state(**state_args(k))
+        print("left open")
+        """
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", child, str(tmp_path / "open.mcap")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(__file__).parent), *sys.path])},
+    )
+    assert (done.returncode, done.stdout, done.stderr) == (0, "left open\n", "")
+    assert len(read_log(tmp_path / "open.mcap").state) > 0

@@ -78,7 +78,7 @@ HELPER = textwrap.dedent(
 def test_sigkill_at_random_moments_loses_at_most_a_quarter_second(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Catches logs flushed too rarely (SIGKILL lost up to 1.5 s before the 0.2 s flush) and
+    """Catches logs flushed too rarely (SIGKILL lost up to 1.5 s before the 0.24 s flush) and
     kills that leave a file cosmos cannot read or recover."""
     seed = int.from_bytes(os.urandom(4), "little")
     done = subprocess.run(
