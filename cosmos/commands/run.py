@@ -14,7 +14,7 @@ from cosmos.execution.session import Session
 from cosmos.lang import compile_program, read_program
 from cosmos.plan import Plan
 from cosmos.runlog.output import check_output
-from cosmos.runlog.writer import default_log_path
+from cosmos.runlog.writer import unused_log_path
 from cosmos.runtime.rates import Rates
 from cosmos.workcell import fixture_frames
 
@@ -32,8 +32,9 @@ def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int, forc
     """Run a program; print the log's path; return the exit status.
 
     The log goes to ``log_path``, or to ``logs/<stem>-<UTC time>.mcap`` (the one
-    directory created if missing). Ctrl-C and SIGTERM stop the arm; from before
-    the log is opened until it is closed they never end the process.
+    directory created if missing; ``-2``, ``-3``, ... added if that file exists).
+    Ctrl-C and SIGTERM stop the arm; from before the log is opened until it is
+    closed they never end the process.
 
     Raises:
         UsageError: If the log cannot be written (it exists and not ``force``, is not
@@ -41,7 +42,7 @@ def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int, forc
     """
     plan = compile_file(path)
     make_parents = log_path is None
-    log_path = log_path or default_log_path(path, datetime.now(UTC))
+    log_path = log_path or unused_log_path(path, datetime.now(UTC))
     check_output(log_path, what="the log", force=force, make_parents=make_parents)
     progress = TerminalProgress() if sys.stderr.isatty() else None
     failure: CosmosError | None = None

@@ -21,6 +21,7 @@ reading uses the ``mcap`` package, so every log is checked by a second implement
 
 from __future__ import annotations
 
+import os
 import weakref
 from collections.abc import Mapping, Sequence
 from datetime import UTC, datetime
@@ -79,6 +80,19 @@ def default_log_path(program: Path, now: datetime) -> Path:
     """
     utc = now.replace(tzinfo=UTC) if now.tzinfo is None else now.astimezone(UTC)
     return Path("logs") / f"{program.stem}-{utc:%Y%m%dT%H%M%SZ}.mcap"
+
+
+def unused_log_path(program: Path, now: datetime) -> Path:
+    """:func:`default_log_path`, or with ``-2``, ``-3``, ... before ``.mcap`` if that file exists.
+
+    Two runs in the same second each get their own log (no log is overwritten unasked).
+    """
+    path = default_log_path(program, now)
+    number = 1
+    while os.path.lexists(path):
+        number += 1
+        path = path.with_name(f"{default_log_path(program, now).stem}-{number}.mcap")
+    return path
 
 
 def _close_at_exit(log: weakref.ref[RunLog], writer: MCAPWriter, sink: LogSink) -> None:

@@ -341,3 +341,22 @@ def test_read_only_lists_and_strided_inputs_write_the_same_messages(tmp_path: Pa
                 positions = np.tile(args["x"], (7, 1)) + np.arange(7)[:, None]
                 log.transforms(args["t"], convert(positions, k), convert(np.tile([1.0, 0, 0, 0], (7, 1)), k))
     assert messages_by_topic(plain) == messages_by_topic(other)
+
+
+def test_the_default_log_path_never_names_an_existing_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Catches two runs in the same second sharing a default log name: the second would be
+    refused (no overwrite without --force) or, before, overwrote the first."""
+    from cosmos.runlog.writer import unused_log_path
+
+    monkeypatch.chdir(tmp_path)
+    now = datetime(2026, 11, 22, 3, 15, tzinfo=UTC)
+    first = unused_log_path(Path("peg.cos"), now)
+    assert first == Path("logs/peg-20261122T031500Z.mcap")
+    first.parent.mkdir()
+    first.write_bytes(b"")
+    second = unused_log_path(Path("peg.cos"), now)
+    second.write_bytes(b"")
+    assert second == Path("logs/peg-20261122T031500Z-2.mcap")
+    assert unused_log_path(Path("peg.cos"), now) == Path("logs/peg-20261122T031500Z-3.mcap")
