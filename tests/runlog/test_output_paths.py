@@ -15,8 +15,8 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from cli_support import cli
 from runlog_synthetic import write_synthetic_run
-from test_untrusted_logs import cli
 
 from cosmos.runlog import read_log
 

@@ -10,14 +10,12 @@ from __future__ import annotations
 
 import os
 import re
-import signal
 import subprocess
 import sys
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
+from cli_support import cli, hang_guard
 from crafted_logs import (
     ESCAPES,
     FAMILIES,
@@ -30,42 +28,12 @@ from crafted_logs import (
     write_log,
 )
 
-from cosmos.cli import main
 from cosmos.errors import CosmosError, UsageError
 from cosmos.replay.overlay import scene_timeline
 from cosmos.replay.verify import settings_from_log
 from cosmos.runlog import limits, read_log, recover
 
 UNPRINTABLE = re.compile("[\x00-\x09\x0b-\x1f\x7f-\x9f\u202a-\u202e\u2066-\u2069]")
-HANG_S = 20  # far beyond any of these reads (each well under a second): only a hang gets there
-
-
-@contextmanager
-def hang_guard(seconds: float = HANG_S) -> Iterator[None]:
-    """Fail (instead of waiting for ever) if the block runs longer than ``seconds``."""
-
-    def expire(signum: int, frame: object) -> None:
-        raise TimeoutError(f"still running after {seconds} s: a hang")
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-
-
-def cli(
-    argv: list[str], capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
-) -> tuple[int, str, str]:
-    """``cosmos ARGV`` in this process: exit status, stdout, stderr."""
-    monkeypatch.setattr(sys, "argv", ["cosmos", *argv])
-    with hang_guard(), pytest.raises(SystemExit) as exit_status:
-        main()
-    out, err = capsys.readouterr()
-    code = exit_status.value.code
-    return (code if isinstance(code, int) else 1), out, err
 
 
 @pytest.mark.parametrize("family", FAMILIES, ids=lambda f: f.name)
