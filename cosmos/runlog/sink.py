@@ -34,6 +34,7 @@ class LogSink(io.RawIOBase):
         self.path = path
         self._stream = stream
         self.error: OSError | None = None
+        self.reported = False  # whether check() has raised the error
         self._position = 0  # where the writer believes it is: the file's, until an error
         self._end = 0
 
@@ -93,6 +94,7 @@ class LogSink(io.RawIOBase):
             UsageError: Naming the path and the reason.
         """
         if self.error is not None:
+            self.reported = True
             raise cannot_write(self.path, self.error, "the log")
 
     def close(self) -> None:

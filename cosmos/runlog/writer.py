@@ -357,7 +357,6 @@ class RunLog(StateBatches):
         """
         if self._closed:
             return
-        reported = self._sink.error is not None
         try:
             self._write_states()
             self._writer.close()
@@ -368,7 +367,7 @@ class RunLog(StateBatches):
             for channel in self._channels:
                 channel.close()
             self._sink.close()
-        if not reported:
+        if not self._sink.reported:
             self._sink.check()
 
     def __enter__(self) -> RunLog:

@@ -7,17 +7,20 @@ file-size limit) ends the run with one line, not a traceback and a Rust panic.
 
 from __future__ import annotations
 
+import errno
 import os
 import resource
 import subprocess
 import sys
 import textwrap
 from pathlib import Path
+from typing import Any
 
 import pytest
 from cli_support import cli
-from runlog_synthetic import write_synthetic_run
+from runlog_synthetic import open_log, state_args, write_synthetic_run
 
+from cosmos.errors import UsageError
 from cosmos.runlog import read_log
 
 PROGRAM = "MOVE BY (0, 0, 20 mm)\n"
@@ -243,3 +246,29 @@ def test_a_log_left_open_after_failed_writes_ends_quietly(tmp_path: Path) -> Non
     )
     assert (done.returncode, done.stdout, done.stderr) == (0, "left open\n", "")
     assert len(read_log(tmp_path / "open.mcap").state) > 0
+
+
+class _FullDisk:
+    """A file whose writes fail as on a full disk (everything else goes to the real file)."""
+
+    def __init__(self, stream: Any):
+        self.stream = stream
+
+    def write(self, data: bytes) -> int:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.stream, name)
+
+
+def test_a_write_error_no_flush_reported_is_raised_by_close(tmp_path: Path) -> None:
+    """Catches a write error lost when no flush came between it and the close (the run ended
+    between two flushes): close must say it, once."""
+    log = open_log(tmp_path / "run.mcap", chunk_size=1024)  # flushes only when told
+    log._sink._stream = _FullDisk(log._sink._stream)
+    for k in range(200):
+        log.state(**state_args(k))  # chunks of 1 KiB fill and are written: the first write fails
+    with pytest.raises(UsageError) as caught:
+        log.close()
+    assert caught.value.render() == f"{tmp_path / 'run.mcap'}: cannot write the log: No space left on device"
+    log.close()  # once: a second close does nothing
