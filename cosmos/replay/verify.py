@@ -31,7 +31,10 @@ from cosmos.runlog.reader import RunRecord, read_log
 from cosmos.runtime.rates import PHYSICS_HZ, Rates
 
 if TYPE_CHECKING:
-    from cosmos.execution.executor import Executor, Progress, ProgressCallback
+    import numpy as np
+
+    from cosmos.execution.executor import Executor
+    from cosmos.runtime.loop import Recorder
 
 REPL_PROGRAM = "<repl>"
 """The ``program`` of a REPL session's log; its source is the session's transcript."""
@@ -47,26 +50,30 @@ def time_bound(logged_s: float) -> float:
 
 
 class TimeBound:
-    """A progress callback that stops the executor once simulated time passes ``limit_s``.
+    """Stops the run once simulated time passes ``limit_s``: it sees every state sample recorded.
+
+    Installed as the runtime's recorder in front of the real one, so it is
+    consulted at the state rate whatever the program does (many short
+    statements, one long ``WAIT``); the executor stops at its next tick.
 
     Args:
         limit_s: The bound [s].
-        inner: The progress display to pass progress on to, if any.
+        executor: The executor to stop.
+        recorder: The recorder it stands in front of.
     """
 
-    def __init__(self, limit_s: float, inner: ProgressCallback | None):
+    def __init__(self, limit_s: float, executor: Executor, recorder: Recorder):
         self.limit_s = limit_s
-        self.inner = inner
-        self.executor: Executor | None = None
+        self.executor = executor
+        self.recorder = recorder
         self.stopped_at_s: float | None = None
 
-    def __call__(self, progress: Progress) -> None:
-        """Stop the run if it is past the bound; show progress."""
-        if progress.t_s > self.limit_s and self.executor is not None and self.stopped_at_s is None:
-            self.stopped_at_s = progress.t_s
+    def record(self, t_s: float, *sample: np.ndarray) -> None:
+        """Pass the sample on; ask the executor to stop if it is past the bound."""
+        if t_s > self.limit_s and self.stopped_at_s is None:
+            self.stopped_at_s = t_s
             self.executor.stop_requested = True
-        if self.inner is not None:
-            self.inner(progress)
+        self.recorder.record(t_s, *sample)
 
 
 @dataclass(frozen=True)
@@ -139,12 +146,14 @@ def rerun(settings: RunSettings, log_path: Path, limit_s: float = math.inf) -> f
         rendered = printable(error.render(), keep_newlines=True)
         raise CosmosError(f"the program stored in the log does not compile:\n{rendered}") from None
     progress = TerminalProgress() if sys.stderr.isatty() else None
-    bound = TimeBound(limit_s, progress)
     rates, seed = settings.rates, settings.seed
     with StopOnSignals() as signals:
-        with Session(settings.program, plan.source, log_path, rates, seed, bound) as session:
+        with Session(settings.program, plan.source, log_path, rates, seed, progress) as session:
             signals.attach(session.executor)
-            bound.executor = session.executor
+            recorder = session.runtime.recorder
+            assert recorder is not None  # the session logs
+            bound = TimeBound(limit_s, session.executor, recorder)
+            session.runtime.recorder = bound
             try:
                 execute_plan(session, plan, progress)
             except Interrupted:

@@ -18,12 +18,16 @@ def log(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return run_to_log(tmp_path_factory.mktemp("bound"), "WAIT 0.1 s\n")
 
 
-def test_a_program_that_waits_for_ever_is_stopped_at_the_bound(log: Path, tmp_path: Path) -> None:
+@pytest.mark.parametrize("program", ["WAIT 100 s\n", "WAIT 0.1 s\n" * 200], ids=["one-long", "many-short"])
+def test_a_program_that_waits_for_ever_is_stopped_at_the_bound(
+    log: Path, tmp_path: Path, program: str
+) -> None:
     """Catches --verify running whatever the attached program says for as long as it says (the
-    issue's WAIT 1e308 s ran until killed): a log of a 0.1 s run carrying a 100 s WAIT is re-run
-    for 2 * 0.1 + 10 s of simulated time, then reported as departing, with the bound named."""
+    issue's WAIT 1e308 s ran until killed): a log of a 0.1 s run carrying a 100 s WAIT, or 200
+    statements too short for the progress display to see, is re-run for 2 * 0.1 + 10 s of
+    simulated time, then reported as departing, with the bound named."""
     logged = read_log(log)
-    hostile = copy_with_source(log, tmp_path / "hostile.mcap", source="WAIT 100 s\n")
+    hostile = copy_with_source(log, tmp_path / "hostile.mcap", source=program)
     limit = time_bound(logged.end_time)
     assert limit == 2 * logged.end_time + 10
     verification = verify_log(read_log(hostile))
