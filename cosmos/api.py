@@ -147,7 +147,7 @@ def run(
         ProgramError: The program does not compile (with file, line and column).
         UsageError: The file cannot be read, or a rate is out of range.
     """
-    from cosmos.commands.run import stop_on_signals
+    from cosmos.execution.program import stop_on_signals
     from cosmos.execution.session import Session
     from cosmos.runlog.writer import default_log_path
     from cosmos.runtime.rates import Rates

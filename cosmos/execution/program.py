@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import signal
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from types import FrameType, TracebackType
 from typing import Any
 
@@ -58,6 +60,14 @@ class StopOnSignals:
     ) -> None:
         for sig, handler in self._previous.items():
             signal.signal(sig, handler)
+
+
+@contextmanager
+def stop_on_signals(executor: Executor) -> Iterator[None]:
+    """:class:`StopOnSignals` for an executor that exists already (``cosmos.run`` in Python)."""
+    with StopOnSignals() as signals:
+        signals.attach(executor)
+        yield
 
 
 class TerminalProgress:

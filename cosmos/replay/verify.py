@@ -24,8 +24,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from cosmos.errors import CosmosError, ProgramError, TaskFailure, UsageError
+from cosmos.lang.parse.source_file import MAX_PROGRAM_BYTES
 from cosmos.replay.compare import DEFAULT_TOLERANCE, Verification, compare_runs
-from cosmos.runlog.limits import MAX_SOURCE_BYTES
 from cosmos.runlog.printable import printable
 from cosmos.runlog.reader import RunRecord, read_log
 from cosmos.runtime.rates import PHYSICS_HZ, Rates
@@ -95,9 +95,9 @@ def settings_from_log(record: RunRecord) -> RunSettings:
     meta = record.metadata
     if record.source is None:
         raise CosmosError(f"{record.path}: no program source attached: nothing to re-run")
-    if len(record.source.encode(errors="replace")) > MAX_SOURCE_BYTES:
+    if len(record.source.encode(errors="replace")) > MAX_PROGRAM_BYTES:  # as a program file
         raise CosmosError(
-            f"{record.path}: the program attached is larger than {MAX_SOURCE_BYTES:,} bytes: not re-run"
+            f"{record.path}: the program attached is larger than {MAX_PROGRAM_BYTES:,} bytes: not re-run"
         )
     try:
         servo_hz = _setting(meta, "servo_hz", 1.0, PHYSICS_HZ)

@@ -39,9 +39,6 @@ MAX_SCENE_MESSAGE_BYTES: Final = 16 * 1024**2
 MAX_ATTACHMENT_BYTES: Final = 64 * 1024**2
 """Largest attachment [bytes]."""
 
-MAX_SOURCE_BYTES: Final = 1024**2
-"""Largest program source attachment that ``--verify`` re-runs [bytes]."""
-
 MAX_METADATA_ENTRIES: Final = 1000
 """Most ``name: value`` pairs in one metadata record, and most metadata records."""
 

@@ -46,7 +46,6 @@ LAYERS: list[tuple[str, ...]] = [
 KNOWN_UPWARD = {
     # (module, what it imports, or a package of it) being removed by other helpers
     # (issue 15, "No arrows up"); delete each line once its imports are gone:
-    ("cosmos.replay.verify", "cosmos.commands.run"),  # execution out of the CLI layer
     ("cosmos.obstacles.bench", "cosmos.runtime"),  # runtime.loop, runtime.setpoint: benchmarks in one place
 }
 

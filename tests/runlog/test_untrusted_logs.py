@@ -208,8 +208,10 @@ def test_settings_that_verify_would_run_with_are_checked(
 
 def test_an_oversized_program_is_not_re_run(tmp_path: Path) -> None:
     """Catches --verify compiling whatever size of program a log carries."""
-    record = read_log(write_log(tmp_path / "run.mcap", program=PROGRAM * (limits.MAX_SOURCE_BYTES // 10)))
-    with pytest.raises(CosmosError, match="larger than 1,048,576 bytes: not re-run"):
+    from cosmos.lang.parse.source_file import MAX_PROGRAM_BYTES
+
+    record = read_log(write_log(tmp_path / "run.mcap", program=PROGRAM * (MAX_PROGRAM_BYTES // 10)))
+    with pytest.raises(CosmosError, match=f"larger than {MAX_PROGRAM_BYTES:,} bytes: not re-run"):
         settings_from_log(record)
 
 
