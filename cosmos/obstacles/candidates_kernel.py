@@ -13,8 +13,8 @@ within rho_0 is ever missed, against brute-force firas distances.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from cosmos.jit import kernel
 from cosmos.obstacles import distance_kernel as dk
 from cosmos.obstacles.field_kernel import (
     OBSTACLE_ADDED_S,
@@ -38,7 +38,7 @@ LIST_QUEUE, LIST_REMOTE, LIST_REMOTE_CAPSULE, LIST_REMOTE_GEOM = range(4)
 LISTS = 4
 
 
-@njit(cache=True)
+@kernel
 def _center(obstacle: FloatArray, t_s: float) -> tuple[float, float, float]:
     """An obstacle's centre at ``t_s``: ``c + v (t - t_added)``, world, in [m]."""
     dt = t_s - obstacle[OBSTACLE_ADDED_S]
@@ -49,7 +49,7 @@ def _center(obstacle: FloatArray, t_s: float) -> tuple[float, float, float]:
     )
 
 
-@njit(cache=True)
+@kernel
 def _separated(
     geom_xpos: FloatArray,
     geom_xmat: FloatArray,
@@ -67,7 +67,7 @@ def _separated(
     return gap - capsules[i, dk.CAPSULE_RADIUS]
 
 
-@njit(cache=True)
+@kernel
 def select_queries(
     lists: np.ndarray,
     candidates: FloatArray,

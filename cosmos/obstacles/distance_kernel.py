@@ -15,7 +15,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from cosmos.jit import kernel
 
 FloatArray = np.ndarray
 
@@ -40,7 +41,7 @@ CAPSULE_JOINT, CAPSULE_MID, CAPSULE_ROTATION, CAPSULE_HALF, CAPSULE_RADIUS, CAPS
 CAPSULE = 16
 
 
-@njit(cache=True)
+@kernel
 def signed_distance(
     x: float, y: float, z: float, shape: FloatArray, cx: float, cy: float, cz: float
 ) -> float:
@@ -66,7 +67,7 @@ def signed_distance(
     return math.sqrt(ox * ox + oy * oy + oz * oz) + min(max(qx, max(qy, qz)), 0.0)
 
 
-@njit(cache=True)
+@kernel
 def capsule_sphere(
     fromto: FloatArray,
     mid: FloatArray,
@@ -116,7 +117,7 @@ def capsule_sphere(
     return distance
 
 
-@njit(cache=True)
+@kernel
 def capsule_plane(
     fromto: FloatArray,
     mid: FloatArray,
@@ -159,7 +160,7 @@ def capsule_plane(
     return best
 
 
-@njit(cache=True)
+@kernel
 def analytic_distance(
     fromto: FloatArray,
     geom_xpos: FloatArray,
@@ -199,7 +200,7 @@ def analytic_distance(
     )
 
 
-@njit(cache=True)
+@kernel
 def segment_lower_bound(
     mid: FloatArray, axis: FloatArray, half_m: float, shape: FloatArray, cx: float, cy: float, cz: float
 ) -> float:

@@ -16,7 +16,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from cosmos.jit import kernel
 
 FloatArray = np.ndarray
 
@@ -51,7 +52,7 @@ ACTING_FLAG, ACTING_DISTANCE, ACTING_LINK, ACTING_FORCE = 0, 1, 2, 3
 ACTING = 4
 
 
-@njit(cache=True)
+@kernel
 def chain_kinematics_into(frames: FloatArray, chain: FloatArray, q: FloatArray, qd: FloatArray) -> float:
     """Joint frames, world Jacobian and link twists of a serial chain of revolute joints.
 
@@ -117,7 +118,7 @@ def chain_kinematics_into(frames: FloatArray, chain: FloatArray, q: FloatArray, 
     return speed
 
 
-@njit(cache=True)
+@kernel
 def repulsion_magnitude(
     distance_m: float, rho_0_m: float, eta: float, damping_ns_per_m: float, cap_n: float, approach_mps: float
 ) -> float:
@@ -133,7 +134,7 @@ def repulsion_magnitude(
     return min(magnitude, cap_n)
 
 
-@njit(cache=True)
+@kernel
 def field_torque_into(
     torque: FloatArray,
     acting: FloatArray,

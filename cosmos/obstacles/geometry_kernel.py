@@ -21,8 +21,8 @@ those of :mod:`cosmos.obstacles.field_kernel`, the candidates and lists those of
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from cosmos.jit import kernel
 from cosmos.obstacles import distance_kernel as dk
 from cosmos.obstacles.candidates_kernel import (
     CANDIDATE_ANALYTIC,
@@ -61,7 +61,7 @@ NORMAL_FROM_POINTS_M = 1e-4
 """Below this distance MuJoCo's two points do not define the normal: firas gives it (in Python)."""
 
 
-@njit(cache=True)
+@kernel
 def place_geoms_into(
     geom_xpos: FloatArray,
     geom_xmat: FloatArray,
@@ -104,7 +104,7 @@ def place_geoms_into(
         geom_xpos[n + j, 2] = o[OBSTACLE_CENTER + 2] + dt * vz
 
 
-@njit(cache=True)
+@kernel
 def place_and_select(
     lists: np.ndarray,
     candidates: FloatArray,
@@ -126,7 +126,7 @@ def place_and_select(
     )
 
 
-@njit(cache=True)
+@kernel
 def nearest_into(
     approaches: FloatArray,
     held: FloatArray,
@@ -208,7 +208,7 @@ def nearest_into(
     return count, touching
 
 
-@njit(cache=True)
+@kernel
 def estimate_into(
     approaches: FloatArray,
     held: FloatArray,
@@ -258,7 +258,7 @@ def estimate_into(
     return out
 
 
-@njit(cache=True)
+@kernel
 def estimated_torque_into(
     torque: FloatArray,
     acting: FloatArray,

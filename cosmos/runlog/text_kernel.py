@@ -21,8 +21,8 @@ from __future__ import annotations
 from typing import Final
 
 import numpy as np
-from numba import njit
 
+from cosmos.jit import kernel
 from cosmos.runlog.text_template import (
     POSE_LIMIT,
     POSE_WIDTH,
@@ -40,7 +40,7 @@ ByteArray = np.ndarray
 _SPLIT: Final = 134217729.0  # 2**27 + 1, Dekker's splitting constant
 
 
-@njit(cache=True)
+@kernel
 def _put_int(out: ByteArray, pos: int, value: int) -> int:
     """Write ``value`` in decimal (as ``%d``) at ``out[pos]``; return the position after it."""
     if value < 0:
@@ -63,7 +63,7 @@ def _put_int(out: ByteArray, pos: int, value: int) -> int:
     return end
 
 
-@njit(cache=True)
+@kernel
 def _put_literal(out: ByteArray, pos: int, literals: ByteArray, bounds: IntArray, index: int) -> int:
     """Write literal ``index`` of a template at ``out[pos]``; return the position after it."""
     for k in range(bounds[index], bounds[index + 1]):
@@ -72,7 +72,7 @@ def _put_literal(out: ByteArray, pos: int, literals: ByteArray, bounds: IntArray
     return pos
 
 
-@njit(cache=True)
+@kernel
 def time_nanoseconds(t: float) -> int:
     """``t * 1e9`` rounded half to even from its exact value (what ``"%.9f" % t`` rounds).
 
@@ -97,7 +97,7 @@ def time_nanoseconds(t: float) -> int:
     return int(n)
 
 
-@njit(cache=True)
+@kernel
 def _put_time(out: ByteArray, pos: int, t: float) -> int:
     """Write ``"%.9f" % t`` for ``t`` in ``[0, TIME_LIMIT_S)``; return the position after it."""
     ns = time_nanoseconds(t)
@@ -110,13 +110,13 @@ def _put_time(out: ByteArray, pos: int, t: float) -> int:
     return pos + 10
 
 
-@njit(cache=True)
+@kernel
 def _micro(value: float) -> int:
     """``value`` in integer micro-units, rounded half to even."""
     return int(np.rint(value * 1e6))
 
 
-@njit(cache=True)
+@kernel
 def render_states(
     out: ByteArray,
     rows: FloatArray,
@@ -179,7 +179,7 @@ def render_states(
     return pos
 
 
-@njit(cache=True)
+@kernel
 def render_transforms(
     out: ByteArray,
     pos: int,
@@ -226,10 +226,9 @@ def render_transforms(
     return pos
 
 
-@njit(
+@kernel(
     "void(float64[:, ::1], float64[::1], int64[:, ::1], int64, float64, float64[::1], float64[::1],"
-    " float64[::1], float64[::1], float64[::1], float64[::1], float64[::1], int64, int64)",
-    cache=True,
+    " float64[::1], float64[::1], float64[::1], float64[::1], float64[::1], int64, int64)"
 )
 def stage_state(
     rows: FloatArray,
@@ -275,10 +274,7 @@ def stage_state(
     labels[i, 1] = line
 
 
-@njit(
-    "boolean(int64[:, :, ::1], int64[::1], int64, int64, float64[:, ::1], float64[:, ::1], int64[::1])",
-    cache=True,
-)
+@kernel("boolean(int64[:, :, ::1], int64[::1], int64, int64, float64[:, ::1], float64[:, ::1], int64[::1])")
 def stage_transform(
     poses: IntArray,
     times_ns: IntArray,

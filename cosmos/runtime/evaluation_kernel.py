@@ -27,8 +27,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from cosmos.jit import kernel
 from cosmos.runtime.servo_kernel import matmul, matvec
 
 FloatArray = np.ndarray
@@ -61,7 +61,7 @@ C_Q_UPPER = 36  # (6,)
 C_SIZE = 42
 
 
-@njit(cache=True)
+@kernel
 def symmetric_from_upper(upper: FloatArray) -> FloatArray:
     """The symmetric matrix whose upper triangle is given (Pinocchio fills only that). # (n, n)."""
     n = upper.shape[0]
@@ -72,7 +72,7 @@ def symmetric_from_upper(upper: FloatArray) -> FloatArray:
     return full
 
 
-@njit(cache=True)
+@kernel
 def spd_inverse_into(out: FloatArray, a: FloatArray) -> bool:
     """``out = a^-1`` for a symmetric positive definite ``a``, by Cholesky (``a = L L^T``). # (n, n).
 
@@ -110,12 +110,12 @@ def spd_inverse_into(out: FloatArray, a: FloatArray) -> bool:
     return True
 
 
-@njit(cache=True)
+@kernel
 def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
     return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
 
 
-@njit(cache=True)
+@kernel
 def evaluation_values(
     q: FloatArray,
     qd: FloatArray,

@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from cosmos.jit import kernel
 from cosmos.osc.orientation import NEAR_PI_SIN, SMALL_ANGLE_RAD
 from cosmos.runtime import evaluation_kernel as ek
 from cosmos.runtime import servo_kernel as sk
@@ -24,7 +24,7 @@ from cosmos.runtime import servo_kernel as sk
 FloatArray = np.ndarray
 
 
-@njit(cache=True)
+@kernel
 def lambda_from_inverse(
     lambda_inv: FloatArray, max_effective_mass_kg: float, blend_width: float, length_scale_m: float
 ) -> FloatArray:
@@ -54,7 +54,7 @@ def lambda_from_inverse(
     return sk.matmul(eigenvectors * weights, eigenvectors.T) * outer
 
 
-@njit(cache=True)
+@kernel
 def fold_servo(
     inertia: FloatArray,
     inertia_inv: FloatArray,
@@ -118,7 +118,7 @@ def fold_servo(
     jbar_lookahead[:, :] = lookahead_s * jbar
 
 
-@njit(cache=True)
+@kernel
 def rotation_log(r: FloatArray) -> FloatArray:
     """:func:`cosmos.osc.orientation.so3_log` of a rotation matrix: axis times angle in [0, pi]. # (3,)."""
     ax, ay, az = r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]
@@ -147,7 +147,7 @@ def rotation_log(r: FloatArray) -> FloatArray:
     return theta * n
 
 
-@njit(cache=True)
+@kernel
 def refold(
     evaluation: FloatArray,
     held_torque: FloatArray,

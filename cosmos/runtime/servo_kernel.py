@@ -22,7 +22,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from cosmos.jit import kernel
 
 FloatArray = np.ndarray
 
@@ -73,7 +74,7 @@ W_SENSED = W_STATE + STATE_ROWS * 6
 WORKSPACE = W_SENSED + SENSED_ROWS * 6
 
 
-@njit(cache=True)
+@kernel
 def matvec(matrix: FloatArray, vector: FloatArray) -> FloatArray:
     """``matrix @ vector`` in plain loops (BLAS costs more than the product at this size)."""
     rows, cols = matrix.shape
@@ -86,7 +87,7 @@ def matvec(matrix: FloatArray, vector: FloatArray) -> FloatArray:
     return out
 
 
-@njit(cache=True)
+@kernel
 def matmul(a: FloatArray, b: FloatArray) -> FloatArray:
     """``a @ b`` in plain loops: for 6 x 6 operands cheaper than a BLAS call from compiled code."""
     n, m, p = a.shape[0], a.shape[1], b.shape[1]
@@ -99,7 +100,7 @@ def matmul(a: FloatArray, b: FloatArray) -> FloatArray:
     return out
 
 
-@njit(cache=True)
+@kernel
 def _max_abs_product(matrix: FloatArray, vector: FloatArray) -> float:
     """``max |matrix @ vector|`` without the product's array."""
     largest = 0.0
@@ -111,7 +112,7 @@ def _max_abs_product(matrix: FloatArray, vector: FloatArray) -> float:
     return largest
 
 
-@njit(cache=True)
+@kernel
 def environment_wrench_into(
     out: FloatArray,
     sensor: FloatArray,
@@ -137,7 +138,7 @@ def environment_wrench_into(
     out[5] = sz - (tx * ey - ty * ex)
 
 
-@njit(cache=True)
+@kernel
 def _rotate_blocks(rotation: FloatArray, vector: FloatArray, transpose: bool) -> FloatArray:
     """``(R v[:3], R v[3:])``, or with R^T. # (6,)."""
     out = np.empty(6)
@@ -151,7 +152,7 @@ def _rotate_blocks(rotation: FloatArray, vector: FloatArray, transpose: bool) ->
     return out
 
 
-@njit(cache=True)
+@kernel
 def unit_mass_command_into(
     command: FloatArray,
     mode: float,
@@ -190,7 +191,7 @@ def unit_mass_command_into(
             command[i] = -kp[i] * error[i] - kv[i] * velocity[i]
 
 
-@njit(cache=True)
+@kernel
 def saturate_about(torque: FloatArray, torque_max: FloatArray, keep: FloatArray) -> None:
     """:func:`cosmos.osc.limits.saturate_torque` in place: scale ``torque - keep`` into the limits."""
     n = torque.shape[0]
@@ -212,7 +213,7 @@ def saturate_about(torque: FloatArray, torque_max: FloatArray, keep: FloatArray)
         torque[i] = kept[i] + scale * (torque[i] - kept[i])
 
 
-@njit(cache=True)
+@kernel
 def servo_tick(
     t_s: float,
     q: FloatArray,
@@ -396,7 +397,7 @@ def servo_tick(
     saturate_about(torque, vectors[TORQUE_MAX], vectors[GRAVITY])
 
 
-@njit(cache=True)
+@kernel
 def servo_tick_live(
     t_s: float,
     positions: FloatArray,

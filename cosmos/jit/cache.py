@@ -1,0 +1,234 @@
+"""Where compiled kernels are kept: one user cache shared by every environment of a cosmos version.
+
+numba's own ``cache=True`` writes next to the source (``__pycache__`` in
+site-packages) or into numba's user directory keyed by the source's *path*, so
+a second virtual environment of the same version compiles everything again,
+and an install whose site-packages and home are read-only cannot import the
+kernels at all ("no locator available"). Here the cache is keyed by what
+the compiled code depends on:
+
+* the directory (:func:`kernel_directory`): the cosmos version, numba's version,
+  the Python version and the CPU (``<user cache>/cosmos/kernels/<key>``, or
+  ``$COSMOS_CACHE_DIR/kernels/<key>``);
+* inside it, one subdirectory per kernel module named by a hash of the
+  module's text and of the cosmos modules it imports (a kernel module's hash
+  includes its own imports', since a kernel calling another kernel compiles the
+  callee into itself), so two environments with the same sources share every
+  file, and a changed source gets its own directory instead of fighting over one.
+
+If that directory cannot be written, a private one under the temporary
+directory is used (:data:`FALLBACK` says why); if none can, kernels are
+compiled in every run, uncached (:func:`make_cache` returns None).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import importlib.util
+import os
+import re
+import sys
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from types import FunctionType
+from typing import Any
+
+import numba
+from numba.core import config
+from numba.core.caching import CompileResultCacheImpl, FunctionCache, _CacheLocator
+from numba.core.runtime import nrt
+from numba.misc.appdirs import AppDirs
+
+from cosmos import __version__
+
+CACHE_ENV = "COSMOS_CACHE_DIR"
+"""Environment variable naming the directory kernels are cached in (instead of the user cache)."""
+
+KERNEL_IMPORT = "from cosmos.jit import kernel"
+"""The line that makes a module a kernel module (its hash includes its imports' hashes)."""
+
+_COSMOS_IMPORT = re.compile(
+    r"^[ \t]*(?:from[ \t]+(cosmos[\w.]*)[ \t]+import[ \t]+(?:\(([^)]*)\)|([\w \t,]+))"
+    r"|import[ \t]+(cosmos[\w.]*))",
+    re.M,
+)
+
+
+def cpu_name() -> str:
+    """The CPU numba compiles for (``NUMBA_CPU_NAME`` if set, else the host's)."""
+    from llvmlite import binding
+
+    return str(getattr(config, "CPU_NAME", None) or binding.get_host_cpu_name())
+
+
+def cache_key() -> str:
+    """The part of the cache's path that a compiled kernel depends on besides its source."""
+    python = f"py{sys.version_info[0]}{sys.version_info[1]}"
+    return f"cosmos-{__version__}-numba-{numba.__version__}-{python}-{cpu_name()}".replace(os.sep, "_")
+
+
+def user_cache_root() -> Path:
+    """``$COSMOS_CACHE_DIR``, else the platform's user cache directory for cosmos."""
+    chosen = os.environ.get(CACHE_ENV)
+    if chosen:
+        return Path(chosen).expanduser()
+    return Path(AppDirs("cosmos", appauthor=False).user_cache_dir)
+
+
+def fallback_root() -> Path:
+    """A directory of this user's under the temporary directory (for read-only homes)."""
+    uid = os.getuid() if hasattr(os, "getuid") else 0
+    return Path(tempfile.gettempdir()) / f"cosmos-{uid}"
+
+
+@functools.cache
+def _writable(directory: Path) -> str:
+    """The reason kernels cannot be cached in ``directory`` (made if need be); empty if they can."""
+    try:
+        directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+        if hasattr(os, "getuid") and directory.stat().st_uid != os.getuid():
+            return f"{directory} belongs to another user"
+        tempfile.TemporaryFile(dir=directory).close()
+    except OSError as error:
+        return f"{directory}: {error.strerror or error}"
+    return ""
+
+
+@functools.cache
+def kernel_directory() -> Path | None:
+    """The directory kernels are cached in, or None if no directory can be written.
+
+    The user cache first; if it cannot be written, a private directory under the
+    temporary directory (the reason is kept in :data:`FALLBACK`).
+    """
+    user = user_cache_root() / "kernels" / cache_key()
+    reason = _writable(user)
+    if not reason:
+        return user
+    FALLBACK.append(reason)
+    temporary = fallback_root() / "kernels" / cache_key()
+    second = _writable(temporary)
+    if not second:
+        return temporary
+    FALLBACK.append(second)
+    return None
+
+
+FALLBACK: list[str] = []
+"""Why the user cache (and the temporary one) could not be used; empty when it could."""
+
+
+def _module_file(name: str) -> Path | None:
+    try:
+        spec = importlib.util.find_spec(name)
+    except (ImportError, ValueError):
+        return None
+    if spec is None or spec.origin is None or not spec.origin.endswith(".py"):
+        return None
+    return Path(spec.origin)
+
+
+def _imported_modules(package: str, names: str) -> list[str]:
+    """The cosmos modules ``from package import names`` reads: submodules by name, else the package."""
+    found = []
+    for name in (part.strip().split(" ")[0] for part in names.split(",")):
+        if name and _module_file(f"{package}.{name}") is not None:
+            found.append(f"{package}.{name}")
+    return found or [package]
+
+
+@functools.cache
+def source_digest(module: str) -> str:
+    """A hash of ``module``'s text and of the cosmos modules it imports (kernel modules: recursively)."""
+    path = _module_file(module)
+    if path is None:
+        return "0" * 16
+    text = path.read_text(encoding="utf-8")
+    digest = hashlib.sha256(text.encode())
+    for match in _COSMOS_IMPORT.finditer(text):
+        package, listed, names, plain = match.groups()
+        for name in _imported_modules(package, listed or names) if package else [plain]:
+            if name == module or name == "cosmos.jit":
+                continue
+            imported = _module_file(name)
+            if imported is None:
+                continue
+            imported_text = imported.read_bytes()
+            if KERNEL_IMPORT.encode() in imported_text:
+                digest.update(source_digest(name).encode())
+            else:
+                digest.update(hashlib.sha256(imported_text).digest())
+    return digest.hexdigest()[:16]
+
+
+class KernelLocator(_CacheLocator):
+    """numba's cache locator for cosmos kernels: :func:`kernel_directory` / ``<module>-<digest>``."""
+
+    def __init__(self, function: FunctionType, directory: Path):
+        self._py_file = function.__code__.co_filename
+        self._lineno = function.__code__.co_firstlineno
+        module = function.__module__
+        self._digest = source_digest(module)
+        self._path = directory / f"{module}-{self._digest}"
+
+    def ensure_cache_path(self) -> None:
+        """Make the module's directory (its parent is known to be writable)."""
+        self._path.mkdir(mode=0o700, exist_ok=True)
+
+    def get_cache_path(self) -> str:
+        """The module's directory."""
+        return str(self._path)
+
+    def get_source_stamp(self) -> str:
+        """The source's hash (it is also in the path: a stale entry is never found)."""
+        return self._digest
+
+    def get_disambiguator(self) -> str:
+        """The function's first line, as numba's own locators use."""
+        return str(self._lineno)
+
+    @classmethod
+    def from_function(cls, py_func: FunctionType, py_file: str) -> KernelLocator | None:
+        """A locator in :func:`kernel_directory`, or None if there is none."""
+        directory = kernel_directory()
+        if directory is None:
+            return None
+        locator = cls(py_func, directory)
+        try:
+            locator.ensure_cache_path()
+        except OSError:
+            return None
+        return locator
+
+
+class _KernelCacheImpl(CompileResultCacheImpl):
+    _locator_classes = [KernelLocator]
+
+
+class KernelCache(FunctionCache):
+    """numba's function cache in :func:`kernel_directory`.
+
+    A kernel found in the cache is loaded without first loading every typing and
+    lowering registry numba has (``refresh``: a third of a second, SciPy's
+    ``linalg`` among them), which only compiling needs; the compiler loads them
+    itself when a kernel has to be compiled.
+    """
+
+    _impl_class = _KernelCacheImpl
+
+    def load_overload(self, sig, target_context):
+        """Load the compiled kernel for ``sig`` if it is cached (None if not)."""
+        nrt.rtsys.initialize(target_context)  # what a loaded kernel links against (array allocation)
+        return self._load_overload(sig, target_context)
+
+
+def make_cache(function: Callable[..., Any]) -> KernelCache | None:
+    """The cache for ``function``, or None if no directory can be written."""
+    if kernel_directory() is None:
+        return None
+    try:  # numba asks KernelLocator.from_function, which reads kernel_directory() again
+        return KernelCache(function)
+    except RuntimeError:  # no locator: the directory went away
+        return None

@@ -1,0 +1,151 @@
+"""The kernel cache: shared by environments, keyed by what compiled code depends on, never fatal."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numba.core import event
+
+import cosmos.jit
+from cosmos.jit import cache, kernel, notice
+from cosmos.runtime import servo_kernel
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _clean_env(**changes: str) -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items() if k not in ("COSMOS_CACHE_DIR", "XDG_CACHE_HOME")}
+    env.update(changes)
+    return env
+
+
+def test_read_only_home_runs_a_program(tmp_path: Path) -> None:
+    """With no writable home (a system or container install), ``cosmos run`` used to die at import
+    ("cannot cache function ...: no locator available"); it must run, caching under the temporary
+    directory and saying so. The temporary cache is this process's (linked), so nothing recompiles."""
+    blocker = tmp_path / "not_a_directory"
+    blocker.write_text("")
+    temp = tmp_path / "tmp"
+    uid = os.getuid() if hasattr(os, "getuid") else 0
+    (temp / f"cosmos-{uid}").mkdir(parents=True)
+    warm = cache.kernel_directory()
+    assert warm is not None
+    (temp / f"cosmos-{uid}" / "kernels").symlink_to(warm.parent, target_is_directory=True)
+    env = _clean_env(HOME=str(blocker / "home"), TMPDIR=str(temp))
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "cosmos",
+            "run",
+            str(ROOT / "programs" / "hello.cos"),
+            "--log",
+            str(tmp_path / "a.mcap"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=env,
+        cwd=tmp_path,
+    )
+    assert result.returncode == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    assert "cannot keep compiled kernels in the user cache" in result.stderr
+    assert str(temp / f"cosmos-{uid}" / "kernels") in result.stderr
+    assert (tmp_path / "a.mcap").stat().st_size > 0
+
+
+def test_kernels_are_not_cached_next_to_the_source() -> None:
+    """A read-only site-packages must not matter: numba's in-tree ``__pycache__`` is not used."""
+    path = Path(servo_kernel.servo_tick._cache.cache_path)
+    directory = cache.kernel_directory()
+    assert directory is not None and path.parent == directory
+    assert Path(servo_kernel.__file__).parent not in path.parents
+
+
+def test_a_second_environment_shares_the_cache(tmp_path: Path) -> None:
+    """numba keys its cache by the source's path, so a second virtual environment of the same version
+    compiled every kernel again; the same sources elsewhere must give the same cache directory."""
+    copy = tmp_path / "elsewhere"
+    shutil.copytree(ROOT / "cosmos", copy / "cosmos", ignore=shutil.ignore_patterns("__pycache__"))
+    probe = (
+        "import cosmos, cosmos.runtime.servo_kernel as k; "
+        f"assert cosmos.__file__.startswith({str(copy)!r}), cosmos.__file__; "
+        "print(k.servo_tick._cache.cache_path)"
+    )
+    env = _clean_env(PYTHONPATH=str(copy), COSMOS_CACHE_DIR=str(cache.user_cache_root()))
+    result = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=300, env=env, cwd=tmp_path
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == servo_kernel.servo_tick._cache.cache_path
+
+
+def test_digest_follows_imported_kernel_modules(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A kernel calling a kernel of another module compiles the callee into itself: when the callee's
+    module changes, the caller's cached code is stale, so the caller's digest must change too
+    (numba's own cache keys a function by its own file only). A module imported by a plain module is not
+    followed (else any edit anywhere would recompile everything)."""
+    files = {
+        "cosmos.fake.caller": (
+            f"{cache.KERNEL_IMPORT}\nfrom cosmos.fake import callee as c\nfrom cosmos.fake.plain import X\n"
+        ),
+        "cosmos.fake.callee": f"{cache.KERNEL_IMPORT}\nY = 1\n",
+        "cosmos.fake.plain": "from cosmos.fake.far import Z\nX = 2\n",
+        "cosmos.fake.far": "Z = 3\n",
+    }
+    for name, text in files.items():
+        (tmp_path / f"{name}.py").write_text(text)
+    monkeypatch.setattr(
+        cache, "_module_file", lambda name: tmp_path / f"{name}.py" if name in files else None
+    )
+
+    def digest() -> str:
+        cache.source_digest.cache_clear()
+        return cache.source_digest("cosmos.fake.caller")
+
+    before = digest()
+    assert digest() == before
+    for name, edited in (("cosmos.fake.callee", "Y = 2\n"), ("cosmos.fake.plain", "X = 5\n")):
+        (tmp_path / f"{name}.py").write_text(files[name] + edited)
+        assert digest() != before, name
+        (tmp_path / f"{name}.py").write_text(files[name])
+        assert digest() == before
+    (tmp_path / "cosmos.fake.far.py").write_text("Z = 4\n")
+    assert digest() == before
+    cache.source_digest.cache_clear()
+
+
+def test_without_any_cache_kernels_compile_and_run(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """If nothing can be written, kernels must still work (compiled each run) and the user must be
+    told why and what to do; a compilation must be announced at once, naming the cosmos part."""
+    monkeypatch.setattr(cache, "kernel_directory", lambda: None)
+    monkeypatch.setattr(
+        cache, "FALLBACK", ["/home/x: Read-only file system", "/tmp/cosmos-0: Read-only file system"]
+    )
+    monkeypatch.setattr(cosmos.jit, "_warned", [])
+
+    def scaled_sum(values: np.ndarray, factor: float) -> float:
+        total = 0.0
+        for value in values:
+            total += value * factor
+        return total
+
+    scaled_sum.__module__ = "cosmos.runtime.fake"
+    listener = notice.CompileNotice("nowhere")
+    with event.install_listener("numba:compile", listener):
+        compiled = kernel(scaled_sum)
+        assert compiled._cache.__class__.__name__ == "NullCache"
+        assert compiled(np.arange(4.0), 0.5) == 3.0
+    err = capsys.readouterr().err
+    assert "cannot keep compiled kernels anywhere" in err and "COSMOS_CACHE_DIR" in err
+    assert listener.announced == {"the controller"} and listener.compiled == 1
+    assert "compiling the controller for this machine, once: about 20 s (kept in nowhere)" in err
