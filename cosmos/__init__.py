@@ -14,7 +14,6 @@ pandas, matplotlib): the API's names are imported on first use.
 """
 
 from importlib import import_module
-from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
 from cosmos.errors import CosmosError, ProgramError, TaskFailure, UsageError
@@ -23,10 +22,8 @@ if TYPE_CHECKING:
     from cosmos.api import CosmosWarning, check, load, run
     from cosmos.run_result import Failure, OutcomeKind, Run
 
-try:
-    __version__ = version("cosmos-osc")
-except PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0.0.0+source"
+__version__ = "0.1.0"
+"""The package's version, read by the build (``[tool.hatch.version]``): no metadata lookup at start-up."""
 
 _LAZY = {
     "run": "cosmos.api",
