@@ -1,8 +1,13 @@
-"""cosmos bench: the figures issue 3 asks for, and a floor that moves as the workload does."""
+"""cosmos bench: the figures issues 3 and 20 ask for, and a floor that moves as the workload does."""
+
+from pathlib import Path
 
 import numpy as np
 
-from cosmos.commands.bench import _floor_tick_us, _workload_setpoint, _workload_torques, measure
+from cosmos.bench.language import check_end_to_end_s
+from cosmos.bench.obstacles import bench_obstacles
+from cosmos.bench.programs import executor_run
+from cosmos.bench.servo import _floor_tick_us, _workload_setpoint, _workload_torques, measure
 from cosmos.plant import Plant
 from cosmos.robot_model import build_robot_model
 from cosmos.runtime.loop import Runtime
@@ -34,3 +39,33 @@ def test_measure_reports_the_phases_and_the_floor():
     assert figures["timed_tick_us"] >= sum(figures["phases_us"].values())
     assert figures["ticks_per_second"] == 1e6 / figures["tick_us"]
     assert figures["ratio_to_floor"] == figures["tick_us"] / figures["floor_tick_us"]
+
+
+def test_executor_run_counts_the_servo_ticks_of_the_program(tmp_path: Path) -> None:
+    """The executor's per-tick cost divides by the ticks the program ran: a WAIT of 120 ms at 1 kHz is
+    120 ticks (a count of plant steps, or of the session's hold, would make the figure wrong)."""
+    program = tmp_path / "wait.cos"
+    program.write_text("WAIT 120 ms\n")
+    run = executor_run(program)
+    assert run.ok
+    assert abs(run.simulated_s - 0.120) < 2e-3
+    assert abs(run.ticks - 120) <= 1
+    assert run.tick_us == run.wall_s / run.ticks * 1e6
+    assert run.real_time_factor == run.simulated_s / run.wall_s
+
+
+def test_obstacle_bench_compares_against_a_bare_tick() -> None:
+    """The ratios are to the bare controller (no slots, no field), and the ten obstacles really act on
+    the arm (some within the influence distance) while none is near with no obstacle."""
+    figures = bench_obstacles(ticks=400, counts=(0, 10))
+    for count in (0, 10):
+        assert figures[f"ratio_{count}"] == figures[f"tick_us_{count}"] / figures["tick_us_bare"]
+    assert figures["in_influence_0"] == 0.0
+    assert figures["in_influence_10"] > 0.0
+    assert figures["field_us_per_tick_10"] > figures["field_us_per_tick_0"]
+
+
+def test_check_end_to_end_runs_the_command_on_a_generated_program() -> None:
+    """``cosmos check`` is timed as a whole process that succeeds (a failing check must not be timed)."""
+    runs = check_end_to_end_s(60, repeats=1)
+    assert len(runs) == 1 and runs[0] > 0.0

@@ -1,214 +1,75 @@
-"""``cosmos bench``: the cost of the servo loop, per phase, against a floor measured in the same run.
+"""``cosmos bench``: what users run and the loop beneath it, beside the floor, as ratios, in one run.
 
-Also reported: the servo tick with 10 obstacles against none (seed section 6),
-and the time to parse, check and compile a 10,000-line program.
-
-The workload is representative of a contact task: goal motion with a speed
-limit on five axes while z is force-controlled (at 0 N in free space), with the
-state recorded at its fixed rate into a real MCAP file. The floor is a Python
-loop of only ``mj_step`` plus Pinocchio's ``computeAllTerms`` and the tool
-Jacobian, replaying the workload's torques open loop: the same motion, no
-control logic. Ratios are reported, not asserted.
-
-The loop is timed as runs use it, without clocks inside the tick, in three runs
-of the workload from the start, and the floor in three replays; each figure is
-the best of its runs, as :mod:`timeit` reports (on a shared machine the slower
-runs measure the neighbours; all runs are in the JSON). The cost of each phase
-comes from the first run's second half: as many ticks again with a clock
-around each phase (``timed_tick_us`` is their cost per tick, clocks included).
-The language figure is the best of three compiles too. The
-servo's compiled call copies the encoders and the wrist sensor from the plant's
-live buffers itself, so ``sense`` is only reading the clock and taking the
-sensor sample's noise row; the copies are counted in ``servo``.
+The figures come from :func:`cosmos.bench.suite.measure_all`; this module
+prints them (``--json``: one JSON object).
 """
 
 from __future__ import annotations
 
 import json
-import tempfile
-import time
-from pathlib import Path
+from collections.abc import Mapping
 
 import click
-import mujoco
-import numpy as np
-import pinocchio as pin
 
-from cosmos.execution.recording import LogRecorder
-from cosmos.plant import Plant
-from cosmos.robot_model import RobotModel, build_robot_model
-from cosmos.runlog.writer import RunLog
-from cosmos.runtime.loop import PhaseTimes, Runtime
-from cosmos.runtime.rates import Rates
-from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
-
-TICKS = 6000
-WARMUP_TICKS = 500
-REPEATS = 3
+from cosmos.bench.suite import measure_all
 
 
-def _floor_tick_us(plant: Plant, robot: RobotModel, torques: np.ndarray, timed: int) -> float:
-    """Replay ``torques`` open loop; the cost per step of the last ``timed`` steps, in [us].
-
-    Each step is only: set the torques, ``mj_step``, ``computeAllTerms`` and the tool
-    Jacobian. Replaying the workload's own torques gives the floor the workload's
-    motion (an arm left without torques would fall onto the table, and the contact
-    would make every step dearer than the workload's).
-    """
-    model, data = robot.model, robot.model.createData()
-    mj_model, mj_data = plant.model, plant.data
-    ctrl = mj_data.ctrl
-    frame = robot.tool_frame
-    step, all_terms, jacobian = mujoco.mj_step, pin.computeAllTerms, pin.getFrameJacobian
-    world = pin.LOCAL_WORLD_ALIGNED
-    untimed = len(torques) - timed
-    for tau in torques[:untimed]:
-        ctrl[:] = tau
-        step(mj_model, mj_data)
-    start = time.perf_counter_ns()
-    for tau in torques[untimed:]:
-        ctrl[:] = tau
-        step(mj_model, mj_data)
-        all_terms(model, data, mj_data.qpos, mj_data.qvel)
-        jacobian(model, data, frame, world)
-    return (time.perf_counter_ns() - start) / timed / 1e3
-
-
-def _workload_torques(robot: RobotModel, ticks: int) -> np.ndarray:
-    """The joint torques of the workload, tick by tick, in [N m] (an untimed run). # (ticks, 6)."""
-    plant = Plant()
-    runtime = Runtime(plant, robot, Rates())
-    runtime.set_setpoint(_workload_setpoint(runtime))
-    torques = np.empty((ticks, 6))
-    for row in torques:
-        runtime.tick()
-        row[:] = runtime.tau
-    return torques
-
-
-def _workload_setpoint(runtime: Runtime) -> ServoSetpoint:
-    ev = runtime.evaluation
-    target = ev.position + np.array((0.15, -0.10, -0.05))
-    return ServoSetpoint(
-        mode=MotionMode.GOAL,
-        position=target,
-        rotation_to_world=ev.rotation_tool_to_world,
-        motion_axes=(True, True, False, True, True, True),
-        start_s=runtime.time_s,
-        max_speed=0.25,
-    )
-
-
-def _timed_workload(
-    robot: RobotModel, rates: Rates, ticks: int, phases: PhaseTimes | None
-) -> tuple[float, float]:
-    """Run the workload from the start on a fresh plant; its cost per tick, in [us].
-
-    After the warm-up, ``ticks`` ticks are timed without clocks inside them; with
-    ``phases``, as many ticks again follow with a clock around each phase, and the
-    second figure is their cost per tick, clocks included (else 0).
-    """
-    plant = Plant()
-    with tempfile.TemporaryDirectory() as tmp:
-        log = RunLog(
-            Path(tmp) / "bench.mcap",
-            program="bench",
-            source=None,
-            servo_hz=rates.servo_hz,
-            param_hz=rates.param_hz,
-            state_hz=rates.state_hz,
-            model="puma560",
-            seed=0,
-        )
-        runtime = Runtime(plant, robot, rates)
-        runtime.recorder = LogRecorder(log, plant)
-        runtime.set_setpoint(_workload_setpoint(runtime))
-        for _ in range(WARMUP_TICKS):
-            runtime.tick()
-        start = time.perf_counter_ns()
-        for _ in range(ticks):
-            runtime.tick()
-        elapsed_ns = time.perf_counter_ns() - start
-        start = time.perf_counter_ns()
-        if phases is not None:
-            for _ in range(ticks):
-                runtime.timed_tick(phases)
-        timed_ns = time.perf_counter_ns() - start if phases is not None else 0
-        log.close()
-    return elapsed_ns / ticks / 1e3, timed_ns / ticks / 1e3
-
-
-def measure(ticks: int = TICKS, repeats: int = REPEATS) -> dict[str, object]:
-    """Run the workload and the floor ``repeats`` times each; return the figures (times in [us]).
-
-    The loop's and the floor's costs are the best of their runs (as :mod:`timeit`
-    reports): on a shared machine the slower runs measure the neighbours.
-    """
-    robot = build_robot_model()
-    rates = Rates()
-    phases = PhaseTimes()  # from the first run, in as many ticks again, with clocks around each phase
-    runs = [_timed_workload(robot, rates, ticks, phases if i == 0 else None) for i in range(repeats)]
-    runs_us = [tick for tick, _ in runs]
-    torques = _workload_torques(robot, WARMUP_TICKS + ticks)
-    floors_us = [_floor_tick_us(Plant(), robot, torques, ticks) for _ in range(repeats)]
-    tick_us, floor_us = min(runs_us), min(floors_us)
-    return {
-        "ticks": ticks,
-        "repeats": repeats,
-        "servo_hz": rates.servo_hz,
-        "param_hz": rates.param_hz,
-        "ticks_per_second": 1e6 / tick_us,
-        "real_time_factor": 1e6 / tick_us / rates.servo_hz,
-        "tick_us": tick_us,
-        "tick_us_runs": runs_us,
-        "floor_tick_us": floor_us,
-        "floor_tick_us_runs": floors_us,
-        "ratio_to_floor": tick_us / floor_us,
-        "phases_us": {name: ns / phases.ticks / 1e3 for name, ns in phases.ns.items()},
-        "timed_tick_us": runs[0][1],
-    }
-
-
-def main(as_json: bool) -> int:
+def main(as_json: bool, first: bool = True) -> int:
     """Entry of ``cosmos bench``."""
-    from cosmos.lang import bench_compile
-    from cosmos.obstacles.bench import bench_obstacles
-
-    figures = measure()
-    figures["obstacles"] = bench_obstacles()
-    figures["compile_10000_lines_runs_s"] = runs_s = [bench_compile(10_000) for _ in range(REPEATS)]
-    figures["compile_10000_lines_s"] = min(runs_s)
+    figures = measure_all(first)
     if as_json:
         click.echo(json.dumps(figures, indent=2))
         return 0
-    phases = figures["phases_us"]
-    assert isinstance(phases, dict)
-    click.echo(
-        f"servo loop: {figures['ticks_per_second']:,.0f} ticks/s "
-        f"({figures['tick_us']:.1f} us/tick, real-time factor {figures['real_time_factor']:.1f} "
-        f"at {figures['servo_hz']:g} Hz servo, {figures['param_hz']:g} Hz parameters; "
-        f"best of {_listed(figures['tick_us_runs'])} us/tick)"
-    )
-    click.echo(f"  per phase, timed in a second run ({figures['timed_tick_us']:.1f} us/tick with clocks):")
-    for name, cost in phases.items():
-        click.echo(f"  {name:<11} {cost:6.2f} us/tick")
-    click.echo(
-        f"floor (mj_step + computeAllTerms + Jacobian): {figures['floor_tick_us']:.1f} us/tick "
-        f"(best of {_listed(figures['floor_tick_us_runs'])}); loop / floor = {figures['ratio_to_floor']:.2f}"
-    )
-    obstacles = figures["obstacles"]
-    assert isinstance(obstacles, dict)
-    click.echo(
-        f"obstacles: servo tick {obstacles['tick_us_none']:.1f} us with none, "
-        f"{obstacles['tick_us_10']:.1f} us with 10; ratio {obstacles['ratio']:.2f}"
-    )
-    click.echo(
-        f"language: parse + check + compile 10,000 lines in {figures['compile_10000_lines_s']:.2f} s "
-        f"(best of {_listed(figures['compile_10000_lines_runs_s'], 2)} s)"
-    )
+    for line in report(figures):
+        click.echo(line)
     return 0
 
 
 def _listed(values: object, digits: int = 1) -> str:
     assert isinstance(values, list)
     return ", ".join(f"{value:.{digits}f}" for value in values)
+
+
+def report(f: Mapping[str, object]) -> list[str]:
+    """The figures as lines of text."""
+    g = dict(f)
+    phases, obstacles, programs = g["phases_us"], g["obstacles"], g["programs"]
+    assert isinstance(phases, dict) and isinstance(obstacles, dict) and isinstance(programs, dict)
+    lines = [
+        f"bench loop: {g['ticks_per_second']:,.0f} ticks/s ({g['tick_us']:.1f} us/tick, real-time factor "
+        f"{g['real_time_factor']:.1f} at {g['servo_hz']:g} Hz servo, {g['param_hz']:g} Hz parameters; "
+        f"best of {_listed(g['tick_us_runs'])} us/tick)",
+        f"  per phase, timed in a second run ({g['timed_tick_us']:.1f} us/tick with clocks):",
+        *(f"  {name:<11} {cost:6.2f} us/tick" for name, cost in phases.items()),
+        f"floor (mj_step + computeAllTerms + Jacobian): {g['floor_tick_us']:.1f} us/tick "
+        f"(best of {_listed(g['floor_tick_us_runs'])}); bench loop / floor = {g['ratio_to_floor']:.2f}",
+        f"executor (shipped programs, in process): {g['executor_tick_us']:.1f} us/tick; "
+        f"/ bench loop = {g['executor_to_bench_loop']:.2f}, / floor = {g['executor_to_floor']:.2f}",
+    ]
+    for name, run in programs.items():
+        lines.append(
+            f"  {name:<18} {run['ticks']:6d} ticks  {run['executor_tick_us']:5.1f} us/tick  "
+            f"real-time factor {run['real_time_factor']:5.1f}  whole `cosmos run` {run['run_wall_s']:.2f} s "
+            f"(real-time factor {run['whole_run_real_time_factor']:.1f}){'' if run['ok'] else '  FAILED'}"
+        )
+    lines.append(f"start-up: `cosmos run` of a 10 ms program {g['startup_s']:.2f} s, start to exit")
+    if "first_run_wall_s" in g:
+        lines.append(
+            f"first run, empty kernel cache: {g['first_run_wall_s']:.1f} s, "
+            f"then {g['first_run_warm_wall_s']:.2f} s warm: compiling costs {g['first_run_compile_s']:.1f} s "
+            f"({g['first_run_kernels']} kernels; {g['first_run_reported_compile_s']:.0f} s as reported)"
+        )
+    counts = sorted(int(key[len("tick_us_") :]) for key in obstacles if key[len("tick_us_") :].isdigit())
+    lines.append(
+        f"obstacles: bare tick {obstacles['tick_us_bare']:.1f} us (CPU); "
+        + ", ".join(
+            f"{n} obstacles {obstacles[f'tick_us_{n}']:.1f} us ({obstacles[f'ratio_{n}']:.2f}x)"
+            for n in counts
+        )
+    )
+    lines.append(
+        f"language: parse + check + compile 10,000 lines in {g['compile_10000_lines_s']:.2f} s "
+        f"(best of {_listed(g['compile_10000_lines_runs_s'], 2)} s); `cosmos check` end to end: "
+        f"1,000 lines {g['check_1000_lines_s']:.2f} s, 10,000 lines {g['check_10000_lines_s']:.2f} s"
+    )
+    return lines

@@ -10,7 +10,6 @@ tree of :mod:`cosmos.lang.ast`), ``check`` (what a statement alone can tell),
   :class:`CompileState` carried between inputs
 - :func:`parse_program` (source, file) -> :class:`cosmos.lang.ast.Program`
 - :func:`needs_more_input` (text) -> whether a REPL input has an open block
-- :func:`bench_compile` (lines) -> seconds to parse and compile a long program
 - :func:`read_program` (path) -> the text of a program file, read with bounds
 """
 
@@ -20,7 +19,6 @@ from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from cosmos.lang.bench import bench_compile, bench_program
     from cosmos.lang.compile.compiler import (
         Compiler,
         ProgramErrors,
@@ -33,8 +31,6 @@ if TYPE_CHECKING:
     from cosmos.lang.parse.source_file import decode_source, read_program, read_source
 
 _EXPORTS = {
-    "bench_compile": "cosmos.lang.bench",
-    "bench_program": "cosmos.lang.bench",
     "Compiler": "cosmos.lang.compile.compiler",
     "ProgramErrors": "cosmos.lang.compile.compiler",
     "StatementResult": "cosmos.lang.compile.compiler",
@@ -57,8 +53,6 @@ __all__ = [
     "HeldContact",
     "ProgramErrors",
     "StatementResult",
-    "bench_compile",
-    "bench_program",
     "compile_program",
     "decode_source",
     "needs_more_input",

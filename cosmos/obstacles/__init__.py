@@ -1,5 +1,7 @@
 """Real-time obstacle avoidance with artificial potential fields (seed section 6).
 
+(The field's cost in the servo loop is measured by :mod:`cosmos.bench.obstacles`.)
+
 * :mod:`~cosmos.obstacles.obstacle`: an obstacle (primitive, pose, velocity).
 * :mod:`~cosmos.obstacles.scene`: obstacles as bodies of the MuJoCo workcell.
 * :mod:`~cosmos.obstacles.capsules`: the arm's links and tool as capsules.
@@ -12,7 +14,6 @@
 * :mod:`~cosmos.obstacles.field_kernel`: the field's compiled arithmetic (kinematics, torques).
 * :mod:`~cosmos.obstacles.minima`: detection of local minima.
 * :mod:`~cosmos.obstacles.collisions`: contacts the arm should not make.
-* :mod:`~cosmos.obstacles.bench`: the field's cost in the servo loop.
 """
 
 from cosmos.obstacles.capsules import ARM_BODIES, LINK_BODIES, LinkCapsules, arm_capsules

@@ -9,7 +9,7 @@ import pytest
 from lang_support import compile_text
 
 from cosmos import plan
-from cosmos.lang import bench_compile
+from cosmos.bench.language import bench_compile
 from cosmos.rotations import matrix_to_quaternion, rpy_to_matrix
 
 

@@ -8,11 +8,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from cosmos.bench.obstacles import bench_scene
 from cosmos.obstacles import arm_capsules
 from cosmos.obstacles import distance_kernel as dk
 from cosmos.obstacles import field_kernel as fk
 from cosmos.obstacles import geometry_kernel as gk
-from cosmos.obstacles.bench import bench_scene
 from cosmos.obstacles.capsules import LinkCapsules, joint_reach_m
 from cosmos.obstacles.field import FieldParameters, chain_table, obstacle_table
 from cosmos.obstacles.geometry import ProximityModel, capsule_table

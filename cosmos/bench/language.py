@@ -1,12 +1,21 @@
-"""How long parsing and compiling a long program takes (for ``cosmos bench``)."""
+"""How long the language takes on long programs: compiling in process, ``cosmos check`` end to end.
+
+The programs are generated (:func:`bench_program`): every kind of motion
+statement, the numbers varied so that no two blocks are alike. ``cosmos check``
+is timed from process start to exit, printing included, as a user sees it.
+"""
 
 from __future__ import annotations
 
 import math
 import re
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
-from cosmos.lang.compile.compiler import compile_program
+from cosmos.lang import compile_program
 from cosmos.rotations import FloatArray, readonly, rpy_to_matrix
 
 _BLOCK = """\
@@ -71,3 +80,24 @@ def bench_compile(lines: int = 10_000) -> float:
     elapsed = time.perf_counter() - start
     del compiled
     return elapsed
+
+
+def check_end_to_end_s(lines: int, repeats: int = 3) -> list[float]:
+    """Wall seconds of ``cosmos check`` on a generated ``lines``-line program, process start to exit.
+
+    The plan is printed (to a pipe), as a user's terminal would receive it; each
+    run is a new interpreter. One figure per run.
+    """
+    with tempfile.TemporaryDirectory(prefix="cosmos-bench-") as tmp:
+        program = Path(tmp) / f"bench_{lines}.cos"
+        program.write_text(bench_program(lines), encoding="utf-8")
+        runs = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            done = subprocess.run(
+                [sys.executable, "-m", "cosmos", "check", str(program)], capture_output=True, check=False
+            )
+            runs.append(time.perf_counter() - start)
+            if done.returncode != 0:
+                raise RuntimeError(f"cosmos check failed on the bench program: {done.stderr.decode()[-500:]}")
+    return runs

@@ -1,0 +1,158 @@
+"""What users run: the shipped programs through the executor, whole ``cosmos run`` processes, a first run.
+
+* :func:`executor_run`: one program in process, as ``cosmos run`` runs it (plan
+  compiled, a session with its log, the executor's loop); the per-tick cost of
+  that loop is the executor's own path, monitor, obstacles and log included.
+* :func:`process_wall_s`: ``cosmos run`` as a new process, start to exit.
+* :func:`first_run`: ``cosmos run`` with an empty kernel cache (``COSMOS_CACHE_DIR``
+  set to a new directory): what a fresh install's first run costs.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import cosmos
+
+PROGRAMS_DIR = Path(cosmos.__file__).resolve().parents[1] / "programs"
+"""The shipped programs (in a source tree; an installed wheel has none)."""
+
+TINY_PROGRAM = "WAIT 10 ms\n"
+"""A program that does almost nothing: its ``cosmos run`` is start-up and shut-down."""
+
+FIRST_RUN_PROGRAM = """\
+# Every kernel a run can need: the controller, the log's writer, the obstacle field.
+OBSTACLE post CYLINDER AT (0.3, -0.5, 0.5) RADIUS 40 mm HEIGHT 1 m
+MOVE BY (0, 0, 20 mm) SPEED 0.1 m/s
+"""
+
+_COMPILED = re.compile(r"compiled (\d+) kernels? in (\d+) s")
+
+
+def shipped_programs() -> list[Path]:
+    """The shipped programs, by name (empty outside a source tree)."""
+    return sorted(PROGRAMS_DIR.glob("*.cos")) if PROGRAMS_DIR.is_dir() else []
+
+
+@dataclass(frozen=True)
+class ExecutorRun:
+    """One program run in process through the executor.
+
+    Attributes:
+        program: The program's file name.
+        ok: Whether every statement succeeded.
+        simulated_s: Simulated time of the run [s].
+        ticks: Servo ticks run.
+        wall_s: Wall time of the executor's run of the plan [s] (no start-up, no compile).
+        session_s: Wall time to open the session (plant, models, log) [s].
+    """
+
+    program: str
+    ok: bool
+    simulated_s: float
+    ticks: int
+    wall_s: float
+    session_s: float
+
+    @property
+    def tick_us(self) -> float:
+        """Wall time per servo tick of the executor's loop [us]."""
+        return self.wall_s / max(1, self.ticks) * 1e6
+
+    @property
+    def real_time_factor(self) -> float:
+        """Simulated seconds per wall second of the executor's loop."""
+        return self.simulated_s / self.wall_s if self.wall_s > 0 else 0.0
+
+
+def executor_run(path: Path) -> ExecutorRun:
+    """Run ``path`` in process as ``cosmos run`` does (its log in a temporary directory)."""
+    from cosmos.commands.run import compile_file
+    from cosmos.errors import CosmosError
+    from cosmos.execution.session import Session
+    from cosmos.runtime.rates import Rates
+
+    plan = compile_file(path)
+    rates = Rates()
+    with tempfile.TemporaryDirectory(prefix="cosmos-bench-") as tmp:
+        opened = time.perf_counter()
+        with Session(str(path), plan.source, Path(tmp) / "run.mcap", rates) as session:
+            runtime = session.runtime
+            start_s, ok = runtime.time_s, True
+            started = time.perf_counter()
+            try:
+                session.executor.run(plan)
+            except CosmosError:
+                ok = False
+            wall_s = time.perf_counter() - started
+            simulated_s = runtime.time_s - start_s
+    return ExecutorRun(
+        path.name,
+        ok,
+        simulated_s,
+        round(simulated_s * rates.servo_hz),
+        wall_s,
+        started - opened,
+    )
+
+
+def process_wall_s(args: list[str], env: dict[str, str] | None = None) -> tuple[float, str]:
+    """Wall seconds of ``python -m cosmos ARGS`` from start to exit, and its stderr."""
+    start = time.perf_counter()
+    done = subprocess.run(
+        [sys.executable, "-m", "cosmos", *args], capture_output=True, text=True, env=env, check=False
+    )
+    wall = time.perf_counter() - start
+    if done.returncode != 0:
+        raise RuntimeError(f"cosmos {' '.join(args)} failed: {done.stderr[-500:]}")
+    return wall, done.stderr
+
+
+def run_wall_s(path: Path, log_dir: Path) -> float:
+    """Wall seconds of ``cosmos run PATH`` as a new process (warm kernel cache)."""
+    return process_wall_s(["run", str(path), "--log", str(log_dir / f"{path.stem}.mcap")])[0]
+
+
+def startup_s(log_dir: Path) -> float:
+    """Wall seconds of ``cosmos run`` on :data:`TINY_PROGRAM`: interpreter, imports, models, log."""
+    program = log_dir / "tiny.cos"
+    program.write_text(TINY_PROGRAM, encoding="utf-8")
+    return process_wall_s(["run", str(program), "--log", str(log_dir / "tiny.mcap")])[0]
+
+
+@dataclass(frozen=True)
+class FirstRun:
+    """``cosmos run`` of :data:`FIRST_RUN_PROGRAM` with an empty kernel cache, then again warm.
+
+    Attributes:
+        wall_s: The first run, start to exit [s].
+        warm_wall_s: The same run again, its kernels cached [s].
+        kernels: Kernels the first run compiled (as it reported).
+        compile_s: Seconds it reported compiling.
+    """
+
+    wall_s: float
+    warm_wall_s: float
+    kernels: int
+    compile_s: float
+
+
+def first_run(log_dir: Path) -> FirstRun:
+    """A first run on this machine, in a fresh cache directory (deleted afterwards)."""
+    program = log_dir / "first.cos"
+    program.write_text(FIRST_RUN_PROGRAM, encoding="utf-8")
+    args = ["run", str(program), "--log", str(log_dir / "first.mcap")]
+    with tempfile.TemporaryDirectory(prefix="cosmos-fresh-cache-") as cache:
+        env = dict(os.environ, COSMOS_CACHE_DIR=cache)
+        wall, stderr = process_wall_s(args, env)
+        warm, _ = process_wall_s(args, env)
+    match = _COMPILED.search(stderr)
+    kernels, compile_s = (int(match.group(1)), float(match.group(2))) if match else (0, 0.0)
+    return FirstRun(wall, warm, kernels, compile_s)
