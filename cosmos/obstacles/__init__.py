@@ -3,7 +3,7 @@
 (The field's cost in the servo loop is measured by :mod:`cosmos.bench.obstacles`.)
 
 * :mod:`~cosmos.obstacles.obstacle`: an obstacle (primitive, pose, velocity).
-* :mod:`~cosmos.obstacles.scene`: obstacles as bodies of the MuJoCo workcell.
+* :mod:`~cosmos.obstacles.scene`: obstacles as geoms of the MuJoCo workcell (:data:`CAPACITY` at once).
 * :mod:`~cosmos.obstacles.capsules`: the arm's links and tool as capsules.
 * :mod:`~cosmos.obstacles.proximity`: capsule-to-obstacle distances (firas; the reference).
 * :mod:`~cosmos.obstacles.geometry`: the controller's geometric model for fast distances.
@@ -21,10 +21,11 @@ from cosmos.obstacles.collisions import Collision, collisions
 from cosmos.obstacles.field import FieldParameters, Influence, ObstacleField
 from cosmos.obstacles.minima import LocalMinimum, LocalMinimumDetector
 from cosmos.obstacles.obstacle import Obstacle, from_step
-from cosmos.obstacles.scene import DEFAULT_SLOTS, ObstacleScene, obstacle_scene_xml
+from cosmos.obstacles.scene import CAPACITY, DEFAULT_SLOTS, ObstacleScene, obstacle_scene_xml
 
 __all__ = [
     "ARM_BODIES",
+    "CAPACITY",
     "DEFAULT_SLOTS",
     "LINK_BODIES",
     "Collision",

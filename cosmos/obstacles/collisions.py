@@ -33,29 +33,30 @@ class Collision:
     depth_m: float
 
 
-def collisions(plant: Plant, obstacle_bodies: Mapping[str, str]) -> list[Collision]:
+def collisions(plant: Plant, obstacle_geoms: Mapping[str, str]) -> list[Collision]:
     """The plant's current contacts that are collisions, one per (arm body, other) pair.
 
     Args:
         plant: The simulated workcell.
-        obstacle_bodies: MuJoCo body name -> obstacle name, for the obstacles in
-            the scene (:meth:`cosmos.obstacles.ObstacleScene.body_names`).
+        obstacle_geoms: MuJoCo geom name of a slot -> obstacle name, for the obstacles
+            in the scene (:meth:`cosmos.obstacles.ObstacleScene.body_names`).
 
     Returns:
         The collisions, deepest penetration per pair, in the order MuJoCo found them.
+        ``other`` is the obstacle's name, else the body touched.
     """
     found: dict[tuple[str, str], Collision] = {}
     for contact in plant.contacts():
         if contact.body1 in ARM_BODIES and contact.body2 not in ARM_BODIES:
-            arm, other = contact.body1, contact.body2
+            arm, other, other_geom = contact.body1, contact.body2, contact.geom2
         elif contact.body2 in ARM_BODIES and contact.body1 not in ARM_BODIES:
-            arm, other = contact.body2, contact.body1
+            arm, other, other_geom = contact.body2, contact.body1, contact.geom1
         else:
             continue
-        is_obstacle = other in obstacle_bodies
+        is_obstacle = other_geom in obstacle_geoms
         if arm == TOOL_BODY and not is_obstacle:
             continue  # the tool on a fixture: the intended contact
-        name = obstacle_bodies.get(other, other)
+        name = obstacle_geoms[other_geom] if is_obstacle else other
         depth = max(0.0, -contact.distance_m)
         previous = found.get((arm, name))
         if previous is None or depth > previous.depth_m:

@@ -1,22 +1,32 @@
-"""Obstacles as real bodies of the MuJoCo workcell, so a collision is a contact MuJoCo reports.
+"""Obstacles as real geoms of the MuJoCo workcell, so a collision is a contact MuJoCo reports.
 
 MuJoCo compiles a model once, so the workcell is built with a fixed number of
-obstacle *slots* (:func:`add_obstacle_slots`): mocap bodies named
-``obstacle_slot<i>``, each with one geom, parked far below the floor. Adding an
-obstacle takes a free slot and sets its geom's type and size (and the bounding
-volumes the collision broad phase uses: ``geom_rbound``, ``geom_aabb`` and the
-body's ``bvh_aabb``) and its mocap pose; removing it parks the slot again. A
-``MOVING`` obstacle is a mocap body moved by :meth:`ObstacleScene.update`, which
-the executor calls every servo tick (the mocap pose is held over the physics
-steps of one tick).
+obstacle *slots* (:func:`add_obstacle_slots`): geoms of the world body named
+``obstacle_slot<i>``, parked far below the floor. A slot is a geom, not a body:
+every body costs every physics step (kinematics, inertia, dynamics run over
+bodies; twelve parked mocap bodies made a tick 1.2-1.3x dearer with no obstacle
+at all), while a parked geom costs almost nothing, so the workcell holds
+:data:`CAPACITY` obstacles and a tick without obstacles costs what the bare
+workcell's does.
+
+Adding an obstacle takes a free slot and sets its geom's type, size, pose
+(``geom_pos``, ``geom_quat``; MuJoCo places world geoms from them every step)
+and the bounding volumes the collision phases use: ``geom_rbound``,
+``geom_aabb``, and the world body's bounding-volume hierarchy (``bvh_aabb``:
+the slot's leaf and every node above it, refitted). Removing it parks the slot
+again. A ``MOVING`` obstacle is moved by :meth:`ObstacleScene.update`, which
+the executor calls every servo tick; its leaf is refitted every
+:data:`SWEEP_S` to the box it sweeps until the next refit, so the hierarchy
+always contains it without a refit per tick.
 
 Contact filtering: the slot geoms have ``contype 0`` and ``conaffinity 6``, so
 they touch the arm's links (``contype 2``) and the tool (``contype 4``) but not
-the fixtures (``contype 1``) nor each other; being mocap bodies they are welded
-to the world, so MuJoCo never collides them with world geoms either.
+the fixtures (``contype 1``) nor each other; being geoms of the world body,
+MuJoCo never collides them with other world geoms either.
 
-:meth:`cosmos.plant.Plant.reset` restores the keyframe, which parks every slot:
-call :meth:`ObstacleScene.restore` after a reset.
+The model's geoms are not part of the state: :meth:`cosmos.plant.Plant.reset`
+leaves the obstacles where they are (:meth:`ObstacleScene.restore` puts the
+moving ones where they are at a given time).
 """
 
 from __future__ import annotations
@@ -35,8 +45,12 @@ from cosmos.plan import ObstacleShape
 from cosmos.plant import Plant
 from cosmos.workcell import SCENE_XML
 
-DEFAULT_SLOTS = 12
+CAPACITY = 64
 """Obstacles the workcell can hold at once."""
+DEFAULT_SLOTS = CAPACITY
+"""The slots :func:`obstacle_scene_xml` makes unless told otherwise."""
+SWEEP_S = 0.1
+"""A moving obstacle's bounding volume covers its path for this long, then is refitted [s]."""
 SLOT_PREFIX = "obstacle_slot"
 OBSTACLE_CONTYPE = 0
 OBSTACLE_CONAFFINITY = 6  # arm links (contype 2) and tool (contype 4)
@@ -52,23 +66,22 @@ _GEOM_TYPE = {
 
 
 def parked_position(slot: int) -> tuple[float, float, float]:
-    """Where slot ``slot`` waits when free, in [m]: far below the floor, out of reach."""
-    return (3.0 * slot, 0.0, _PARKED_Z_M)
+    """Where slot ``slot`` waits when free, in [m]: far below the floor, out of reach, near the others."""
+    return (0.05 * slot, 0.0, _PARKED_Z_M)
 
 
 def add_obstacle_slots(worldbody: ElementTree.Element, count: int = DEFAULT_SLOTS) -> None:
-    """Append ``count`` parked obstacle slots (mocap bodies, one geom each) to an MJCF ``worldbody``."""
+    """Append ``count`` parked obstacle slots (geoms of the world body) to an MJCF ``worldbody``."""
     rgba = " ".join(str(c) for c in OBSTACLE_RGBA)
     for slot in range(count):
         name = f"{SLOT_PREFIX}{slot}"
-        pos = " ".join(str(c) for c in parked_position(slot))
-        body = ElementTree.SubElement(worldbody, "body", name=name, mocap="true", pos=pos)
         ElementTree.SubElement(
-            body,
+            worldbody,
             "geom",
             name=name,
             type="sphere",
             size="0.01",
+            pos=" ".join(str(c) for c in parked_position(slot)),
             contype=str(OBSTACLE_CONTYPE),
             conaffinity=str(OBSTACLE_CONAFFINITY),
             rgba=rgba,
@@ -116,6 +129,13 @@ def geom_size_and_bounds(obstacle: Obstacle) -> tuple[np.ndarray, float, np.ndar
     return np.array((2.0, 2.0, 0.05)), 0.0, np.array(_PLANE_AABB)
 
 
+def _union(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The box (centre, half sizes) containing boxes ``a`` and ``b``. # (6,)."""
+    low = np.minimum(a[:3] - a[3:], b[:3] - b[3:])
+    high = np.maximum(a[:3] + a[3:], b[:3] + b[3:])
+    return np.concatenate(((low + high) / 2.0, (high - low) / 2.0))
+
+
 class ObstacleScene:
     """The obstacles of a plant built from :func:`obstacle_scene_xml`: add, remove, move them.
 
@@ -129,24 +149,35 @@ class ObstacleScene:
     def __init__(self, plant: Plant) -> None:
         model = plant.model
         self._plant = plant
-        self._slot_body: list[int] = []
-        for body in range(model.nbody):
-            if model.body(body).name.startswith(SLOT_PREFIX) and model.body_mocapid[body] >= 0:
-                self._slot_body.append(body)
-        if not self._slot_body:
+        first, count = int(model.body_geomadr[0]), int(model.body_geomnum[0])
+        self._slot_geom = [
+            g for g in range(first, first + count) if model.geom(g).name.startswith(SLOT_PREFIX)
+        ]
+        if not self._slot_geom:
             raise CosmosError(
                 "the plant's scene has no obstacle slots: build it with "
                 "Plant(cosmos.obstacles.obstacle_scene_xml())"
             )
-        self._slot_geom = [int(model.body_geomadr[b]) for b in self._slot_body]
-        self._slot_name = [model.body(b).name for b in self._slot_body]
+        self._slot_name = [model.geom(g).name for g in self._slot_geom]
+        root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
+        self._parent = np.full(model.nbvh, -1)
+        leaf_of: dict[int, int] = {}
+        for node in range(root, root + nodes):
+            children = [int(c) for c in model.bvh_child[node] if c >= 0]
+            for child in children:
+                self._parent[child] = node
+            if not children and model.bvh_nodeid[node] >= 0:
+                leaf_of[first + int(model.bvh_nodeid[node])] = node
+        self._leaf = [leaf_of[g] for g in self._slot_geom]
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
         self._moving: list[tuple[np.ndarray, float, float, float, float, float, float, float]] = []
+        self._moving_slots: list[tuple[int, Obstacle]] = []
+        self._refit_s = -np.inf
 
     @property
     def capacity(self) -> int:
         """How many obstacles the scene can hold at once."""
-        return len(self._slot_body)
+        return len(self._slot_geom)
 
     @property
     def obstacles(self) -> tuple[Obstacle, ...]:
@@ -154,7 +185,7 @@ class ObstacleScene:
         return tuple(obstacle for _, obstacle in self._by_name.values())
 
     def body_names(self) -> dict[str, str]:
-        """MuJoCo body name of each occupied slot -> the obstacle's name."""
+        """MuJoCo geom name of each occupied slot -> the obstacle's name (for :func:`collisions`)."""
         return {self._slot_name[slot]: obstacle.name for slot, obstacle in self._by_name.values()}
 
     def add(self, obstacle: Obstacle) -> None:
@@ -174,17 +205,19 @@ class ObstacleScene:
             )
         slot = free[0]
         model = self._plant.model
-        geom, body = self._slot_geom[slot], self._slot_body[slot]
+        geom = self._slot_geom[slot]
         size, rbound, aabb = geom_size_and_bounds(obstacle)
         model.geom_type[geom] = _GEOM_TYPE[obstacle.shape]
         model.geom_size[geom] = size
         model.geom_rbound[geom] = rbound
         model.geom_aabb[geom] = aabb
-        model.bvh_aabb[model.body_bvhadr[body]] = aabb
+        model.geom_sameframe[geom] = 0  # placed by its own pos and quat
+        mujoco.mju_mat2Quat(model.geom_quat[geom], np.ascontiguousarray(obstacle.rotation_world).reshape(9))
         self._by_name[obstacle.name] = (slot, obstacle)
-        self._orient(slot, obstacle)
-        self._place(slot, obstacle.position_at(self._plant.time_s))
+        now = self._plant.time_s
+        self._place(slot, obstacle.position_at(now))
         self._track_moving()
+        self._refit(slot, obstacle.position_at(now), obstacle.position_at(now + SWEEP_S))
 
     def remove(self, name: str) -> Obstacle:
         """Take the obstacle ``name`` out of the workcell (its slot is parked) and return it.
@@ -196,8 +229,10 @@ class ObstacleScene:
             present = ", ".join(self._by_name) or "none"
             raise CosmosError(f"no obstacle '{name}' in the scene (present: {present})")
         slot, obstacle = self._by_name.pop(name)
-        self._place(slot, np.array(parked_position(slot)))
+        parked = np.array(parked_position(slot))
+        self._place(slot, parked)
         self._track_moving()
+        self._refit(slot, parked, parked)
         return obstacle
 
     def update(self, t_s: float) -> None:
@@ -207,32 +242,52 @@ class ObstacleScene:
             position[0] = x + vx * dt
             position[1] = y + vy * dt
             position[2] = z + vz * dt
+        if self._moving and t_s >= self._refit_s:
+            self._refit_s = t_s + SWEEP_S
+            for slot, obstacle in self._moving_slots:
+                self._refit(slot, obstacle.position_at(t_s), obstacle.position_at(self._refit_s))
 
     def _track_moving(self) -> None:
-        """Cache what :meth:`update` needs per tick: the mocap body's row of ``mocap_pos``, plain floats."""
-        body_mocapid, mocap_pos = self._plant.model.body_mocapid, self._plant.data.mocap_pos
+        """Cache what :meth:`update` needs per tick: the slot's row of ``geom_pos``, plain floats."""
+        geom_pos = self._plant.model.geom_pos
+        self._moving_slots = [(slot, o) for slot, o in self._by_name.values() if o.moving]
         self._moving = [
             (
-                mocap_pos[int(body_mocapid[self._slot_body[slot]])],  # a view: writes reach MuJoCo
+                geom_pos[self._slot_geom[slot]],  # a view: writes reach MuJoCo
                 *obstacle.position_world.tolist(),
                 *obstacle.velocity_world_mps.tolist(),
                 obstacle.added_s,
             )
-            for slot, obstacle in self._by_name.values()
-            if obstacle.moving
+            for slot, obstacle in self._moving_slots
         ]
+        self._refit_s = -np.inf
 
     def restore(self, t_s: float) -> None:
-        """Put every obstacle back at its pose at ``t_s`` (after :meth:`Plant.reset` parked them)."""
-        for slot, obstacle in self._by_name.values():
-            self._orient(slot, obstacle)
-            self._place(slot, obstacle.position_at(t_s))
-
-    def _orient(self, slot: int, obstacle: Obstacle) -> None:
-        quat = np.empty(4)
-        mujoco.mju_mat2Quat(quat, np.ascontiguousarray(obstacle.rotation_world).reshape(9))
-        self._plant.data.mocap_quat[self._plant.model.body_mocapid[self._slot_body[slot]]] = quat
+        """Put every moving obstacle where it is at ``t_s`` (after the plant's clock was set back)."""
+        self._refit_s = -np.inf
+        self.update(t_s)
 
     def _place(self, slot: int, position: np.ndarray) -> None:
-        mocap = self._plant.model.body_mocapid[self._slot_body[slot]]
-        self._plant.data.mocap_pos[mocap] = position
+        self._plant.model.geom_pos[self._slot_geom[slot]] = position
+
+    def _refit(self, slot: int, start: np.ndarray, end: np.ndarray) -> None:
+        """Fit the slot's leaf of the world's hierarchy to its geom swept from ``start`` to ``end``.
+
+        Then every node above it is refitted to its children.
+        """
+        model = self._plant.model
+        geom = self._slot_geom[slot]
+        aabb = model.geom_aabb[geom]
+        flat = np.empty(9)
+        mujoco.mju_quat2Mat(flat, model.geom_quat[geom])
+        rotation = flat.reshape(3, 3)
+        half = np.abs(rotation) @ aabb[3:]
+        offset = rotation @ aabb[:3]
+        box = _union(np.concatenate((start + offset, half)), np.concatenate((end + offset, half)))
+        bvh, child, node = model.bvh_aabb, model.bvh_child, self._leaf[slot]
+        bvh[node] = box
+        node = int(self._parent[node])
+        while node >= 0:
+            left, right = child[node]
+            bvh[node] = bvh[left] if right < 0 else _union(bvh[left], bvh[right])
+            node = int(self._parent[node])

@@ -94,8 +94,8 @@ def run(
     model, data = plant.model, plant.data
     tool = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)
     arm = _arm_geoms(model)
-    slots = {body: name for body, name in world.body_names().items()}
-    obstacle_geoms = [int(model.body(body).geomadr[0]) for body in slots]
+    slots = world.body_names()  # slot geom -> obstacle
+    obstacle_geoms = [int(model.geom(geom).id) for geom in slots]
     detector = LocalMinimumDetector() if detect else None
     outcome = Outcome()
     fromto = np.zeros(6)
