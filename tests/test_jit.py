@@ -149,3 +149,25 @@ def test_without_any_cache_kernels_compile_and_run(
     assert "cannot keep compiled kernels anywhere" in err and "COSMOS_CACHE_DIR" in err
     assert listener.announced == {"the controller"} and listener.compiled == 1
     assert "compiling the controller for this machine, once: about 20 s (kept in nowhere)" in err
+
+
+def test_read_only_arguments_compile_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """numba compiles a kernel again for a read-only array where it saw a writable one (a plan's
+    rotation is read-only, the controller's own copy is not): the controller's refold was compiled
+    twice on every first run. Named read-only arguments must compile once and serve both."""
+    monkeypatch.setattr(cache, "kernel_directory", lambda: None)
+
+    def doubled_into(values: np.ndarray, out: np.ndarray) -> None:
+        for i in range(values.shape[0]):
+            out[i] = 2.0 * values[i]
+
+    compiled = kernel(read_only=("values",))(doubled_into)
+    out = np.zeros(3)
+    writable = np.arange(3.0)
+    frozen = np.arange(3.0)
+    frozen.flags.writeable = False
+    compiled(writable, out)
+    compiled(frozen, out)
+    np.testing.assert_array_equal(out, (0.0, 2.0, 4.0))
+    assert len(compiled.signatures) == 1
+    assert compiled.signatures[0][0].mutable is False

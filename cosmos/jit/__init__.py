@@ -6,14 +6,22 @@ environment; a temporary one if the home is read-only; none, with a warning, if
 nothing can be written), and compilations are announced on stderr
 (:mod:`cosmos.jit.notice`). ``@kernel("signature", ...)`` compiles (or loads)
 those signatures at once and no others, as ``njit`` does.
+
+``@kernel(read_only=("name", ...))`` compiles the named array arguments as
+read-only whatever the caller passes: numba compiles a kernel again for every
+new combination of writable and read-only arrays (a plan's arrays are
+read-only, the controller's own copies are not), and a writable array converts
+to a read-only one, so one compilation serves both.
 """
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
 from typing import Any
 
 import numba
+from numba.core import sigutils, types
 
 from cosmos.jit import cache as kernel_cache
 from cosmos.jit import notice
@@ -41,8 +49,28 @@ def _warn_fallback() -> None:
         )
 
 
+def _compile_read_only(dispatcher: Any, function: Callable[..., Any], names: tuple[str, ...]) -> None:
+    """Make ``dispatcher`` compile the arguments ``names`` as read-only arrays."""
+    parameters = list(inspect.signature(function).parameters)
+    positions = {parameters.index(name) for name in names}
+    compile_types = dispatcher.compile
+
+    def compile(signature: Any) -> Any:
+        args, returned = sigutils.normalize_signature(signature)
+        args = tuple(
+            arg.copy(readonly=True) if i in positions and isinstance(arg, types.Array) else arg
+            for i, arg in enumerate(args)
+        )
+        return compile_types(args if returned is None else returned(*args))
+
+    dispatcher.compile = compile
+
+
 def _compiled(function: Callable[..., Any], signatures: tuple[str, ...], options: dict[str, Any]) -> Any:
+    read_only = tuple(options.pop("read_only", ()))
     dispatcher = numba.njit(**options)(function)
+    if read_only:
+        _compile_read_only(dispatcher, function, read_only)
     cache = kernel_cache.make_cache(function)
     _warn_fallback()
     if cache is not None:

@@ -147,7 +147,7 @@ def rotation_log(r: FloatArray) -> FloatArray:
     return theta * n
 
 
-@kernel
+@kernel(read_only=("evaluation", "goal_rotation_to_world"))
 def refold(
     evaluation: FloatArray,
     held_torque: FloatArray,
