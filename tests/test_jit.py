@@ -171,3 +171,10 @@ def test_read_only_arguments_compile_once(monkeypatch: pytest.MonkeyPatch) -> No
     np.testing.assert_array_equal(out, (0.0, 2.0, 4.0))
     assert len(compiled.signatures) == 1
     assert compiled.signatures[0][0].mutable is False
+    # Both kinds are then dispatched without Python: no new compilation is even asked for.
+    asked = []
+    compile_all = compiled._compile_for_args
+    monkeypatch.setattr(compiled, "_compile_for_args", lambda *args: asked.append(args) or compile_all(*args))
+    compiled(writable, out)
+    compiled(frozen, out)
+    assert asked == []

@@ -50,18 +50,26 @@ def _warn_fallback() -> None:
 
 
 def _compile_read_only(dispatcher: Any, function: Callable[..., Any], names: tuple[str, ...]) -> None:
-    """Make ``dispatcher`` compile the arguments ``names`` as read-only arrays."""
+    """Make ``dispatcher`` compile the arguments ``names`` as read-only arrays.
+
+    The caller's own types are entered in the dispatcher's table too, pointing at
+    the read-only compilation: numba calls a compiled kernel without going back to
+    Python only for an exact match of the arguments' types.
+    """
     parameters = list(inspect.signature(function).parameters)
     positions = {parameters.index(name) for name in names}
     compile_types = dispatcher.compile
 
     def compile(signature: Any) -> Any:
         args, returned = sigutils.normalize_signature(signature)
-        args = tuple(
+        frozen = tuple(
             arg.copy(readonly=True) if i in positions and isinstance(arg, types.Array) else arg
             for i, arg in enumerate(args)
         )
-        return compile_types(args if returned is None else returned(*args))
+        entry = compile_types(frozen if returned is None else returned(*frozen))
+        if frozen != tuple(args):
+            dispatcher._insert([arg._code for arg in args], entry, False)
+        return entry
 
     dispatcher.compile = compile
 
