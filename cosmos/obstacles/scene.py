@@ -172,6 +172,7 @@ class ObstacleScene:
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
         self._moving: list[tuple[np.ndarray, float, float, float, float, float, float, float]] = []
         self._moving_slots: list[tuple[int, Obstacle]] = []
+        self._obstacles: tuple[Obstacle, ...] = ()
         self._refit_s = -np.inf
 
     @property
@@ -181,8 +182,8 @@ class ObstacleScene:
 
     @property
     def obstacles(self) -> tuple[Obstacle, ...]:
-        """The obstacles in the scene, in the order they were added."""
-        return tuple(obstacle for _, obstacle in self._by_name.values())
+        """The obstacles in the scene, in the order they were added (kept: the executor asks every tick)."""
+        return self._obstacles
 
     def body_names(self) -> dict[str, str]:
         """MuJoCo geom name of each occupied slot -> the obstacle's name (for :func:`collisions`)."""
@@ -249,6 +250,7 @@ class ObstacleScene:
 
     def _track_moving(self) -> None:
         """Cache what :meth:`update` needs per tick: the slot's row of ``geom_pos``, plain floats."""
+        self._obstacles = tuple(obstacle for _, obstacle in self._by_name.values())
         geom_pos = self._plant.model.geom_pos
         self._moving_slots = [(slot, o) for slot, o in self._by_name.values() if o.moving]
         self._moving = [
