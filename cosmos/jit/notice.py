@@ -53,8 +53,9 @@ def say(text: str) -> None:
 class CompileNotice(event.Listener):
     """Announces kernel compilations on stderr (a numba event listener)."""
 
-    def __init__(self, where: str) -> None:
+    def __init__(self, where: str, summary_at_exit: bool = True) -> None:
         self.where = where
+        self.summary_at_exit = summary_at_exit
         self.announced: set[str] = set()
         self.compiled = 0
         self.started = 0.0
@@ -73,7 +74,8 @@ class CompileNotice(event.Listener):
             return
         if not self.announced:
             self.started = self.reported = time.perf_counter()
-            atexit.register(self.summary)
+            if self.summary_at_exit:
+                atexit.register(self.summary)
         self.announced.add(group.name)
         say(
             f"compiling {group.name} for this machine, once: about {group.estimate_s:.0f} s "
