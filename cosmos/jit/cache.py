@@ -109,7 +109,7 @@ def kernel_directory() -> Path | None:
         return user
     FALLBACK.append(reason)
     temporary = fallback_root() / "kernels" / cache_key()
-    second = _writable(temporary)
+    second = _writable(temporary) or _writable(fallback_root())  # the shared directory's entry is ours
     if not second:
         return temporary
     FALLBACK.append(second)
