@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -182,3 +183,16 @@ def test_read_only_arguments_compile_once(monkeypatch: pytest.MonkeyPatch) -> No
     compiled(writable, out)
     compiled(frozen, out)
     assert asked == []
+
+
+def test_every_kernel_uses_the_cosmos_decorator() -> None:
+    """A kernel decorated with numba's own ``njit(cache=True)`` caches next to its source: a read-only
+    install dies at import ("no locator available") and every environment compiles it again."""
+    offenders = []
+    for path in sorted((ROOT / "cosmos").rglob("*.py")):
+        if path.parent.name == "jit" and path.parent.parent.name == "cosmos":
+            continue
+        text = path.read_text(encoding="utf-8")
+        if re.search(r"^\s*@(numba\.)?(njit|jit)\b|^\s*from numba import .*\b(njit|jit)\b", text, re.M):
+            offenders.append(str(path.relative_to(ROOT)))
+    assert offenders == [], f"use cosmos.jit.kernel in {offenders}"
