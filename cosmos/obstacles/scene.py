@@ -71,12 +71,15 @@ def parked_position(slot: int) -> tuple[float, float, float]:
 
 
 def add_obstacle_slots(worldbody: ElementTree.Element, count: int = DEFAULT_SLOTS) -> None:
-    """Append ``count`` parked obstacle slots (geoms of the world body) to an MJCF ``worldbody``."""
+    """Append ``count`` parked obstacle slots (world geoms, each in its frame) to an MJCF ``worldbody``."""
     rgba = " ".join(str(c) for c in OBSTACLE_RGBA)
     for slot in range(count):
         name = f"{SLOT_PREFIX}{slot}"
+        # A frame of the slot's name: the plant names a world geom's owner by its frame
+        # (:attr:`cosmos.plant.Plant.geom_owners`), so contacts name the slot, not "world".
+        frame = ElementTree.SubElement(worldbody, "frame", name=name)
         ElementTree.SubElement(
-            worldbody,
+            frame,
             "geom",
             name=name,
             type="sphere",

@@ -189,9 +189,9 @@ class _Contacts:
     """A stand-in plant with given contacts (for the filter's logic)."""
 
     def __init__(self, pairs: list[tuple[str, str, float]]) -> None:
-        # A slot is a geom of the world body; other geoms are named after their bodies here.
+        # A slot's geom is named as its frame (its owner); other geoms are named after their bodies.
         def geom_body(name: str) -> tuple[str, str]:
-            return (name, "world") if name.startswith("obstacle_slot") else (f"{name}_geom", name)
+            return (name, name) if name.startswith("obstacle_slot") else (f"{name}_geom", name)
 
         self._contacts = []
         for first, second, d in pairs:
@@ -259,3 +259,19 @@ def test_a_compiled_program_builds_the_scene_and_the_field() -> None:
     assert ("tool", "floor2") in touched and ("tool", "ball") in touched
     field.torque(HOME_Q, np.zeros(6), 0.0)
     assert {i.obstacle for i in field.influences} == {"ball", "floor2"}
+
+
+def test_a_slot_is_owned_by_its_own_name_not_by_the_world() -> None:
+    """Slots are world geoms; if the plant named their owner ``world``, a contact with an obstacle
+    would read as the floor or a fixture (the tool's intended contact) to everything that judges
+    contacts by owner. Each slot's owner is the slot, and an obstacle contact names it."""
+    plant = Plant(obstacle_scene_xml())
+    model = plant.model
+    for i in range(CAPACITY):
+        geom = model.geom(f"obstacle_slot{i}").id
+        assert plant.geom_owners[geom] == f"obstacle_slot{i}"
+    scene = ObstacleScene(plant)
+    scene.add(sphere("ball", (0.596, -0.15, 0.50), 0.03))  # around the peg at home
+    plant.step(np.zeros(6))
+    owners = {(c.body1, c.body2) for c in plant.contacts()}
+    assert ("tool", "obstacle_slot0") in owners or ("obstacle_slot0", "tool") in owners
