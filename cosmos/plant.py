@@ -20,6 +20,7 @@ axes in world coordinates), and the moment about the sensor origin is
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -63,11 +64,13 @@ class SensorNoise:
         seed: Seed of the noise generator.
         force_std_n: Standard deviation of each force component [N].
         torque_std_nm: Standard deviation of each torque component [N m].
+        bias: Constant offset of each reading, force then torque, sensor axes [N, N m].
     """
 
     seed: int
     force_std_n: float = 0.05
     torque_std_nm: float = 0.002
+    bias: tuple[float, float, float, float, float, float] = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
     @property
     def std(self) -> np.ndarray:
@@ -113,13 +116,23 @@ class Plant:
             actuators, in that order, and a keyframe ``home``. The wrist sensor
             (``ft_force``, ``ft_torque``) is optional: without it
             :meth:`read_wrench_sensor` raises.
+        sensor_noise: Noise (and bias) of the wrist sensor; None: exact readings.
+        edit_spec: Changes the scene before it is compiled (a sweep's varied workcell,
+            ``cosmos.sweep.variation``).
 
     Raises:
         CosmosError: If the scene does not have the joints and motors above.
     """
 
-    def __init__(self, scene_xml: Path | str = SCENE_XML, sensor_noise: SensorNoise | None = None) -> None:
+    def __init__(
+        self,
+        scene_xml: Path | str = SCENE_XML,
+        sensor_noise: SensorNoise | None = None,
+        edit_spec: Callable[[mujoco.MjSpec], None] | None = None,
+    ) -> None:
         spec = mujoco.MjSpec.from_file(str(scene_xml))
+        if edit_spec is not None:
+            edit_spec(spec)
         model = spec.compile()
         _check_arm(model, scene_xml)
         home = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
@@ -137,6 +150,7 @@ class Plant:
         self._ctrl = self._data.ctrl  # (6,)
         self._sensordata = self._data.sensordata
         self._noise_std = None if sensor_noise is None else sensor_noise.std
+        self._noise_bias = np.zeros(6) if sensor_noise is None else np.array(sensor_noise.bias, dtype=float)
         self._rng = np.random.default_rng(None if sensor_noise is None else sensor_noise.seed)
         # Drawn in blocks (one draw per reading costs microseconds), in place: live_signals()
         # hands out this array. Without noise, one row of zeros that every reading takes.
@@ -234,7 +248,7 @@ class Plant:
             return 0
         i = self._noise_next
         if i == _NOISE_BLOCK:
-            self._noise[:] = self._rng.normal(0.0, self._noise_std, size=(_NOISE_BLOCK, 6))
+            self._noise[:] = self._rng.normal(self._noise_bias, self._noise_std, size=(_NOISE_BLOCK, 6))
             i = 0
         self._noise_next = i + 1
         return i

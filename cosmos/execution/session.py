@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from cosmos import __version__
 from cosmos.execution.executor import Executor, ProgressCallback
@@ -15,6 +16,9 @@ from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rates import Rates
 from cosmos.workcell import SCENE_XML
+
+if TYPE_CHECKING:
+    from cosmos.sweep.variation import WorkcellVariation
 
 MODEL_NAME = "PUMA 560 (Corke & Armstrong-Helouvry 1994) in the cosmos workcell"
 
@@ -29,6 +33,8 @@ class Session:
         rates: Servo, parameter and state rates.
         seed: Seed of the wrist sensor's noise; recorded in the log's metadata.
         progress: Called now and then with the statement running.
+        variation: A sweep's changes to the real workcell (the program's frames stay nominal);
+            its noise seed replaces ``seed``; recorded in the log's metadata.
     """
 
     def __init__(
@@ -39,8 +45,13 @@ class Session:
         rates: Rates,
         seed: int = 0,
         progress: ProgressCallback | None = None,
+        variation: WorkcellVariation | None = None,
     ):
-        self.plant = Plant(obstacle_scene_xml(), SensorNoise(seed))
+        noise, edit, varied = SensorNoise(seed), None, {}
+        if variation is not None:
+            seed, noise, edit = variation.noise_seed, variation.sensor_noise(), variation.apply_to_spec
+            varied = {"variation": variation.arguments()}
+        self.plant = Plant(obstacle_scene_xml(), noise, edit)
         self.runtime = Runtime(self.plant, build_robot_model(), rates)
         self.log = RunLog(
             log_path,
@@ -51,7 +62,7 @@ class Session:
             state_hz=rates.state_hz,
             model=MODEL_NAME,
             seed=seed,
-            metadata={"scene": SCENE_XML.name, "cosmos_version": __version__},
+            metadata={"scene": SCENE_XML.name, "cosmos_version": __version__} | varied,
         )
         self.log.scene(0.0, add=fixture_primitives(self.plant))
         self.obstacles = ObstacleWorld(self.runtime, self.log)

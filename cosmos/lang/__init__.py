@@ -10,6 +10,7 @@ tree of :mod:`cosmos.lang.ast`), ``check`` (what a statement alone can tell),
   :class:`CompileState` carried between inputs
 - :func:`parse_program` (source, file) -> :class:`cosmos.lang.ast.Program`
 - :func:`needs_more_input` (text) -> whether a REPL input has an open block
+- :func:`parse_unit` (text) -> :class:`~cosmos.lang.units.Unit` (factor to SI, dimension)
 - :func:`read_program` (path) -> the text of a program file, read with bounds
 """
 
@@ -29,6 +30,7 @@ if TYPE_CHECKING:
     from cosmos.lang.compile.state import CompileState, Defaults, HeldContact
     from cosmos.lang.parse.parser import needs_more_input, parse_program
     from cosmos.lang.parse.source_file import decode_source, read_program, read_source
+    from cosmos.lang.units import UnknownUnit, parse_unit
 
 _EXPORTS = {
     "Compiler": "cosmos.lang.compile.compiler",
@@ -44,6 +46,8 @@ _EXPORTS = {
     "CompileState": "cosmos.lang.compile.state",
     "Defaults": "cosmos.lang.compile.state",
     "HeldContact": "cosmos.lang.compile.state",
+    "UnknownUnit": "cosmos.lang.units",
+    "parse_unit": "cosmos.lang.units",
 }
 
 __all__ = [
@@ -53,10 +57,12 @@ __all__ = [
     "HeldContact",
     "ProgramErrors",
     "StatementResult",
+    "UnknownUnit",
     "compile_program",
     "decode_source",
     "needs_more_input",
     "parse_program",
+    "parse_unit",
     "read_program",
     "read_source",
     "statement_text",
