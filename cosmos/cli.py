@@ -1,4 +1,4 @@
-"""The ``cosmos`` command line: run, check, repl, replay, bench.
+"""The ``cosmos`` command line: run, check, repl, replay, sweep, bench.
 
 Exit status: 0 success; 1 the program failed (syntax, check or run-time
 failure); 2 wrong usage. A user's mistake never shows a Python traceback.
@@ -57,6 +57,8 @@ def cli() -> None:
     "--seed", type=int, default=0, show_default=True, help="Seed of the wrist force/torque sensor's noise."
 )
 @click.option("--force", is_flag=True, help="Overwrite the --log file if it exists.")
+@click.option("--vary", multiple=True, metavar="NAME=VALUE", help="Vary the real workcell (docs/sweep.md).")
+@click.option("--sample", metavar="FILE:N", help="Run in the workcell of run N of a sweep's results file.")
 def run(
     program: Path,
     log_path: Path | None,
@@ -64,9 +66,12 @@ def run(
     param_hz: float | None,
     seed: int,
     force: bool,
+    vary: tuple[str, ...],
+    sample: str | None,
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
     from cosmos.commands.run import run_program
+    from cosmos.commands.sweep import variation_for_run
     from cosmos.runtime.rates import Rates
 
     defaults = Rates()
@@ -75,7 +80,8 @@ def run(
         param_hz=param_hz or min(defaults.param_hz, servo_hz or defaults.servo_hz),
         state_hz=defaults.state_hz,
     )
-    _finish(run_program(program, log_path, rates, seed, force))
+    variation = variation_for_run(program, vary, sample, seed)
+    _finish(run_program(program, log_path, rates, seed, force, variation))
 
 
 @cli.command()
@@ -155,6 +161,51 @@ def replay(
         force=force,
     )
     _finish(replay_log(log, options))
+
+
+@cli.command()
+@program_argument
+@click.option("--runs", type=click.IntRange(min=1), default=100, show_default=True, help="Runs to make.")
+@click.option("--seed", type=int, default=0, show_default=True, help="The sweep's seed: every run's draws.")
+@click.option(
+    "--vary", multiple=True, metavar="NAME=DIST", help="normal(mean, sd), uniform(lo, hi), a value."
+)
+@click.option("--workers", type=click.IntRange(min=1), default=None, help="Local processes [one a core].")
+@click.option(
+    "--cluster", metavar="ADDRESS", help="A Dask scheduler to run on (pip install 'cosmos-osc[cluster]')."
+)
+@click.option(
+    "--out", type=click.Path(file_okay=False, path_type=Path), help="Results folder [sweeps/P-seedS]."
+)
+@click.option(
+    "--keep",
+    type=click.Choice(["all", "failed", "none"]),
+    default="failed",
+    show_default=True,
+    help="Logs kept.",
+)
+@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), help="Success per parameter (PNG).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def sweep(
+    program: Path,
+    runs: int,
+    seed: int,
+    vary: tuple[str, ...],
+    workers: int | None,
+    cluster: str | None,
+    out: Path | None,
+    keep: str,
+    plot: Path | None,
+    as_json: bool,
+) -> None:
+    """Run PROGRAM many times in varied workcells; report its success rate (docs/sweep.md)."""
+    from cosmos.commands.sweep import SweepOptions, run_sweep
+    from cosmos.sweep.results import Keep
+
+    if workers is not None and cluster is not None:
+        raise UsageError("--workers and --cluster: the cluster's workers are its own")
+    options = SweepOptions(program, runs, seed, vary, workers, cluster, out, Keep(keep), plot, as_json)
+    _finish(run_sweep(options))
 
 
 @cli.command()

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -18,6 +19,9 @@ from cosmos.runlog.writer import unused_log_path
 from cosmos.runtime.rates import Rates
 from cosmos.workcell import fixture_frames
 
+if TYPE_CHECKING:
+    from cosmos.sweep.variation import WorkcellVariation
+
 
 def compile_file(path: Path) -> Plan:
     """Parse, check and compile a program file; warnings go to stderr."""
@@ -28,8 +32,15 @@ def compile_file(path: Path) -> Plan:
     return plan
 
 
-def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int, force: bool = False) -> int:
-    """Run a program; print the log's path; return the exit status.
+def run_program(
+    path: Path,
+    log_path: Path | None,
+    rates: Rates,
+    seed: int,
+    force: bool = False,
+    variation: WorkcellVariation | None = None,
+) -> int:
+    """Run a program (in a varied workcell: ``cosmos run --vary/--sample``); print the log's path.
 
     The log goes to ``log_path``, or to ``logs/<stem>-<UTC time>.mcap`` (the one
     directory created if missing; ``-2``, ``-3``, ... added if that file exists).
@@ -47,7 +58,7 @@ def run_program(path: Path, log_path: Path | None, rates: Rates, seed: int, forc
     progress = TerminalProgress() if sys.stderr.isatty() else None
     failure: CosmosError | None = None
     with StopOnSignals() as signals:
-        with Session(str(path), plan.source, log_path, rates, seed, progress) as session:
+        with Session(str(path), plan.source, log_path, rates, seed, progress, variation) as session:
             signals.attach(session.executor)
             try:
                 execute_plan(session, plan, progress)

@@ -39,7 +39,7 @@ class LogTap:
             self.samples.append((t, int(line), math.hypot(wrench[0], wrench[1], wrench[2])))
 
         log.event = event  # type: ignore[method-assign]
-        log.state = state  # type: ignore[method-assign]
+        log.state = state  # type: ignore[method-assign,assignment]
 
     def summary(self) -> dict[str, Any]:
         """:func:`summarize` of what was tapped."""
