@@ -1,0 +1,47 @@
+"""One run in a worker: what the tap keeps equals what the run's log says."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from sweep_support import TOUCH_TABLE
+
+import cosmos
+from cosmos.sweep.tap import summarize
+from cosmos.sweep.variation import WorkcellVariation
+from cosmos.sweep.worker import RunTask, run_task
+
+
+@pytest.mark.parametrize("table_z", [0.0, -0.03])
+def test_tap_summary_equals_the_summary_of_the_run_s_log(tmp_path: Path, table_z: float) -> None:
+    """Catches the tap missing an event or a sample, or an outcome that differs from cosmos.load's."""
+    source = TOUCH_TABLE.read_text()
+    task = RunTask(0, str(TOUCH_TABLE), source, {"table.z": table_z, "seed": 3.0}, keep_log=True)
+    result = run_task(task)
+    log = tmp_path / "run.mcap"
+    log.write_bytes(result["log_bytes"])
+    run = cosmos.load(log)
+    state = run.record.state
+    from_log = summarize(run.events, state.t, state.line, np.linalg.norm(state.wrench[:, :3], axis=1))
+    assert result["ok"] == run.ok == from_log["ok"] == (table_z == 0.0)
+    if not run.ok:
+        assert run.outcome is not None and run.outcome.span is not None
+        assert (result["outcome"], result["line"], result["reason"]) == (
+            run.outcome.kind.value,
+            run.outcome.span.line,
+            run.outcome.reason,
+        )
+        assert result["statement"] == "CONTACT DOWN"
+    assert result["duration_s"] == pytest.approx(run.duration_s, abs=1e-9)
+    assert [(s["line"], s["statement"]) for s in result["statements"]] == [
+        (s["line"], s["statement"]) for s in from_log["statements"]
+    ]
+    for tapped, logged in zip(result["statements"], from_log["statements"], strict=True):
+        assert tapped["duration_s"] == pytest.approx(logged["duration_s"], abs=1e-9)
+        assert tapped["peak_force_n"] == pytest.approx(logged["peak_force_n"], abs=1e-5)  # log: 1e-6 N
+    # The log says how the workcell varied, as cosmos run arguments.
+    assert run.record.metadata["variation"] == WorkcellVariation.from_values(task.values).arguments()
+    assert ("table.z=" in run.record.metadata["variation"]) == (table_z != 0.0)
+    assert result["overhead_s"] + result["simulate_s"] == pytest.approx(result["wall_s"])
