@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from cosmos.errors import UsageError
-from cosmos.sweep.parameters import Kind, draw, noise_seed, parse_vary, parse_varies
+from cosmos.sweep.parameters import Kind, draw, noise_seed, parse_varies, parse_vary
 
 
 @pytest.mark.parametrize(
