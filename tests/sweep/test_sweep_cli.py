@@ -1,0 +1,26 @@
+"""cosmos sweep on the command line: its mistakes (the whole command: test_sweep_resume.py)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from sweep_support import TOUCH_TABLE
+
+
+def cosmos_cli(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "cosmos", *args], capture_output=True, text=True, timeout=180
+    )
+
+
+def test_a_bad_vary_is_a_usage_error_without_traceback(tmp_path: Path) -> None:
+    """Catches a mistyped parameter starting worker processes or ending in a traceback."""
+    result = cosmos_cli(
+        "sweep", str(TOUCH_TABLE), "--runs", "2", "--vary", "hole.w=1mm", "--out", str(tmp_path)
+    )
+    assert result.returncode == 2
+    assert "unknown parameter 'hole.w'" in result.stderr
+    assert "Traceback" not in result.stderr
+    assert not (tmp_path / "results.jsonl").exists()
