@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Protocol
+
+import mujoco
 
 from cosmos import __version__
 from cosmos.execution.executor import Executor, ProgressCallback
@@ -17,10 +19,15 @@ from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rates import Rates
 from cosmos.workcell import SCENE_XML
 
-if TYPE_CHECKING:
-    from cosmos.sweep.variation import WorkcellVariation
-
 MODEL_NAME = "PUMA 560 (Corke & Armstrong-Helouvry 1994) in the cosmos workcell"
+
+
+class Variation(Protocol):
+    """How the real workcell differs from the program's (``cosmos.sweep.variation.WorkcellVariation``)."""
+
+    def sensor_noise(self) -> SensorNoise: ...  # noqa: D102
+    def apply_to_spec(self, spec: mujoco.MjSpec) -> None: ...  # noqa: D102
+    def arguments(self) -> str: ...  # noqa: D102
 
 
 class Session:
@@ -45,11 +52,12 @@ class Session:
         rates: Rates,
         seed: int = 0,
         progress: ProgressCallback | None = None,
-        variation: WorkcellVariation | None = None,
+        variation: Variation | None = None,
     ):
         noise, edit, varied = SensorNoise(seed), None, {}
         if variation is not None:
-            seed, noise, edit = variation.noise_seed, variation.sensor_noise(), variation.apply_to_spec
+            noise, edit = variation.sensor_noise(), variation.apply_to_spec
+            seed = noise.seed
             varied = {"variation": variation.arguments()}
         self.plant = Plant(obstacle_scene_xml(), noise, edit)
         self.runtime = Runtime(self.plant, build_robot_model(), rates)

@@ -37,6 +37,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("cosmos.obstacles",),
     ("cosmos.runtime",),
     ("cosmos.execution",),
+    ("cosmos.sweep",),  # many runs in varied workcells, on worker processes
     # what people use: a run's results, replay and the REPL, the commands and the Python API
     ("cosmos.replay", "cosmos.repl", "cosmos.run_result"),
     ("cosmos.commands", "cosmos.api", "cosmos.bench"),
