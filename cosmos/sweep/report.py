@@ -64,7 +64,8 @@ def summarize(results: Sequence[dict[str, Any]], varied: Sequence[str]) -> dict[
         ``statements`` (per statement: ``line``, ``statement``, ``runs`` and quantiles of
         ``duration_s`` and ``peak_force_n``), ``parameters`` (per varied parameter, bins
         with ``low``, ``high``, ``runs``, ``succeeded``), ``slowest`` and ``worst`` (peak force)
-        runs, and ``cost`` (seconds per run: ``simulate_s``, ``overhead_s``, ``overhead_ratio``).
+        runs, and ``cost`` (seconds per run: ``simulate_s``, ``overhead_s``, their ``overhead_ratio``,
+        and ``cpu_s``, the processor time of a run: what it costs on an idle core).
     """
     runs = len(results)
     succeeded = sum(1 for r in results if r["ok"])
@@ -101,6 +102,7 @@ def summarize(results: Sequence[dict[str, Any]], varied: Sequence[str]) -> dict[
     by_time = sorted(results, key=lambda r: -r["duration_s"])[:SHOWN]
     by_force = sorted(results, key=lambda r: -r["peak_force_n"])[:SHOWN]
     simulate = sum(r.get("simulate_s", 0.0) for r in results)
+    cpu = sum(r.get("cpu_s", 0.0) for r in results)
     overhead = sum(r.get("overhead_s", 0.0) for r in results)
     return {
         "runs": runs,
@@ -116,6 +118,7 @@ def summarize(results: Sequence[dict[str, Any]], varied: Sequence[str]) -> dict[
             "simulate_s": simulate / runs if runs else 0.0,
             "overhead_s": overhead / runs if runs else 0.0,
             "overhead_ratio": overhead / simulate if simulate else 0.0,
+            "cpu_s": cpu / runs if runs else 0.0,
         },
     }
 
@@ -187,7 +190,8 @@ def render(summary: dict[str, Any], program: str, results_path: str) -> list[str
     cost = summary["cost"]
     lines.append(
         f"per run in a worker: {cost['simulate_s']:.3f} s running the program, "
-        f"{cost['overhead_s']:.3f} s around it ({_percent(cost['overhead_ratio'])})"
+        f"{cost['overhead_s']:.3f} s around it ({_percent(cost['overhead_ratio'])}); "
+        f"{cost['cpu_s']:.3f} s of processor time"
     )
     lines.append(f"results: {results_path} (one run again: cosmos run PROGRAM --sample {results_path}:N)")
     return lines

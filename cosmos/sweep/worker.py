@@ -23,7 +23,7 @@ from cosmos.sweep.variation import WorkcellVariation
 if TYPE_CHECKING:
     from cosmos.plan import Plan
 
-TIMING_FIELDS = ("wall_s", "simulate_s", "overhead_s", "worker")
+TIMING_FIELDS = ("wall_s", "cpu_s", "simulate_s", "overhead_s", "worker")
 """Fields of a result that depend on the machine, not on the run (left out when comparing engines)."""
 
 
@@ -76,13 +76,14 @@ def run_task(task: RunTask) -> dict[str, Any]:
     """Make one run and return its result (a JSON-able dict; ``log_bytes`` if the log is kept).
 
     The result's keys: ``index``, ``values``, those of :func:`cosmos.sweep.tap.summarize`,
-    and the timings ``wall_s`` (the whole task), ``simulate_s`` (the executor's run, its
-    logging included) and ``overhead_s`` (their difference: set-up and clean-up).
+    and the timings ``wall_s`` (the whole task), ``cpu_s`` (its processor time), ``simulate_s``
+    (the executor's run, its logging included) and ``overhead_s`` (their difference: set-up
+    and clean-up).
     """
     from cosmos.execution.session import Session
     from cosmos.runtime.rates import Rates
 
-    started = time.perf_counter()
+    started, cpu_started = time.perf_counter(), time.process_time()
     plan = _plan(task.program, task.source)
     variation = WorkcellVariation.from_values(task.values)
     handle, name = tempfile.mkstemp(prefix=f"cosmos-sweep-{task.index}-", suffix=".mcap")
@@ -105,6 +106,7 @@ def run_task(task: RunTask) -> dict[str, Any]:
     wall_s = time.perf_counter() - started
     result |= {
         "wall_s": wall_s,
+        "cpu_s": time.process_time() - cpu_started,
         "simulate_s": simulate_s,
         "overhead_s": wall_s - simulate_s,
         "worker": os.getpid(),
