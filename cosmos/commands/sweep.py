@@ -15,7 +15,7 @@ from typing import Any
 import click
 
 from cosmos.errors import UsageError
-from cosmos.sweep.parameters import SEED, parse_varies
+from cosmos.sweep.parameters import SEED, Kind, parse_varies
 from cosmos.sweep.results import RESULTS_NAME, Keep, ResultsFile, SweepSpec, log_name, results_list, sample
 from cosmos.sweep.variation import WorkcellVariation
 
@@ -169,7 +169,7 @@ def variation_for_run(
     if not vary:
         return None
     varies = parse_varies(vary)
-    distributions = [v.text() for v in varies if v.kind.value != "constant"]
+    distributions = [text for text, v in zip(vary, varies, strict=True) if v.kind is not Kind.CONSTANT]
     if distributions:
         raise UsageError(f"--vary {distributions[0]}: cosmos run takes one value, not a distribution")
     values = {v.name: v.a for v in varies}
