@@ -24,3 +24,11 @@ def test_a_bad_vary_is_a_usage_error_without_traceback(tmp_path: Path) -> None:
     assert "unknown parameter 'hole.w'" in result.stderr
     assert "Traceback" not in result.stderr
     assert not (tmp_path / "results.jsonl").exists()
+
+
+def test_cosmos_run_takes_values_not_distributions() -> None:
+    """Catches cosmos run --vary drawing a value of its own (the run would not be reproducible)."""
+    result = cosmos_cli("run", str(TOUCH_TABLE), "--vary", "table.z=normal(0,1mm)")
+    assert result.returncode == 2
+    assert "--vary table.z=normal(0,1mm): cosmos run takes one value, not a distribution" in result.stderr
+    assert "Traceback" not in result.stderr
