@@ -9,7 +9,10 @@ reports the ones under way as they finish, and raises ``KeyboardInterrupt``.
 from __future__ import annotations
 
 import multiprocessing
+import os
 import signal
+import threading
+import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor, as_completed
 from typing import Any
@@ -17,15 +20,27 @@ from typing import Any
 from cosmos.errors import UsageError
 from cosmos.sweep.worker import RunTask, run_task, warm_up
 
+ORPHAN_CHECK_S = 0.5
+"""How often a pool worker looks whether its parent is still there [s]."""
+
 OnResult = Callable[[dict[str, Any]], None]
 
 CLUSTER_MISSING = "--cluster needs Dask's distributed, an optional extra: pip install 'cosmos-osc[cluster]'"
 
 
 def _start_worker() -> None:
-    """A pool worker: Ctrl-C is the parent's to handle; load models and kernels once."""
+    """A pool worker: Ctrl-C is the parent's to handle; it ends with its parent; load models once."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    parent = os.getppid()
+    threading.Thread(target=_exit_when_orphaned, args=(parent,), daemon=True).start()
     warm_up()
+
+
+def _exit_when_orphaned(parent: int) -> None:
+    """End this worker once its parent is gone (killed with -9, it cannot stop the pool)."""
+    while os.getppid() == parent:
+        time.sleep(ORPHAN_CHECK_S)
+    os._exit(1)
 
 
 class LocalPool:

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import psutil
 import pytest
 from sweep_support import TABLE_Z, TOUCH_TABLE
 
@@ -49,18 +50,26 @@ def start_and_stop(out: Path, after: int, how: signal.Signals) -> subprocess.Com
     while len(result_lines(results)) < after and process.poll() is None and time.monotonic() < deadline:
         time.sleep(0.05)
     assert process.poll() is None, "the sweep ended before it could be interrupted"
+    if how is signal.SIGKILL:  # the sweep alone, as the kernel's OOM killer would: its workers must end
+        workers = psutil.Process(process.pid).children(recursive=True)
+        assert workers
+        os.kill(process.pid, how)
+        process.communicate(timeout=60)
+        _, alive = psutil.wait_procs(workers, timeout=20)
+        for orphan in alive:
+            orphan.kill()
+        assert not alive, "pool workers outlived their killed sweep"
+        return None
     os.killpg(process.pid, how)  # as a terminal's Ctrl-C does: the whole group
     stdout, stderr = process.communicate(timeout=60)
-    if how is signal.SIGKILL:
-        return None
     return subprocess.CompletedProcess(process.args, process.returncode, stdout, stderr)
 
 
 def test_interrupted_and_killed_sweep_resumes_without_repeating_or_losing_runs(tmp_path: Path) -> None:
-    """Catches results lost on Ctrl-C or kill -9, runs made twice on resuming, a cut last line that
-    breaks the results file; then a --json object without the documented keys, a kept log that
-    replay cannot read, a run that --sample does not make again (values drawn otherwise, or the
-    variation not applied)."""
+    """Catches results lost on Ctrl-C or kill -9, pool workers left running after kill -9, runs
+    made twice on resuming, a cut last line that breaks the results file; then a --json object
+    without the documented keys, a kept log that replay cannot read, a run that --sample does not
+    make again (values drawn otherwise, or the variation not applied)."""
     out = tmp_path / "sweep"
     results = out / "results.jsonl"
     interrupted = start_and_stop(out, 2, signal.SIGINT)
