@@ -104,6 +104,7 @@ class DaskCluster:
             except (OSError, TimeoutError, ValueError) as error:
                 raise UsageError(f"--cluster {self.address}: cannot reach the scheduler: {error}") from None
         try:
+            client.run(warm_up)  # the workers there now; one that joins later warms up on its first run
             futures = client.map(run_task, list(tasks), pure=False)
             try:
                 for future in as_completed(futures):
