@@ -73,13 +73,11 @@ def summarize(
     starts: dict[int, tuple[float, str]] = {}
     failure: EventRecord | None = None
     for event in events:
-        if failure is None and (
-            event.kind == "failed" or (event.kind == "stopped" and event.reason == "interrupted")
-        ):
+        if failure is None and (event.kind in ("failed", "interrupted") or _old_interrupted(event)):
             failure = event
         if event.kind == "start":
             starts[event.line] = (event.t, event.statement)
-        elif event.kind in ("done", "failed", "stopped") and event.line in starts:
+        elif event.kind in ("done", "failed", "stopped", "interrupted") and event.line in starts:
             t0, statement = starts.pop(event.line)
             during = (lines == event.line) & (times >= t0) & (times <= event.t)
             peak = float(np.nanmax(forces[during])) if during.any() else 0.0
@@ -102,3 +100,8 @@ def summarize(
         "peak_force_n": float(np.nanmax(forces)) if len(forces) else 0.0,
         "statements": statements,
     }
+
+
+def _old_interrupted(event: EventRecord) -> bool:
+    """An interruption as logs said it before it was an event of its own (``cosmos.run_result``)."""
+    return event.kind == "stopped" and event.reason == "interrupted"
