@@ -45,3 +45,36 @@ def test_tap_summary_equals_the_summary_of_the_run_s_log(tmp_path: Path, table_z
     assert run.record.metadata["variation"] == WorkcellVariation.from_values(task.values).arguments()
     assert ("table.z=" in run.record.metadata["variation"]) == (table_z != 0.0)
     assert result["overhead_s"] + result["simulate_s"] == pytest.approx(result["wall_s"])
+
+
+def test_tap_reads_an_interrupted_run_as_cosmos_load_does(tmp_path: Path) -> None:
+    """Catches the tap missing the executor's interruption event (a stopped run counted a success)."""
+    from cosmos.execution.session import Session
+    from cosmos.lang import compile_program
+    from cosmos.runtime.rates import Rates
+    from cosmos.sweep.tap import LogTap
+    from cosmos.workcell import fixture_frames
+
+    source = "MOVE BY (0, 0, 50 mm)\nMOVE BY (0, 0, -50 mm)\n"
+    plan = compile_program(source, "stop.cos", fixture_frames())
+    calls = []
+
+    def stop_on_second_call(progress: object) -> None:
+        calls.append(progress)
+        if len(calls) == 2:
+            session.executor.stop_requested = True
+
+    log = tmp_path / "stop.mcap"
+    with Session("stop.cos", source, log, Rates(), progress=stop_on_second_call) as session:
+        tap = LogTap(session.log)
+        with pytest.raises(cosmos.CosmosError):
+            session.executor.run(plan)
+    tapped, run = tap.summary(), cosmos.load(log)
+    assert run.outcome is not None and run.outcome.kind is cosmos.OutcomeKind.INTERRUPTED
+    assert run.outcome.span is not None
+    assert (tapped["ok"], tapped["outcome"], tapped["line"], tapped["reason"]) == (
+        False,
+        "interrupted",
+        run.outcome.span.line,
+        run.outcome.reason,
+    )
