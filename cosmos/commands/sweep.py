@@ -59,6 +59,7 @@ def run_sweep(options: SweepOptions) -> int:
     out = options.out or default_out(options.program, options.seed)
     results = ResultsFile(out / RESULTS_NAME, spec)
     todo = [spec.task(i, options.keep) for i in range(options.runs) if i not in results.done]
+    done_before = len(results.done)
     engine = (
         DaskCluster(options.cluster) if options.cluster else LocalPool(options.workers or os.cpu_count() or 1)
     )
@@ -101,7 +102,8 @@ def run_sweep(options: SweepOptions) -> int:
         where = (
             f"on the cluster {options.cluster}" if options.cluster else f"on {engine_workers(engine)} workers"
         )
-        click.echo(f"this time: {len(todo) if not interrupted else '?'} runs made in {wall_s:.1f} s {where}")
+        made = len(results.done) - done_before
+        click.echo(f"this time: {made} runs made in {wall_s:.1f} s {where}")
     if interrupted:
         click.echo(
             f"interrupted: {len(done)} of {options.runs} runs done; the same command goes on from there",
