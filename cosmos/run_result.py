@@ -65,8 +65,10 @@ class Failure:
     @property
     def message(self) -> str:
         """``CONTACT UP found no contact within 1.5 s``: the statement's head and the reason."""
-        from cosmos.execution.monitor import failure_text  # as the executor words a failure
+        from cosmos.execution.monitor import failure_text, statement_head  # as the executor words them
 
+        if self.kind is OutcomeKind.INTERRUPTED:  # as the executor's Interrupted says it
+            return f"{statement_head(self.statement)} interrupted"
         return failure_text(self.statement, self.reason)
 
     def error(self) -> TaskFailure:

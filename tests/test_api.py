@@ -172,7 +172,7 @@ def test_ctrl_c_stops_the_arm_and_the_run_reports_it(tmp_path: Path) -> None:
     assert not run.ok and run.outcome is not None
     assert run.outcome.kind is cosmos.OutcomeKind.INTERRUPTED
     assert run.outcome.location == "<program>:1:1" and run.outcome.message == "MOVE BY interrupted"
-    assert run.events[-1].kind == "stopped" and run.events[-1].line == 1
+    assert run.events[-1].kind == "interrupted" and run.events[-1].line == 1
     assert cosmos.load(run.log_path) == run
 
 
@@ -197,7 +197,7 @@ def test_a_log_cut_short_is_unfinished(tmp_path: Path) -> None:
         (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", servo_hz=5000), "--servo-hz must be in"),
         (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", seed="one"), "seed must be an integer"),
         (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", param_hz="fast"), "param_hz must be a number"),
-        (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", log=d), "cannot write the log"),
+        (lambda d: cosmos.run("MOVE BY (0, 0, 5 mm)", log=d), "is a directory; give a file name"),
         (lambda d: cosmos.check("MOVE TO nowhere", name="x.cos"), "x.cos:1:9: unknown name 'nowhere'"),
         (lambda d: cosmos.load(d / "none.mcap"), "none.mcap: no such file"),
         (lambda d: cosmos.load(SCENE_XML), "scene.xml: not an MCAP file"),
