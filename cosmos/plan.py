@@ -2,9 +2,12 @@
 
 A :class:`Plan` is the program after parsing, checking and compiling: a list of
 steps in execution order. A step is a :class:`Segment` (the arm does something
-under one fixed control law until a completion or stop condition) or a scene
-change (:class:`AddObstacle`, :class:`RemoveObstacle`). Procedures and loops are
-already expanded; each step keeps the span of the statement it came from.
+under one fixed control law until a completion or stop condition), a scene
+change (:class:`AddObstacle`, :class:`RemoveObstacle`), or a node the executor
+decides at run time: a :class:`Branch` (IF), a :class:`Loop` (WHILE), an
+:class:`Attempt` (TRY) and its :class:`Retry`, each holding its compiled steps.
+Procedures and REPEAT loops are already expanded; each step keeps the span of
+the statement it came from.
 
 Conventions, for every field below:
 
@@ -220,6 +223,10 @@ class Quantity(enum.Enum):
     """Moment the tool applies, projected on ``direction_world`` [N m]."""
     DISTANCE = "distance"
     """Distance of the tool point from where the statement started [m]."""
+    POSITION_ALONG = "position_along"
+    """Decisions only: the tool point's coordinate along ``direction_world`` from ``origin_world`` [m]."""
+    DISTANCE_FROM = "distance_from"
+    """Decisions only: distance of the tool point from ``origin_world`` [m]."""
 
 
 class CompareOp(enum.Enum):
@@ -252,6 +259,8 @@ class Comparison:
         value: Threshold in SI (N, N m or m).
         text: The condition as written.
         span: Where it is written.
+        origin_world: For POSITION_ALONG and DISTANCE_FROM: the frame's origin [m],
+            world, (3,); else None.
     """
 
     quantity: Quantity
@@ -260,6 +269,7 @@ class Comparison:
     value: float
     text: str
     span: Span
+    origin_world: FloatArray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -276,7 +286,31 @@ class AnyOf:
     terms: tuple[Condition, ...]
 
 
-Condition = Comparison | AllOf | AnyOf
+class Ending(enum.Enum):
+    """How a statement ended, as a decision asks about it (``LAST FAILED``, ``LAST STOPPED``)."""
+
+    FAILED = "failed"
+    """It failed (only inside a TRY: elsewhere a failure ends the program)."""
+    STOPPED = "stopped"
+    """Its UNTIL held: it ended early, with success."""
+
+
+@dataclass(frozen=True, eq=False)
+class LastOutcome:
+    """Decisions only: true when the motion statement run last ended so.
+
+    Attributes:
+        ending: The ending asked about.
+        text: The condition as written.
+        span: Where it is written.
+    """
+
+    ending: Ending
+    text: str
+    span: Span
+
+
+Condition = Comparison | AllOf | AnyOf | LastOutcome
 
 
 def condition_holds(
@@ -294,6 +328,8 @@ def condition_holds(
         return all(condition_holds(t, force_world, torque_world, distance_m) for t in condition.terms)
     if isinstance(condition, AnyOf):
         return any(condition_holds(t, force_world, torque_world, distance_m) for t in condition.terms)
+    if isinstance(condition, LastOutcome):  # the compiler keeps LAST out of UNTIL
+        raise ValueError(f"{condition.text} is read by IF and WHILE, not by a stop condition")
     quantity = condition.quantity
     if quantity is Quantity.FORCE:
         measured = float(np.linalg.norm(force_world))
@@ -454,7 +490,113 @@ class RemoveObstacle:
     statement: str
 
 
-Step = Segment | AddObstacle | RemoveObstacle
+# -------------------------------------------------------- decided at run time
+
+
+@dataclass(frozen=True, eq=False)
+class Branch:
+    """IF: the executor reads the condition when it reaches the IF and runs one branch.
+
+    Attributes:
+        condition: Read once, on what the arm senses then (and the last statement's ending).
+        then_steps: Run when it holds.
+        else_steps: Run when it does not (empty without ELSE).
+        else_line: The ELSE's line, None without one.
+        span, line, statement, context: Where it was written (as for a segment).
+    """
+
+    condition: Condition
+    then_steps: tuple[Step, ...]
+    else_steps: tuple[Step, ...]
+    else_line: int | None
+    span: Span
+    line: int
+    statement: str
+    context: str
+
+
+@dataclass(frozen=True, eq=False)
+class Loop:
+    """WHILE: the condition is read before each pass; the body runs while it holds.
+
+    Attributes:
+        condition: Read before every pass.
+        body: The steps of one pass.
+        max_passes: The loop fails when the condition still holds after this many passes.
+        span, line, statement, context: Where it was written.
+    """
+
+    condition: Condition
+    body: tuple[Step, ...]
+    max_passes: int
+    span: Span
+    line: int
+    statement: str
+    context: str
+
+
+@dataclass(frozen=True, eq=False)
+class Attempt:
+    """TRY: a step of ``body`` that fails runs ``handler`` instead of ending the program.
+
+    The failure leaves the arm holding its pose (no force commanded) before the
+    handler starts; a :class:`Retry` in the handler runs ``body`` again.
+
+    Attributes:
+        body: The steps tried.
+        handler: The ON FAIL steps.
+        handler_line: The ON FAIL's line.
+        span, line, statement, context: Where the TRY was written.
+    """
+
+    body: tuple[Step, ...]
+    handler: tuple[Step, ...]
+    handler_line: int
+    span: Span
+    line: int
+    statement: str
+    context: str
+
+
+@dataclass(frozen=True, eq=False)
+class Retry:
+    """RETRY n (in an Attempt's handler): run the Attempt's body again, at most ``times`` times in all.
+
+    When the body has already been run again ``times`` times, the failure that
+    led here ends the program.
+    """
+
+    times: int
+    span: Span
+    line: int
+    statement: str
+    context: str
+
+
+Step = Segment | AddObstacle | RemoveObstacle | Branch | Loop | Attempt | Retry
+Decided = Branch | Loop | Attempt | Retry
+"""The steps decided at run time."""
+
+
+def inner_steps(step: Step) -> tuple[Step, ...]:
+    """The steps a step holds, in the order they are written (none for a segment or scene change)."""
+    if isinstance(step, Branch):
+        return step.then_steps + step.else_steps
+    if isinstance(step, Loop):
+        return step.body
+    if isinstance(step, Attempt):
+        return step.body + step.handler
+    return ()
+
+
+def all_steps(steps: tuple[Step, ...]) -> list[Step]:
+    """Every step, depth first: each node before the steps it holds."""
+    found: list[Step] = []
+    for step in steps:
+        found.append(step)
+        if isinstance(step, Branch | Loop | Attempt):
+            found += all_steps(inner_steps(step))
+    return found
 
 
 # -------------------------------------------------------------------- plan
@@ -490,8 +632,15 @@ class Plan:
 
     @property
     def segments(self) -> tuple[Segment, ...]:
-        """The steps that are segments, in order."""
-        return tuple(step for step in self.steps if isinstance(step, Segment))
+        """Every segment, in order, those of every branch included (``Segment.index`` order)."""
+        if not any(isinstance(step, Branch | Loop | Attempt) for step in self.steps):
+            return tuple(step for step in self.steps if isinstance(step, Segment))
+        return tuple(step for step in all_steps(self.steps) if isinstance(step, Segment))
+
+    @property
+    def decided(self) -> bool:
+        """Whether the plan has steps decided at run time (IF, WHILE, TRY)."""
+        return any(isinstance(step, Branch | Loop | Attempt) for step in self.steps)
 
 
 # -------------------------------------------------------------------- JSON
@@ -518,18 +667,23 @@ def _completion_json(completion: Completion) -> dict[str, Any]:
 
 
 def condition_to_json(condition: Condition) -> dict[str, Any]:
-    """A stop condition as nested dicts."""
+    """A condition as nested dicts."""
     if isinstance(condition, AllOf | AnyOf):
         key = "all" if isinstance(condition, AllOf) else "any"
         return {key: [condition_to_json(t) for t in condition.terms]}
+    if isinstance(condition, LastOutcome):
+        return {"last": condition.ending.value, "text": condition.text}
     direction = None if condition.direction_world is None else _floats(condition.direction_world)
-    return {
+    fields = {
         "quantity": condition.quantity.value,
         "direction": direction,
         "op": condition.op.value,
         "value": condition.value,
         "text": condition.text,
     }
+    if condition.origin_world is not None:
+        fields["origin"] = _floats(condition.origin_world)
+    return fields
 
 
 def segment_to_json(segment: Segment) -> dict[str, Any]:
@@ -571,10 +725,43 @@ def segment_to_json(segment: Segment) -> dict[str, Any]:
     }
 
 
+def _decided_to_json(step: Decided) -> dict[str, Any]:
+    """An IF, WHILE, TRY or RETRY as a dict holding its steps."""
+    where = {"line": step.line, "statement": step.statement, "context": step.context}
+    if isinstance(step, Branch):
+        return {
+            "step": "if",
+            **where,
+            "condition": condition_to_json(step.condition),
+            "then": [step_to_json(s) for s in step.then_steps],
+            "else": [step_to_json(s) for s in step.else_steps],
+            "else_line": step.else_line,
+        }
+    if isinstance(step, Loop):
+        return {
+            "step": "while",
+            **where,
+            "condition": condition_to_json(step.condition),
+            "max_passes": step.max_passes,
+            "body": [step_to_json(s) for s in step.body],
+        }
+    if isinstance(step, Attempt):
+        return {
+            "step": "try",
+            **where,
+            "body": [step_to_json(s) for s in step.body],
+            "on_fail": [step_to_json(s) for s in step.handler],
+            "on_fail_line": step.handler_line,
+        }
+    return {"step": "retry", **where, "times": step.times}
+
+
 def step_to_json(step: Step) -> dict[str, Any]:
     """A step as a JSON-ready dict with a ``step`` field naming its type."""
     if isinstance(step, Segment):
         return {"step": "segment", **segment_to_json(step)}
+    if isinstance(step, Branch | Loop | Attempt | Retry):
+        return _decided_to_json(step)
     if isinstance(step, RemoveObstacle):
         return {"step": "remove_obstacle", "name": step.name, "line": step.line, "statement": step.statement}
     return {

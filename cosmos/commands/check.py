@@ -7,7 +7,8 @@ the command line renders on stderr with exit status 1.
 Printing costs what the plan is worth: a plan of up to :data:`SCREEN_STEPS`
 steps prints as a table; a longer one as a summary and its first steps, one
 plain line each (``--full``: every step). ``--json`` writes the plan step by
-step as it goes.
+step as it goes. The branches of IF, WHILE and TRY are printed in place, each
+step indented under the decision that holds it.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import dataclasses
 import json
 import sys
 from collections import Counter
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
@@ -85,7 +86,7 @@ def check_program(
         print(f"... {more} more warnings; cosmos check --full prints every one", file=err)
     if as_json:
         write_plan_json(compiled, out)
-    elif len(compiled.steps) <= SCREEN_STEPS:
+    elif len(plan.all_steps(compiled.steps)) <= SCREEN_STEPS:
         from rich.console import Console  # only plans that fit a screen are drawn
 
         Console(file=out, width=max(Console(file=out).width, 140)).print(plan_table(compiled))
@@ -115,34 +116,81 @@ def write_plan_lines(compiled: plan.Plan, out: TextIO, full: bool) -> None:
 
     Only the first :data:`SUMMARY_STEPS` steps are listed, unless ``full``.
     """
-    steps = compiled.steps
-    kinds = Counter(_kind(step) for step in steps)
+    rows = list(_rows(compiled.steps))
+    kinds = Counter(_kind(step) for step in plan.all_steps(compiled.steps))
     out.write(
-        f"{compiled.file}: {len(compiled.segments)} segments, {len(steps)} steps ("
+        f"{compiled.file}: {len(compiled.segments)} segments, {len(rows)} steps ("
         + ", ".join(f"{kind} {count}" for kind, count in kinds.items())
         + ")\n"
     )
-    shown = steps if full else steps[:SUMMARY_STEPS]
-    out.write("".join(step_line(step) + "\n" for step in shown))
-    if len(shown) < len(steps):
-        out.write(f"... {len(steps) - len(shown)} more steps; cosmos check --full prints every one\n")
+    shown = rows if full else rows[:SUMMARY_STEPS]
+    out.write("".join(step_line(step, depth) + "\n" for depth, step in shown))
+    if len(shown) < len(rows):
+        out.write(f"... {len(rows) - len(shown)} more steps; cosmos check --full prints every one\n")
+
+
+_Row = plan.Step | tuple[str, int]
+"""A step, or a divider inside a decided step: (``"else"`` or ``"on fail"``, its line)."""
+
+
+def _rows(steps: tuple[plan.Step, ...], depth: int = 0) -> Iterator[tuple[int, _Row]]:
+    """Every step with its depth, the branches of a decided step under it, dividers between them."""
+    for step in steps:
+        yield depth, step
+        if isinstance(step, plan.Branch):
+            yield from _rows(step.then_steps, depth + 1)
+            if step.else_line is not None:
+                yield depth, ("else", step.else_line)
+                yield from _rows(step.else_steps, depth + 1)
+        elif isinstance(step, plan.Loop):
+            yield from _rows(step.body, depth + 1)
+        elif isinstance(step, plan.Attempt):
+            yield from _rows(step.body, depth + 1)
+            yield depth, ("on fail", step.handler_line)
+            yield from _rows(step.handler, depth + 1)
 
 
 def _kind(step: plan.Step) -> str:
     if isinstance(step, plan.Segment):
         return step.kind.value
-    return f"add {step.shape.value}" if isinstance(step, plan.AddObstacle) else "remove obstacle"
+    if isinstance(step, plan.AddObstacle):
+        return f"add {step.shape.value}"
+    if isinstance(step, plan.RemoveObstacle):
+        return "remove obstacle"
+    return _DECIDED[type(step)]
 
 
-def step_line(step: plan.Step) -> str:
+_DECIDED = {plan.Branch: "if", plan.Loop: "while", plan.Attempt: "try", plan.Retry: "retry"}
+
+
+def _decides(step: plan.Step) -> str:
+    """What a decided step does, for the "ends" column."""
+    if isinstance(step, plan.Branch):
+        return f"reads {_condition(step.condition)}: the IF branch when it holds, else the ELSE branch"
+    if isinstance(step, plan.Loop):
+        return f"reads {_condition(step.condition)} before each pass; fails after {step.max_passes} passes"
+    if isinstance(step, plan.Attempt):
+        return "a failure in the block runs ON FAIL"
+    if isinstance(step, plan.Retry):
+        return f"the TRY block again, {step.times} times at most"
+    return ""
+
+
+def step_line(step: _Row, depth: int = 0) -> str:
     """One step as one plain line: index, line, kind, statement, then what it does."""
+    indent = "  " * depth
+    if isinstance(step, tuple):
+        return f"{'':>6} {step[1]:>6}  {step[0]:<16}  {indent}{step[0].upper()}"
     if not isinstance(step, plan.Segment):
-        return f"{'':>6} {step.line:>6}  {_kind(step):<16}  {step.statement}"
+        decides = _decides(step)
+        return f"{'':>6} {step.line:>6}  {_kind(step):<16}  {indent}{step.statement}" + (
+            f"  | {decides}" if decides else ""
+        )
     index, line, _, kind, frame, motion, force, setpoints, goal, ends = _segment_row(step)
     context = f"  [{step.context}]" if step.context else ""
     return (
-        f"{index:>6} {line:>6}  {kind:<16}  {step.statement}{context}  | frame {frame}; motion {motion}; "
-        f"force {force}; {setpoints}; {goal}; ends {ends}"
+        f"{index:>6} {line:>6}  {kind:<16}  {indent}{step.statement}{context}  | frame {frame}; "
+        f"motion {motion}; force {force}; {setpoints}; {goal}; ends {ends}"
     )
 
 
@@ -153,15 +201,17 @@ def plan_table(compiled: plan.Plan) -> Table:
     table = Table(title=f"{compiled.file}: {len(compiled.segments)} segments", title_justify="left")
     for header in ("#", "line", "statement", "kind", "frame", "motion", "force", "setpoints", "goal", "ends"):
         table.add_column(header, overflow="fold")
-    for step in compiled.steps:
-        if isinstance(step, plan.Segment):
-            table.add_row(*_segment_row(step))
-        elif isinstance(step, plan.AddObstacle):
-            table.add_row(
-                "", str(step.line), step.statement, f"add {step.shape.value}", "", "", "", "", "", ""
-            )
+    for depth, step in _rows(compiled.steps):
+        indent = "  " * depth
+        if isinstance(step, tuple):
+            table.add_row("", str(step[1]), indent + step[0].upper(), step[0], "", "", "", "", "", "")
+        elif isinstance(step, plan.Segment):
+            row = _segment_row(step)
+            table.add_row(row[0], row[1], indent + row[2], *row[3:])
         else:
-            table.add_row("", str(step.line), step.statement, "remove obstacle", "", "", "", "", "", "")
+            table.add_row(
+                "", str(step.line), indent + step.statement, _kind(step), "", "", "", "", "", _decides(step)
+            )
     return table
 
 
@@ -239,7 +289,7 @@ def _ends(segment: plan.Segment) -> str:
 
 
 def _condition(condition: plan.Condition) -> str:
-    if isinstance(condition, plan.Comparison):
+    if isinstance(condition, plan.Comparison | plan.LastOutcome):
         return condition.text
     joiner = " AND " if isinstance(condition, plan.AllOf) else " OR "
     return "(" + joiner.join(_condition(term) for term in condition.terms) + ")"

@@ -24,6 +24,8 @@ from cosmos.lang.expressions import (
     Direction,
     Expr,
     Ident,
+    LastKind,
+    LastOutcome,
     Name,
     Number,
     Pose,
@@ -50,7 +52,10 @@ __all__ = [  # the statements and clauses here, and the parts of cosmos.lang.exp
     "Expr",
     "FrameDef",
     "Ident",
+    "IfBlock",
     "Insert",
+    "LastKind",
+    "LastOutcome",
     "Let",
     "Move",
     "MoveMode",
@@ -62,18 +67,21 @@ __all__ = [  # the statements and clauses here, and the parts of cosmos.lang.exp
     "Program",
     "RemoveObstacle",
     "Repeat",
+    "Retry",
     "Sensed",
     "SetLimit",
     "SetSpeed",
     "Shape",
     "Slide",
     "Statement",
+    "TryBlock",
     "Unary",
     "UntilClause",
     "ValueClause",
     "Vector",
     "ViaClause",
     "Wait",
+    "WhileBlock",
 ]
 
 
@@ -99,6 +107,7 @@ class ClauseKind(enum.Enum):
     NORMAL = "NORMAL"
     INFLUENCE = "INFLUENCE"
     GAIN = "GAIN"
+    MAX = "MAX"
 
 
 @dataclass(frozen=True)
@@ -265,9 +274,10 @@ class Wait:
 
 @dataclass(frozen=True)
 class ProcDef:
-    """``PROC name`` ... ``END``; ``span`` covers the header line only."""
+    """``PROC name[(p, q)]`` ... ``END``; ``span`` covers the header line only."""
 
     name: Ident
+    parameters: tuple[Ident, ...]
     body: tuple[Statement, ...]
     end_tag: str | None
     span: Span
@@ -285,9 +295,57 @@ class Repeat:
 
 @dataclass(frozen=True)
 class Call:
-    """``CALL name`` or ``name`` alone on a line."""
+    """``CALL name[(a, b)]`` or ``name[(a, b)]`` alone on a line."""
 
     name: Ident
+    arguments: tuple[Expr, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
+class IfBlock:
+    """``IF condition [IN frame]`` ... [``ELSE`` ...] ``END``; ``span`` covers the header line.
+
+    Attributes:
+        else_span: The ELSE keyword, None without an ELSE.
+    """
+
+    condition: Condition
+    clauses: tuple[Clause, ...]
+    then_body: tuple[Statement, ...]
+    else_body: tuple[Statement, ...]
+    else_span: Span | None
+    end_tag: str | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class WhileBlock:
+    """``WHILE condition [MAX n] [IN frame]`` ... ``END``; ``span`` covers the header line."""
+
+    condition: Condition
+    clauses: tuple[Clause, ...]
+    body: tuple[Statement, ...]
+    end_tag: str | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class TryBlock:
+    """``TRY`` ... ``ON FAIL`` ... ``END``; ``span`` covers the TRY keyword, ``on_fail_span`` ON FAIL."""
+
+    body: tuple[Statement, ...]
+    handler: tuple[Statement, ...]
+    on_fail_span: Span
+    end_tag: str | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class Retry:
+    """``RETRY n``: in a TRY's ON FAIL part, run the TRY block again (at most n times in all)."""
+
+    count: Expr
     span: Span
 
 
@@ -307,6 +365,10 @@ Statement = (
     | ProcDef
     | Repeat
     | Call
+    | IfBlock
+    | WhileBlock
+    | TryBlock
+    | Retry
 )
 
 

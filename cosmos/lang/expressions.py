@@ -126,11 +126,12 @@ class AxisRef:
 
 
 class Sensed(enum.Enum):
-    """What a condition of UNTIL measures."""
+    """What a condition measures (POSITION only in IF and WHILE)."""
 
     FORCE = "FORCE"
     TORQUE = "TORQUE"
     DISTANCE = "DISTANCE"
+    POSITION = "POSITION"
 
 
 @dataclass(frozen=True)
@@ -160,4 +161,19 @@ class AnyOf:
     span: Span
 
 
-Condition = Comparison | AllOf | AnyOf
+class LastKind(enum.Enum):
+    """An outcome of the statement run last that a condition can ask about."""
+
+    FAILED = "FAILED"
+    STOPPED = "STOPPED"
+
+
+@dataclass(frozen=True)
+class LastOutcome:
+    """``LAST FAILED`` / ``LAST STOPPED``: how the statement run last ended (IF and WHILE only)."""
+
+    kind: LastKind
+    span: Span
+
+
+Condition = Comparison | AllOf | AnyOf | LastOutcome

@@ -3,12 +3,14 @@
 The grammar lets each statement take only its own clauses, in any order; this
 module adds what a grammar says badly: a clause given twice, a clause that is
 required (CONTACT needs FORCE), a clause that does not fit the obstacle's shape,
-blocks in the wrong place or closed with the wrong END. Checks that depend on
+blocks in the wrong place or closed with the wrong END, RETRY outside a TRY's
+ON FAIL part. Checks that depend on
 what came before (names, the held contact, COMPLY) are the compiler's.
 """
 
 from __future__ import annotations
 
+import enum
 from collections.abc import Callable
 from typing import Any
 
@@ -84,45 +86,56 @@ def _require(
         )
 
 
-def check_statement(statement: ast.Statement, *, in_block: bool = False) -> None:
+class Place(enum.Enum):
+    """Where a statement sits: what it may be."""
+
+    TOP = "top"
+    """At the top level of the program."""
+    BLOCK = "block"
+    """Inside a block (PROC, REPEAT, IF, WHILE, a TRY's block)."""
+    HANDLER = "handler"
+    """Inside a TRY's ON FAIL part (also inside an IF, WHILE or REPEAT there): RETRY may be."""
+
+
+def check_statement(statement: ast.Statement, *, place: Place = Place.TOP) -> None:
     """Check one statement (and the statements of its block).
 
     Args:
         statement: The statement.
-        in_block: Whether it sits inside a PROC or REPEAT.
+        place: Where it sits.
 
     Raises:
         ProgramError: The first problem found.
     """
     check = _CHECKS.get(type(statement))
     if check is not None:
-        check(statement, in_block)
+        check(statement, place)
     elif hasattr(statement, "clauses"):  # a statement with no rule of its own: no clause twice
         _check_clauses(type(statement).__name__.upper(), statement.clauses)
 
 
-def _check_move(statement: ast.Move, in_block: bool) -> None:
+def _check_move(statement: ast.Move, place: Place) -> None:
     present = _check_clauses("MOVE", statement.clauses)
     if statement.mode is ast.MoveMode.BY and "VIA" in present:
         via = next(c for c in statement.clauses if isinstance(c, ast.ViaClause))
         raise ProgramError("VIA goes with MOVE TO, not MOVE BY", via.span)
 
 
-def _check_contact(statement: ast.Contact, in_block: bool) -> None:
+def _check_contact(statement: ast.Contact, place: Place) -> None:
     _require("CONTACT", _check_clauses("CONTACT", statement.clauses), ast.ClauseKind.FORCE, statement)
 
 
-def _check_slide(statement: ast.Slide, in_block: bool) -> None:
+def _check_slide(statement: ast.Slide, place: Place) -> None:
     _require("SLIDE", _check_clauses("SLIDE", statement.clauses), ast.ClauseKind.BY, statement)
 
 
-def _check_insert(statement: ast.Insert, in_block: bool) -> None:
+def _check_insert(statement: ast.Insert, place: Place) -> None:
     present = _check_clauses("INSERT", statement.clauses)
     _require("INSERT", present, ast.ClauseKind.DEPTH, statement)
     _require("INSERT", present, ast.ClauseKind.FORCE, statement)
 
 
-def _check_wait(statement: ast.Wait, in_block: bool) -> None:
+def _check_wait(statement: ast.Wait, place: Place) -> None:
     present = _check_clauses("WAIT", statement.clauses)
     if statement.duration is None and "UNTIL" not in present:
         raise ProgramError(
@@ -131,7 +144,7 @@ def _check_wait(statement: ast.Wait, in_block: bool) -> None:
         )
 
 
-def _check_comply(statement: ast.Comply, in_block: bool) -> None:
+def _check_comply(statement: ast.Comply, place: Place) -> None:
     if not statement.clauses:
         return
     present = _check_clauses("COMPLY", statement.clauses)
@@ -142,26 +155,92 @@ def _check_comply(statement: ast.Comply, in_block: bool) -> None:
         )
 
 
-def _check_proc(statement: ast.ProcDef, in_block: bool) -> None:
-    if in_block:
+def _check_proc(statement: ast.ProcDef, place: Place) -> None:
+    if place is not Place.TOP:
         raise ProgramError("define PROC at the top level of the program, not inside a block", statement.span)
-    if statement.name.name.upper() in statement_keywords() or statement.name.key == "end":
+    if _is_keyword(statement.name):
         raise ProgramError(
             f"'{statement.name.name}' is a keyword; give the PROC another name",
             statement.name.span,
         )
+    seen: dict[str, ast.Ident] = {}
+    for parameter in statement.parameters:
+        if _is_keyword(parameter):
+            raise ProgramError(
+                f"'{parameter.name}' is a keyword; give the parameter another name", parameter.span
+            )
+        if parameter.key in seen:
+            raise ProgramError(
+                f"parameter '{parameter.name}' is named twice in PROC {statement.name.name}", parameter.span
+            )
+        seen[parameter.key] = parameter
     _check_end("PROC", statement.end_tag, statement)
-    for inner in statement.body:
-        check_statement(inner, in_block=True)
+    _check_body(statement.body, Place.BLOCK)
 
 
-def _check_repeat(statement: ast.Repeat, in_block: bool) -> None:
+def _is_keyword(name: ast.Ident) -> bool:
+    return name.name.upper() in statement_keywords() or name.key in _BLOCK_WORDS
+
+
+_BLOCK_WORDS = {"end", "else", "on"}
+"""Words that close or split a block: never names of procedures or parameters."""
+
+
+def _check_repeat(statement: ast.Repeat, place: Place) -> None:
     _check_end("REPEAT", statement.end_tag, statement)
-    for inner in statement.body:
-        check_statement(inner, in_block=True)
+    _check_body(statement.body, _inner(place))
 
 
-def _check_end(keyword: str, tag: str | None, statement: ast.ProcDef | ast.Repeat) -> None:
+def _inner(place: Place) -> Place:
+    """Where the statements of a block sit that keeps RETRY's place (IF, WHILE, REPEAT)."""
+    return Place.BLOCK if place is Place.TOP else place
+
+
+def _check_body(body: tuple[ast.Statement, ...], place: Place) -> None:
+    """Check a block's statements; nothing may follow a RETRY (it would never run)."""
+    for index, inner in enumerate(body):
+        check_statement(inner, place=place)
+        if isinstance(inner, ast.Retry) and index + 1 < len(body):
+            raise ProgramError(
+                f"this never runs: RETRY (line {inner.span.line}) runs the TRY block again; "
+                "put it last in its block",
+                body[index + 1].span,
+            )
+
+
+def _check_if(statement: ast.IfBlock, place: Place) -> None:
+    _check_clauses("IF", statement.clauses)
+    _check_end("IF", statement.end_tag, statement)
+    _check_body(statement.then_body, _inner(place))
+    _check_body(statement.else_body, _inner(place))
+
+
+def _check_while(statement: ast.WhileBlock, place: Place) -> None:
+    _check_clauses("WHILE", statement.clauses)
+    _check_end("WHILE", statement.end_tag, statement)
+    if not statement.body:
+        raise ProgramError("WHILE needs statements to repeat before its END", statement.span)
+    _check_body(statement.body, _inner(place))
+
+
+def _check_try(statement: ast.TryBlock, place: Place) -> None:
+    _check_end("TRY", statement.end_tag, statement)
+    if not statement.body:
+        raise ProgramError("TRY needs statements to try before ON FAIL", statement.span)
+    _check_body(statement.body, Place.BLOCK)
+    _check_body(statement.handler, Place.HANDLER)
+
+
+def _check_retry(statement: ast.Retry, place: Place) -> None:
+    if place is not Place.HANDLER:
+        raise ProgramError(
+            "RETRY runs a TRY block again: it belongs in the TRY's ON FAIL part "
+            "(TRY ... ON FAIL ... RETRY 2 END)",
+            statement.span,
+        )
+
+
+def _check_end(keyword: str, tag: str | None, statement: Any) -> None:
     if tag is not None and tag != keyword:
         raise ProgramError(
             f"END {tag} closes a {keyword} (opened here); write END or END {keyword}",
@@ -185,16 +264,20 @@ def _check_obstacle(statement: ast.Obstacle) -> None:
             )
 
 
-_CHECKS: dict[type, Callable[[Any, bool], None]] = {
+_CHECKS: dict[type, Callable[[Any, Place], None]] = {
     ast.Move: _check_move,
     ast.Contact: _check_contact,
     ast.Slide: _check_slide,
     ast.Insert: _check_insert,
     ast.Wait: _check_wait,
     ast.Comply: _check_comply,
-    ast.Obstacle: lambda statement, in_block: _check_obstacle(statement),
+    ast.Obstacle: lambda statement, place: _check_obstacle(statement),
     ast.ProcDef: _check_proc,
     ast.Repeat: _check_repeat,
+    ast.IfBlock: _check_if,
+    ast.WhileBlock: _check_while,
+    ast.TryBlock: _check_try,
+    ast.Retry: _check_retry,
 }
 """The check of each statement type that has clauses or a block (LET, FRAME, SPEED,
 OBSTACLE REMOVE and CALL have neither)."""

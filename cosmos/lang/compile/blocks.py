@@ -1,20 +1,28 @@
 """PROC, CALL and REPEAT: procedures registered, calls and loops expanded in place.
 
 A CALL compiles the procedure's body where it is called, from the procedure's own
-text; a REPEAT compiles its body once per pass. Each expanded statement names
-where it was expanded from (the run's context), for its errors and warnings.
+text, with its parameters bound to the call's arguments (values with units,
+evaluated where the call is); a REPEAT compiles its body once per pass. Each
+expanded statement names where it was expanded from (the run's context), for its
+errors and warnings. An argument that does not fit where the body uses its
+parameter is an error at the argument.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import re
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import replace
+from typing import Any
 
-from cosmos.errors import ProgramError
+from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.state import CompileState, ProcEntry, frozen_map
 from cosmos.lang.evaluate.evaluator import suggest
+from cosmos.lang.evaluate.values import Binding, BindingKind, SuppressedError
 from cosmos.lang.parse.grammar import statement_keywords
 
 MAX_STEPS = 100_000
@@ -43,7 +51,9 @@ def expand_call(run: CompileContext, statement: ast.Call, state: CompileState) -
     entry = state.procedures.get(key)
     if entry is None:
         if key == "end":
-            raise ProgramError("END without a PROC or REPEAT to close", statement.span)
+            raise ProgramError("END without a block (PROC, REPEAT, IF, WHILE, TRY) to close", statement.span)
+        if key == "else":
+            raise ProgramError("ELSE without an IF: ELSE goes between IF ... and its END", statement.span)
         if statement.name.name.upper() in statement_keywords():
             raise ProgramError(f"{statement.name.name.upper()} needs more after it", statement.span)
         raise ProgramError(
@@ -54,20 +64,115 @@ def expand_call(run: CompileContext, statement: ast.Call, state: CompileState) -
         chain = " -> ".join([*run.call_stack, key])
         raise ProgramError(f"procedures call each other without end: {chain}", statement.span)
     _bounded_depth(run, statement)
-    state = replace(state, called=state.called | {key})
+    definition = entry.definition
+    caller_names = state.names
+    state = replace(
+        state, called=state.called | {key}, names=_bind_arguments(run, statement, definition, state)
+    )
     outer_source, outer_lines = run.source, run.lines
     run.source = entry.source
     run.lines = run.lines_of(entry.source)
     run.call_stack.append(key)
-    run.context.append(f"PROC {entry.definition.name.name} called at line {statement.span.line}")
+    run.context.append(f"PROC {definition.name.name} called at line {statement.span.line}")
+    caught: ProgramError | None = None
     try:
-        for inner in entry.definition.body:
+        for inner in definition.body:
             state = run.statement(inner, state)
+    except ProgramError as error:
+        caught = error
     finally:
         run.context.pop()
         run.call_stack.pop()
         run.source, run.lines = outer_source, outer_lines
-    return state
+    if caught is not None:  # raised here, back in the caller's text
+        raise _argument_misfit(caught, statement, definition, run.text_of) or caught
+    return replace(state, names=_restore_parameters(state.names, caller_names, definition.parameters))
+
+
+def _bind_arguments(
+    run: CompileContext, call: ast.Call, definition: ast.ProcDef, state: CompileState
+) -> Mapping[str, Binding]:
+    """The names the body sees: the caller's, and each parameter bound to its argument's value.
+
+    Raises:
+        ProgramError: The call gives more or fewer values than the procedure has
+            parameters, or an argument has an error of its own.
+    """
+    parameters, arguments = definition.parameters, call.arguments
+    if len(arguments) != len(parameters):
+        name = definition.name.name
+        wanted = f"{len(parameters)} value{'s' if len(parameters) != 1 else ''}"
+        if parameters:
+            wanted += f" ({', '.join(p.name for p in parameters)})"
+        where = f"PROC {name} (line {definition.span.line}) takes {wanted}"
+        raise ProgramError(f"{where}; this call gives {len(arguments)}", call.span)
+    if not parameters:
+        return state.names
+    evaluator = run.evaluator_for(state)
+    bound = dict(state.names)
+    for parameter, argument in zip(parameters, arguments, strict=True):
+        bound[parameter.key] = Binding(evaluator.evaluate(argument), BindingKind.PARAMETER, argument.span)
+    return frozen_map(bound)
+
+
+def _restore_parameters(
+    names: Mapping[str, Binding], caller_names: Mapping[str, Binding], parameters: tuple[ast.Ident, ...]
+) -> Mapping[str, Binding]:
+    """After a call: its parameters are gone (the caller's names of the same spelling are back)."""
+    if not parameters:
+        return names
+    restored = dict(names)
+    for parameter in parameters:
+        if parameter.key in caller_names:
+            restored[parameter.key] = caller_names[parameter.key]
+        else:
+            restored.pop(parameter.key, None)
+    return frozen_map(restored)
+
+
+_CONTEXT = re.compile(r" \(in [^()]*\)$")
+"""The ``(in PROC p called at line 3; ...)`` an error of an expanded statement ends with."""
+
+
+def _argument_misfit(
+    error: ProgramError, call: ast.Call, definition: ast.ProcDef, text_of: Callable[[Span], str]
+) -> ProgramError | None:
+    """An error of the body at a parameter's use, told at the call's argument (None: another error).
+
+    Args:
+        error: The error compiling the body raised.
+        call: The call.
+        definition: The procedure called.
+        text_of: Reads the caller's text.
+    """
+    if isinstance(error, SuppressedError) or not definition.parameters:
+        return None
+    keys = [p.key for p in definition.parameters]
+    used = {span: name for span, name in _names_used(definition.body) if name in keys}
+    parameter_key = None if error.span is None else used.get(error.span)
+    if parameter_key is None or error.span is None:
+        return None
+    index = keys.index(parameter_key)
+    parameter, argument = definition.parameters[index], call.arguments[index]
+    reason = _CONTEXT.sub("", error.message)
+    return ProgramError(
+        f"argument {index + 1} of {definition.name.name} ({parameter.name} = {text_of(argument.span)}) "
+        f"does not fit line {error.span.line}, where {reason}",
+        argument.span,
+    )
+
+
+def _names_used(node: Any) -> Iterator[tuple[Any, str]]:
+    """(span, case-folded name) of every name read in a piece of syntax tree."""
+    if isinstance(node, ast.Name):
+        yield node.span, node.name.casefold()
+    elif isinstance(node, tuple):
+        for item in node:
+            yield from _names_used(item)
+    elif dataclasses.is_dataclass(node) and not isinstance(node, type):
+        for field in dataclasses.fields(node):
+            if field.name != "span":
+                yield from _names_used(getattr(node, field.name))
 
 
 def expand_repeat(run: CompileContext, statement: ast.Repeat, state: CompileState) -> CompileState:

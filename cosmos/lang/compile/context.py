@@ -28,12 +28,15 @@ class CompileContext(Protocol):
         context: Where the statement was expanded from, outermost first
             (``"PROC p called at line 3"``, ``"REPEAT pass 1 of 2 at line 5"``).
         call_stack: Case-folded names of the procedures being expanded.
+        attempts: The state at the start of each TRY whose ON FAIL part is
+            being compiled, innermost last (what a RETRY runs again from).
     """
 
     source: str
     lines: list[str]
     context: list[str]
     call_stack: list[str]
+    attempts: list[CompileState]
 
     def text_of(self, span: Span) -> str:
         """The source text a span covers."""
@@ -57,6 +60,12 @@ class CompileContext(Protocol):
 
     def statement(self, statement: ast.Statement, state: CompileState) -> CompileState:
         """Compile one statement of a block's body; the state after it."""
+        ...
+
+    def block(
+        self, body: Sequence[ast.Statement], state: CompileState
+    ) -> tuple[tuple[plan.Step, ...], CompileState]:
+        """Compile a branch's statements into steps of their own; the state after them."""
         ...
 
     def motion(self, build: Callable[[Any, Any], Any], statement: Any, state: CompileState) -> CompileState:

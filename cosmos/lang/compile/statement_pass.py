@@ -15,7 +15,7 @@ from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
 from cosmos.lang.check.statements import check_statement
-from cosmos.lang.compile import blocks, obstacles, settings
+from cosmos.lang.compile import blocks, branches, obstacles, settings
 from cosmos.lang.compile.blocks import MAX_STEPS
 from cosmos.lang.compile.context import Handler, statement_text
 from cosmos.lang.compile.motion import builder as motion
@@ -49,7 +49,8 @@ class StatementPass:
         "call_stack",
         "steps",
         "warnings",
-        "first_step",
+        "emitted",
+        "attempts",
         "evaluator",
         "builder",
     )
@@ -69,8 +70,10 @@ class StatementPass:
         self.call_stack: list[str] = []
         self.steps: list[plan.Step] = []
         self.warnings: list[plan.Diagnostic] = []
-        self.first_step = 0
-        """Index in ``steps`` of the first step of the top-level statement being compiled."""
+        self.emitted = 0
+        """Steps the top-level statement being compiled has emitted, those inside IF, WHILE, TRY too."""
+        self.attempts: list[CompileState] = []
+        """The state at the start of each TRY whose ON FAIL part is being compiled, innermost last."""
         self.evaluator = Evaluator(fixture_names, self.text_of)
         self.builder = MotionBuilder(defaults, self.evaluator, self.text_of, self.warn)
 
@@ -90,12 +93,26 @@ class StatementPass:
         Raises:
             ProgramError: The top-level statement expands to more than ``MAX_STEPS`` steps.
         """
-        if len(self.steps) - self.first_step + len(steps) > MAX_STEPS:
+        if self.emitted + len(steps) > MAX_STEPS:
             raise ProgramError(
                 f"the program expands to more than {MAX_STEPS} steps; use fewer REPEATs",
                 steps[0].span,
             )
+        self.emitted += len(steps)
         self.steps.extend(steps)
+
+    def block(
+        self, body: Sequence[ast.Statement], state: CompileState
+    ) -> tuple[tuple[plan.Step, ...], CompileState]:
+        """Compile a branch's statements into steps of their own (not the pass's); the state after."""
+        outer = self.steps
+        self.steps = []
+        try:
+            for inner in body:
+                state = self.statement(inner, state)
+            return tuple(self.steps), state
+        finally:
+            self.steps = outer
 
     def evaluator_for(self, state: CompileState) -> Evaluator:
         """The pass's evaluator, reading the names of ``state``."""
@@ -109,7 +126,7 @@ class StatementPass:
             ProgramError: The statement is wrong (its source attached).
         """
         steps, warnings = len(self.steps), len(self.warnings)
-        self.first_step = steps
+        self.emitted = 0
         try:
             check_statement(statement)
             return _dispatch(self, statement, state)  # at the top level there is no context to name
@@ -146,6 +163,7 @@ STATEMENT_HANDLERS: dict[type, Handler] = {
     **settings.HANDLERS,
     **obstacles.HANDLERS,
     **blocks.HANDLERS,
+    **branches.HANDLERS,
 }
 """How a statement of each type is compiled: the one table from statement type to handler,
 made of the tables of the modules that hold the handlers."""

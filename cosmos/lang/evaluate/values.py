@@ -55,6 +55,8 @@ class BindingKind(enum.Enum):
     LET = "LET"
     FRAME = "FRAME"
     FIXTURE = "fixture"
+    PARAMETER = "parameter"
+    """A procedure's parameter, bound to its argument while the call is compiled."""
 
 
 @dataclass(frozen=True)

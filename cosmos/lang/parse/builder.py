@@ -115,9 +115,16 @@ class _Builder(Transformer):
         return ast.FrameDef(_ident(children[1]), children[3], span_of(children))
 
     def proc(self, children: list[Any]) -> ast.ProcDef:
-        keyword, name = children[0], children[1]
-        body = _nodes(children[2:-2])
-        return ast.ProcDef(_ident(name), body, _tag(children[-1]), span_of([keyword, name]))
+        keyword, name, parameters = children[0], children[1], children[2]
+        body = _nodes(children[3:-2])
+        header = [keyword, name] if parameters is None else [keyword, name, parameters[-1]]
+        names = () if parameters is None else parameters[0]
+        return ast.ProcDef(_ident(name), names, body, _tag(children[-1]), span_of(header))
+
+    def parameters(self, children: list[Any]) -> tuple[tuple[ast.Ident, ...], Token]:
+        """The parameter names, and the closing parenthesis (the header's end)."""
+        names = tuple(_ident(c) for c in children if isinstance(c, Token) and c.type == "WORD")
+        return names, children[-1]
 
     def repeat(self, children: list[Any]) -> ast.Repeat:
         keyword, count = children[0], children[1]
@@ -125,7 +132,54 @@ class _Builder(Transformer):
         return ast.Repeat(count, body, _tag(children[-1]), span_of([keyword, count]))
 
     def call(self, children: list[Any]) -> ast.Call:
-        return ast.Call(_ident(children[-1]), span_of(children))
+        arguments = children[-1]
+        name = children[-2]
+        if arguments is None:
+            return ast.Call(_ident(name), (), span_of(children[:-1]))
+        items, closing = arguments
+        return ast.Call(_ident(name), items, span_of([*children[:-1], closing]))
+
+    def arguments(self, children: list[Any]) -> tuple[tuple[ast.Expr, ...], Token]:
+        """The argument expressions, and the closing parenthesis (the call's end)."""
+        return _nodes(children), children[-1]
+
+    def if_block(self, children: list[Any]) -> ast.IfBlock:
+        keyword, condition = children[0], children[1]
+        clauses = tuple(c for c in children[2:] if isinstance(c, ast.ValueClause))
+        otherwise = children[-3]
+        then_end = -3
+        body = _nodes(children[2 + len(clauses) : then_end])
+        else_body: tuple[ast.Statement, ...] = ()
+        else_span = None
+        if otherwise is not None:
+            else_body, else_span = otherwise
+        last = clauses[-1].span if clauses else condition.span
+        return ast.IfBlock(
+            condition, clauses, body, else_body, else_span, _tag(children[-1]), span_between(keyword, last)
+        )
+
+    def else_part(self, children: list[Any]) -> tuple[tuple[ast.Statement, ...], Any]:
+        keyword = children[0]
+        return _nodes(children[1:]), span_between(keyword, keyword)
+
+    def while_block(self, children: list[Any]) -> ast.WhileBlock:
+        keyword, condition = children[0], children[1]
+        clauses = tuple(c for c in children[2:] if isinstance(c, ast.ValueClause))
+        body = _nodes(children[2 + len(clauses) : -2])
+        last = clauses[-1].span if clauses else condition.span
+        return ast.WhileBlock(condition, clauses, body, _tag(children[-1]), span_between(keyword, last))
+
+    def try_block(self, children: list[Any]) -> ast.TryBlock:
+        keyword = children[0]
+        handler, on_fail_span = children[-3]
+        body = _nodes(children[1:-3])
+        return ast.TryBlock(body, handler, on_fail_span, _tag(children[-1]), span_between(keyword, keyword))
+
+    def on_fail(self, children: list[Any]) -> tuple[tuple[ast.Statement, ...], Any]:
+        return _nodes(children[2:]), span_of(children[:2])
+
+    def retry(self, children: list[Any]) -> ast.Retry:
+        return ast.Retry(children[1], span_of(children))
 
     # ------------------------------------------------------------ clauses
 
@@ -185,7 +239,12 @@ class _Builder(Transformer):
 
     def sensed(self, children: list[Any]) -> tuple[Token, ast.Sensed, ast.Direction | None]:
         direction = children[1] if len(children) > 1 else None
+        if isinstance(direction, ast.AxisRef):  # POSITION X: the coordinate along +X
+            direction = ast.Direction(direction.axis, 1, direction.span)
         return children[0], ast.Sensed[children[0].type], direction
+
+    def last_outcome(self, children: list[Token]) -> ast.LastOutcome:
+        return ast.LastOutcome(ast.LastKind[children[1].type], span_of(children))
 
     # -------------------------------------------------------- expressions
 

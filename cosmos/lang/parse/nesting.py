@@ -1,4 +1,4 @@
-"""Nesting bounded before parsing: parentheses and PROC/REPEAT blocks.
+"""Nesting bounded before parsing: parentheses and blocks (PROC, REPEAT, IF, WHILE, TRY).
 
 The parser does not recurse, but what reads its tree does (the checker, the
 compiler, the evaluator, ``repr``): a program nested deeper than these limits is
@@ -15,7 +15,8 @@ MAX_NESTING = 64
 """Deepest parenthesis nesting accepted (deeper input is refused before parsing)."""
 
 MAX_BLOCK_DEPTH = 100
-"""Deepest nesting of PROC and REPEAT blocks accepted (deeper input is refused before parsing)."""
+"""Deepest nesting of blocks (PROC, REPEAT, IF, WHILE, TRY) accepted (deeper input is
+refused before parsing)."""
 
 _COMMENT = re.compile("#[^\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029]*")
 """A comment, to the end of its line as ``str.splitlines`` ends lines."""
@@ -63,14 +64,16 @@ def check_nesting(source: str, file: str) -> None:
                 depth = max(depth - 1, 0)
 
 
+_OPENERS = ("PROC", "REPEAT", "IF", "WHILE", "TRY")
+"""The keywords that open a block (END closes it)."""
 _STATEMENT_START = re.compile(r"[ \t]*([A-Za-z_]\w*)")
 """The first word of a statement."""
 
 
 def check_block_nesting(source: str, file: str) -> None:
-    """Refuse PROC and REPEAT blocks nested deeper than :data:`MAX_BLOCK_DEPTH` (before parsing).
+    """Refuse blocks nested deeper than :data:`MAX_BLOCK_DEPTH` (before parsing).
 
-    A statement that starts with PROC or REPEAT opens a block, one that starts
+    A statement that starts with PROC, REPEAT, IF, WHILE or TRY opens a block, one that starts
     with END closes it (statements end at a line break or ';', comments are
     dropped). Only an error can come of counting a line that does not parse.
 
@@ -78,7 +81,7 @@ def check_block_nesting(source: str, file: str) -> None:
         ProgramError: At the first block opened past the limit.
     """
     folded = source.upper()
-    if folded.count("REPEAT") + folded.count("PROC") <= MAX_BLOCK_DEPTH:
+    if sum(folded.count(word) for word in _OPENERS) <= MAX_BLOCK_DEPTH:
         return
     depth = 0
     for line_number, line in enumerate(source.splitlines(), start=1):
@@ -88,7 +91,7 @@ def check_block_nesting(source: str, file: str) -> None:
             match = _STATEMENT_START.match(statement)
             if match is not None:
                 word = match[1].upper()
-                if word in ("PROC", "REPEAT"):
+                if word in _OPENERS:
                     depth += 1
                     if depth > MAX_BLOCK_DEPTH:
                         column = offset + match.start(1) + 1

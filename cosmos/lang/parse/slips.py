@@ -86,6 +86,10 @@ _EXAMPLES: dict[str, list[str]] = {
         "MOVE TO (0, 0, 0) VIA SPEED 3",
     ],
     "CALL needs the name of a PROC": ["CALL", "CALL 3"],
+    "ELSE without an IF: ELSE goes between IF condition ... and its END": ["ELSE", "ELSE\nWAIT 1 s"],
+    "IF needs a condition, as in IF FORCE Z < -5 N ... END": ["IF\nEND", "IF 3\nEND"],
+    "WHILE needs a condition, as in WHILE FORCE < 2 N ... END": ["WHILE\nEND", "WHILE 3\nEND"],
+    "RETRY needs how many times at most: RETRY 3": ["TRY\nWAIT 1 s\nON FAIL\nRETRY\nEND"],
     "RPY needs three angles: RPY (180 deg, 0, 0)": ["FRAME f = (0, 0, 0) RPY"],
 }
 

@@ -49,6 +49,16 @@ def compile_condition(
         return plan.AllOf(tuple(compile_condition(c, frame, evaluator, text_of) for c in condition.items))
     if isinstance(condition, ast.AnyOf):
         return plan.AnyOf(tuple([compile_condition(c, frame, evaluator, text_of) for c in condition.items]))
+    if isinstance(condition, ast.LastOutcome):
+        raise ProgramError(
+            f"{text_of(condition.span)} is read by IF and WHILE; UNTIL ends a statement on what it senses",
+            condition.span,
+        )
+    if condition.sensed is ast.Sensed.POSITION:
+        raise ProgramError(
+            "POSITION is read by IF and WHILE; in UNTIL use DISTANCE (from where the statement started)",
+            condition.span,
+        )
     quantity, direction_world = _quantity(condition, frame)
     dim = _QUANTITY_DIM[quantity]
     value_expr = condition.value
@@ -122,6 +132,8 @@ def comparisons(condition: plan.Condition) -> list[plan.Comparison]:
     """Every comparison in a condition tree."""
     if isinstance(condition, plan.Comparison):
         return [condition]
+    if isinstance(condition, plan.LastOutcome):
+        return []
     return [c for term in condition.terms for c in comparisons(term)]
 
 
@@ -140,6 +152,8 @@ def holds_at_start(condition: plan.Condition, force_expected: bool) -> plan.Comp
     if isinstance(condition, plan.AllOf):
         found_all = [holds_at_start(term, force_expected) for term in condition.terms]
         return found_all[0] if found_all and all(found_all) else None
+    if isinstance(condition, plan.LastOutcome):  # not in UNTIL (refused when compiled)
+        return None
     below = condition.op in _BELOW
     if condition.quantity is _DISTANCE and below:
         return condition
