@@ -206,11 +206,18 @@ def _same_state(a: RunRecord, b: RunRecord) -> bool:
 
 
 def _outcome(record: RunRecord) -> Failure | None:
-    """The first failure or interruption in the log; else the statement left open, if any."""
+    """The first failure (not taken over by a TRY) or interruption in the log; else the
+    statement left open, if any."""
     program = record.metadata.get("program", record.path.name)
     open_starts: list[EventRecord] = []
-    for event in record.events:
+    events = record.events
+    for index, event in enumerate(events):
         kind = None
+        if event.kind == "failed" and index + 1 < len(events) and events[index + 1].kind == "recovery":
+            # a TRY's ON FAIL part took this failure over: the statement ended, the run goes on
+            match = [i for i, start in enumerate(open_starts) if start.line == event.line]
+            del open_starts[match[-1] if match else len(open_starts) :]
+            continue
         if event.kind == "failed":
             kind = OutcomeKind.FAILED
         elif event.kind == "interrupted" or (event.kind == "stopped" and event.reason == "interrupted"):

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import NoReturn
 
 import numpy as np
 
@@ -34,6 +35,7 @@ from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
 from cosmos.execution.supervision import StopKind, Supervisor
+from cosmos.execution.walker import PlanWalker, Senses
 from cosmos.lang.check.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
@@ -107,19 +109,15 @@ class Executor:
     def run(self, plan: Plan) -> None:
         """Run every step of ``plan``; raise TaskFailure on the first failed statement."""
         self._source = plan.source
-        for group in _statements(plan.steps):
-            if isinstance(group, AddObstacle | RemoveObstacle):
-                self._scene_step(group)
-            else:
-                self._run_statement(group)
+        PlanWalker(self).walk(plan.steps)  # it decides IF, WHILE and TRY; runs statements here
         if self._stopped_at is not None and self.recorder is not None:
             # The last statement ended on its UNTIL: hold until the sample showing what
             # fired it is in the log (one state period at most).
             self.hold(1.0 / self.runtime.rates.state_hz)
             self._stopped_at = None
 
-    def _run_statement(self, segments: list[Segment]) -> None:
-        """Run a statement's segments; an UNTIL that holds ends the statement with success."""
+    def run_statement(self, segments: list[Segment]) -> bool:
+        """Run a statement's segments; an UNTIL that holds ends the statement with success (True)."""
         statement_start = (self.runtime.time_s, self.meter.position.copy())
         self._event("start", segments[0], "")
         for segment in segments:
@@ -136,6 +134,36 @@ class Executor:
             self._event("done", segments[-1], outcome.reason)
         if self.log is not None:
             self.log.flush()
+        return outcome.verdict is Verdict.STOPPED
+
+    # ------------------------------------------- what the plan walker asks
+
+    def scene_step(self, step: AddObstacle | RemoveObstacle) -> None:
+        """Add or remove an obstacle."""
+        self._scene_step(step)
+
+    def senses(self) -> Senses:
+        """The wrist's force and moment (world) and the measured tool point, now."""
+        wrench = self.runtime.wrench
+        return Senses(wrench[:3].copy(), wrench[3:].copy(), self.meter.position.copy())
+
+    def note(self, kind: str, step: Step, reason: str) -> None:
+        """Write an event about ``step`` to the log."""
+        self._event(kind, step, reason)
+        if self.log is not None:
+            self.log.flush()
+
+    def fail(self, step: Step, reason: str) -> NoReturn:
+        """Log the failure of a decided step, hold the arm, raise :class:`TaskFailure`."""
+        self._event("failed", step, reason)
+        self.hold(HOLD_AFTER_FAILURE_S)
+        if self.log is not None:
+            self.log.flush()
+        raise TaskFailure(failure_text(step.statement, reason), step.span, self._source)
+
+    def recoverable(self, failure: TaskFailure) -> bool:
+        """A TRY takes over any failure but an interruption from outside."""
+        return not isinstance(failure, Interrupted)
 
     def _scene_step(self, step: AddObstacle | RemoveObstacle) -> None:
         if self.obstacles is None:
@@ -287,7 +315,7 @@ class Executor:
 
     # ------------------------------------------------------------------- log
 
-    def _event(self, kind: str, segment: Segment | AddObstacle | RemoveObstacle | None, reason: str) -> None:
+    def _event(self, kind: str, segment: Step | None, reason: str) -> None:
         if self.log is None:
             return
         line = segment.line if segment is not None else 0
@@ -323,18 +351,3 @@ class Executor:
             speed_limit=segment.speed_limit_mps,
             timeout=segment.timeout_s,
         )
-
-
-def _statements(steps: tuple[Step, ...]) -> list[list[Segment] | AddObstacle | RemoveObstacle]:
-    """Steps grouped into statements: consecutive segments sharing a statement index."""
-    groups: list[list[Segment] | AddObstacle | RemoveObstacle] = []
-    for step in steps:
-        if not isinstance(step, Segment):
-            groups.append(step)
-        elif (
-            groups and isinstance(groups[-1], list) and groups[-1][0].statement_index == step.statement_index
-        ):
-            groups[-1].append(step)
-        else:
-            groups.append([step])
-    return groups

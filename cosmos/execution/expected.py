@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from cosmos.plan import AllOf, AnyOf, Condition, Quantity, Segment, SegmentKind
+from cosmos.plan import AllOf, AnyOf, Condition, LastOutcome, Quantity, Segment, SegmentKind
 from cosmos.workcell import WRIST_SENSOR
 
 FloatArray = np.ndarray
@@ -36,7 +36,7 @@ def has_force_term(condition: Condition | None) -> tuple[bool, float]:
             has, value = has_force_term(term)
             found, largest = found or has, max(largest, value)
         return found, largest
-    if condition.quantity is Quantity.DISTANCE:
+    if isinstance(condition, LastOutcome) or condition.quantity is Quantity.DISTANCE:
         return False, 0.0
     return True, abs(condition.value)
 

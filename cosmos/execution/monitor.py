@@ -29,6 +29,7 @@ from cosmos.plan import (
     Elapsed,
     ForceSettled,
     GoalReached,
+    LastOutcome,
     Quantity,
     Segment,
     SegmentKind,
@@ -321,7 +322,7 @@ _UNITS = {
 
 def condition_text(condition: Condition) -> str:
     """The condition as written: a comparison's own text, AND and OR in parentheses."""
-    if isinstance(condition, Comparison):
+    if isinstance(condition, Comparison | LastOutcome):
         return condition.text
     joiner = " AND " if isinstance(condition, AllOf) else " OR "
     return "(" + joiner.join(condition_text(term) for term in condition.terms) + ")"

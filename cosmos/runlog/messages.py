@@ -26,6 +26,7 @@ _EVENT_LEVELS: Final = {
     EventKind.WARNING: LogLevel.WARNING,
     EventKind.PROTECTIVE_STOP: LogLevel.ERROR,
     EventKind.INTERRUPTED: LogLevel.WARNING,
+    EventKind.RECOVERY: LogLevel.WARNING,
 }
 
 

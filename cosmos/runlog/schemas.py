@@ -62,6 +62,12 @@ class EventKind(StrEnum):
     WARNING = "warning"
     PROTECTIVE_STOP = "protective_stop"
     INTERRUPTED = "interrupted"
+    DECISION = "decision"
+    """An IF or WHILE read its condition: the values read and the branch taken."""
+    RECOVERY = "recovery"
+    """A TRY's ON FAIL part took over the failure logged just before."""
+    RETRY = "retry"
+    """A RETRY runs its TRY block again."""
 
 
 OUTCOME_KINDS: Final = frozenset(("done", "stopped", "failed", "interrupted"))
