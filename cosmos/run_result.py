@@ -206,8 +206,7 @@ def _same_state(a: RunRecord, b: RunRecord) -> bool:
 
 
 def _outcome(record: RunRecord) -> Failure | None:
-    """The first failure (not taken over by a TRY) or interruption in the log; else the
-    statement left open, if any."""
+    """The first failure (not one a TRY took over) or interruption; else the statement left open."""
     program = record.metadata.get("program", record.path.name)
     open_starts: list[EventRecord] = []
     events = record.events

@@ -20,12 +20,15 @@ from cosmos.lang import compile_program
 SPOTS_MM = ((0.0, 0.0), (30.0, 20.0))
 """The touched spots, from the table frame's origin [mm]."""
 
+BODY = "  MOVE TO table + spot\n  CONTACT DOWN FORCE f\n  MOVE BY (0, 0, 15 mm)\nEND\n"
 WITH_LET = (
-    "SPEED 0.25 m/s\nPROC touch\n  MOVE TO table + spot\n  CONTACT DOWN FORCE f\n  MOVE BY (0, 0, 15 mm)\nEND\n"
+    "SPEED 0.25 m/s\nPROC touch\n"
+    + BODY
     + ("".join(f"LET spot = ({x} mm, {y} mm, 15 mm)\nLET f = 6 N\ntouch\n" for x, y in SPOTS_MM))
 )
 WITH_PARAMETERS = (
-    "SPEED 0.25 m/s\nPROC touch(spot, f)\n  MOVE TO table + spot\n  CONTACT DOWN FORCE f\n  MOVE BY (0, 0, 15 mm)\nEND\n"
+    "SPEED 0.25 m/s\nPROC touch(spot, f)\n"
+    + BODY
     + ("".join(f"touch(({x} mm, {y} mm, 15 mm), 6 N)\n" for x, y in SPOTS_MM))
 )
 
