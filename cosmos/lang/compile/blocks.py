@@ -148,17 +148,32 @@ def _argument_misfit(
     if isinstance(error, SuppressedError) or not definition.parameters:
         return None
     keys = [p.key for p in definition.parameters]
-    used = {span: name for span, name in _names_used(definition.body) if name in keys}
-    parameter_key = None if error.span is None else used.get(error.span)
-    if parameter_key is None or error.span is None:
+    span = error.span
+    if span is None:
+        return None
+    uses = [(used, name) for used, name in _names_used(definition.body) if name in keys]
+    parameter_key = next((name for used, name in uses if used == span), None)
+    if parameter_key is None:  # an expression holding one parameter's uses: (0, 0, h)
+        inside = {name for used, name in uses if _within(used, span)}
+        parameter_key = inside.pop() if len(inside) == 1 else None
+    if parameter_key is None:
         return None
     index = keys.index(parameter_key)
     parameter, argument = definition.parameters[index], call.arguments[index]
     reason = _CONTEXT.sub("", error.message)
     return ProgramError(
         f"argument {index + 1} of {definition.name.name} ({parameter.name} = {text_of(argument.span)}) "
-        f"does not fit line {error.span.line}, where {reason}",
+        f"does not fit line {span.line}, where {reason}",
         argument.span,
+    )
+
+
+def _within(inner: Span, outer: Span) -> bool:
+    """Whether ``inner`` lies inside ``outer`` (same file)."""
+    return (
+        inner.file == outer.file
+        and (inner.line, inner.column) >= (outer.line, outer.column)
+        and (inner.end_line, inner.end_column) <= (outer.end_line, outer.end_column)
     )
 
 

@@ -87,6 +87,7 @@ _EXAMPLES: dict[str, list[str]] = {
     ],
     "CALL needs the name of a PROC": ["CALL", "CALL 3"],
     "ELSE without an IF: ELSE goes between IF condition ... and its END": ["ELSE", "ELSE\nWAIT 1 s"],
+    "ON FAIL without a TRY: TRY ... ON FAIL ... END": ["ON FAIL", "ON FAIL\nWAIT 1 s"],
     "IF needs a condition, as in IF FORCE Z < -5 N ... END": ["IF\nEND", "IF 3\nEND"],
     "WHILE needs a condition, as in WHILE FORCE < 2 N ... END": ["WHILE\nEND", "WHILE 3\nEND"],
     "RETRY needs how many times at most: RETRY 3": ["TRY\nWAIT 1 s\nON FAIL\nRETRY\nEND"],

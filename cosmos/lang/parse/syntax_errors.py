@@ -108,14 +108,14 @@ def _describe_token(token: Any) -> str:
 
 
 def _open_block(source: str, file: str) -> ProgramError | None:
-    """The innermost PROC or REPEAT left without END, judged from line starts."""
+    """The innermost block (PROC, REPEAT, IF, WHILE, TRY) left without END, judged from line starts."""
     stack: list[tuple[int, int, str]] = []
     for number, line in enumerate(source.splitlines(), start=1):
         match = re.match(r"\s*([A-Za-z_]\w*)", line)
         if not match:
             continue
         word = match[1].upper()
-        if word in ("PROC", "REPEAT"):
+        if word in ("PROC", "REPEAT", "IF", "WHILE", "TRY"):
             stack.append((number, match.start(1) + 1, word))
         elif word == "END" and stack:
             stack.pop()
@@ -185,8 +185,10 @@ def syntax_error(
         if block is not None:
             return block
 
+    if token.type == "END" and "ON" in expected:
+        return ProgramError("TRY needs ON FAIL before its END: TRY ... ON FAIL ... END", span)
     if token.type == "END" and "END" not in expected and _open_block(source, file) is None:
-        return ProgramError("END without a PROC or REPEAT to close", span)
+        return ProgramError("END without a block (PROC, REPEAT, IF, WHILE, TRY) to close", span)
 
     keyword_candidates = [n for n in expected if terminal_text(n)]
     if token.type == "WORD":
