@@ -26,20 +26,26 @@ def test_the_required_programs_are_shipped() -> None:
 
 @pytest.mark.parametrize("name", SHIPPED)
 def test_shipped_program_runs(name: str, shipped_run: Callable[[str], ProgramRun]) -> None:
-    """Exit 0, the log's path printed, a complete log, every statement closed, none failed."""
+    """Exit 0, the log's path printed, a complete log, every statement closed, none failed
+    (but where a TRY recovered it)."""
     run = shipped_run(name)
     assert run.returncode == 0, run.describe()
     assert "Traceback" not in run.stderr
     assert f"log: {run.log.path}" in run.stdout.splitlines(), run.stdout
     assert not run.log.truncated
     assert run.log.source == run.source
-    assert not run.events("failed"), run.describe()
+    events = run.log.events
+    # a failure is allowed only where a TRY's ON FAIL part takes it over (the next event)
+    recovered = {
+        i for i, e in enumerate(events[:-1]) if e.kind == "failed" and events[i + 1].kind == "recovery"
+    }
+    assert len(run.events("failed")) == len(recovered), run.describe()
     open_line = None
-    for event in run.log.events:
+    for index, event in enumerate(events):
         if event.kind == "start":
             assert open_line is None, f"line {event.line} started inside line {open_line}"
             open_line = event.line
-        elif event.kind in ("done", "stopped"):
+        elif event.kind in ("done", "stopped") or index in recovered:
             assert event.line == open_line, run.describe()
             open_line = None
     assert open_line is None, f"line {open_line} never closed\n{run.describe()}"
