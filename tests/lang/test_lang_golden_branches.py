@@ -45,7 +45,8 @@ def test_if_holds_both_branches_with_its_condition_in_the_frame() -> None:
     force along (0, 0, -1); the IF branch holds one MOVE, the ELSE branch another, indexed in order."""
     source = (
         "MOVE TO table + (0, 0, 50 mm)\n"
-        "IF FORCE Z < -5 N IN table\n  MOVE BY (0, 0, 10 mm)\nELSE\n  MOVE BY (0, 0, 20 mm)\n  WAIT 1 s\nEND\n"
+        "IF FORCE Z < -5 N IN table\n  MOVE BY (0, 0, 10 mm)\n"
+        "ELSE\n  MOVE BY (0, 0, 20 mm)\n  WAIT 1 s\nEND\n"
         "WAIT 2 s\n"
     )
     compiled = compile_text(source)
@@ -125,7 +126,8 @@ def test_names_and_settings_made_in_a_branch_end_with_it() -> None:
 def test_a_contact_made_in_both_branches_is_held_after() -> None:
     """Both branches make the same contact: the SLIDE after END slides on it (-8 N on z)."""
     source = (
-        "IF FORCE > 1 N\n  CONTACT DOWN FORCE 8 N\nELSE\n  MOVE BY (0, 0, -5 mm)\n  CONTACT DOWN FORCE 8 N\nEND\n"
+        "IF FORCE > 1 N\n  CONTACT DOWN FORCE 8 N\n"
+        "ELSE\n  MOVE BY (0, 0, -5 mm)\n  CONTACT DOWN FORCE 8 N\nEND\n"
         "SLIDE +X BY 20 mm\n"
     )
     slide = compile_text(source).segments[-1]
