@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import json
 import subprocess
 import sys
@@ -13,6 +14,7 @@ from lang_support import FIXTURES
 
 from cosmos.cli import cli
 from cosmos.commands import check as check_command
+from cosmos.lang import compile_program
 from cosmos.plan import plan_to_json
 
 PEG = """\
@@ -173,3 +175,52 @@ def test_warnings_past_twenty_are_counted_not_printed_unless_full(tmp_path: Path
     status, _, err = run(tmp_path, source, "--full")
     assert err.count("warning: MOVE BY (0, 0, 0) goes nowhere") == 30
     assert "more warnings" not in err
+
+
+BRANCHES = """\
+MOVE TO table + (0, 0, 50 mm)
+IF FORCE Z < -5 N
+  MOVE BY (0, 0, 20 mm)
+ELSE
+  TRY
+    INSERT DOWN DEPTH 5 mm FORCE 5 N
+  ON FAIL
+    MOVE BY (0, 0, 10 mm)
+    RETRY 2
+  END
+END
+"""
+
+
+def test_check_prints_every_branch_indented_under_its_decision(tmp_path: Path) -> None:
+    """The listing shows each branch's steps under their IF, ELSE, TRY and ON FAIL, one level
+    deeper each; the table has a row for each; the JSON nests them. Catches a branch left out."""
+    buffer = io.StringIO()
+    check_command.write_plan_lines(compile_program(BRANCHES, "b.cos", FIXTURES), buffer, True)
+    listing = buffer.getvalue().splitlines()[1:]
+    statements = [line[33:].split("  |")[0] for line in listing]  # after index, line and kind
+    assert statements == [
+        "MOVE TO table + (0, 0, 50 mm)",
+        "IF FORCE Z < -5 N",
+        "  MOVE BY (0, 0, 20 mm)",
+        "ELSE",
+        "  TRY",
+        "    INSERT DOWN DEPTH 5 mm FORCE 5 N",
+        "  ON FAIL",
+        "    MOVE BY (0, 0, 10 mm)",
+        "    RETRY 2",
+    ], listing
+    status, out, _ = run(tmp_path, BRANCHES)
+    assert status == 0
+    for word in ("IF FORCE Z < -5 N", "ELSE", "TRY", "ON FAIL", "RETRY 2", "if", "else", "try", "retry"):
+        assert word in out
+    status, out, _ = run(tmp_path, BRANCHES, "--json")
+    step = json.loads(out)["steps"][1]
+    assert step["step"] == "if" and step["else"][0]["step"] == "try"
+    assert step["else"][0]["on_fail"][1] == {
+        "step": "retry",
+        "line": 9,
+        "statement": "RETRY 2",
+        "context": "",
+        "times": 2,
+    }
