@@ -103,13 +103,15 @@ class Executor:
             np.minimum(-robot.tau_lower_nm, robot.tau_upper_nm),
             1.0 / runtime.rates.servo_hz,
         )
+        self.walker = PlanWalker(self)
+        """Decides IF, WHILE and TRY; keeps how the last statement ended from one plan to the next."""
 
     # ------------------------------------------------------------------ plan
 
     def run(self, plan: Plan) -> None:
         """Run every step of ``plan``; raise TaskFailure on the first failed statement."""
         self._source = plan.source
-        PlanWalker(self).walk(plan.steps)  # it decides IF, WHILE and TRY; runs statements here
+        self.walker.walk(plan.steps)  # it decides IF, WHILE and TRY; runs statements here
         if self._stopped_at is not None and self.recorder is not None:
             # The last statement ended on its UNTIL: hold until the sample showing what
             # fired it is in the log (one state period at most).
