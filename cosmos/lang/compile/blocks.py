@@ -51,7 +51,9 @@ def expand_call(run: CompileContext, statement: ast.Call, state: CompileState) -
     entry = state.procedures.get(key)
     if entry is None:
         if key == "end":
-            raise ProgramError("END without a block (PROC, REPEAT, IF, WHILE, TRY) to close", statement.span)
+            raise ProgramError(
+                "END without a PROC or REPEAT to close (nor an IF, WHILE or TRY)", statement.span
+            )
         if key == "else":
             raise ProgramError("ELSE without an IF: ELSE goes between IF ... and its END", statement.span)
         if statement.name.name.upper() in statement_keywords():

@@ -188,7 +188,7 @@ def syntax_error(
     if token.type == "END" and "ON" in expected:
         return ProgramError("TRY needs ON FAIL before its END: TRY ... ON FAIL ... END", span)
     if token.type == "END" and "END" not in expected and _open_block(source, file) is None:
-        return ProgramError("END without a block (PROC, REPEAT, IF, WHILE, TRY) to close", span)
+        return ProgramError("END without a PROC or REPEAT to close (nor an IF, WHILE or TRY)", span)
 
     keyword_candidates = [n for n in expected if terminal_text(n)]
     if token.type == "WORD":
