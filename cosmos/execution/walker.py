@@ -188,6 +188,7 @@ class PlanWalker:
                 if not self.runner.recoverable(failure):
                     raise
                 last_failure = failure
+                self.last = Ending.FAILED  # a WHILE past its MAX or a used-up RETRY failed too
             self.runner.note(
                 "recovery", step, f"ON FAIL (line {step.handler_line}) takes over: {last_failure.message}"
             )

@@ -13,10 +13,17 @@ from __future__ import annotations
 
 import math
 import re
+from typing import NoReturn
 
 import numpy as np
 import pytest
 from run_support import TABLE_TOP_Z_M, ProgramRun, run_in_process, write_program
+
+from cosmos import plan
+from cosmos.commands.check import load_fixtures
+from cosmos.errors import TaskFailure
+from cosmos.execution.walker import PlanWalker, Senses
+from cosmos.lang import compile_program
 
 TOUCH = """\
 SPEED 0.25 m/s
@@ -119,3 +126,104 @@ def test_while_past_its_bound_fails(tmp_path_factory: pytest.TempPathFactory) ->
     failed = run.events("failed", 2)
     assert failed and "still holds after 2 passes (MAX 2)" in failed[0].reason, run.describe()
     assert "WHILE" in run.stderr and "MAX 2" in run.stderr
+
+
+# ------------------------------------------- the walker alone, on a runner that records
+
+
+class _Interrupted(TaskFailure):
+    """Stands for the executor's interruption (Ctrl-C)."""
+
+
+class _Recorder:
+    """A runner whose statements end as a script says; it records what ran and the events."""
+
+    def __init__(self, endings: dict[int, list[str]], force_z: float = 0.0):
+        self.endings = (
+            endings  # line -> endings of its runs in turn: "done", "stopped", "failed", "interrupted"
+        )
+        self.ran: list[int] = []
+        self.events: list[tuple[str, int]] = []
+        self.force_z = force_z
+
+    def run_statement(self, segments: list[plan.Segment]) -> bool:
+        line = segments[0].line
+        self.ran.append(line)
+        ending = self.endings.get(line, ["done"]).pop(0) if self.endings.get(line) else "done"
+        if ending == "failed":
+            self.events.append(("failed", line))
+            raise TaskFailure(f"line {line} failed", segments[0].span, None)
+        if ending == "interrupted":
+            raise _Interrupted("interrupted", segments[0].span, None)
+        return ending == "stopped"
+
+    def scene_step(self, step: plan.AddObstacle | plan.RemoveObstacle) -> None:
+        raise AssertionError("no scene steps here")
+
+    def senses(self) -> Senses:
+        return Senses(np.array([0.0, 0.0, self.force_z]), np.zeros(3), np.zeros(3))
+
+    def note(self, kind: str, step: plan.Step, reason: str) -> None:
+        self.events.append((kind, step.line))
+
+    def fail(self, step: plan.Step, reason: str) -> NoReturn:
+        self.events.append(("failed", step.line))
+        raise TaskFailure(reason, step.span, None)
+
+    def recoverable(self, failure: TaskFailure) -> bool:
+        return not isinstance(failure, _Interrupted)
+
+
+def _walk(source: str, runner: _Recorder) -> None:
+    PlanWalker(runner).walk(compile_program(source, "walk.cos", load_fixtures()).steps)
+
+
+def test_last_stopped_reads_how_the_statement_before_ended() -> None:
+    """LAST STOPPED holds after a statement its UNTIL ended, not after one that was done."""
+    source = "WAIT 1 s\nIF LAST STOPPED\n  WAIT 2 s\nELSE\n  WAIT 3 s\nEND\n"
+    stopped, done = _Recorder({1: ["stopped"]}), _Recorder({})
+    _walk(source, stopped)
+    _walk(source, done)
+    assert stopped.ran == [1, 3] and done.ran == [1, 5]
+
+
+def test_an_inner_retry_runs_the_inner_try_and_the_outer_handler_takes_what_is_left() -> None:
+    """RETRY runs the block of the TRY whose ON FAIL part it is in; when its count is used up (the
+    handler having run again first) the failure goes to the enclosing TRY's handler, where LAST
+    FAILED holds. Catches a RETRY caught by the wrong TRY, or retries beyond the count."""
+    source = (
+        "TRY\n"  # 1
+        "  TRY\n"  # 2
+        "    WAIT 1 s\n"  # 3
+        "  ON FAIL\n"  # 4
+        "    WAIT 2 s\n"  # 5
+        "    RETRY 1\n"  # 6
+        "  END\n"  # 7
+        "ON FAIL\n"  # 8
+        "  IF LAST FAILED\n"  # 9
+        "    WAIT 3 s\n"  # 10
+        "  END\n"  # 11
+        "END\n"  # 12
+        "WAIT 4 s\n"  # 13
+    )
+    runner = _Recorder({3: ["failed", "failed"]})
+    _walk(source, runner)
+    assert runner.ran == [3, 5, 3, 5, 10, 13]
+    assert runner.events == [
+        ("failed", 3),
+        ("recovery", 2),
+        ("retry", 6),
+        ("failed", 3),
+        ("recovery", 2),
+        ("failed", 6),  # RETRY 1 used up: the inner TRY fails at its RETRY ...
+        ("recovery", 1),  # ... and the outer ON FAIL takes that over
+        ("decision", 9),
+    ]
+
+
+def test_an_interruption_is_never_taken_over_by_a_try() -> None:
+    """Ctrl-C inside TRY ends the program: the handler does not run."""
+    runner = _Recorder({2: ["interrupted"]})
+    with pytest.raises(_Interrupted):
+        _walk("TRY\n  WAIT 1 s\nON FAIL\n  WAIT 2 s\nEND\n", runner)
+    assert runner.ran == [2] and not runner.events
