@@ -18,7 +18,8 @@ from cosmos.errors import ProgramError
 
 
 def test_a_parameter_takes_its_argument_in_si() -> None:
-    """``press(12 N, 4 mm)``: the CONTACT holds -12 N on world z, the MOVE goes 4 mm up."""
+    """``press(12 N, 4 mm)``: the CONTACT holds -12 N on world z, the MOVE goes 4 mm up.
+    Catches arguments bound in the wrong order or left in the units written."""
     source = "PROC press(f, lift)\n  CONTACT DOWN FORCE f\n  MOVE BY (0, 0, lift)\nEND\npress(12 N, 4 mm)\n"
     contact_hold, move = compile_text(source).segments[1:]
     np.testing.assert_allclose(contact_hold.force_setpoint, [0, 0, -12.0, 0, 0, 0])
@@ -29,7 +30,7 @@ def test_a_parameter_takes_its_argument_in_si() -> None:
 
 def test_arguments_are_evaluated_where_called_and_parameters_are_local() -> None:
     """The argument ``d * 2`` reads the caller's d; after the call the caller's own ``f`` is back,
-    and a parameter never leaks out of its call."""
+    and a parameter never leaks out of its call. Catches arguments read in the callee's scope."""
     source = (
         "LET d = 3 mm\nLET f = (0, 0, 50 mm)\nPROC up(f)\n  MOVE BY (0, 0, f)\nEND\nup(d * 2)\nMOVE BY f\n"
     )
@@ -42,7 +43,8 @@ def test_arguments_are_evaluated_where_called_and_parameters_are_local() -> None
 
 def test_if_holds_both_branches_with_its_condition_in_the_frame() -> None:
     """``IF FORCE Z < -5 N IN table``: the table frame's Z is world -Z, so the condition reads the
-    force along (0, 0, -1); the IF branch holds one MOVE, the ELSE branch another, indexed in order."""
+    force along (0, 0, -1); the IF branch holds one MOVE, the ELSE branch another, indexed in
+    order. Catches a condition read in the world instead of its frame, or indexes that collide."""
     source = (
         "MOVE TO table + (0, 0, 50 mm)\n"
         "IF FORCE Z < -5 N IN table\n  MOVE BY (0, 0, 10 mm)\n"
@@ -67,7 +69,8 @@ def test_if_holds_both_branches_with_its_condition_in_the_frame() -> None:
 
 def test_position_and_distance_read_from_the_frame_origin() -> None:
     """``POSITION Y > 5 mm IN hole`` reads along world -Y (the hole frame's Y) from the hole's
-    origin; ``DISTANCE < 3 mm IN hole`` from the same origin; LAST FAILED reads the ending."""
+    origin; ``DISTANCE < 3 mm IN hole`` from the same origin; LAST FAILED reads the ending.
+    Catches a position measured from the world's origin."""
     source = "IF POSITION Y > 5 mm IN hole AND DISTANCE < 3 mm IN hole\n  WAIT 1 s\nEND\n"
     with pytest.raises(ProgramError):  # IN is one clause of the IF, not of each comparison
         compile_text(source)
@@ -88,7 +91,8 @@ def test_position_and_distance_read_from_the_frame_origin() -> None:
 
 
 def test_while_holds_one_pass_and_its_bound() -> None:
-    """``WHILE ... MAX 7`` compiles its body once; without MAX the bound is 100 passes."""
+    """``WHILE ... MAX 7`` compiles its body once; without MAX the bound is 100 passes.
+    Catches an unbounded loop."""
     source = "WHILE FORCE < 2 N MAX 7\n  MOVE BY (0, 0, -2 mm)\nEND\nWHILE TORQUE > 1 Nm\n  WAIT 0.5 s\nEND\n"
     first, second = compile_text(source).steps
     assert isinstance(first, plan.Loop) and isinstance(second, plan.Loop)
@@ -98,7 +102,8 @@ def test_while_holds_one_pass_and_its_bound() -> None:
 
 
 def test_try_holds_its_block_its_handler_and_the_retry() -> None:
-    """TRY's block and ON FAIL part are compiled; RETRY 3 is the handler's last step."""
+    """TRY's block and ON FAIL part are compiled; RETRY 3 is the handler's last step.
+    Catches a handler dropped from the plan or indexes reused after it."""
     source = (
         "TRY\n  INSERT DOWN DEPTH 10 mm FORCE 5 N\nON FAIL\n  MOVE BY (0, 0, 10 mm)\n  RETRY 3\nEND\n"
         "MOVE BY (0, 0, 5 mm)\n"
@@ -114,7 +119,8 @@ def test_try_holds_its_block_its_handler_and_the_retry() -> None:
 
 
 def test_names_and_settings_made_in_a_branch_end_with_it() -> None:
-    """SPEED inside an IF applies to its branch only; the MOVE after END has the speed before."""
+    """SPEED inside an IF applies to its branch only; the MOVE after END has the speed before.
+    Catches a branch's setting leaking into statements compiled for both branches."""
     source = (
         "SPEED 0.2 m/s\nIF FORCE > 1 N\n  SPEED 0.05 m/s\n  MOVE BY (0, 0, 1 mm)\nEND\nMOVE BY (0, 0, 1 mm)\n"
     )
@@ -124,7 +130,8 @@ def test_names_and_settings_made_in_a_branch_end_with_it() -> None:
 
 
 def test_a_contact_made_in_both_branches_is_held_after() -> None:
-    """Both branches make the same contact: the SLIDE after END slides on it (-8 N on z)."""
+    """Both branches make the same contact: the SLIDE after END slides on it (-8 N on z).
+    Catches a merge that forgets the contact both branches hold."""
     source = (
         "IF FORCE > 1 N\n  CONTACT DOWN FORCE 8 N\n"
         "ELSE\n  MOVE BY (0, 0, -5 mm)\n  CONTACT DOWN FORCE 8 N\nEND\n"
@@ -136,7 +143,7 @@ def test_a_contact_made_in_both_branches_is_held_after() -> None:
 
 
 def test_json_holds_the_branches() -> None:
-    """The plan's JSON nests the branches under their IF."""
+    """The plan's JSON nests the branches under their IF. Catches a branch missing from --json."""
     compiled = compile_text("IF LAST STOPPED\n  WAIT 1 s\nELSE\n  WAIT 2 s\nEND\n")
     (step,) = plan.plan_to_json(compiled)["steps"]
     assert step["step"] == "if" and step["condition"] == {"last": "stopped", "text": "LAST STOPPED"}

@@ -179,7 +179,8 @@ def _walk(source: str, runner: _Recorder) -> None:
 
 
 def test_last_stopped_reads_how_the_statement_before_ended() -> None:
-    """LAST STOPPED holds after a statement its UNTIL ended, not after one that was done."""
+    """LAST STOPPED holds after a statement its UNTIL ended, not after one that was done.
+    Catches an ending not recorded, or read from the wrong statement."""
     source = "WAIT 1 s\nIF LAST STOPPED\n  WAIT 2 s\nELSE\n  WAIT 3 s\nEND\n"
     stopped, done = _Recorder({1: ["stopped"]}), _Recorder({})
     _walk(source, stopped)
