@@ -156,7 +156,8 @@ class PlanWalker:
     def _branch(self, step: Branch) -> None:
         holds, read = self.decide(step.condition)
         if holds:
-            taken = f"runs the IF branch (line {step.line + 1})"
+            first = f"line {step.then_steps[0].line}" if step.then_steps else "empty"
+            taken = f"runs the IF branch ({first})"
         elif step.else_line is not None:
             taken = f"runs the ELSE branch (line {step.else_line})"
         else:
