@@ -1,23 +1,27 @@
 """IF and WHILE decided on what the arm senses (issue 22, "Must show").
 
-The table cannot be moved by a program, so the two runs differ only in how high
-above the table the CONTACT starts (20 mm or 60 mm), which is the same as a table
-40 mm higher or lower under the same start. ``CONTACT DOWN ... UNTIL DISTANCE >
-40 mm`` touches and presses 10 N from 20 mm up; from 60 mm its UNTIL ends it in
-free air. ``IF FORCE Z < -5 N`` must then take the IF branch in the first run and
-the ELSE branch in the second, and the log must say so with the value read,
-which is checked against the wrist sensor's own samples in the log.
+Two runs of one program differ only in the table's height: the real table is
+where the program's ``table`` frame says, or 40 mm lower (``cosmos run --vary
+'table.z=-40 mm'``: the workcell changes, the program's frames do not).
+``CONTACT DOWN ... UNTIL DISTANCE > 40 mm`` starts 20 mm above the nominal table:
+it touches and presses 10 N on the nominal table, and on the lowered one its
+UNTIL ends it in free air 20 mm short. ``IF FORCE Z < -5 N`` must then take the
+IF branch in the first run and the ELSE branch in the second, and the log must
+say so with the value read, which is checked against the wrist sensor's own
+samples in the log.
 """
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 import re
 from typing import NoReturn
 
 import numpy as np
 import pytest
-from run_support import TABLE_TOP_Z_M, ProgramRun, run_in_process, write_program
+from run_support import TABLE_TOP_Z_M, ProgramRun, read_run, run_in_process, write_program
 
 from cosmos import plan
 from cosmos.commands.check import load_fixtures
@@ -27,12 +31,12 @@ from cosmos.lang import compile_program
 
 TOUCH = """\
 SPEED 0.25 m/s
-MOVE TO table + (0, 0, {start})
+MOVE TO table + (0, 0, 20 mm)
 CONTACT DOWN FORCE 10 N UNTIL DISTANCE > 40 mm TIMEOUT 5 s
 IF FORCE Z < -5 N
   MOVE BY (0, 0, 50 mm)
 ELSE
-  MOVE BY (0, 0, 40 mm)
+  MOVE BY (0, 0, 70 mm)
 END
 WHILE POSITION Z < -25 mm IN table MAX 10
   MOVE BY (0, 0, -10 mm)
@@ -47,16 +51,32 @@ def _run(directory_factory: pytest.TempPathFactory, name: str, source: str) -> P
     return run_in_process(write_program(directory, name, source), directory / f"{name}.mcap")
 
 
+def _run_on_table(directory_factory: pytest.TempPathFactory, name: str, table_z_m: float) -> ProgramRun:
+    """TOUCH run in-process with the real table moved ``table_z_m`` along world z."""
+    from cosmos.commands.run import run_program
+    from cosmos.runtime.rates import Rates
+    from cosmos.sweep.variation import WorkcellVariation
+
+    directory = directory_factory.mktemp(name)
+    program = write_program(directory, name, TOUCH)
+    log_path = directory / f"{name}.mcap"
+    variation = WorkcellVariation.from_values({"table.z": table_z_m})
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        returncode = run_program(program, log_path, Rates(), 0, variation=variation)
+    return read_run(program, log_path, returncode, out.getvalue(), err.getvalue())
+
+
 @pytest.fixture(scope="module")
 def near(tmp_path_factory: pytest.TempPathFactory) -> ProgramRun:
-    """The CONTACT starts 20 mm above the table: it touches."""
-    return _run(tmp_path_factory, "near", TOUCH.format(start="20 mm"))
+    """The table where the program's frame says: the CONTACT touches it."""
+    return _run_on_table(tmp_path_factory, "near", 0.0)
 
 
 @pytest.fixture(scope="module")
 def far(tmp_path_factory: pytest.TempPathFactory) -> ProgramRun:
-    """The CONTACT starts 60 mm above the table: its UNTIL stops it 20 mm short."""
-    return _run(tmp_path_factory, "far", TOUCH.format(start="60 mm"))
+    """The table 40 mm lower: the CONTACT's UNTIL stops it 20 mm short."""
+    return _run_on_table(tmp_path_factory, "far", -0.040)
 
 
 def _decision(run: ProgramRun) -> tuple[str, float]:
@@ -83,6 +103,8 @@ def test_each_run_takes_its_branch(near: ProgramRun, far: ProgramRun) -> None:
     far_reason, _ = _decision(far)
     assert "holds: runs the IF branch" in near_reason
     assert "does not hold: runs the ELSE branch" in far_reason
+    assert near.events("contact", 3) and not far.events("contact", 3), "one table is touched, one not"
+    assert far.events("stopped", 3), far.describe()
     assert near.events("done", THEN_LINE) and not near.events(line=ELSE_LINE)
     assert far.events("done", ELSE_LINE) and not far.events(line=THEN_LINE)
 
