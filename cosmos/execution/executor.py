@@ -228,6 +228,7 @@ class Executor:
             goals[-1],
             cause,
         )
+        monitor.turn_long_way = rt.rotation_plan is not None and rt.rotation_plan.long_way
         supervisor = self.supervisor
         supervisor.free_force_limit_n = segment.force_limit_n or FREE_MOTION_FORCE_N
         supervisor.start(segment, start_position, goals[0][0])

@@ -19,6 +19,7 @@ import numpy as np
 from cosmos.execution.arrival import GoalError, goal_error
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.lang.check.limits import MAX_DURATION_S
+from cosmos.osc.orientation import unwrap_rotation_vector
 from cosmos.plan import (
     AllOf,
     AnyOf,
@@ -138,6 +139,9 @@ class SegmentMonitor:
         self.timed_until_s = timed_until_s
         self._settled_since: float | None = None
         self._ticks = 0
+        self.turn_long_way = False
+        """Set when the controller turns the long way round to the goal orientation."""
+        self._turn: FloatArray | None = None
         self._closest_m = float("inf")
         self._closest_s = start_s
         self._last_depth = 0.0
@@ -243,9 +247,15 @@ class SegmentMonitor:
                 Verdict.FAILED,
                 f"did not arrive within {TIMED_SETTLE_S:g} s after its {duration:g} s: {error.text()}",
             )
-        progress = float(np.linalg.norm(position_error)) + STALL_ANGLE_SCALE_M * float(
-            np.linalg.norm(rotation_error)
-        )
+        # Turning the long way round (cosmos.runtime.rotation_plan) the shortest angle first
+        # grows: progress counts the rotation left the way the arm turns (kept continuous).
+        left = error.rotation_rad
+        if self._turn is not None:
+            left = unwrap_rotation_vector(left, self._turn)
+        elif self.turn_long_way and float(np.linalg.norm(left)) > 1e-3:
+            left = left * (1.0 - 2.0 * math.pi / float(np.linalg.norm(left)))
+        self._turn = left
+        progress = float(np.linalg.norm(position_error)) + STALL_ANGLE_SCALE_M * float(np.linalg.norm(left))
         return self._stalled(snap, progress, error)
 
     def _stalled(self, snap: Snapshot, distance_m: float, error: GoalError) -> Outcome | None:

@@ -91,12 +91,12 @@ def setpoint_for(
     kp, kv = axis_gains(segment, evaluation)
     trajectory = None
     duration_s = segment.duration_s
+    cruise_speed = None
     if duration_s is None and segment.kind is SegmentKind.SLIDE and segment.speed_limit_mps:
         # Along a surface, friction opposes the motion: a trajectory tracked with eq. 19
-        # pushes through it with position error, where eq. 20's velocity servo would
-        # crawl. Minimum jerk peaks at 1.875 times the mean speed: keep that at the limit.
-        distance = float(np.linalg.norm(goal_position - evaluation.position))
-        duration_s = max(1.875 * distance / segment.speed_limit_mps, 0.1)
+        # (and its integral, cosmos.runtime.servo_kernel) pushes through it, where eq. 20's
+        # velocity servo would crawl. It cruises at the SPEED between short ramps.
+        cruise_speed, duration_s = segment.speed_limit_mps, 1.0  # the cruise sets the duration
     if duration_s is not None:
         mode = MotionMode.TRAJECTORY
         trajectory = PoseTrajectory.between(
@@ -105,6 +105,7 @@ def setpoint_for(
             goal_position,
             goal_rotation,
             duration_s,
+            cruise_speed,
         )
     elif segment.target is None and segment.kind is not SegmentKind.CONTACT_APPROACH:
         mode = MotionMode.HOLD
@@ -124,4 +125,5 @@ def setpoint_for(
         kp_task=kp,
         kv_task=kv,
         trajectory=trajectory,
+        limit_push_speed=segment.kind is SegmentKind.INSERT,
     )

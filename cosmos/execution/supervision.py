@@ -195,6 +195,7 @@ class Supervisor:
     def start(self, segment: Segment, position: FloatArray, goal_position: FloatArray) -> None:
         """A segment starts at the measured tool point ``position`` toward ``goal_position``."""
         self._segment = segment
+        worked_in_contact = self._expect_fixture  # the previous statement's: a peg may graze its hole
         self._expect_fixture = expects_contact(segment)
         self._guarded = has_force_term(segment.until)[0]
         self._force_limit = force_limit_n(segment, self.free_force_limit_n)
@@ -202,7 +203,7 @@ class Supervisor:
         self._over = 0
         self._saturated_ticks = [0] * len(self._saturated_at)
         self._tick = 0
-        self._inherited = self._tool_touches_fixture()
+        self._inherited = worked_in_contact or self._tool_touches_fixture()
         self._since_touch = 0
         self._path_axes = [
             tuple(segment.frame_rotation[:, i].tolist())

@@ -44,6 +44,23 @@ from a singularity, and the joint torque that a unit acceleration command can
 demand along a singular direction stays below ``sqrt(a M)`` (a the joint
 inertia involved; M = 2000 kg, or ``M L^2`` = 500 kg m^2 for rotations): about
 10 N m per rad/s^2 at the wrist (a = 0.2 kg m^2), within its 20 N m drives.
+
+The task in the orthogonal subspace (section 5). Dropping a direction from
+Lambda is not enough: the end effector's acceleration is then ``F*`` with its
+component along the singular direction removed *orthogonally* (in the scaled
+metric), and at the PUMA's wrist that direction mixes a rotation with a
+translation of the tool point (a moment about the lost axis plus the force
+through the wrist centre that balances it on joints 1-3). A rotation error
+about the lost axis then translates the tool: a 15 deg roll at q5 = 0.8 deg ran
+the tool 100 mm sideways. So the command is projected first, obliquely: with
+``u`` the singular wrench direction (``u^T t = 0`` for every twist t the arm can
+make) and ``d`` the direction given up (u's rotation, its translation weighted
+by TRANSLATION_GIVE_UP), ``P = I - g d u^T / (u^T d)`` makes ``u^T P F* = 0``
+by changing only the rotation where the loss is rotational: the tool point
+keeps its line and the rest of the task stays decoupled; the rotation about the
+lost axis waits (:func:`singular_task_projection`; ``g`` ramps in with the
+blend so P is continuous). At a translational singularity (the stretched
+elbow) ``u`` has no rotation and ``d`` is its translation.
 """
 
 from __future__ import annotations
@@ -85,6 +102,11 @@ class SingularityPolicy:
 
 DEFAULT_POLICY = SingularityPolicy()
 
+TRANSLATION_GIVE_UP = 1e-3
+"""Weight of the translation in the direction a singular task gives up, relative to rotation."""
+SINGULAR_GIVE_UP_RATE = 4.0
+"""The projection's weight is ``min(1, rate (1 - blend))``: whole once a quarter of the blend is gone."""
+
 
 class OperationalDynamics(NamedTuple):
     """The operational-space model at one configuration (eq. 26-28) and its singular directions.
@@ -105,6 +127,7 @@ class OperationalDynamics(NamedTuple):
     eigenvalues: FloatArray  # (m,) or (0,): eigenvalues of scaled Lambda^-1, ascending, [1/kg]
     eigenvectors: FloatArray  # (m, m) or (m, 0): their unit eigenvectors (columns)
     blend: FloatArray  # (m,) or (0,): 1 controlled, 0 singular, per eigen-direction
+    task_projection: FloatArray  # (m, m) P of section 5: what of F* the arm can do without bending it
 
     @property
     def singular(self) -> BoolArray:
@@ -170,8 +193,10 @@ def operational_dynamics(
     lambda_ = _exact_inverse(lambda_inv, scale, policy)
     empty = np.empty((m, 0))
     eigenvalues, eigenvectors, blend = empty[0], empty, np.ones(m)
+    projection = np.eye(m)
     if lambda_ is None:
         lambda_, eigenvalues, eigenvectors, blend = _blended_inverse(lambda_inv, scale, policy)
+        projection = singular_task_projection(eigenvectors, blend, scale)
     jbar = a_inv_jt.dot(lambda_)  # (n, m)
     jbar_t = jbar.T
     lambda_h = lambda_.dot(jdot_qdot)
@@ -187,6 +212,7 @@ def operational_dynamics(
         eigenvalues=eigenvalues,
         eigenvectors=eigenvectors,
         blend=blend,
+        task_projection=projection,
     )
 
 
@@ -220,6 +246,40 @@ def _blended_inverse(
     lambda_scaled = (eigenvectors * (blend / safe)).dot(eigenvectors.T)
     lambda_ = lambda_scaled if scale is None else lambda_scaled * np.outer(scale, scale)
     return lambda_, eigenvalues, eigenvectors, blend
+
+
+def singular_task_projection(
+    eigenvectors: FloatArray, blend: FloatArray, scale: FloatArray | None
+) -> FloatArray:
+    """Section 5's projection of the motion command onto what the arm can do, position first.
+
+    For each partly singular eigen-direction ``v`` (blend ``w < 1``) of the scaled
+    Lambda^-1, the singular wrench is ``u = S v`` and the direction given up is
+    ``d = (TRANSLATION_GIVE_UP u_lin, u_rot)``; the factor is
+    ``I - g d u^T / (u^T d)`` with ``g = min(1, SINGULAR_GIVE_UP_RATE (1 - w))``,
+    applied in ascending order of eigenvalue.
+
+    Args:
+        eigenvectors: Unit eigenvectors of the scaled Lambda^-1 (columns). # (m, m)
+        blend: Their blend weights. # (m,)
+        scale: Row scale S (None: none).
+
+    Returns:
+        P, with ``u^T P = (1 - g) u^T`` for each singular u. # (m, m)
+    """
+    m = eigenvectors.shape[0]
+    projection = np.eye(m)
+    for i in np.nonzero(blend < 1.0)[0]:
+        u = eigenvectors[:, i] if scale is None else scale * eigenvectors[:, i]
+        d = u.copy()
+        if m == 6:
+            d[:3] *= TRANSLATION_GIVE_UP
+        ud = float(u.dot(d))
+        if not ud > 0.0:
+            continue
+        weight = min(1.0, SINGULAR_GIVE_UP_RATE * (1.0 - float(blend[i])))
+        projection = (np.eye(m) - weight * np.outer(d, u) / ud).dot(projection)
+    return projection
 
 
 def kinetic_energy_matrix_square(inertia: FloatArray, jacobian: FloatArray) -> FloatArray:

@@ -82,3 +82,61 @@ def joint_limit_torque(
     n = q.shape[0]
     magnitude = firas_magnitude(np.concatenate((q - q_min, q_max - q)), rho_0, eta, torque_cap)
     return magnitude[:n] - magnitude[n:]
+
+
+def joint_limit_task_projection(
+    jacobian: FloatArray,
+    q: FloatArray,
+    q_min: FloatArray,
+    q_max: FloatArray,
+    goal_direction: FloatArray,
+    margin_rad: float,
+    whole_rad: float,
+    translation_give_up: float,
+) -> FloatArray:
+    """A joint at its limit is a lost degree of freedom: the task gives up rotation, not its line.
+
+    Section 6's joint-limit potential stops a joint at its limit, but the task
+    command still asks for the motion that needs it; the other joints then make
+    what they can of it, and the tool leaves its line (a 130 deg reorientation ran
+    50-218 mm off it). Treated like a singular direction (section 5,
+    :func:`cosmos.osc.dynamics.singular_task_projection`): the twists the arm can
+    make without joint i are those with ``u_i^T t = 0``, ``u_i = J^-T e_i`` (row i
+    of J^-1), and ``I - g d u_i^T / (u_i^T d)``, ``d = (translation_give_up
+    u_lin, u_rot)``, removes joint i's share of a command by giving up rotation.
+    It acts on a joint within ``margin_rad`` of a limit that the goal direction
+    drives further in, with ``g = (margin_rad - distance) / (margin_rad - whole_rad)``
+    up to 1: whole from ``whole_rad`` in, where the joint-limit potential begins.
+
+    Args:
+        jacobian: J(q), rows linear then angular, world. # (6, 6)
+        q: Joint positions, in [rad]. # (6,)
+        q_min: Lower limits, in [rad]. # (6,)
+        q_max: Upper limits, in [rad]. # (6,)
+        goal_direction: The twist toward the goal, ``-(x - x_d)``, in [m, rad]. # (6,)
+        margin_rad: Distance from a limit at which the projection starts, in [rad].
+        whole_rad: Distance from a limit at which it is whole, in [rad].
+        translation_give_up: Weight of translation in the direction given up.
+
+    Returns:
+        P (the identity when no joint is near a limit it is driven into). # (6, 6)
+    """
+    projection = np.eye(6)
+    try:
+        joint_rates = np.linalg.solve(jacobian, goal_direction)
+        inverse_t = np.linalg.inv(jacobian).T
+    except np.linalg.LinAlgError:
+        return projection
+    for i in range(q.shape[0]):
+        below, above = q[i] - q_min[i], q_max[i] - q[i]
+        distance = below if joint_rates[i] < 0.0 else above
+        if joint_rates[i] == 0.0 or distance >= margin_rad:
+            continue
+        weight = min(1.0, (margin_rad - distance) / (margin_rad - whole_rad))
+        u = inverse_t[:, i]
+        d = u.copy()
+        d[:3] *= translation_give_up
+        ud = float(u.dot(d))
+        if ud > 0.0:
+            projection = (np.eye(6) - weight * np.outer(d, u) / ud).dot(projection)
+    return projection

@@ -56,6 +56,32 @@ def tracking_command(
     return command + xi_q * velocity if xi_q else command
 
 
+def integrate_motion_error(
+    integral: FloatArray, error: FloatArray, omega_bar: FloatArray, dt_s: float, limit: float
+) -> FloatArray:
+    """One step of the integral action on the motion axes' translation error, in contact.
+
+    Eq. 19 (or 20-21) with ``- k_i integral(Omega e_p) dt`` added to F*_m: along a
+    surface the friction (a table's 0.3 x 30 N) is a steady force that the
+    position loop alone balances only with a steady error (``f / (Lambda kp)``,
+    millimetres) and that static friction then holds short of the goal. The
+    integral grows until it beats the friction; each component is clamped to
+    ``+-limit`` (anti-windup), and it restarts with every segment.
+
+    Args:
+        integral: The integral so far, world, in [m s]. # (3,)
+        error: ``x - x_d``, world, in [m] then [rad]. # (6,)
+        omega_bar: Force-controlled projector (its translation block is used). # (6, 6)
+        dt_s: Servo period, in [s].
+        limit: Clamp per component, in [m s].
+
+    Returns:
+        The new integral. # (3,)
+    """
+    along = error[:3] - omega_bar[:3, :3].dot(error[:3])
+    return np.clip(integral + along * dt_s, -limit, limit)
+
+
 def _speed_limited(desired: list[float], max_speed: float, max_angular_speed: float) -> list[float]:
     """Eq. 21's ``nu``, applied to the linear and the angular part separately."""
     vx, vy, vz, wx, wy, wz = desired
@@ -147,6 +173,58 @@ def min_jerk(t_s: float, duration_s: float) -> tuple[float, float, float]:
     )
 
 
+CRUISE_ACCELERATION_MPS2 = 0.5
+"""Acceleration of a cruising trajectory's ramps (SLIDE), in [m/s^2]."""
+CRUISE_RAMP_MIN_S = 0.3
+"""Shortest ramp of a cruising trajectory, in [s]."""
+
+
+def cruise_ramp_s(speed_mps: float) -> float:
+    """Duration of a cruising trajectory's speed ramps: ``max(0.3 s, V / a)``."""
+    return max(CRUISE_RAMP_MIN_S, speed_mps / CRUISE_ACCELERATION_MPS2)
+
+
+def cruise_duration(distance_m: float, speed_mps: float) -> float:
+    """Duration of a cruise over ``distance_m`` at ``speed_mps``: ``D / V + ramp`` (two ramps at least)."""
+    ramp = cruise_ramp_s(speed_mps)
+    return max(distance_m / speed_mps + ramp, 2.0 * ramp)
+
+
+def cruise(t_s: float, duration_s: float, ramp_s: float) -> tuple[float, float, float]:
+    """Time scaling that cruises: cosine speed ramps of ``ramp_s`` at both ends, constant between.
+
+    ``ds/dt = v (1 - cos(pi t / ramp)) / 2`` over the first ramp, ``v`` in the middle,
+    the mirror image at the end, with ``v = 1 / (T - ramp)`` so that s goes from 0 to 1.
+    Zero speed and acceleration at both ends. A SLIDE of D at speed V uses
+    ``T = D / V + ramp`` (:func:`cruise_duration`): between its ramps it moves at V,
+    where minimum jerk (:func:`min_jerk`), peaking at V, would average 53 % of it.
+
+    Args:
+        t_s: Time since the start, in [s].
+        duration_s: Total duration T, in [s]; at least ``2 ramp_s``.
+        ramp_s: Duration of each ramp, in [s], > 0.
+
+    Returns:
+        ``(s, ds/dt, d2s/dt2)`` in [1], [1/s], [1/s^2].
+    """
+    if t_s <= 0.0:
+        return 0.0, 0.0, 0.0
+    if t_s >= duration_s:
+        return 1.0, 0.0, 0.0
+    ramp = min(ramp_s, 0.5 * duration_s)
+    v = 1.0 / (duration_s - ramp)
+    mirrored = t_s > duration_s - ramp
+    u = duration_s - t_s if mirrored else t_s
+    if u >= ramp:
+        s, sd, sdd = v * (0.5 * ramp + (u - ramp)), v, 0.0
+    else:
+        phase = math.pi * u / ramp
+        s = v * (0.5 * u - ramp / (2.0 * math.pi) * math.sin(phase))
+        sd = 0.5 * v * (1.0 - math.cos(phase))
+        sdd = 0.5 * v * math.pi / ramp * math.sin(phase)
+    return (1.0 - s, sd, -sdd) if mirrored else (s, sd, sdd)
+
+
 class PoseSample(NamedTuple):
     """Desired pose, twist and its derivative at one instant; world axes."""
 
@@ -170,6 +248,7 @@ class PoseTrajectory:
         displacement: p1 - p0, in [m]. # (3,)
         rotation_vector: phi, in [rad], world axes. # (3,)
         duration_s: T, in [s].
+        cruise_ramp_s: None for minimum-jerk timing; else the ramps of :func:`cruise`, [s].
     """
 
     start_position: FloatArray
@@ -177,6 +256,7 @@ class PoseTrajectory:
     displacement: FloatArray
     rotation_vector: FloatArray
     duration_s: float
+    cruise_ramp_s: float | None = None
 
     @classmethod
     def between(
@@ -186,12 +266,22 @@ class PoseTrajectory:
         end_position: FloatArray,
         end_rotation_to_world: FloatArray,
         duration_s: float,
+        cruise_speed_mps: float | None = None,
     ) -> PoseTrajectory:
         """The move from a start pose to an end pose in ``duration_s`` seconds.
+
+        With ``cruise_speed_mps`` the tool point cruises at that speed
+        (:func:`cruise`) and the duration is :func:`cruise_duration` of the
+        distance (``duration_s`` is then ignored).
 
         Raises:
             ValueError: If the duration is not positive.
         """
+        ramp = None
+        if cruise_speed_mps is not None:
+            distance = float(np.linalg.norm(np.asarray(end_position, dtype=float) - start_position))
+            ramp = cruise_ramp_s(cruise_speed_mps)
+            duration_s = cruise_duration(distance, cruise_speed_mps)
         if not duration_s > 0.0:
             raise ValueError(f"PoseTrajectory: duration_s must be > 0, got {duration_s}")
         return cls(
@@ -200,11 +290,15 @@ class PoseTrajectory:
             displacement=np.asarray(end_position, dtype=float) - start_position,
             rotation_vector=so3_log(end_rotation_to_world.dot(start_rotation_to_world.T)),
             duration_s=float(duration_s),
+            cruise_ramp_s=ramp,
         )
 
     def sample(self, t_s: float) -> PoseSample:
         """Desired pose, twist and acceleration ``t_s`` seconds after the start (held after T)."""
-        s, sd, sdd = min_jerk(t_s, self.duration_s)
+        if self.cruise_ramp_s is None:
+            s, sd, sdd = min_jerk(t_s, self.duration_s)
+        else:
+            s, sd, sdd = cruise(t_s, self.duration_s, self.cruise_ramp_s)
         px, py, pz = self.start_position.tolist()
         dx, dy, dz = self.displacement.tolist()
         fx, fy, fz = self.rotation_vector.tolist()

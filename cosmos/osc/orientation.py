@@ -190,6 +190,30 @@ def rotation_difference(rotation_a_to_world: FloatArray, rotation_b_to_world: Fl
     return np.array(_log_rows(rotation_a_to_world.dot(rotation_b_to_world.T).tolist()))
 
 
+def unwrap_rotation_vector(log: FloatArray, previous: FloatArray) -> FloatArray:
+    """The rotation vector of ``log``'s rotation nearest ``previous``: ``log`` or the other way round.
+
+    ``log`` (angle in [0, pi]) and ``log (1 - 2 pi / |log|)`` are the same rotation,
+    turned the short and the long way about the same axis. Choosing at every
+    evaluation the one nearest the last makes the orientation error of a goal
+    motion continuous: eq. 20-21 then keeps turning in the direction it started
+    (chosen to keep the joints in their ranges), through 180 deg, instead of
+    reversing where the shortest way flips.
+
+    Args:
+        log: From :func:`so3_log`, in [rad]. # (3,)
+        previous: The error at the last evaluation, in [rad]. # (3,)
+
+    Returns:
+        The representative nearer ``previous``, in [rad]. # (3,)
+    """
+    angle = float(np.linalg.norm(log))
+    if angle < SMALL_ANGLE_RAD:
+        return log
+    other = log * (1.0 - 2.0 * math.pi / angle)
+    return other if np.sum((other - previous) ** 2) < np.sum((log - previous) ** 2) else log
+
+
 def pose_error(
     position: FloatArray,
     rotation_to_world: FloatArray,

@@ -5,7 +5,9 @@ Operational force on the end effector::
     F   = Lambda Omega F*_m + Omega_bar F_a + mu + p                       (eq. 17-18)
     F_a = F_d + k_f (F_d - F_s) + k_i integral(F_d - F_s) dt - Lambda Omega_bar k_vf xd
 
-and the joint torque, eq. 16 written as in eq. 29 (Appendix I, A2)::
+(near a singularity ``Lambda P Omega F*_m``, P the task projection of section 5,
+:func:`cosmos.osc.dynamics.singular_task_projection`; elsewhere P = I) and the
+joint torque, eq. 16 written as in eq. 29 (Appendix I, A2)::
 
     Gamma = J^T (Lambda Omega F*_m + Omega_bar F_a) + b + g - J^T Lambda h + N^T Gamma_0
           = J^T F + N^T (b + g + Gamma_0)
@@ -163,7 +165,7 @@ def unified_wrench(
     Returns:
         F, the wrench the actuators apply on the end effector. # (6,)
     """
-    motion = dynamics.lambda_.dot(selection.omega.dot(motion_command))
+    motion = dynamics.lambda_.dot(dynamics.task_projection.dot(selection.omega.dot(motion_command)))
     return motion + selection.omega_bar.dot(force_command) + dynamics.mu + dynamics.p
 
 
@@ -186,7 +188,7 @@ def unified_torque(
     Returns:
         Gamma, in [N m]. # (n,)
     """
-    operational = dynamics.lambda_.dot(selection.omega.dot(motion_command))
+    operational = dynamics.lambda_.dot(dynamics.task_projection.dot(selection.omega.dot(motion_command)))
     operational += selection.omega_bar.dot(force_command)
     torque = dynamics.jacobian.T.dot(operational) + dynamics.compensation_torque
     if null_space_torque is not None:
@@ -201,13 +203,12 @@ class ServoMatrices(NamedTuple):
     ``Gamma = stacked @ (F*_m, F_fb, xd, 1)``.
     """
 
-    stacked: (
-        FloatArray  # (n, 19): J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar | bias
-    )
+    # (n, 19): J^T Lambda P Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar | bias
+    stacked: FloatArray
 
     @property
     def motion_to_torque(self) -> FloatArray:
-        """``J^T Lambda Omega``. # (n, 6)."""
+        """``J^T Lambda P Omega``. # (n, 6)."""
         return self.stacked[:, 0:6]
 
     @property
@@ -245,7 +246,7 @@ def servo_matrices(dynamics: OperationalDynamics, selection: Selection, gains: F
     force_to_torque = j_t.dot(omega_bar)
     stacked = np.hstack(
         (
-            j_t.dot(dynamics.lambda_).dot(selection.omega),
+            j_t.dot(dynamics.lambda_).dot(dynamics.task_projection).dot(selection.omega),
             force_to_torque,
             -gains.k_vf * force_to_torque.dot(dynamics.lambda_).dot(omega_bar),
             dynamics.compensation_torque[:, None],
@@ -269,3 +270,74 @@ def servo_torque(
         Gamma, in [N m]. # (n,)
     """
     return servo.stacked.dot(np.concatenate((motion_command, force_feedback, velocity, _ONE)))
+
+
+def speed_limited_push(
+    feedback: FloatArray,
+    force_goal: FloatArray,
+    force_sensed: FloatArray,
+    velocity: FloatArray,
+    lambda_inv_omega_bar: FloatArray,
+    max_speed: float,
+    kv: float,
+    k_vf: float,
+    ki: float = 0.0,
+    speed_integral: float = 0.0,
+    dt_s: float = 0.0,
+    integral_limit: float = 0.0,
+) -> tuple[FloatArray, bool, float]:
+    """A force-controlled push held to its speed limit: eq. 20-21's V_max on a force axis.
+
+    Along the push ``n = F_d / |F_d|`` (translation) the force loop commands
+    ``n^T F_fb``. In free space, or when the tool breaks through (a peg dropping
+    into its hole), nothing resists it and the tool accelerates until the
+    damping ``k_vf Lambda xd`` balances it: 15 N on 5 kg at k_vf = 30/s is
+    100 mm/s. So the push is capped by the force that moves the tool at V_max
+    against what it meets, measured: the sensed push plus a unit-mass velocity
+    servo toward V_max (eq. 20's ``-kv (xd - nu xd_d)`` with the speed at its
+    limit), plus the damping it must overcome::
+
+        f_speed = n^T F_s + m_n (kv (V_max - n^T xd) + k_vf n^T xd),  m_n = 1 / (n^T Lambda^-1 n)
+
+    plus ``m_n ki integral(V_max - n^T xd) dt``, integrated only while the cap binds and
+    clamped to ``+-integral_limit`` (the servo's bias, friction compensated a little
+    more or less than the joints' own, would otherwise leave a steady speed error).
+    ``n^T F_fb`` is replaced by ``min(n^T F_fb, f_speed)``. Pressing at rest
+    (``n^T xd = 0``) the cap is the sensed force plus ``m_n kv V_max`` above it, so
+    it only binds while the force is rising faster than the contact can take.
+
+    Args:
+        feedback: F_fb from :func:`force_feedback`, world, [N, N m]. # (6,)
+        force_goal: The segment's force setpoint F_d (not ramped), world. # (6,)
+        force_sensed: F_s, world, [N, N m]. # (6,)
+        velocity: Tool twist, world, [m/s, rad/s]. # (6,)
+        lambda_inv_omega_bar: ``Lambda^-1 Omega_bar``. # (6, 6)
+        max_speed: V_max, in [m/s].
+        kv: Velocity gain of the speed servo, in [1/s].
+        k_vf: The force axes' damping gain (eq. 18's F_a), in [1/s].
+        ki: Integral gain of the speed servo, in [1/s^2].
+        speed_integral: Its integral so far, in [m].
+        dt_s: Servo period, in [s].
+        integral_limit: Anti-windup bound on the integral, in [m].
+
+    Returns:
+        ``(F_fb, limited, speed_integral)``: the capped feedback, whether the cap bound,
+        and the updated integral.
+    """
+    push = float(np.linalg.norm(force_goal[:3]))
+    if push == 0.0:
+        return feedback, False, speed_integral
+    n = force_goal[:3] / push
+    inverse_mass = float(n.dot(lambda_inv_omega_bar[:3, :3]).dot(n))
+    if not inverse_mass > 0.0:
+        return feedback, False, speed_integral
+    along = float(n.dot(velocity[:3]))
+    servo = kv * (max_speed - along) + k_vf * along + ki * speed_integral
+    allowed = float(n.dot(force_sensed[:3])) + servo / inverse_mass
+    asked = float(n.dot(feedback[:3]))
+    if asked <= allowed:
+        return feedback, False, speed_integral
+    capped = feedback.copy()
+    capped[:3] += (allowed - asked) * n
+    grown = speed_integral + (max_speed - along) * dt_s
+    return capped, True, min(max(grown, -integral_limit), integral_limit)

@@ -23,9 +23,10 @@ from cosmos.plant import Plant
 from cosmos.robot_model import GRAVITY, RobotModel
 from cosmos.runtime.parameters import ParameterLevel
 from cosmos.runtime.rates import Rates
+from cosmos.runtime.rotation_plan import RotationPlan, plan_rotation
 from cosmos.runtime.servo import ServoGains, ServoLevel
 from cosmos.runtime.servo_kernel import environment_wrench_into
-from cosmos.runtime.setpoint import ServoSetpoint
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 from cosmos.workcell import TOOL
 
 FloatArray = np.ndarray
@@ -102,6 +103,7 @@ class Runtime:
             robot.coulomb_nm,
             1.0 / rates.servo_hz,
             self._tool_weight_z_n,
+            joint_limits=(robot.q_lower_rad, robot.q_upper_rad),
         )
         self.recorder = recorder
         self._live = plant.live_signals()
@@ -112,6 +114,8 @@ class Runtime:
         self._state_period_s = 1.0 / rates.state_hz
         self._eps_s = 0.25 * plant.dt_s
         self._next_state_s = plant.time_s + plant.dt_s  # one fixed grid from the first step on
+        self.rotation_plan: RotationPlan | None = None
+        """The way round the current goal motion turns (None outside goal motions)."""
         self.reset_clocks()
 
     def reset_clocks(self) -> None:
@@ -160,8 +164,27 @@ class Runtime:
         return self.plant.time_s
 
     def set_setpoint(self, setpoint: ServoSetpoint) -> None:
-        """Hand the servo level a new segment's command."""
-        self.servo.set_setpoint(setpoint)
+        """Hand the servo level a new segment's command.
+
+        A goal motion first has its way round chosen (:func:`plan_rotation`): the
+        shortest rotation unless the joints' ranges forbid it; :attr:`rotation_plan`
+        keeps the choice, and the joint that stops it if none is free.
+        """
+        rotation_error = None
+        self.rotation_plan = None
+        if setpoint.mode is MotionMode.GOAL:
+            ev = self.evaluation
+            plan = plan_rotation(
+                self.robot,
+                ev.q,
+                ev.position,
+                ev.rotation_tool_to_world,
+                setpoint.position,
+                setpoint.rotation_to_world,
+            )
+            self.rotation_plan = plan
+            rotation_error = -plan.rotation_vector
+        self.servo.set_setpoint(setpoint, rotation_error)
 
     def _sense_wrench(self) -> FloatArray:
         ev = self.evaluation

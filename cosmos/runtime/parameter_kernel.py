@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
+from cosmos.osc.dynamics import SINGULAR_GIVE_UP_RATE, TRANSLATION_GIVE_UP
 from cosmos.osc.orientation import NEAR_PI_SIN, SMALL_ANGLE_RAD
 from cosmos.runtime import evaluation_kernel as ek
 from cosmos.runtime import servo_kernel as sk
@@ -25,19 +26,28 @@ FloatArray = np.ndarray
 
 
 @kernel
-def lambda_from_inverse(
-    lambda_inv: FloatArray, max_effective_mass_kg: float, blend_width: float, length_scale_m: float
+def lambda_and_projection(
+    lambda_inv: FloatArray,
+    max_effective_mass_kg: float,
+    blend_width: float,
+    length_scale_m: float,
+    projection: FloatArray,
 ) -> FloatArray:
-    """Lambda from Lambda^-1, singular directions removed (section 5). # (6, 6).
+    """Lambda from Lambda^-1, singular directions removed (section 5), and the task projection. # (6, 6).
 
     The plain inverse where the trace of Lambda (row-scaled: rotations count as
     masses at ``length_scale_m``) proves every effective mass is below
     ``max / (1 + blend_width)``; otherwise the eigen-directions of the scaled
     Lambda^-1 are inverted with a smoothstep weight that drops the heavy ones.
+    ``projection`` receives :func:`cosmos.osc.dynamics.singular_task_projection`
+    (the identity in the exact zone).
     """
     scale = np.array((1.0, 1.0, 1.0, length_scale_m, length_scale_m, length_scale_m))
     limit = max_effective_mass_kg / (1.0 + blend_width)
     lambda_ = np.empty((6, 6))
+    projection[:, :] = 0.0
+    for i in range(6):
+        projection[i, i] = 1.0
     if ek.spd_inverse_into(lambda_, lambda_inv):  # False unless positive definite
         trace = 0.0
         for i in range(6):
@@ -50,8 +60,43 @@ def lambda_from_inverse(
     weights = np.empty(6)
     for i in range(6):
         u = min(max((eigenvalues[i] - s_lo) / (blend_width * s_lo), 0.0), 1.0)
-        weights[i] = u * u * (3.0 - 2.0 * u) / max(eigenvalues[i], s_lo)
+        blend = u * u * (3.0 - 2.0 * u)
+        weights[i] = blend / max(eigenvalues[i], s_lo)
+        if blend < 1.0:  # one factor of singular_task_projection
+            weight = min(1.0, SINGULAR_GIVE_UP_RATE * (1.0 - blend))
+            _remove_direction(projection, scale * eigenvectors[:, i], weight)
     return sk.matmul(eigenvectors * weights, eigenvectors.T) * outer
+
+
+@kernel
+def _remove_direction(projection: FloatArray, wrench: FloatArray, weight: float) -> None:
+    """``projection <- (I - g d u^T / (u^T d)) projection``, ``d`` u with its translation weighted."""
+    d = wrench.copy()
+    for i in range(3):
+        d[i] *= TRANSLATION_GIVE_UP
+    ud = 0.0
+    for i in range(6):
+        ud += wrench[i] * d[i]
+    if not ud > 0.0:
+        return
+    row = np.zeros(6)  # u^T projection
+    for k in range(6):
+        for i in range(6):
+            row[k] += wrench[i] * projection[i, k]
+    for i in range(6):
+        factor = weight * d[i] / ud
+        for k in range(6):
+            projection[i, k] -= factor * row[k]
+
+
+@kernel
+def lambda_from_inverse(
+    lambda_inv: FloatArray, max_effective_mass_kg: float, blend_width: float, length_scale_m: float
+) -> FloatArray:
+    """:func:`lambda_and_projection` without the projection. # (6, 6)."""
+    return lambda_and_projection(
+        lambda_inv, max_effective_mass_kg, blend_width, length_scale_m, np.empty((6, 6))
+    )
 
 
 @kernel
@@ -75,6 +120,8 @@ def fold_servo(
     stacked: FloatArray,
     force_to_acceleration: FloatArray,
     jbar_lookahead: FloatArray,
+    projection: FloatArray,
+    limit_projection: FloatArray,
 ) -> None:
     """Eq. 27-29 and 34 folded for the servo; results written into the last three arrays.
 
@@ -95,19 +142,26 @@ def fold_servo(
         max_effective_mass_kg: Section 5's threshold (SingularityPolicy).
         blend_width: Section 5's blend width (SingularityPolicy).
         length_scale_m: Section 5's length scale (SingularityPolicy).
-        stacked: Out: ``[J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda
+        stacked: Out: ``[J^T Lambda P Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda
             Omega_bar | b + g - J^T Lambda h + held | -xi_q (A - J^T Lambda J) + diag(viscous)]``. # (6, 25)
         force_to_acceleration: Out: ``Lambda^-1 Omega_bar``. # (6, 6)
-        jbar_lookahead: Out: ``lookahead_s Jbar``. # (6, 6)
+        jbar_lookahead: Out: ``lookahead_s Jbar P``: joint motion a command asks for. # (6, 6)
+        projection: Out: the task projection P, section 5's times ``limit_projection``
+            (motion commands enter as ``J^T Lambda P Omega``). # (6, 6)
+        limit_projection: The joint limits' task projection
+            (:func:`cosmos.osc.limits.joint_limit_task_projection`). # (6, 6)
     """
     j_t = jacobian.T.copy()
     a_inv_jt = sk.matmul(inertia_inv, j_t)
     lambda_inv = sk.matmul(jacobian, a_inv_jt)  # eq. 27
-    lambda_ = lambda_from_inverse(lambda_inv, max_effective_mass_kg, blend_width, length_scale_m)
+    lambda_ = lambda_and_projection(
+        lambda_inv, max_effective_mass_kg, blend_width, length_scale_m, projection
+    )
+    projection[:, :] = sk.matmul(projection, limit_projection)
     jbar = sk.matmul(a_inv_jt, lambda_)  # eq. 28
     force_to_torque = sk.matmul(j_t, omega_bar)
     jt_lambda = sk.matmul(j_t, lambda_)
-    stacked[:, 0:6] = sk.matmul(jt_lambda, omega)
+    stacked[:, 0:6] = sk.matmul(sk.matmul(jt_lambda, projection), omega)
     stacked[:, 6:12] = force_to_torque
     stacked[:, 12:18] = -k_vf * sk.matmul(sk.matmul(force_to_torque, lambda_), omega_bar)
     stacked[:, 18] = bias + gravity - sk.matvec(jt_lambda, jdot_qdot) + held_torque
@@ -115,7 +169,7 @@ def fold_servo(
     for i in range(6):
         stacked[i, 19 + i] += viscous[i]
     force_to_acceleration[:, :] = sk.matmul(lambda_inv, omega_bar)
-    jbar_lookahead[:, :] = lookahead_s * jbar
+    jbar_lookahead[:, :] = lookahead_s * sk.matmul(jbar, projection)
 
 
 @kernel
@@ -166,13 +220,32 @@ def refold(
     ``evaluation`` is an evaluation's packed values (:mod:`cosmos.runtime.evaluation_kernel`).
     :func:`fold_servo` into ``stacked`` and ``matrices``, the evaluation's J, q, g and
     wrist geometry copied into the servo's blocks, and the reference error
-    ``x_e - x_d = (p - p_d, log(R R_d^T))`` (eq. 19, 21). ``constants`` holds k_vf,
+    ``x_e - x_d = (p - p_d, log(R R_d^T))`` (eq. 19, 21), its rotation unwrapped
+    against the previous one (the row's old content): a goal motion keeps turning
+    the way it started, through 180 deg and beyond. ``constants`` holds k_vf,
     xi_q, the Coulomb look-ahead and section 5's three policy values, in that order.
     Block layouts: :mod:`cosmos.runtime.servo_kernel`.
     """
     jacobian = evaluation[ek.JACOBIAN : ek.JACOBIAN + 36].reshape((6, 6))
     gravity = evaluation[ek.GRAVITY : ek.GRAVITY + 6]
     rotation_tool = evaluation[ek.ROTATION_TOOL : ek.ROTATION_TOOL + 9].reshape((3, 3))
+    error = vectors[sk.REFERENCE_ERROR]
+    error[:3] = evaluation[ek.POSITION : ek.POSITION + 3] - goal_position
+    error[3:] = unwrapped_rotation_error(
+        rotation_log(sk.matmul(rotation_tool, goal_rotation_to_world.T)), error[3:]
+    )
+    limit_projection = np.eye(6)
+    if constants.shape[0] > LIMITS_OFFSET:
+        joint_limit_projection_into(
+            limit_projection,
+            jacobian,
+            evaluation[ek.Q : ek.Q + 6],
+            constants[LIMITS_OFFSET : LIMITS_OFFSET + 6],
+            constants[LIMITS_OFFSET + 6 : LIMITS_OFFSET + 12],
+            -error,
+            constants[LIMITS_OFFSET + 12],
+            constants[LIMITS_OFFSET + 13],
+        )
     fold_servo(
         evaluation[ek.INERTIA : ek.INERTIA + 36].reshape((6, 6)),
         evaluation[ek.INERTIA_INV : ek.INERTIA_INV + 36].reshape((6, 6)),
@@ -193,6 +266,8 @@ def refold(
         stacked,
         matrices[sk.FORCE_TO_ACCELERATION],
         matrices[sk.JBAR_LOOKAHEAD],
+        matrices[sk.SINGULAR_PROJECTION],
+        limit_projection,
     )
     matrices[sk.JACOBIAN] = jacobian
     matrices[sk.OMEGA_BAR] = omega_bar
@@ -201,6 +276,52 @@ def refold(
     vectors[sk.EVALUATION_Q] = evaluation[ek.Q : ek.Q + 6]
     vectors[sk.GRAVITY] = gravity
     vectors[sk.SENSOR_OFFSETS] = evaluation[ek.SENSOR_TO_TOOL : ek.SENSOR_TO_COM + 3]
-    error = vectors[sk.REFERENCE_ERROR]
-    error[:3] = evaluation[ek.POSITION : ek.POSITION + 3] - goal_position
-    error[3:] = rotation_log(sk.matmul(rotation_tool, goal_rotation_to_world.T))
+
+
+LIMITS_OFFSET = 6
+"""refold's constants: k_vf, xi_q, look-ahead, section 5's three; then (optional) the joints'
+lower and upper limits and the joint-limit projection's margins (ServoLevel)."""
+
+
+@kernel
+def joint_limit_projection_into(
+    out: FloatArray,
+    jacobian: FloatArray,
+    q: FloatArray,
+    q_lower: FloatArray,
+    q_upper: FloatArray,
+    goal_direction: FloatArray,
+    margin_rad: float,
+    whole_rad: float,
+) -> None:
+    """:func:`cosmos.osc.limits.joint_limit_task_projection` into ``out`` (the identity there). # (6, 6)."""
+    near = False
+    for i in range(6):
+        if q[i] - q_lower[i] < margin_rad or q_upper[i] - q[i] < margin_rad:
+            near = True
+    if not near or abs(np.linalg.det(jacobian)) < 1e-12:
+        return
+    inverse = np.linalg.inv(jacobian)
+    rates = sk.matvec(inverse, goal_direction)
+    for i in range(6):
+        distance = q[i] - q_lower[i] if rates[i] < 0.0 else q_upper[i] - q[i]
+        if rates[i] == 0.0 or distance >= margin_rad:
+            continue
+        _remove_direction(
+            out, inverse[i, :].copy(), min(1.0, (margin_rad - distance) / (margin_rad - whole_rad))
+        )
+
+
+@kernel
+def unwrapped_rotation_error(log: FloatArray, previous: FloatArray) -> FloatArray:
+    """:func:`cosmos.osc.orientation.unwrap_rotation_vector`: the one nearest ``previous``. # (3,)."""
+    angle = math.sqrt(log[0] ** 2 + log[1] ** 2 + log[2] ** 2)
+    if angle < SMALL_ANGLE_RAD:
+        return log
+    other = log * (1.0 - 2.0 * math.pi / angle)  # the same rotation, the other way round
+    near = 0.0
+    far = 0.0
+    for i in range(3):
+        near += (log[i] - previous[i]) ** 2
+        far += (other[i] - previous[i]) ** 2
+    return other if far < near else log

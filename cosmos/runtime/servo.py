@@ -54,6 +54,19 @@ class ServoGains:
         admittance_max_speed_rad_s: Bound on that speed, in [rad/s].
         admittance_kv: Velocity gain of the unit-mass servo that tracks it, in [1/s].
         moment_filter_s: Time constant of the low-pass on the sensed moment there, [s].
+        force_speed_kv: Velocity gain that holds a force-controlled push to the segment's
+            speed limit (:func:`cosmos.osc.unified.speed_limited_push`), in [1/s].
+        force_speed_ki: Its integral gain (on the speed error while the cap binds), [1/s^2].
+        force_speed_integral_limit_m: Anti-windup bound on that integral, in [m].
+        push_speed_aim: The capped push aims at this fraction of the speed limit: as the
+            contact's friction changes (a chamfer, the hole's walls) its speed swings by up to
+            a millimetre per second (INSERT at 5-30 mm/s), and the limit is a limit.
+        motion_ki: Integral gain on the motion axes' translation error in contact, once a
+            tracked trajectory's reference has stopped
+            (:func:`cosmos.osc.motion.integrate_motion_error`), in [1/s^3]; below
+            ``kp kv`` (16,000 at the defaults), the third-order loop's stability bound.
+        motion_integral_limit_ms: Anti-windup bound on that integral, per axis, in [m s]
+            (``motion_ki`` times it, 8 m/s^2, is the most it adds to F*).
     """
 
     force: ForceGains = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
@@ -66,7 +79,20 @@ class ServoGains:
     admittance_max_speed_rad_s: float = 0.3
     admittance_kv: float = 40.0
     moment_filter_s: float = 0.02
+    force_speed_kv: float = 300.0
+    force_speed_ki: float = 4000.0
+    force_speed_integral_limit_m: float = 0.0005
+    push_speed_aim: float = 0.93
+    motion_ki: float = 2000.0
+    motion_integral_limit_ms: float = 0.004
 
+
+LIMIT_PROJECTION_MARGIN_RAD = 0.30
+"""Distance from a joint limit at which the task starts giving up what needs that joint [rad]."""
+LIMIT_PROJECTION_WHOLE_RAD = 0.15
+"""... and wholly gives it up [rad]: where the joint-limit field begins
+(cosmos.runtime.parameters.JointLimitField.rho_0_rad), so the task never pushes a joint
+against the field (the fight ran the tool 50 mm off its line)."""
 
 _MODES = {MotionMode.HOLD: kernel.MODE_HOLD, MotionMode.GOAL: kernel.MODE_GOAL}
 
@@ -83,6 +109,7 @@ class ServoLevel:
         servo_dt_s: float,
         tool_weight_z_n: float,
         policy: SingularityPolicy = DEFAULT_POLICY,
+        joint_limits: tuple[FloatArray, FloatArray] | None = None,
     ):
         """Set up the buffers.
 
@@ -94,6 +121,9 @@ class ServoLevel:
             servo_dt_s: Servo period, in [s].
             tool_weight_z_n: World z component of the weight below the wrist sensor, in [N].
             policy: Section 5's singularity thresholds.
+            joint_limits: Lower and upper joint limits, in [rad]: a joint within
+                LIMIT_PROJECTION_MARGIN_RAD of one that the goal drives it into gives up
+                the rotation that needs it (cosmos.osc.limits.joint_limit_task_projection).
         """
         self.gains = gains
         self._fold_constants = np.array(
@@ -106,6 +136,15 @@ class ServoLevel:
                 policy.length_scale_m,
             )
         )
+        if joint_limits is not None:
+            self._fold_constants = np.concatenate(
+                (
+                    self._fold_constants,
+                    joint_limits[0],
+                    joint_limits[1],
+                    (LIMIT_PROJECTION_MARGIN_RAD, LIMIT_PROJECTION_WHOLE_RAD),
+                )
+            )
         self._viscous = np.array(viscous, dtype=float)
         # One flat workspace holds every block the kernel reads and writes (servo_tick_live).
         workspace = self._workspace = np.zeros(kernel.WORKSPACE)
@@ -123,6 +162,12 @@ class ServoLevel:
         scalars[kernel.ADMITTANCE_KV] = gains.admittance_kv
         scalars[kernel.MOMENT_BLEND] = min(1.0, servo_dt_s / gains.moment_filter_s)
         scalars[kernel.LOOKAHEAD_S] = gains.coulomb_lookahead_s
+        scalars[kernel.K_VF] = gains.force.k_vf
+        scalars[kernel.FORCE_SPEED_KV] = gains.force_speed_kv
+        scalars[kernel.FORCE_SPEED_KI] = gains.force_speed_ki
+        scalars[kernel.MOTION_KI] = gains.motion_ki
+        scalars[kernel.MOTION_INTEGRAL_LIMIT] = gains.motion_integral_limit_ms
+        scalars[kernel.FORCE_SPEED_INTEGRAL_LIMIT] = gains.force_speed_integral_limit_m
         self._scalars = scalars
         self._vectors = workspace[kernel.W_VECTORS : kernel.W_MATRICES].reshape((kernel.VECTORS, 6))
         self._vectors[kernel.COULOMB_NM] = coulomb
@@ -189,8 +234,15 @@ class ServoLevel:
         """Omega and Omega_bar of the current segment, world axes."""
         return self._selection
 
-    def set_setpoint(self, setpoint: ServoSetpoint) -> None:
-        """Start a segment; the force integral restarts when the selection changes."""
+    def set_setpoint(self, setpoint: ServoSetpoint, rotation_error: FloatArray | None = None) -> None:
+        """Start a segment; the force integral restarts when the selection changes.
+
+        Args:
+            setpoint: The segment's command.
+            rotation_error: The orientation error ``x - x_d`` to start from, world, in [rad]
+                (:mod:`cosmos.runtime.rotation_plan`: norm above pi to turn the long way
+                round); None for the shortest rotation. # (3,)
+        """
         previous = self._setpoint
         state = self._state
         if previous is None or (
@@ -209,6 +261,8 @@ class ServoLevel:
         state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]
         state[kernel.FLAGS, kernel.TOUCHING] = 0.0  # latched by the first push felt on a force axis
         state[kernel.FLAGS, kernel.ADMITTING] = 0.0  # latched by the first contact force
+        state[kernel.FLAGS, kernel.PUSH_SPEED_INTEGRAL] = 0.0
+        state[kernel.MOTION_INTEGRAL] = 0.0
         scalars, vectors = self._scalars, self._vectors
         tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None
         scalars[kernel.MODE] = (
@@ -218,17 +272,30 @@ class ServoLevel:
         scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes[:3]))
         scalars[kernel.ADMITTANCE] = float(not all(setpoint.motion_axes[3:]))
         scalars[kernel.MAX_SPEED] = setpoint.max_speed
+        scalars[kernel.PUSH_SPEED] = (
+            self.gains.push_speed_aim * setpoint.max_speed if setpoint.limit_push_speed else 0.0
+        )
         scalars[kernel.MAX_ANGULAR_SPEED] = setpoint.max_angular_speed
         scalars[kernel.START_S] = setpoint.start_s
+        scalars[kernel.TRAJECTORY_END_S] = setpoint.start_s + (
+            setpoint.trajectory.duration_s if setpoint.trajectory is not None else 0.0
+        )
         scalars[kernel.RAMP_S] = setpoint.ramp_s
         vectors[kernel.KP] = setpoint.kp_task
         vectors[kernel.KV] = setpoint.kv_task
         vectors[kernel.FORCE_WORLD] = setpoint.force_world
         vectors[kernel.FORCE_START] = setpoint.force_start_world
         vectors[kernel.REFERENCE_VELOCITY : kernel.REFERENCE_ACCELERATION + 1] = 0.0
+        # refold unwraps the orientation error against the row's content: the way round to start.
+        vectors[kernel.REFERENCE_ERROR, 3:] = 0.0 if rotation_error is None else rotation_error
         self._matrices[kernel.ROTATION_TASK, :3, :3] = setpoint.rotation_task_to_world
         self._setpoint = setpoint
         self._refold()
+
+    @property
+    def singular_projection(self) -> FloatArray:
+        """Section 5's task projection P of the last evaluation (I far from singularities). # (6, 6)."""
+        return self._matrices[kernel.SINGULAR_PROJECTION]
 
     def set_evaluation(self, evaluation: Evaluation) -> None:
         """Take a new parameter evaluation (the lower-rate level's output)."""

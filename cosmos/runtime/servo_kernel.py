@@ -35,7 +35,9 @@ MODE, UNIFORM, HAS_FORCE, MAX_SPEED, MAX_ANGULAR_SPEED, START_S, RAMP_S = range(
 K_F, K_I, INTEGRAL_LIMIT, CONTACT_THRESHOLD_N, DT_S = range(7, 12)
 INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(12, 15)
 ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, LOOKAHEAD_S = range(15, 21)
-SCALARS = 21
+K_VF, FORCE_SPEED_KV, PUSH_SPEED, FORCE_SPEED_KI, FORCE_SPEED_INTEGRAL_LIMIT = range(21, 26)
+MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S = range(26, 29)
+SCALARS = 29
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = 0.0, 1.0, 2.0
 
 # ``vectors``, rows of six. REFERENCE_*: ``x_e - x_d`` at the evaluation (tracking: at this
@@ -48,13 +50,16 @@ VECTORS = 12
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3).
 JACOBIAN, FORCE_TO_ACCELERATION, JBAR_LOOKAHEAD, OMEGA_BAR, ROTATION_TASK, ROTATION_SENSOR = range(6)
 OMEGA_ADMITTANCE = 6  # the moment axes under admittance control (world), see servo_tick
-MATRICES = 7
+SINGULAR_PROJECTION = 7  # section 5's task projection P of the last evaluation (parameter_kernel)
+MATRICES = 8
 
 # Rows of the servo's state and outputs (``state``, (STATE_ROWS, 6)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
-STATE_ROWS = 9
+MOTION_INTEGRAL = 9  # integral of the motion axes' position error in contact (translation), [m s]
+STATE_ROWS = 10
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
+PUSH_SPEED_INTEGRAL = 2  # column of FLAGS: integral of a capped push's speed error this segment, [m]
 
 # Rows of a tick's work array (servo_tick).
 MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
@@ -340,14 +345,42 @@ def servo_tick(
         motion = motion - matvec(omega_admittance, motion) + servo
         commanded_speed = commanded_speed + speed
     acceleration = motion
+    pushing_at_speed = False
     if scalars[HAS_FORCE] != 0.0:
         omega_bar = matrices[OMEGA_BAR]
+        # The Coulomb intent (below) is the motion axes' command, not a force axis's position
+        # error (an INSERT 20 mm below its start asks for no motion back up), and the joints'
+        # motion along force axes is taken out of it (-xd / lookahead cancels Jbar's share of
+        # qd): there the joints' friction is left to damp the push, and an impact.
+        acceleration = work[ACCELERATION]
+        braking = 1.0 / scalars[LOOKAHEAD_S]
+        for i in range(6):
+            acc = 0.0
+            for k in range(6):
+                acc += omega_bar[i, k] * (motion[k] + braking * velocity[k])
+            acceleration[i] = motion[i] - acc
         flags = state[FLAGS]
         # Integral action only once something pushes back (latched for the segment): in
         # free space the force error cannot be closed and would wind up into an impact.
         if flags[TOUCHING] == 0.0 and _max_abs_product(omega_bar, wrench) > scalars[CONTACT_THRESHOLD_N]:
             flags[TOUCHING] = 1.0
+        if flags[TOUCHING] != 0.0 and mode == MODE_TRAJECTORY and t_s >= scalars[TRAJECTORY_END_S]:
+            # A trajectory tracked in contact (SLIDE), once its reference has stopped: eq. 19 plus
+            # integral action on the motion axes' translation error
+            # (cosmos.osc.motion.integrate_motion_error). Along the way the tracking lag pushes
+            # through the surface's friction (0.3 x 30 N) at the reference's speed; at the end
+            # static friction would hold the tool f / (Lambda kp), millimetres, short of its goal.
+            motion_integral, bound = state[MOTION_INTEGRAL], scalars[MOTION_INTEGRAL_LIMIT]
+            ki, dt = scalars[MOTION_KI], scalars[DT_S]
+            for i in range(3):
+                along = error[i]
+                for k in range(3):
+                    along -= omega_bar[i, k] * error[k]
+                motion_integral[i] = min(max(motion_integral[i] + along * dt, -bound), bound)
+                motion[i] -= ki * motion_integral[i]
+                acceleration[i] -= ki * motion_integral[i]
         integral = state[INTEGRAL]
+        previous_integral = integral.copy()
         if flags[TOUCHING] != 0.0:
             limit, dt = scalars[INTEGRAL_LIMIT], scalars[DT_S]
             for i in range(6):
@@ -358,14 +391,52 @@ def servo_tick(
         k_f, k_i = scalars[K_F], scalars[K_I]
         for i in range(6):  # F_a without damping
             feedback[i] = (1.0 + k_f) * setpoint[i] - k_f * wrench[i] + k_i * integral[i]
+        # The SPEED of a force-controlled push (cosmos.osc.unified.speed_limited_push).
+        push = math.sqrt(goal[0] ** 2 + goal[1] ** 2 + goal[2] ** 2)
+        push_speed = scalars[PUSH_SPEED]  # 0: no cap
+        if push > 0.0 and push_speed > 0.0:
+            n0, n1, n2 = goal[0] / push, goal[1] / push, goal[2] / push
+            f2a = matrices[FORCE_TO_ACCELERATION]
+            inverse_mass = 0.0
+            for i, ni in ((0, n0), (1, n1), (2, n2)):
+                inverse_mass += ni * (f2a[i, 0] * n0 + f2a[i, 1] * n1 + f2a[i, 2] * n2)
+            if inverse_mass > 0.0:
+                along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
+                allowed = (n0 * wrench[0] + n1 * wrench[1] + n2 * wrench[2]) + (
+                    scalars[FORCE_SPEED_KV] * (push_speed - along) + scalars[K_VF] * along
+                ) / inverse_mass
+                flags = state[FLAGS]
+                allowed += scalars[FORCE_SPEED_KI] * flags[PUSH_SPEED_INTEGRAL] / inverse_mass
+                asked = n0 * feedback[0] + n1 * feedback[1] + n2 * feedback[2]
+                if asked > allowed:
+                    bound = scalars[FORCE_SPEED_INTEGRAL_LIMIT]
+                    grown_integral = flags[PUSH_SPEED_INTEGRAL] + (push_speed - along) * scalars[DT_S]
+                    flags[PUSH_SPEED_INTEGRAL] = min(max(grown_integral, -bound), bound)
+                    # At its speed limit the push is a velocity command: friction is compensated
+                    # toward it, as toward a tracked trajectory's xd_d (the joints would stick).
+                    pushing_at_speed = True
+                    # (its own motion along n is not taken out of the intent then)
+                    commanded_speed[0] += (push_speed + along) * n0
+                    commanded_speed[1] += (push_speed + along) * n1
+                    commanded_speed[2] += (push_speed + along) * n2
+                    cut = allowed - asked
+                    feedback[0] += cut * n0
+                    feedback[1] += cut * n1
+                    feedback[2] += cut * n2
+                    if flags[TOUCHING] != 0.0:  # anti-windup: the integral does not grow along n
+                        grown = n0 * (integral[0] - previous_integral[0])
+                        grown += n1 * (integral[1] - previous_integral[1])
+                        grown += n2 * (integral[2] - previous_integral[2])
+                        integral[0] -= grown * n0
+                        integral[1] -= grown * n1
+                        integral[2] -= grown * n2
         if flags[TOUCHING] == 0.0:
-            acceleration = work[ACCELERATION]
             force_to_acceleration = matrices[FORCE_TO_ACCELERATION]
             for i in range(6):
                 acc = 0.0
                 for k in range(6):
                     acc += force_to_acceleration[i, k] * feedback[k]
-                acceleration[i] = motion[i] + acc
+                acceleration[i] += acc
 
     torque = state[TORQUE]
     for i in range(6):
@@ -381,7 +452,9 @@ def servo_tick(
     # Coulomb friction is compensated in the direction the joint is moving or, from rest,
     # is being told to move (qd plus Jbar times the commanded acceleration over a short
     # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
-    if admittance or mode == MODE_TRAJECTORY:  # Jbar xd_d: a slow joint is not left to stick
+    if (
+        admittance or mode == MODE_TRAJECTORY or pushing_at_speed
+    ):  # Jbar xd_d: a slow joint is not left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
     jbar_lookahead, intent_scale = matrices[JBAR_LOOKAHEAD], scalars[INTENT_SCALE]
     coulomb, coulomb_nm = state[COULOMB], vectors[COULOMB_NM]

@@ -52,6 +52,8 @@ class ServoSetpoint:
         kp_task: Unit-mass position gains per task axis, in [1/s^2]. # (6,)
         kv_task: Velocity gains per task axis, in [1/s]. # (6,)
         trajectory: The timed trajectory in TRAJECTORY mode.
+        limit_push_speed: Hold the force-controlled push to ``max_speed`` (INSERT: the
+            insertion axis's speed limit; :func:`cosmos.osc.unified.speed_limited_push`).
     """
 
     mode: MotionMode
@@ -68,6 +70,7 @@ class ServoSetpoint:
     kp_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KP))
     kv_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KV))
     trajectory: PoseTrajectory | None = None
+    limit_push_speed: bool = False
 
     force_world: FloatArray = field(init=False)
     """The force setpoint in world axes (derived from force_task). # (6,)."""

@@ -199,3 +199,31 @@ def test_null_space_damping_is_eq34_and_d_is_negative_definite(arm, rng):
     # Eq. 31 alone (xi_q = 0) is only semi-definite for a redundant task: rank m.
     d31 = dissipation_matrix(dyn, s.inertia, xi, 0.0)
     assert np.linalg.matrix_rank(d31, tol=1e-8) == 3
+
+
+def test_singular_task_projection_gives_up_rotation_not_translation():
+    """A 6-DOF Jacobian with a lost direction that mixes a rotation with a translation (as the
+    PUMA's wrist does: a moment about the lost axis plus a force through the wrist centre).
+    Every projected command is one the arm can make (``u^T P F = 0``), its translation is
+    untouched (to TRANSLATION_GIVE_UP), and the accelerations the blended Lambda produces are
+    exactly P F. Catches the orthogonal removal alone (which bends the translation) and a
+    projection along u itself."""
+    rng = np.random.default_rng(3)
+    u = np.array((0.0, -0.33, 0.0, 0.85, 0.0, 0.41))
+    u /= np.linalg.norm(u)
+    jacobian = rng.normal(size=(6, 6))
+    jacobian -= np.outer(u, u @ jacobian)  # u^T J = 0: u is the wrench no joint feels
+    inertia = random_spd(rng, 6)
+    zeros = np.zeros(6)
+    dyn = operational_dynamics(
+        inertia, jacobian, zeros, zeros, zeros, policy=SingularityPolicy(length_scale_m=1.0)
+    )
+    assert dyn.blend.min() == 0.0
+    p = dyn.task_projection
+    for _ in range(20):
+        command = rng.normal(size=6)
+        projected = p @ command
+        assert abs(u @ projected) < 1e-9 * np.linalg.norm(command)
+        np.testing.assert_allclose(projected[:3], command[:3], atol=1e-2 * np.linalg.norm(command))
+        achieved = dyn.lambda_inv @ (dyn.lambda_ @ projected)
+        np.testing.assert_allclose(achieved, projected, atol=1e-6 * np.linalg.norm(command))

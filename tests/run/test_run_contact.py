@@ -109,24 +109,19 @@ def slide_samples(run: ProgramRun) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
 
 
 def test_slide_holds_the_normal_force(contact_run: ProgramRun) -> None:
-    """SLIDE +X BY 100 mm FORCE 20 N: the push stays within 15 % of 20 N throughout.
+    """SLIDE +X BY 100 mm FORCE 20 N at 20 mm/s: issue 14's bar for a push while sliding.
 
-    The first 0.25 s are left out: the SLIDE raises the setpoint from the
-    contact's 10 N to its own 20 N, and the executor ramps a new force setpoint
-    in over 0.25 s, so the push cannot be near 20 N before then. At 10 N the
-    same slide loses the contact (see test_shipped_contact_slide_holds_10_n).
+    Once in contact the push never falls below half its setpoint, and stays within 15 % of
+    it for 95 % of the samples. The first 0.25 s are left out: the SLIDE raises the
+    setpoint from the contact's 10 N to its own 20 N over the executor's 0.25 s ramp.
+    Catches a slide that loses the contact (the push dropping to 0-1 N) or presses unevenly.
     """
     t, x, push, setpoint_n = slide_samples(contact_run)
     assert setpoint_n == pytest.approx(SLIDE_FORCE_N)
     travelled_m = float(x[-1, 0] - x[0, 0])
     assert travelled_m == pytest.approx(SLIDE_DISTANCE_M, abs=1.5e-3)
     judged = t >= t[0] + FORCE_RAMP_S
-    error = np.abs(push[judged] - setpoint_n) / setpoint_n
-    worst = int(error.argmax())
-    assert error[worst] <= 0.15, (
-        f"push {push[judged][worst]:.2f} N at t = {t[judged][worst]:.3f} s "
-        f"({error[worst]:.0%} off {setpoint_n:g} N; {np.mean(error > 0.15):.1%} of the slide)"
-    )
+    _assert_push_held(t[judged], push[judged], setpoint_n)
 
 
 def test_slide_stays_on_its_path(contact_run: ProgramRun) -> None:
@@ -137,7 +132,7 @@ def test_slide_stays_on_its_path(contact_run: ProgramRun) -> None:
 
 
 def test_shipped_contact_slide_holds_10_n(shipped_run: Callable[[str], ProgramRun]) -> None:
-    """programs/contact_slide.cos (10 N, 10 mm/s): the push within 15 % of 10 N throughout the slide."""
+    """programs/contact_slide.cos (10 N, 10 mm/s): the push held to issue 14's bar."""
     _assert_push_in_band(shipped_run("contact_slide.cos"))
 
 
@@ -152,16 +147,17 @@ SLIDE +X BY 100 mm SPEED 20 mm/s
 @pytest.mark.xfail(
     strict=True,
     reason=(
-        "physics: at 10 N and 20 mm/s the tip's penetration creeps out while it slides "
-        "(MuJoCo's soft contact with the pyramidal friction cone: 0.02 mm to 0 in ~40 ms at a "
-        "steady 10.4 N), so the contact drops for 2-6 ms every ~0.1-0.2 s and comes back with "
-        "a 16 N impact: 4.3-4.5 % of the slide's samples leave the band (seeds 0-2). At 10 mm/s "
-        "(the shipped program) it never drops (sensed 9.2-10.9 N); the elliptic cone ends the "
-        "creep too but takes the CONTACT overshoot to 48 %"
+        "physics: at 10 N and 20 mm/s (cruising at its SPEED) the tip's penetration creeps out "
+        "while it slides (MuJoCo's soft tool contact, solref 0.2 s, with the pyramidal friction "
+        "cone), so the contact drops for a few milliseconds (push 0.2 N) every 0.1-0.2 s. The "
+        "elliptic cone (impratio 10) lifts the worst push of the slide grid from 1-6 % to 38-75 % "
+        "of the setpoint but takes the CONTACT overshoot to 51-57 %; a steel tool contact "
+        "(solref 0.004 or 0.02 s) makes the force loop chatter at 100-200 N "
+        "(tests/run/slide_grid.py, README)"
     ),
 )
 def test_light_fast_slide_holds_10_n(tmp_path: Path) -> None:
-    """SLIDE at 10 N and 20 mm/s: the push within 15 % of 10 N throughout the slide."""
+    """SLIDE at 10 N and 20 mm/s: the push held to issue 14's bar (item 5)."""
     program = write_program(tmp_path, "fast_light_slide", FAST_LIGHT_SLIDE)
     run = run_in_process(program, tmp_path / "fast_light_slide.mcap")
     assert run.returncode == 0, run.describe()
@@ -171,12 +167,19 @@ def test_light_fast_slide_holds_10_n(tmp_path: Path) -> None:
 def _assert_push_in_band(run: ProgramRun) -> None:
     t, _, push, setpoint_n = slide_samples(run)
     judged = t >= t[0] + FORCE_RAMP_S  # the SLIDE's own force ramp first
-    t, push = t[judged], push[judged]
+    _assert_push_held(t[judged], push[judged], setpoint_n)
+
+
+def _assert_push_held(t: np.ndarray, push: np.ndarray, setpoint_n: float) -> None:
+    """Issue 14, item 5: never below 50 % of the setpoint, within 15 % of it for 95 % of samples."""
+    lowest = int(push.argmin())
+    assert push[lowest] >= 0.5 * setpoint_n, (
+        f"push fell to {push[lowest]:.2f} N at t = {t[lowest]:.3f} s (setpoint {setpoint_n:g} N)"
+    )
     error = np.abs(push - setpoint_n) / setpoint_n
-    worst = int(error.argmax())
-    assert error[worst] <= 0.15, (
-        f"push {push[worst]:.2f} N at t = {t[worst]:.3f} s ({error[worst]:.0%} off {setpoint_n:g} N; "
-        f"{np.mean(error > 0.15):.1%} of the slide)"
+    assert np.mean(error <= 0.15) >= 0.95, (
+        f"{np.mean(error <= 0.15):.1%} of the slide within 15 % of {setpoint_n:g} N "
+        f"(worst {push[int(error.argmax())]:.2f} N at t = {t[int(error.argmax())]:.3f} s)"
     )
 
 

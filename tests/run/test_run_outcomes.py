@@ -195,17 +195,21 @@ def test_limit_force_sets_the_free_motion_limit(tmp_path: Path) -> None:
 def test_a_goal_blocked_by_a_joint_limit_names_the_joint(tmp_path: Path) -> None:
     """A goal blocked by a joint limit was reported as "out of the arm's reach".
 
-    From home (joint 6 at 180 deg), turning the tool -120 deg about its axis needs
-    joint 6 at 300 deg, past its 266 deg limit.
+    From home, tilting the tool 130 deg about world y needs joint 5 past its 100 deg
+    limit whichever way the tool turns (turning -120 deg about the tool's own axis is
+    not blocked: joint 6's 532 deg range allows it the long way round, and it arrives).
     """
-    program = "MOVE TO (0.5963, -0.15005, 0.4575) RPY (180 deg, 0, -120 deg)\n"
-    run = run_in_process(write_program(tmp_path, "joint6", program), tmp_path / "joint6.mcap")
+    program = "MOVE TO (0.5963, -0.15005, 0.4575) RPY (180 deg, -130 deg, 0)\n"
+    run = run_in_process(write_program(tmp_path, "joint5", program), tmp_path / "joint5.mcap")
     assert run.returncode == 1, run.describe()
     kind, reason, t = _outcome(run, 1)
-    assert kind == "failed" and reason.endswith("joint 6 at its limit of 266 deg"), reason
+    assert kind == "failed" and reason.endswith("joint 5 at its limit of 100 deg"), reason
     assert "reach" not in reason.split(";")[-1]
-    q6_deg = math.degrees(run.log.state.q[_at(run, t), 5])
-    assert 266.0 - 8.6 < q6_deg <= 266.0, q6_deg  # within the joint-limit field's 0.15 rad
+    q5_deg = math.degrees(run.log.state.q[_at(run, t), 4])
+    assert 100.0 - 17.2 < q5_deg <= 100.0, q5_deg  # where the task gives up joint 5's share
+    turn = "MOVE TO (0.5963, -0.15005, 0.4575) RPY (180 deg, 0, -120 deg)\n"
+    run = run_in_process(write_program(tmp_path, "joint6", turn), tmp_path / "joint6.mcap")
+    assert run.returncode == 0, run.describe()
 
 
 def test_a_roll_at_the_wrist_singularity_is_never_called_out_of_reach(tmp_path: Path) -> None:

@@ -262,8 +262,9 @@ def _expected_fold(inputs: FoldInputs) -> dict[str, np.ndarray]:
         "b + g - J^T Lambda h + held": servo.bias_torque + inputs.held,
         "-xi_q (A - J^T Lambda J) + diag(viscous)": damping + np.diag(inputs.viscous),
         "Lambda^-1 Omega_bar": dyn.lambda_inv @ sel.omega_bar,
-        "lookahead Jbar": LOOKAHEAD_S * dyn.jbar,
+        "lookahead Jbar": LOOKAHEAD_S * dyn.jbar @ dyn.task_projection,
         "blend": dyn.blend,
+        "projection": dyn.task_projection,
     }
 
 
@@ -302,6 +303,7 @@ def test_fold_servo_matches_eq_27_29_34(name: str) -> None:
     stacked = np.full((6, 25), np.nan)
     force_to_acceleration = np.full((6, 6), np.nan)
     jbar_lookahead = np.full((6, 6), np.nan)
+    projection = np.full((6, 6), np.nan)
     pk.fold_servo(
         inputs.inertia,
         inputs.inertia_inv,
@@ -322,8 +324,11 @@ def test_fold_servo_matches_eq_27_29_34(name: str) -> None:
         stacked,
         force_to_acceleration,
         jbar_lookahead,
+        projection,
+        np.eye(6),
     )
     _assert_fold(stacked, force_to_acceleration, jbar_lookahead, inputs)
+    assert_close(projection, _expected_fold(inputs)["projection"])
 
 
 def test_refold_packs_the_servo_blocks() -> None:

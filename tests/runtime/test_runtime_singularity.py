@@ -69,3 +69,31 @@ def test_straight_line_through_the_wrist_singularity() -> None:
     assert any(singular), "section 5's treatment never engaged: not a singular path"
     assert max(errors) < 0.005, f"position error {max(errors) * 1e3:.2f} mm"
     assert np.max(torques) < 1.0, f"torque at {np.max(torques):.0%} of a drive limit"
+
+
+def test_roll_about_the_singular_direction_keeps_the_tool_point() -> None:
+    """q5 = 0.8 deg with the tool tilted (joints 4 and 6 nearly aligned), then a 15 deg roll about
+    world x, the direction the wrist has lost: the tool point must stay within 5 mm. Catches the
+    singular direction removed orthogonally (it mixes a rotation with a translation of the tool
+    point, so the roll error drove the tool 100 mm sideways) and the Coulomb look-ahead pushing
+    joint 1 toward the part of the command the arm cannot do."""
+    from cosmos.osc.orientation import so3_exp
+
+    runtime = runtime_at(np.radians((0.0, 36.6, -191.4, 0.0, 0.8, 180.0)))
+    run_for(runtime, 0.2)
+    ev = runtime.evaluation
+    start = ev.position.copy()
+    goal = so3_exp(np.array((15.0 * DEG, 0.0, 0.0))).dot(ev.rotation_tool_to_world)
+    runtime.set_setpoint(
+        ServoSetpoint(mode=MotionMode.GOAL, position=start, rotation_to_world=goal, start_s=runtime.time_s)
+    )
+    samples = run_for(runtime, 2.0)
+    assert runtime.evaluation.dynamics.singular.any(), "not at the singularity"
+    worst = max(float(np.linalg.norm(position - start)) for _, position, _ in samples)
+    assert worst < 0.005, f"tool point moved {worst * 1e3:.1f} mm"
+    blocked = (np.eye(6) - runtime.servo.singular_projection) @ runtime.servo.last_error
+    assert np.linalg.norm(blocked[3:]) > 5.0 * DEG, "the projection should hold the roll back"
+    from cosmos.runtime.blockers import BlockerKind, progress_blockers
+
+    named = [b.message for b in progress_blockers(runtime) if b.kind is BlockerKind.SINGULARITY]
+    assert len(named) == 1 and named[0].startswith("the wrist singularity"), named

@@ -15,14 +15,14 @@ import pytest
 from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.limits import saturate_torque
-from cosmos.osc.motion import goal_command, tracking_command
+from cosmos.osc.motion import goal_command, integrate_motion_error, tracking_command
 from cosmos.osc.orientation import so3_exp
 from cosmos.osc.unified import (
     ForceGains,
-    force_command,
     force_feedback,
     integrate_force_error,
     servo_matrices,
+    speed_limited_push,
     unified_torque,
 )
 from cosmos.robot_model import GRAVITY
@@ -216,6 +216,7 @@ class TickCase:
         saturate: Torque limits tight enough to bind.
         mode: The motion mode (kernel's MODE_* value).
         force: Task z force-controlled; otherwise every axis is motion-controlled.
+        max_speed: The segment's speed limit, [m/s] (small: the push's speed cap binds).
     """
 
     touching: bool
@@ -226,6 +227,7 @@ class TickCase:
     saturate: bool = False
     mode: float = sk.MODE_GOAL
     force: bool = True
+    max_speed: float = 10.0
 
 
 TICK_CASES = {
@@ -234,7 +236,10 @@ TICK_CASES = {
     "the tick that latches the touch": TickCase(False, 3.0, True, 1.5),
     "touching, light push": TickCase(True, 0.2, False, 2.0, saturate=True),
     "touching, integral clamped": TickCase(True, -2.0, False, 0.9, integral_at_limit=True),
+    "touching, push capped by its speed": TickCase(True, 0.2, False, 2.0, max_speed=0.001),
+    "free space, push capped by its speed": TickCase(False, 0.1, True, 2.0, max_speed=0.002),
     "trajectory, motion only": TickCase(False, 3.0, False, 0.5, mode=sk.MODE_TRAJECTORY, force=False),
+    "trajectory in contact (a slide)": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY),
     "hold, motion only": TickCase(True, 3.0, False, 0.5, saturate=True, mode=sk.MODE_HOLD, force=False),
 }
 
@@ -323,8 +328,15 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.MODE] = case.mode
     scalars[sk.UNIFORM] = float(case.uniform)
     scalars[sk.HAS_FORCE] = float(case.force)
-    scalars[sk.MAX_SPEED] = 0.25
+    scalars[sk.MAX_SPEED] = case.max_speed
     scalars[sk.MAX_ANGULAR_SPEED] = 1.0
+    scalars[sk.K_VF] = FORCE_GAINS.k_vf
+    scalars[sk.FORCE_SPEED_KV] = 40.0
+    scalars[sk.PUSH_SPEED] = case.max_speed
+    scalars[sk.FORCE_SPEED_KI] = 1000.0
+    scalars[sk.FORCE_SPEED_INTEGRAL_LIMIT] = 0.002
+    scalars[sk.MOTION_KI] = 2000.0
+    scalars[sk.MOTION_INTEGRAL_LIMIT] = 0.004
     scalars[sk.START_S] = start_s
     scalars[sk.RAMP_S] = ramp_s
     scalars[sk.K_F] = FORCE_GAINS.k_f
@@ -363,6 +375,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     state = np.full((sk.STATE_ROWS, 6), np.nan)  # output rows must all be written
     state[sk.FLAGS] = 0.0
     state[sk.FLAGS, sk.TOUCHING] = float(case.touching)
+    state[sk.FLAGS, sk.PUSH_SPEED_INTEGRAL] = 0.001 * float(case.max_speed < 0.01)
     if case.integral_at_limit:
         # Along the force axis, its largest world component 1 mN s short of the clamp, on the
         # side the error drives it (F_d - F_s is negative along the normal): this step clamps.
@@ -371,6 +384,8 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     else:
         state[sk.INTEGRAL] = sel.omega_bar @ rng.normal(0.0, 0.3, 6)
     state[sk.COULOMB] = rng.uniform(-1.0, 1.0, 6)
+    state[sk.MOTION_INTEGRAL] = 0.0
+    state[sk.MOTION_INTEGRAL, :3] = sel.omega[:3, :3] @ rng.uniform(-0.002, 0.002, 3)  # on motion axes
 
     q = q_e + rng.normal(0.0, 0.01, 6)
     qd = rng.normal(0.0, 2e-3, 6)
@@ -449,15 +464,45 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         integral = integrate_force_error(
             integral, setpoint, wrench, sel.omega_bar, DT_S, FORCE_GAINS.integral_limit
         )
+    motion_integral = st[sk.MOTION_INTEGRAL].copy()
+    arrived = inputs.t_s >= sc[sk.TRAJECTORY_END_S]
+    if touching and sc[sk.MODE] == sk.MODE_TRAJECTORY and arrived:  # a slide's final approach
+        motion_integral[:3] = integrate_motion_error(
+            motion_integral[:3], error, sel.omega_bar, DT_S, sc[sk.MOTION_INTEGRAL_LIMIT]
+        )
+        motion = motion - np.concatenate((sc[sk.MOTION_KI] * motion_integral[:3], np.zeros(3)))
     feedback = force_feedback(setpoint, wrench, integral, FORCE_GAINS)
-    f_a = force_command(setpoint, wrench, integral, velocity, dyn.lambda_, sel.omega_bar, FORCE_GAINS)
+    feedback, limited, _ = speed_limited_push(
+        feedback,
+        vec[sk.FORCE_WORLD],
+        wrench,
+        velocity,
+        dyn.lambda_inv @ sel.omega_bar,
+        sc[sk.PUSH_SPEED],
+        sc[sk.FORCE_SPEED_KV],
+        FORCE_GAINS.k_vf,
+        sc[sk.FORCE_SPEED_KI],
+        st[sk.FLAGS, sk.PUSH_SPEED_INTEGRAL],
+        DT_S,
+        sc[sk.FORCE_SPEED_INTEGRAL_LIMIT],
+    )
+    if limited:  # friction compensated toward the speed limit; the integral does not grow along n
+        n = vec[sk.FORCE_WORLD, :3] / np.linalg.norm(vec[sk.FORCE_WORLD, :3])
+        speed = speed + np.concatenate(((sc[sk.PUSH_SPEED] + n @ velocity[:3]) * n, np.zeros(3)))
+        grown = integral[:3] - st[sk.INTEGRAL, :3]
+        integral[:3] -= n * n.dot(grown)
+    f_a = feedback - dyn.lambda_ @ (sel.omega_bar @ velocity) * FORCE_GAINS.k_vf
 
     # Eq. 29 with the held potentials, eq. 34's null-space damping and viscous friction.
     torque = unified_torque(dyn, sel, motion, f_a) + inputs.held
     torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
 
+    # The motion axes' command counts toward the intent; on the force axes the joints' own motion
+    # is taken out of it, and the force loop's acceleration put in before touching.
+    acceleration = sel.omega @ motion - sel.omega_bar @ velocity / LOOKAHEAD_S
     with_force = not touching if force_acceleration_always is None else force_acceleration_always
-    acceleration = motion + (dyn.lambda_inv @ (sel.omega_bar @ feedback) if with_force else 0.0)
+    if with_force:
+        acceleration += dyn.lambda_inv @ (sel.omega_bar @ feedback)
     return _finish_tick(
         inputs,
         wrench,
@@ -467,6 +512,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         acceleration,
         torque,
         integral=integral,
+        motion_integral=motion_integral,
         touching=touching,
         speed=speed,
     )
@@ -481,6 +527,7 @@ def _finish_tick(
     acceleration: np.ndarray,
     torque: np.ndarray,
     integral: np.ndarray | None = None,
+    motion_integral: np.ndarray | None = None,
     touching: bool | None = None,
     speed: np.ndarray | None = None,
 ) -> ReferenceTick:
@@ -501,6 +548,7 @@ def _finish_tick(
         sk.VELOCITY: velocity,
         sk.DISPLACEMENT: displacement,
         sk.INTEGRAL: st[sk.INTEGRAL] if integral is None else integral,
+        sk.MOTION_INTEGRAL: st[sk.MOTION_INTEGRAL] if motion_integral is None else motion_integral,
         sk.COULOMB: coulomb,
         sk.TORQUE: saturated,
     }
@@ -532,6 +580,7 @@ ROW_NAMES = {
     sk.INTEGRAL: "INTEGRAL",
     sk.COULOMB: "COULOMB",
     sk.TORQUE: "TORQUE",
+    sk.MOTION_INTEGRAL: "MOTION_INTEGRAL",
 }
 
 
@@ -583,6 +632,12 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
         assert np.max(np.abs(moved - integral_before)) > 1e-3
     if case.integral_at_limit:
         assert np.isclose(np.max(np.abs(expected[sk.INTEGRAL])), FORCE_GAINS.integral_limit)
+    # The push's speed cap binds in the cases with a small speed limit, and only there.
+    inputs.scalars[sk.PUSH_SPEED] = 1e3
+    uncapped = _reference_tick(inputs).rows
+    inputs.scalars[sk.PUSH_SPEED] = case.max_speed
+    capped = np.max(np.abs(uncapped[sk.TORQUE] - expected[sk.TORQUE])) > 1e-9
+    assert capped == (case.max_speed < 0.01)
     # The free-space acceleration from the force loop changes the Coulomb term of this tick.
     other = _reference_tick(inputs, force_acceleration_always=latched).rows
     assert np.max(np.abs(other[sk.COULOMB] - expected[sk.COULOMB])) > 1e-6

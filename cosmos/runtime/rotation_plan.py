@@ -1,0 +1,154 @@
+"""Which way a goal motion turns: the shortest rotation unless the joints' ranges forbid it.
+
+Eq. 20-21 applied to orientation turns the tool about a fixed axis, the
+rotation vector ``phi = log(R_d R^T)`` (angle up to pi), at the angular speed
+limit. Whether the arm can follow that geodesic depends on its joints: the
+PUMA's wrist joints have finite ranges (joint 6: +-266 deg), so a half turn
+about the tool axis may be possible only one way round. Before a goal motion
+starts, the runtime follows the tool's path (straight line, rotation about the
+fixed axis) with the kinematic model, in small steps of closed-loop inverse
+kinematics from the measured configuration, for the short way and for the long
+way round (``phi (1 - 2 pi / |phi|)``, the same end orientation). The first
+that keeps every joint inside its range by ``margin_rad`` is used; the servo
+keeps to it (its orientation error is unwrapped evaluation by evaluation,
+:func:`cosmos.osc.orientation.unwrap_rotation_vector`). If neither does, the
+shortest is kept and the plan says which joint stops it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from cosmos.osc.orientation import so3_exp, so3_log
+from cosmos.robot_model import RobotModel
+
+FloatArray = np.ndarray
+
+STEP_RAD = 0.03
+"""Largest rotation between two points of the predicted path [rad]."""
+STEP_M = 0.005
+"""Largest translation between two points of the predicted path [m]."""
+LIMIT_MARGIN_RAD = math.radians(3.0)
+"""A predicted joint closer than this to a limit counts as stopped by it [rad]."""
+DAMPING = 1e-4
+"""Damping of the least-squares inverse kinematics step (near a singularity) [1]."""
+
+
+@dataclass(frozen=True)
+class JointAtLimit:
+    """A joint that stops a motion at (or predicted at) one end of its range.
+
+    Attributes:
+        joint: Joint number, 1-based (as the PUMA's documentation counts).
+        limit_rad: The limit it reaches, in [rad].
+    """
+
+    joint: int
+    limit_rad: float
+
+    @property
+    def message(self) -> str:
+        """``joint 6 at its limit of 266 deg``."""
+        return f"joint {self.joint} at its limit of {math.degrees(self.limit_rad):.0f} deg"
+
+
+@dataclass(frozen=True)
+class RotationPlan:
+    """The rotation a goal motion will make.
+
+    Attributes:
+        rotation_vector: Axis times angle taking the start orientation to the goal,
+            world axes, in [rad]; its norm may exceed pi (the long way round). # (3,)
+        blocked_by: The joint that stops the shortest rotation when no way round
+            keeps the joints in range, else None.
+        long_way: True when the long way round was chosen.
+    """
+
+    rotation_vector: FloatArray
+    blocked_by: JointAtLimit | None
+    long_way: bool
+
+
+def first_joint_past_limits(robot: RobotModel, q: FloatArray, margin_rad: float = 0.0) -> JointAtLimit | None:
+    """The first joint within ``margin_rad`` of (or past) a limit at ``q``, else None."""
+    for i, (value, lower, upper) in enumerate(zip(q, robot.q_lower_rad, robot.q_upper_rad, strict=True)):
+        if value < lower + margin_rad:
+            return JointAtLimit(i + 1, float(lower))
+        if value > upper - margin_rad:
+            return JointAtLimit(i + 1, float(upper))
+    return None
+
+
+def _follow(
+    robot: RobotModel,
+    q_start: FloatArray,
+    position: FloatArray,
+    rotation: FloatArray,
+    displacement: FloatArray,
+    rotation_vector: FloatArray,
+    margin_rad: float,
+) -> JointAtLimit | None:
+    """Follow the path with closed-loop IK; the joint it would push past a limit, or None."""
+    model, data, frame = robot.model, robot.model.createData(), robot.tool_frame
+    steps = max(
+        1,
+        math.ceil(float(np.linalg.norm(rotation_vector)) / STEP_RAD),
+        math.ceil(float(np.linalg.norm(displacement)) / STEP_M),
+    )
+    q = np.array(q_start, dtype=float)
+    already = first_joint_past_limits(robot, q, margin_rad)  # a joint starting in the margin may stay
+    for k in range(1, steps + 1):
+        s = k / steps
+        target_p = position + s * displacement
+        target_r = so3_exp(s * rotation_vector).dot(rotation)
+        for _ in range(2):  # two Newton steps per path point
+            pin.framesForwardKinematics(model, data, q)
+            pose = data.oMf[frame]
+            error = np.concatenate((target_p - pose.translation, so3_log(target_r.dot(pose.rotation.T))))
+            jacobian = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)
+            jjt = jacobian.dot(jacobian.T) + DAMPING * np.eye(6)
+            q = q + jacobian.T.dot(np.linalg.solve(jjt, error))
+        hit = first_joint_past_limits(robot, q, margin_rad)
+        if hit is not None and (already is None or hit.joint != already.joint):
+            return hit
+    return None
+
+
+def plan_rotation(
+    robot: RobotModel,
+    q: FloatArray,
+    position: FloatArray,
+    rotation: FloatArray,
+    goal_position: FloatArray,
+    goal_rotation: FloatArray,
+    margin_rad: float = LIMIT_MARGIN_RAD,
+) -> RotationPlan:
+    """The way round a goal motion from ``(position, rotation)`` to the goal turns.
+
+    Args:
+        robot: The controller's model (joint ranges, kinematics).
+        q: The measured configuration, in [rad]. # (6,)
+        position: The tool point now, world, in [m]. # (3,)
+        rotation: The tool orientation now. # (3, 3)
+        goal_position: The goal tool point, in [m]. # (3,)
+        goal_rotation: The goal orientation. # (3, 3)
+        margin_rad: How near a limit a predicted joint may come, in [rad].
+
+    Returns:
+        The rotation to make and, if every way is stopped, the joint that stops the shortest.
+    """
+    shortest = so3_log(goal_rotation.dot(rotation.T))
+    displacement = np.asarray(goal_position, dtype=float) - position
+    blocked = _follow(robot, q, position, rotation, displacement, shortest, margin_rad)
+    if blocked is None:
+        return RotationPlan(shortest, None, False)
+    angle = float(np.linalg.norm(shortest))
+    if angle > math.radians(1.0):
+        long_way = shortest * (1.0 - 2.0 * math.pi / angle)
+        if _follow(robot, q, position, rotation, displacement, long_way, margin_rad) is None:
+            return RotationPlan(long_way, None, True)
+    return RotationPlan(shortest, blocked, False)
