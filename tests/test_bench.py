@@ -69,3 +69,12 @@ def test_check_end_to_end_runs_the_command_on_a_generated_program() -> None:
     """``cosmos check`` is timed as a whole process that succeeds (a failing check must not be timed)."""
     runs = check_end_to_end_s(60, repeats=1)
     assert len(runs) == 1 and runs[0] > 0.0
+
+
+def test_whole_run_timings_repeat_into_the_same_log_directory(tmp_path: Path) -> None:
+    """Catches the bench's repeated `cosmos run` failing on its own previous log ("already exists"):
+    best-of-N timings write the same log path again, so they must say --force."""
+    from cosmos.bench.programs import startup_s
+
+    assert startup_s(tmp_path) > 0.0
+    assert startup_s(tmp_path) > 0.0

@@ -117,14 +117,14 @@ def process_wall_s(args: list[str], env: dict[str, str] | None = None) -> tuple[
 
 def run_wall_s(path: Path, log_dir: Path) -> float:
     """Wall seconds of ``cosmos run PATH`` as a new process (warm kernel cache)."""
-    return process_wall_s(["run", str(path), "--log", str(log_dir / f"{path.stem}.mcap")])[0]
+    return process_wall_s(["run", str(path), "--force", "--log", str(log_dir / f"{path.stem}.mcap")])[0]
 
 
 def startup_s(log_dir: Path) -> float:
     """Wall seconds of ``cosmos run`` on :data:`TINY_PROGRAM`: interpreter, imports, models, log."""
     program = log_dir / "tiny.cos"
     program.write_text(TINY_PROGRAM, encoding="utf-8")
-    return process_wall_s(["run", str(program), "--log", str(log_dir / "tiny.mcap")])[0]
+    return process_wall_s(["run", str(program), "--force", "--log", str(log_dir / "tiny.mcap")])[0]
 
 
 @dataclass(frozen=True)
@@ -148,7 +148,7 @@ def first_run(log_dir: Path) -> FirstRun:
     """A first run on this machine, in a fresh cache directory (deleted afterwards)."""
     program = log_dir / "first.cos"
     program.write_text(FIRST_RUN_PROGRAM, encoding="utf-8")
-    args = ["run", str(program), "--log", str(log_dir / "first.mcap")]
+    args = ["run", str(program), "--force", "--log", str(log_dir / "first.mcap")]
     with tempfile.TemporaryDirectory(prefix="cosmos-fresh-cache-") as cache:
         env = dict(os.environ, COSMOS_CACHE_DIR=cache)
         wall, stderr = process_wall_s(args, env)
