@@ -3,9 +3,14 @@
 The log's ``/scene`` channel (``foxglove.SceneUpdate``, see docs/log-format.md)
 shows the fixtures at the start and then every obstacle as it is added, moved
 (sent again with the same id) or removed (a deletion). Playback draws the
-workcell model, which has the fixtures already, so entities whose id names a
-geom of the model are skipped; the rest (the obstacles) are drawn as boxes,
-cylinders and spheres in the colour they were logged with.
+workcell model, which has the fixtures and the arm already, so entities whose
+id names a geom of the model, or that are attached to a frame other than
+``world`` (the arm's links), are skipped; the rest (the obstacles) are drawn as
+boxes, cylinders and spheres in the colour they were logged with.
+
+``/scene`` is protobuf (log format 2, see docs/log-format.md), decoded with
+Foxglove's published protobuf schemas; logs of format 1 held it as JSON of the
+same shape, and both are read.
 """
 
 from __future__ import annotations
@@ -19,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from cosmos.errors import CosmosError
-from cosmos.runlog.foxglove import SCENE_TOPIC
+from cosmos.runlog.foxglove import SCENE_TOPIC, WORLD_FRAME
 from cosmos.runlog.limits import MAX_SCENE_MESSAGE_BYTES, MAX_TEXT_CHARS
 from cosmos.runlog.scan import load_mcap
 from cosmos.runlog.validate import Invalid, decode, number
@@ -138,8 +143,29 @@ def _apply(update: dict[str, Any], current: dict[str, list[Shape]], drawn_alread
         current.pop(_entity_id(deletion, "deletion"), None)
     for entity in _list(update, "entities"):
         name = _entity_id(entity, "entity")
-        if name not in drawn_already:
+        if name not in drawn_already and entity.get("frame_id", WORLD_FRAME) == WORLD_FRAME:
             current[name] = _shapes(entity)
+
+
+def _decode_update(data: bytes, encoding: str) -> dict[str, Any]:
+    """One ``/scene`` message as a dict of the JSON shape, from protobuf (format 2) or JSON (format 1)."""
+    if encoding == "json":
+        return decode(data, MAX_SCENE_MESSAGE_BYTES)
+    if encoding != "protobuf":
+        raise Invalid(f"message encoding {encoding[:40]!r} is neither protobuf nor json")
+    if len(data) > MAX_SCENE_MESSAGE_BYTES:
+        raise Invalid(f"{len(data):,} bytes, more than the {MAX_SCENE_MESSAGE_BYTES:,} a message may have")
+    from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
+    from google.protobuf.json_format import MessageToDict
+    from google.protobuf.message import DecodeError
+
+    try:
+        message = SceneUpdate.FromString(data)
+    except (DecodeError, RecursionError) as error:
+        raise Invalid(f"not a protobuf foxglove.SceneUpdate ({str(error)[:80]})") from None
+    return MessageToDict(
+        message, preserving_proto_field_name=True, always_print_fields_with_no_presence=True
+    )
 
 
 def scene_timeline(path: Path, drawn_already: Collection[str]) -> SceneTimeline:
@@ -154,7 +180,11 @@ def scene_timeline(path: Path, drawn_already: Collection[str]) -> SceneTimeline:
             (one line naming it), or the scene holds more than ``MAX_SHOWN`` shapes.
     """
     contents = load_mcap(path)
-    channels = {cid for cid, channel in contents.channels.items() if channel.topic == SCENE_TOPIC}
+    channels = {
+        cid: channel.message_encoding
+        for cid, channel in contents.channels.items()
+        if channel.topic == SCENE_TOPIC
+    }
     updates = [m for m in contents.messages if m.channel_id in channels]
     order = sorted(range(len(updates)), key=lambda i: updates[i].log_time)
     current: dict[str, list[Shape]] = {}
@@ -164,7 +194,7 @@ def scene_timeline(path: Path, drawn_already: Collection[str]) -> SceneTimeline:
     for i in order:
         message = updates[i]
         try:
-            _apply(decode(message.data, MAX_SCENE_MESSAGE_BYTES), current, drawn_already)
+            _apply(_decode_update(message.data, channels[message.channel_id]), current, drawn_already)
         except Invalid as error:
             raise CosmosError(f"{path}: {SCENE_TOPIC} message {i + 1}: {error}") from None
         times.append(message.log_time / 1e9)

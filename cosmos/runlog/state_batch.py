@@ -3,8 +3,10 @@
 :class:`StateBatches` is the part of :class:`cosmos.runlog.writer.RunLog` that
 records ``/cosmos/state`` and ``/tf``: the per-sample methods copy a sample into
 staging arrays through the compiled kernels (:mod:`cosmos.runlog.text_kernel`),
-and :meth:`StateBatches._write_states` renders a batch as JSON text and hands
-each message to its channel, each /tf sample right after its state. It is a
+and :meth:`StateBatches._write_states` renders a batch of states as JSON text,
+builds each /tf sample as a ``foxglove.FrameTransforms`` (protobuf, through the
+SDK's typed channel) and hands each message to its channel, each /tf sample
+right after its state. It is a
 base class rather than a member so that the hot per-sample methods stay one
 call with no indirection.
 """
@@ -18,6 +20,7 @@ from typing import Any, Final
 
 import numpy as np
 from foxglove import Channel
+from foxglove.channels import FrameTransformsChannel
 from numpy.typing import ArrayLike
 
 from cosmos.runlog import foxglove
@@ -60,17 +63,18 @@ class StateBatches:
     def _flush_states(self) -> None:
         raise NotImplementedError
 
-    def _open_batches(self, state: Channel, tf: Channel, frames: Sequence[str]) -> None:
+    def _open_batches(self, state: Channel, tf: FrameTransformsChannel, frames: Sequence[str]) -> None:
         """Set up the kernels and staging arrays.
 
         Args:
             state: The ``/cosmos/state`` channel.
-            tf: The ``/tf`` channel.
+            tf: The ``/tf`` channel (protobuf ``foxglove.FrameTransforms``).
             frames: Child frames of :meth:`transforms`, in the order poses are given.
         """
         # Rust-side log calls of the channels (the Python wrapper re-checks the type per message).
         self._log_state = state.base.log
-        self._log_tf = tf.base.log
+        self._log_tf = tf.log
+        self._frames = tuple(frames)
         # The compiled kernels load numba (about a second): imported here, so that reading logs
         # does not. The staging kernels take contiguous float64 arrays only and raise TypeError
         # for anything else; the callers try them with what they were given, convert on that error.
@@ -79,7 +83,6 @@ class StateBatches:
         self._stage_state: Any = text_kernel.stage_state
         self._stage_transform: Any = text_kernel.stage_transform
         self._render_states = text_kernel.render_states
-        self._render_transforms = text_kernel.render_transforms
 
         # State samples wait here and are encoded _BATCH at a time.
         self._rows = np.empty((_BATCH, STATE_WIDTH))  # (batch, 37)
@@ -90,11 +93,9 @@ class StateBatches:
         self._offsets = np.empty(_BATCH + 1, dtype=np.int64)
         self._times_ns = np.empty(_BATCH, dtype=np.int64)
         # /tf samples wait with the states, in micro-units; the buffers grow if a batch holds more.
-        self._tf_text = Template.from_format(foxglove.frame_transforms_format(frames))
         self._frame_rows = np.arange(len(frames), dtype=np.int64)  # (frames,)
         self._tf_poses = np.empty((_BATCH, len(frames), 7), dtype=np.int64)  # (capacity, frames, 7)
         self._tf_ns = np.empty(_BATCH, dtype=np.int64)
-        self._tf_offsets = np.empty(_BATCH + 1, dtype=np.int64)
         self._pending_tf = 0
         self._text = np.empty(0, dtype=np.uint8)  # JSON text of a batch, grown as needed
 
@@ -153,10 +154,10 @@ class StateBatches:
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
         self._pending = self._pending_tf = 0
-        size = n * _STATE_TEXT.max_bytes + m * self._tf_text.max_bytes
+        size = n * _STATE_TEXT.max_bytes
         if len(self._text) < size:
             self._text = np.empty(2 * size, dtype=np.uint8)
-        text, state_text, tf_text = self._text, _STATE_TEXT, self._tf_text
+        text, state_text = self._text, _STATE_TEXT
         end = self._render_states(
             text,
             self._rows,
@@ -169,14 +170,13 @@ class StateBatches:
             self._offsets,
             self._times_ns,
         )
-        end = self._render_transforms(
-            text, end, self._tf_poses, self._tf_ns, m, tf_text.literals, tf_text.bounds, self._tf_offsets
-        )
         blob = text[:end].tobytes()
         offsets = self._offsets[: n + 1].tolist()
         times_ns = self._times_ns[:n].tolist()
-        tf_offsets = self._tf_offsets[: m + 1].tolist()
         tf_ns = self._tf_ns[:m].tolist()
+        tf_poses = self._tf_poses[:m] / 1e6  # (m, frames, 7) translation [m], rotation x y z w
+        frames = self._frames
+        tf_message = foxglove.frame_transforms
         status = self._status[:n].tolist()
         log_state, log_tf = self._log_state, self._log_tf
         tf_next = 0
@@ -188,10 +188,10 @@ class StateBatches:
             else:
                 log_state(self._python_state_text(i, status[i]), t_ns, None)
             while tf_next < m and tf_ns[tf_next] <= t_ns:
-                log_tf(blob[tf_offsets[tf_next] : tf_offsets[tf_next + 1]], tf_ns[tf_next], None)
+                log_tf(tf_message(tf_ns[tf_next], frames, tf_poses[tf_next]), log_time=tf_ns[tf_next])
                 tf_next += 1
         for k in range(tf_next, m):
-            log_tf(blob[tf_offsets[k] : tf_offsets[k + 1]], tf_ns[k], None)
+            log_tf(tf_message(tf_ns[k], frames, tf_poses[k]), log_time=tf_ns[k])
             t_ns = max(t_ns, tf_ns[k])
         self._last_ns = t_ns
 
@@ -281,4 +281,3 @@ class StateBatches:
         """Twice the room for /tf samples waiting in this batch."""
         self._tf_poses = np.concatenate((self._tf_poses, np.empty_like(self._tf_poses)))
         self._tf_ns = np.concatenate((self._tf_ns, np.empty_like(self._tf_ns)))
-        self._tf_offsets = np.empty(len(self._tf_ns) + 1, dtype=np.int64)

@@ -25,7 +25,6 @@ import numpy as np
 from cosmos.jit import kernel
 from cosmos.runlog.text_template import (
     POSE_LIMIT,
-    POSE_WIDTH,
     STATE_MICRO_LIMIT,
     STATE_NOT_EXACT,
     STATE_TIME_OUTSIDE,
@@ -175,53 +174,6 @@ def render_states(
         pos = _put_literal(out, pos, literals, bounds, width + 2)
         pos = _put_int(out, pos, labels[i, 1])
         pos = _put_literal(out, pos, literals, bounds, width + 3)
-    offsets[count] = pos
-    return pos
-
-
-@kernel
-def render_transforms(
-    out: ByteArray,
-    pos: int,
-    poses: IntArray,
-    times_ns: IntArray,
-    count: int,
-    literals: ByteArray,
-    bounds: IntArray,
-    offsets: IntArray,
-) -> int:
-    """Write the first ``count`` ``/tf`` messages into ``out`` from ``pos``; return the end.
-
-    Each frame of a message fills nine holes: ``sec``, ``nsec`` of the time,
-    then the pose in micro-units (x y z, quaternion x y z w).
-
-    Args:
-        out: Output buffer. # (capacity,) uint8
-        pos: Where the first message starts.
-        poses: Poses in micro-units, per message and frame. # (capacity, frames, 7) int64
-        times_ns: Time of each message [ns]. # (capacity,) int64
-        count: Messages to write.
-        literals: The template's literals.
-        bounds: Their bounds.
-        offsets: Out: message ``i`` is ``out[offsets[i]:offsets[i + 1]]``. # (capacity + 1,) int64
-    """
-    frames = poses.shape[1]
-    for i in range(count):
-        offsets[i] = pos
-        sec = times_ns[i] // 1_000_000_000
-        nsec = times_ns[i] % 1_000_000_000
-        hole = 0
-        pos = _put_literal(out, pos, literals, bounds, 0)
-        for f in range(frames):
-            pos = _put_int(out, pos, sec)
-            pos = _put_literal(out, pos, literals, bounds, hole + 1)
-            pos = _put_int(out, pos, nsec)
-            pos = _put_literal(out, pos, literals, bounds, hole + 2)
-            hole += 2
-            for c in range(POSE_WIDTH):
-                pos = _put_int(out, pos, poses[i, f, c])
-                pos = _put_literal(out, pos, literals, bounds, hole + 1)
-                hole += 1
     offsets[count] = pos
     return pos
 

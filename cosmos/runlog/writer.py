@@ -30,6 +30,7 @@ from types import TracebackType
 from typing import Any, Final
 
 from foxglove import Channel, Context, Schema, open_mcap
+from foxglove.channels import FrameTransformsChannel, LogChannel, SceneUpdateChannel
 from foxglove.mcap import MCAPCompression, MCAPWriteOptions, MCAPWriter
 from mcap.well_known import MessageEncoding, SchemaEncoding
 from numpy.typing import ArrayLike
@@ -179,15 +180,12 @@ class RunLog(StateBatches):
         self._state = channel(STATE_TOPIC, STATE_SCHEMA_NAME, STATE_SCHEMA)
         self._segment = channel(SEGMENT_TOPIC, SEGMENT_SCHEMA_NAME, SEGMENT_SCHEMA)
         self._event = channel(EVENT_TOPIC, EVENT_SCHEMA_NAME, EVENT_SCHEMA)
-        self._tf = channel(
-            foxglove.TRANSFORMS_TOPIC,
-            foxglove.FRAME_TRANSFORMS_SCHEMA_NAME,
-            foxglove.FRAME_TRANSFORMS_SCHEMA,
-        )
-        self._scene = channel(
-            foxglove.SCENE_TOPIC, foxglove.SCENE_UPDATE_SCHEMA_NAME, foxglove.SCENE_UPDATE_SCHEMA
-        )
-        self._log = channel(foxglove.LOG_TOPIC, foxglove.LOG_SCHEMA_NAME, foxglove.LOG_SCHEMA)
+        # Foxglove's well-known messages: the SDK's typed channels encode protobuf (official schemas).
+        context = self._context
+        self._tf = FrameTransformsChannel(foxglove.TRANSFORMS_TOPIC, context=context)
+        self._scene = SceneUpdateChannel(foxglove.SCENE_TOPIC, context=context)
+        self._log = LogChannel(foxglove.LOG_TOPIC, context=context)
+        self._typed_channels = (self._tf, self._scene, self._log)
         self._open_batches(self._state, self._tf, frames)
 
         record = metadata_record(
@@ -214,7 +212,8 @@ class RunLog(StateBatches):
         self._channels.append(channel)
         return channel
 
-    def _write(self, channel: Channel, t_ns: int, data: bytes) -> None:
+    def _write(self, channel: Any, t_ns: int, data: Any) -> None:
+        """Log ``data`` (JSON bytes, or a foxglove-sdk message on a typed channel) at ``t_ns``."""
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
         channel.log(data, log_time=t_ns)
@@ -366,6 +365,8 @@ class RunLog(StateBatches):
             self._at_exit.detach()
             for channel in self._channels:
                 channel.close()
+            for typed in self._typed_channels:
+                typed.close()
             self._sink.close()
         if not self._sink.reported:
             self._sink.check()

@@ -34,7 +34,7 @@ def log(tmp_path_factory: pytest.TempPathFactory) -> Path:
         (0.5, [], ["crate"]),
     ]
     extra = [
-        (SCENE_TOPIC, _ns(t), scene_update(_ns(t), [entity(p, _ns(t)) for p in add], remove))
+        (SCENE_TOPIC, _ns(t), scene_update(_ns(t), [entity(p, _ns(t)) for p in add], remove).encode())
         for t, add, remove in updates
     ]
     return copy_with_source(plain, directory / "obstacles.mcap", extra=extra)

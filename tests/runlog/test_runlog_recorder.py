@@ -14,6 +14,7 @@ from cosmos.runlog import RunLog
 from cosmos.runlog.foxglove import ARM_FRAMES
 from cosmos.runtime.parameters import ParameterLevel
 from cosmos.workcell import TOOL_SITE
+from tests import foxglove_proto
 
 
 def test_recorded_state_and_frames_are_the_simulators(tmp_path: Path) -> None:
@@ -48,8 +49,13 @@ def test_recorded_state_and_frames_are_the_simulators(tmp_path: Path) -> None:
 
     by_topic: dict[str, list[dict]] = {}
     with open(path, "rb") as stream:
-        for _, channel, message in make_reader(stream).iter_messages():
-            by_topic.setdefault(channel.topic, []).append(json.loads(message.data))
+        for schema, channel, message in make_reader(stream).iter_messages():
+            if channel.message_encoding == "protobuf":
+                assert schema is not None
+                decoded = foxglove_proto.decode(schema.name, message.data)
+            else:
+                decoded = json.loads(message.data)
+            by_topic.setdefault(channel.topic, []).append(decoded)
     states, frames = by_topic["/cosmos/state"], by_topic["/tf"]
     assert len(states) == 12 and len(frames) == len(expected_frames) == 3
     for message, (t, q, qd, tau, x, quat, v, wrench, k) in zip(states, expected_states, strict=True):

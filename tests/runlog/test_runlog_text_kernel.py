@@ -5,11 +5,9 @@ import json
 import numpy as np
 import pytest
 
-from cosmos.runlog.foxglove import ARM_FRAMES, frame_transforms_format
 from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
 from cosmos.runlog.text_kernel import (
     render_states,
-    render_transforms,
     stage_state,
     stage_transform,
     time_nanoseconds,
@@ -106,36 +104,6 @@ def test_rows_with_a_non_finite_or_huge_value_or_odd_time_are_left_to_the_caller
     assert status == [STATE_WRITTEN] + [STATE_NOT_EXACT] * 3 + [STATE_TIME_OUTSIDE] * 3
     assert texts[1:] == [b""] * 6
     assert json.loads(texts[0])["wrench"] == [0] * 6
-
-
-def test_transforms_text_is_python_percent_formatting_of_the_template() -> None:
-    rng = np.random.default_rng(4)
-    frames, count = len(ARM_FRAMES), 50
-    fmt = frame_transforms_format(ARM_FRAMES)
-    template = Template.from_format(fmt)
-    bodies = np.array([3, 0, 5, 1, 8, 2, 7], dtype=np.int64)  # rows of the frames in the inputs
-    poses = np.zeros((count, frames, 7), dtype=np.int64)
-    times_ns = np.zeros(count, dtype=np.int64)
-    inputs = []
-    for j in range(count):
-        positions = awkward_values(rng, 9 * 3).reshape(9, 3) % 1e8
-        quats = rng.normal(size=(9, 4))
-        t_ns = int(rng.integers(0, 10**14))
-        assert stage_transform(poses, times_ns, j, t_ns, positions, quats, bodies)
-        inputs.append((t_ns, positions[bodies], quats[bodies]))
-    out = np.zeros(count * template.max_bytes, dtype=np.uint8)
-    offsets = np.zeros(count + 1, dtype=np.int64)
-    end = render_transforms(out, 0, poses, times_ns, count, template.literals, template.bounds, offsets)
-    blob = out[:end].tobytes()
-    for j, (t_ns, positions, quats) in enumerate(inputs):
-        sec, nsec = divmod(t_ns, 1_000_000_000)
-        xyzw = np.concatenate((positions, quats[:, 1:], quats[:, :1]), axis=1)  # (frames, 7)
-        values = []
-        for row in np.rint(xyzw * 1e6).astype(np.int64).tolist():
-            values += [sec, nsec, *row]
-        assert blob[offsets[j] : offsets[j + 1]] == (fmt % tuple(values)).encode()
-    message = json.loads(blob[offsets[0] : offsets[1]])
-    assert [t["child_frame_id"] for t in message["transforms"]] == list(ARM_FRAMES)
 
 
 def test_a_pose_sample_with_a_non_finite_or_huge_value_is_not_staged() -> None:

@@ -20,6 +20,7 @@ from runlog_synthetic import (
 )
 
 from cosmos.runlog import RunLog, default_log_path
+from tests import foxglove_proto
 
 COSMOS_TOPICS = {
     "/cosmos/state": "cosmos.State",
@@ -38,13 +39,19 @@ def run_log(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, WrittenRun]
 
 
 def messages_by_topic(path: Path) -> dict[str, list[tuple[dict, int, int]]]:
-    """topic -> [(decoded JSON, log_time, publish_time)] read with mcap's own reader."""
+    """topic -> [(decoded message, log_time, publish_time)] read with mcap's own reader.
+
+    JSON channels are decoded as JSON, protobuf ones with Foxglove's official compiled schemas.
+    """
     out: dict[str, list[tuple[dict, int, int]]] = {}
     with open(path, "rb") as stream:
-        for _, channel, message in make_reader(stream).iter_messages():
-            out.setdefault(channel.topic, []).append(
-                (json.loads(message.data), message.log_time, message.publish_time)
-            )
+        for schema, channel, message in make_reader(stream).iter_messages():
+            assert schema is not None
+            if channel.message_encoding == "protobuf":
+                decoded = foxglove_proto.decode(schema.name, message.data)
+            else:
+                decoded = json.loads(message.data)
+            out.setdefault(channel.topic, []).append((decoded, message.log_time, message.publish_time))
     return out
 
 
@@ -55,8 +62,11 @@ def test_summary_lists_schemas_channels_and_counts(run_log: tuple[Path, WrittenR
     assert summary is not None and summary.statistics is not None
     topics = {c.topic: summary.schemas[c.schema_id].name for c in summary.channels.values()}
     assert topics == COSMOS_TOPICS
-    assert all(c.message_encoding == "json" for c in summary.channels.values())
-    assert all(s.encoding == "jsonschema" for s in summary.schemas.values())
+    encodings = {c.topic: (c.message_encoding, summary.schemas[c.schema_id].encoding) for c in summary.channels.values()}
+    assert encodings == {
+        topic: ("protobuf", "protobuf") if name.startswith("foxglove.") else ("json", "jsonschema")
+        for topic, name in COSMOS_TOPICS.items()
+    }
     stats = summary.statistics
     counts = {summary.channels[c].topic: n for c, n in stats.channel_message_counts.items()}
     n_events = 2 * 4 + 1  # start and outcome of four statements, one contact
@@ -130,8 +140,11 @@ def test_every_message_validates_against_its_channel_schema(
         checked = set()
         for schema, channel, message in reader.iter_messages():
             assert schema is not None
-            errors = validate(json.loads(message.data), json.loads(schema.data))
-            assert errors == [], (channel.topic, errors[:3])
+            if schema.encoding == "protobuf":  # strict decode with the official compiled schema
+                foxglove_proto.decode(schema.name, message.data)
+            else:
+                errors = validate(json.loads(message.data), json.loads(schema.data))
+                assert errors == [], (channel.topic, errors[:3])
             checked.add(channel.topic)
     assert checked == set(COSMOS_TOPICS)
 
@@ -141,7 +154,7 @@ def test_validator_rejects_what_the_schemas_forbid(run_log: tuple[Path, WrittenR
     with open(run_log[0], "rb") as stream:
         summary = make_reader(stream).get_summary()
     assert summary is not None
-    schemas = {s.name: json.loads(s.data) for s in summary.schemas.values()}
+    schemas = {s.name: json.loads(s.data) for s in summary.schemas.values() if s.encoding == "jsonschema"}
     segment = {"t": 0.0, **segment_args(0)}
     segment = json.loads(json.dumps(segment))
     assert validate(segment, schemas["cosmos.Segment"]) == []
@@ -159,10 +172,23 @@ def test_schemas_parse_as_foxglove_parses_json_schemas(run_log: tuple[Path, Writ
     with open(run_log[0], "rb") as stream:
         summary = make_reader(stream).get_summary()
     assert summary is not None
-    fields = {s.name: foxglove_fields(json.loads(s.data)) for s in summary.schemas.values()}
+    fields = {
+        s.name: foxglove_fields(json.loads(s.data))
+        for s in summary.schemas.values()
+        if s.encoding == "jsonschema"
+    }
     assert fields["cosmos.State"]["wrench"] == "number[]"
-    assert fields["foxglove.FrameTransforms"]["transforms"] == "object[]"
-    assert fields["foxglove.SceneUpdate"]["entities"] == "object[]"
+
+
+def test_foxglove_channels_store_the_official_protobuf_schemas(run_log: tuple[Path, WrittenRun]) -> None:
+    """Catches a /tf, /scene or /cosmos/log schema that is not Foxglove's own .proto definition."""
+    with open(run_log[0], "rb") as stream:
+        summary = make_reader(stream).get_summary()
+    assert summary is not None
+    stored = {s.name: s.data for s in summary.schemas.values() if s.encoding == "protobuf"}
+    assert set(stored) == set(foxglove_proto.OFFICIAL)
+    for name, data in stored.items():
+        assert foxglove_proto.stored_schema_is_official(name, data), name
 
 
 def test_attachment_holds_the_program_and_metadata_the_run(
@@ -202,6 +228,7 @@ def test_transforms_and_scene_messages_have_foxglove_shape(
     got = [first["translation"][a] for a in "xyz"]
     assert np.allclose(got, expected, atol=1e-6)
     assert first["rotation"] == {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}
+    assert all(t["timestamp"] == first["timestamp"] for t in transforms)
 
     added, removed = (m[0] for m in by_topic["/scene"])
     entities = {e["id"]: e for e in added["entities"]}
@@ -209,7 +236,8 @@ def test_transforms_and_scene_messages_have_foxglove_shape(
     assert entities["post"]["cylinders"][0]["size"] == {"x": 0.08, "y": 0.08, "z": 0.6}
     assert entities["ball"]["spheres"][0]["size"] == {"x": 0.12, "y": 0.12, "z": 0.12}
     assert entities["ball"]["spheres"][0]["pose"]["position"] == {"x": 0.4, "y": 0.25, "z": 0.5}
-    assert all(e["frame_id"] == "world" for e in entities.values())
+    assert all(e["frame_id"] == "world" and not e["frame_locked"] for e in entities.values())
+    assert all(e["lifetime"] == {"sec": 0, "nsec": 0} for e in entities.values())
     assert removed["entities"] == []
     assert [(d["id"], d["type"]) for d in removed["deletions"]] == [("ball", 0)]
 
