@@ -14,6 +14,7 @@ from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant, SensorNoise
 from cosmos.robot_model import build_robot_model
+from cosmos.runlog.arm_scene import arm_entities
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rates import Rates
@@ -72,7 +73,8 @@ class Session:
             seed=seed,
             metadata={"scene": SCENE_XML.name, "cosmos_version": __version__} | varied,
         )
-        self.log.scene(0.0, add=fixture_primitives(self.plant))
+        arm = arm_entities(self.plant.model, self.plant.geom_owners)
+        self.log.scene(0.0, add=[*fixture_primitives(self.plant), *arm])
         self.obstacles = ObstacleWorld(self.runtime, self.log)
         self.executor = Executor(self.runtime, self.log, progress, obstacles=self.obstacles)
         self.executor.hold()

@@ -163,9 +163,7 @@ def _decode_update(data: bytes, encoding: str) -> dict[str, Any]:
         message = SceneUpdate.FromString(data)
     except (DecodeError, RecursionError) as error:
         raise Invalid(f"not a protobuf foxglove.SceneUpdate ({str(error)[:80]})") from None
-    return MessageToDict(
-        message, preserving_proto_field_name=True, always_print_fields_with_no_presence=True
-    )
+    return MessageToDict(message, preserving_proto_field_name=True, always_print_fields_with_no_presence=True)
 
 
 def scene_timeline(path: Path, drawn_already: Collection[str]) -> SceneTimeline:

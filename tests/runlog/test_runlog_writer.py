@@ -62,7 +62,10 @@ def test_summary_lists_schemas_channels_and_counts(run_log: tuple[Path, WrittenR
     assert summary is not None and summary.statistics is not None
     topics = {c.topic: summary.schemas[c.schema_id].name for c in summary.channels.values()}
     assert topics == COSMOS_TOPICS
-    encodings = {c.topic: (c.message_encoding, summary.schemas[c.schema_id].encoding) for c in summary.channels.values()}
+    encodings = {
+        c.topic: (c.message_encoding, summary.schemas[c.schema_id].encoding)
+        for c in summary.channels.values()
+    }
     assert encodings == {
         topic: ("protobuf", "protobuf") if name.startswith("foxglove.") else ("json", "jsonschema")
         for topic, name in COSMOS_TOPICS.items()
