@@ -59,6 +59,11 @@ def cli() -> None:
 @click.option("--force", is_flag=True, help="Overwrite the --log file if it exists.")
 @click.option("--vary", multiple=True, metavar="NAME=VALUE", help="Vary the real workcell (docs/sweep.md).")
 @click.option("--sample", metavar="FILE:N", help="Run in the workcell of run N of a sweep's results file.")
+@click.option(
+    "--ros2",
+    is_flag=True,
+    help="Also log ROS 2 channels (JointState, WrenchStamped, TFMessage; CDR) for ros2 bag play.",
+)
 def run(
     program: Path,
     log_path: Path | None,
@@ -68,6 +73,7 @@ def run(
     force: bool,
     vary: tuple[str, ...],
     sample: str | None,
+    ros2: bool,
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
     from cosmos.commands.run import run_program
@@ -81,7 +87,7 @@ def run(
         state_hz=defaults.state_hz,
     )
     variation = variation_for_run(program, vary, sample, seed)
-    _finish(run_program(program, log_path, rates, seed, force, variation))
+    _finish(run_program(program, log_path, rates, seed, force, variation, ros2=ros2))
 
 
 @cli.command()

@@ -39,13 +39,15 @@ def run_program(
     seed: int,
     force: bool = False,
     variation: WorkcellVariation | None = None,
+    *,
+    ros2: bool = False,
 ) -> int:
     """Run a program (in a varied workcell: ``cosmos run --vary/--sample``); print the log's path.
 
     The log goes to ``log_path``, or to ``logs/<stem>-<UTC time>.mcap`` (the one
     directory created if missing; ``-2``, ``-3``, ... added if that file exists).
     Ctrl-C and SIGTERM stop the arm; from before the log is opened until it is
-    closed they never end the process.
+    closed they never end the process. ``ros2``: also log the ROS 2 channels.
 
     Raises:
         UsageError: If the log cannot be written (it exists and not ``force``, is not
@@ -58,7 +60,9 @@ def run_program(
     progress = TerminalProgress() if sys.stderr.isatty() else None
     failure: CosmosError | None = None
     with StopOnSignals() as signals:
-        with Session(str(path), plan.source, log_path, rates, seed, progress, variation) as session:
+        with Session(
+            str(path), plan.source, log_path, rates, seed, progress, variation, ros2=ros2
+        ) as session:
             signals.attach(session.executor)
             try:
                 execute_plan(session, plan, progress)

@@ -18,7 +18,7 @@ from cosmos.runlog.arm_scene import arm_entities
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rates import Rates
-from cosmos.workcell import SCENE_XML
+from cosmos.workcell import JOINT_NAMES, SCENE_XML
 
 MODEL_NAME = "PUMA 560 (Corke & Armstrong-Helouvry 1994) in the cosmos workcell"
 
@@ -43,6 +43,7 @@ class Session:
         progress: Called now and then with the statement running.
         variation: A sweep's changes to the real workcell (the program's frames stay nominal);
             its noise seed replaces ``seed``; recorded in the log's metadata.
+        ros2: Also log the ROS 2 channels (joint states, wrench, transforms).
     """
 
     def __init__(
@@ -54,6 +55,7 @@ class Session:
         seed: int = 0,
         progress: ProgressCallback | None = None,
         variation: Variation | None = None,
+        ros2: bool = False,
     ):
         noise, edit, varied = SensorNoise(seed), None, {}
         if variation is not None:
@@ -72,6 +74,7 @@ class Session:
             model=MODEL_NAME,
             seed=seed,
             metadata={"scene": SCENE_XML.name, "cosmos_version": __version__} | varied,
+            ros2_joints=JOINT_NAMES if ros2 else None,
         )
         arm = arm_entities(self.plant.model, self.plant.geom_owners)
         self.log.scene(0.0, add=[*fixture_primitives(self.plant), *arm])

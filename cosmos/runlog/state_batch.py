@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 
 from cosmos.runlog import foxglove
 from cosmos.runlog.messages import log_time_ns
+from cosmos.runlog.ros2_channels import Ros2Channels
 from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
 from cosmos.runlog.text_template import STATE_NOT_EXACT, STATE_WRITTEN, Template
 
@@ -97,7 +98,8 @@ class StateBatches:
         self._tf_poses = np.empty((_BATCH, len(frames), 7), dtype=np.int64)  # (capacity, frames, 7)
         self._tf_ns = np.empty(_BATCH, dtype=np.int64)
         self._pending_tf = 0
-        self._text = np.empty(0, dtype=np.uint8)  # JSON text of a batch, grown as needed
+        self._text = np.empty(0, dtype=np.uint8)
+        self._ros2: Ros2Channels | None = None  # JSON text of a batch, grown as needed
 
     def state(
         self,
@@ -178,7 +180,7 @@ class StateBatches:
         frames = self._frames
         tf_message = foxglove.frame_transforms
         status = self._status[:n].tolist()
-        log_state, log_tf = self._log_state, self._log_tf
+        log_state, log_tf, ros2 = self._log_state, self._log_tf, self._ros2
         tf_next = 0
         t_ns = 0
         for i in range(n):
@@ -187,11 +189,17 @@ class StateBatches:
                 log_state(blob[offsets[i] : offsets[i + 1]], t_ns, None)
             else:
                 log_state(self._python_state_text(i, status[i]), t_ns, None)
+            if ros2 is not None:
+                ros2.state(t_ns, self._rows[i])
             while tf_next < m and tf_ns[tf_next] <= t_ns:
                 log_tf(tf_message(tf_ns[tf_next], frames, tf_poses[tf_next]), log_time=tf_ns[tf_next])
+                if ros2 is not None:
+                    ros2.transforms(tf_ns[tf_next], frames, tf_poses[tf_next])
                 tf_next += 1
         for k in range(tf_next, m):
             log_tf(tf_message(tf_ns[k], frames, tf_poses[k]), log_time=tf_ns[k])
+            if ros2 is not None:
+                ros2.transforms(tf_ns[k], frames, tf_poses[k])
             t_ns = max(t_ns, tf_ns[k])
         self._last_ns = t_ns
 

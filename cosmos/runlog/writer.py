@@ -45,6 +45,7 @@ from cosmos.runlog.messages import (
     segment_message,
 )
 from cosmos.runlog.output import open_output
+from cosmos.runlog.ros2_channels import Ros2Channels
 from cosmos.runlog.scene import Primitive, entity
 from cosmos.runlog.schemas import (
     EVENT_SCHEMA,
@@ -128,6 +129,8 @@ class RunLog(StateBatches):
         flush_every_s: Simulated time between flushes to the OS [s] (inf: only :meth:`flush`).
         overwrite: Replace an existing file (``cosmos run`` checks ``--force`` first).
         make_parents: Create missing parent directories.
+        ros2_joints: The arm's joint names, to also write the ROS 2 channels
+            (:mod:`cosmos.runlog.ros2`); None: not written.
 
     Raises:
         UsageError: If the file cannot be created, naming it and the reason.
@@ -150,6 +153,7 @@ class RunLog(StateBatches):
         flush_every_s: float = FLUSH_EVERY_S,
         overwrite: bool = True,
         make_parents: bool = True,
+        ros2_joints: Sequence[str] | None = None,
     ):
         self.path = Path(path)
         self.program = program
@@ -187,6 +191,8 @@ class RunLog(StateBatches):
         self._log = LogChannel(foxglove.LOG_TOPIC, context=context)
         self._typed_channels = (self._tf, self._scene, self._log)
         self._open_batches(self._state, self._tf, frames)
+        if ros2_joints is not None:
+            self._ros2 = Ros2Channels(context, ros2_joints)
 
         record = metadata_record(
             program=program,
@@ -367,6 +373,8 @@ class RunLog(StateBatches):
                 channel.close()
             for typed in self._typed_channels:
                 typed.close()
+            if self._ros2 is not None:
+                self._ros2.close()
             self._sink.close()
         if not self._sink.reported:
             self._sink.check()
