@@ -64,6 +64,17 @@ def cli() -> None:
     is_flag=True,
     help="Also log ROS 2 channels (JointState, WrenchStamped, TFMessage; CDR) for ros2 bag play.",
 )
+@click.option(
+    "--live", is_flag=True, help="Stream the run to Foxglove (WebSocket on 127.0.0.1); implies --realtime."
+)
+@click.option("--port", type=click.IntRange(0, 65535), default=8765, show_default=True, help="--live port.")
+@click.option("--realtime", is_flag=True, help="Run at the wall clock's pace (see --rate).")
+@click.option(
+    "--rate",
+    type=click.FloatRange(min=0.01, max=100.0),
+    default=None,
+    help="Simulated seconds per wall-clock second (implies --realtime; default 1).",
+)
 def run(
     program: Path,
     log_path: Path | None,
@@ -74,9 +85,13 @@ def run(
     vary: tuple[str, ...],
     sample: str | None,
     ros2: bool,
+    live: bool,
+    port: int,
+    realtime: bool,
+    rate: float | None,
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
-    from cosmos.commands.run import run_program
+    from cosmos.commands.run import Pace, run_program
     from cosmos.commands.sweep import variation_for_run
     from cosmos.runtime.rates import Rates
 
@@ -87,7 +102,9 @@ def run(
         state_hz=defaults.state_hz,
     )
     variation = variation_for_run(program, vary, sample, seed)
-    _finish(run_program(program, log_path, rates, seed, force, variation, ros2=ros2))
+    paced = live or realtime or rate is not None
+    pace = Pace(rate or 1.0, port if live else None) if paced else None
+    _finish(run_program(program, log_path, rates, seed, force, variation, ros2=ros2, pace=pace))
 
 
 @cli.command()

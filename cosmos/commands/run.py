@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import sys
+from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 import click
 
@@ -32,6 +33,24 @@ def compile_file(path: Path) -> Plan:
     return plan
 
 
+INTERRUPTED_STATUS: Final = 130
+"""Exit status of a run ended by Ctrl-C (or SIGTERM), as shells report a SIGINT: 128 + 2."""
+
+
+@dataclass(frozen=True)
+class Pace:
+    """Real-time pacing of a run, and its live view.
+
+    Attributes:
+        rate: Simulated seconds per wall-clock second (1: real time).
+        live_port: Port of the live view's WebSocket server on 127.0.0.1 (0: any free
+            port); None: no live view.
+    """
+
+    rate: float = 1.0
+    live_port: int | None = None
+
+
 def run_program(
     path: Path,
     log_path: Path | None,
@@ -41,13 +60,15 @@ def run_program(
     variation: WorkcellVariation | None = None,
     *,
     ros2: bool = False,
+    pace: Pace | None = None,
 ) -> int:
     """Run a program (in a varied workcell: ``cosmos run --vary/--sample``); print the log's path.
 
     The log goes to ``log_path``, or to ``logs/<stem>-<UTC time>.mcap`` (the one
     directory created if missing; ``-2``, ``-3``, ... added if that file exists).
     Ctrl-C and SIGTERM stop the arm; from before the log is opened until it is
-    closed they never end the process. ``ros2``: also log the ROS 2 channels.
+    closed they never end the process; the status is then 130. ``ros2``: also log the
+    ROS 2 channels. ``pace``: hold the run to real time, and serve a live view.
 
     Raises:
         UsageError: If the log cannot be written (it exists and not ``force``, is not
@@ -64,14 +85,22 @@ def run_program(
             str(path), plan.source, log_path, rates, seed, progress, variation, ros2=ros2
         ) as session:
             signals.attach(session.executor)
+            server = None if pace is None else session.log.pace(pace.rate, pace.live_port)
+            if server is not None:
+                click.echo(f"live: ws://127.0.0.1:{server.port} (Foxglove: Open connection)", err=True)
             try:
                 execute_plan(session, plan, progress)
             except UsageError:
                 raise
             except CosmosError as error:
                 failure = error
+            finally:
+                if server is not None:
+                    server.stop()
         # The log is closed (summary and footer written); signals still only stop the arm.
         if failure is not None:
             click.echo(failure.render(), err=True)
         click.echo(f"log: {session.log_path}")
+    if signals.received:
+        return INTERRUPTED_STATUS
     return 0 if failure is None else 1

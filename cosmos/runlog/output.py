@@ -17,6 +17,7 @@ import os
 import stat
 from collections.abc import Iterator
 from contextlib import contextmanager
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import BinaryIO
 
@@ -101,3 +102,27 @@ def written(path: Path, *, what: str, force: bool, make_parents: bool = False) -
     except OSError as error:
         path.unlink(missing_ok=True)
         raise cannot_write(path, error, what) from None
+
+
+def default_log_path(program: Path, now: datetime) -> Path:
+    """``logs/<program stem>-<UTC time>.mcap``, e.g. ``logs/peg-20261122T031500Z.mcap``.
+
+    Args:
+        program: Path of the program file.
+        now: Time of the run; a naive datetime is taken as UTC.
+    """
+    utc = now.replace(tzinfo=UTC) if now.tzinfo is None else now.astimezone(UTC)
+    return Path("logs") / f"{program.stem}-{utc:%Y%m%dT%H%M%SZ}.mcap"
+
+
+def unused_log_path(program: Path, now: datetime) -> Path:
+    """:func:`default_log_path`, or with ``-2``, ``-3``, ... before ``.mcap`` if that file exists.
+
+    Two runs in the same second each get their own log (no log is overwritten unasked).
+    """
+    path = default_log_path(program, now)
+    number = 1
+    while os.path.lexists(path):
+        number += 1
+        path = path.with_name(f"{default_log_path(program, now).stem}-{number}.mcap")
+    return path

@@ -15,8 +15,11 @@ from __future__ import annotations
 
 import io
 import os
+import weakref
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
+
+from foxglove.mcap import MCAPWriter
 
 from cosmos.runlog.output import cannot_write
 
@@ -106,3 +109,16 @@ class LogSink(io.RawIOBase):
                 if self.error is None:
                     self.error = error
         super().close()
+
+
+def close_at_exit(log: weakref.ref[Any], writer: MCAPWriter, sink: LogSink) -> None:
+    """Close a log left open (at exit or when collected), while Python can still run the sink."""
+    try:
+        still_open = log()
+        if still_open is not None:
+            still_open.close()  # at exit: the pending states too
+        else:
+            writer.close()
+    except Exception:  # noqa: BLE001, S110 - nothing can be reported this late; the file stays readable
+        pass
+    sink.close()

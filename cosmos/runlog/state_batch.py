@@ -24,6 +24,7 @@ from foxglove.channels import FrameTransformsChannel
 from numpy.typing import ArrayLike
 
 from cosmos.runlog import foxglove
+from cosmos.runlog.live import Pacer
 from cosmos.runlog.messages import log_time_ns
 from cosmos.runlog.ros2_channels import Ros2Channels
 from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
@@ -98,8 +99,9 @@ class StateBatches:
         self._tf_poses = np.empty((_BATCH, len(frames), 7), dtype=np.int64)  # (capacity, frames, 7)
         self._tf_ns = np.empty(_BATCH, dtype=np.int64)
         self._pending_tf = 0
-        self._text = np.empty(0, dtype=np.uint8)
-        self._ros2: Ros2Channels | None = None  # JSON text of a batch, grown as needed
+        self._text = np.empty(0, dtype=np.uint8)  # JSON text of a batch, grown as needed
+        self._ros2: Ros2Channels | None = None  # the ROS 2 channels, if logged
+        self._pacer: Pacer | None = None  # real-time pacing and live hand-over (cosmos.runlog.live)
 
     def state(
         self,
@@ -147,6 +149,8 @@ class StateBatches:
             self._flush_states()
         elif i + 1 == _BATCH:
             self._write_states()
+        if self._pacer is not None:
+            self._pacer.tick(t)
 
     def _write_states(self) -> None:
         """Encode and write the pending states and /tf samples, each /tf right after its state."""

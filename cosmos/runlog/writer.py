@@ -21,21 +21,21 @@ reading uses the ``mcap`` package, so every log is checked by a second implement
 
 from __future__ import annotations
 
-import os
 import weakref
 from collections.abc import Mapping, Sequence
-from datetime import UTC, datetime
 from pathlib import Path
 from types import TracebackType
 from typing import Any, Final
 
-from foxglove import Channel, Context, Schema, open_mcap
+from foxglove import Channel, Context, Schema, WebSocketServer, open_mcap
 from foxglove.channels import FrameTransformsChannel, LogChannel, SceneUpdateChannel
-from foxglove.mcap import MCAPCompression, MCAPWriteOptions, MCAPWriter
+from foxglove.mcap import MCAPCompression, MCAPWriteOptions
 from mcap.well_known import MessageEncoding, SchemaEncoding
 from numpy.typing import ArrayLike
 
-from cosmos.runlog import foxglove
+from cosmos.errors import UsageError
+from cosmos.runlog import foxglove, live
+from cosmos.runlog.live import Pacer
 from cosmos.runlog.messages import (
     event_kind,
     event_log_line,
@@ -44,7 +44,9 @@ from cosmos.runlog.messages import (
     metadata_record,
     segment_message,
 )
+from cosmos.runlog.output import default_log_path as default_log_path  # re-exported
 from cosmos.runlog.output import open_output
+from cosmos.runlog.output import unused_log_path as unused_log_path  # re-exported
 from cosmos.runlog.ros2_channels import Ros2Channels
 from cosmos.runlog.scene import Primitive, entity
 from cosmos.runlog.schemas import (
@@ -60,7 +62,7 @@ from cosmos.runlog.schemas import (
     STATE_TOPIC,
     schema_bytes,
 )
-from cosmos.runlog.sink import LogSink
+from cosmos.runlog.sink import LogSink, close_at_exit
 from cosmos.runlog.state_batch import FLUSH_EVERY_S, StateBatches
 
 DEFAULT_CHUNK_SIZE: Final = 256 * 1024
@@ -71,43 +73,6 @@ DEFAULT_CHUNK_SIZE: Final = 256 * 1024
 # Rust writer holds the GIL while it compresses and waits for the chunk at every chunk end,
 # so a worker thread saves no time in the loop (measured: more wall time on the 2-core machine).
 _ZSTD_LEVEL: Final = 1
-
-
-def default_log_path(program: Path, now: datetime) -> Path:
-    """``logs/<program stem>-<UTC time>.mcap``, e.g. ``logs/peg-20261122T031500Z.mcap``.
-
-    Args:
-        program: Path of the program file.
-        now: Time of the run; a naive datetime is taken as UTC.
-    """
-    utc = now.replace(tzinfo=UTC) if now.tzinfo is None else now.astimezone(UTC)
-    return Path("logs") / f"{program.stem}-{utc:%Y%m%dT%H%M%SZ}.mcap"
-
-
-def unused_log_path(program: Path, now: datetime) -> Path:
-    """:func:`default_log_path`, or with ``-2``, ``-3``, ... before ``.mcap`` if that file exists.
-
-    Two runs in the same second each get their own log (no log is overwritten unasked).
-    """
-    path = default_log_path(program, now)
-    number = 1
-    while os.path.lexists(path):
-        number += 1
-        path = path.with_name(f"{default_log_path(program, now).stem}-{number}.mcap")
-    return path
-
-
-def _close_at_exit(log: weakref.ref[RunLog], writer: MCAPWriter, sink: LogSink) -> None:
-    """Close a log left open (at exit or when collected), while Python can still run the sink."""
-    try:
-        still_open = log()
-        if still_open is not None:
-            still_open.close()  # at exit: the pending states too
-        else:
-            writer.close()
-    except Exception:  # noqa: BLE001, S110 - nothing can be reported this late; the file stays readable
-        pass
-    sink.close()
 
 
 class RunLog(StateBatches):
@@ -173,7 +138,7 @@ class RunLog(StateBatches):
             compression_threads=0,
         )
         self._writer = open_mcap(self._sink, context=self._context, writer_options=options)
-        self._at_exit = weakref.finalize(self, _close_at_exit, weakref.ref(self), self._writer, self._sink)
+        self._at_exit = weakref.finalize(self, close_at_exit, weakref.ref(self), self._writer, self._sink)
         self._channels: list[Channel] = []
         self._closed = False
         self._last_ns = 0
@@ -193,6 +158,7 @@ class RunLog(StateBatches):
         self._open_batches(self._state, self._tf, frames)
         if ros2_joints is not None:
             self._ros2 = Ros2Channels(context, ros2_joints)
+        self._shown: dict[str, Any] = {}  # the scene's entities by id (a live view repeats them)
 
         record = metadata_record(
             program=program,
@@ -331,9 +297,41 @@ class RunLog(StateBatches):
             remove: Ids of primitives to delete.
         """
         t_ns = log_time_ns(t)
-        data = foxglove.scene_update(t_ns, [entity(p, t_ns) for p in add], remove)
+        entities = [entity(p, t_ns) for p in add]
+        for name in remove:
+            self._shown.pop(name, None)
+        self._shown.update((p.id, e) for p, e in zip(add, entities, strict=True))
         self._write_states()
-        self._write(self._scene, t_ns, data)
+        self._write(self._scene, t_ns, foxglove.scene_update(t_ns, entities, remove))
+
+    def _repeat_scene(self, t: float) -> None:
+        """Send every entity shown again, for a live viewer that connected after it was sent."""
+        self._write_states()
+        self._write(
+            self._scene, log_time_ns(t), foxglove.scene_update(log_time_ns(t), [*self._shown.values()])
+        )
+
+    def pace(self, rate: float, live_port: int | None = None) -> WebSocketServer | None:
+        """Hold the run to ``rate`` times real time; with ``live_port``, also stream it: return the server.
+
+        Args:
+            rate: Simulated seconds per wall-clock second.
+            live_port: Start foxglove-sdk's WebSocket server on 127.0.0.1 at this port (0: any free
+                port), streaming every channel as the run goes (the caller stops it); None: none.
+
+        Raises:
+            UsageError: If the server cannot start (the port is taken), naming the port.
+        """
+        if live_port is None:
+            self._pacer = Pacer(rate)
+            return None
+        try:
+            server = live.serve(self._context, live_port, f"cosmos {Path(self.program).name}")
+        except RuntimeError as error:  # the SDK's error for a port it cannot bind
+            raise UsageError(f"127.0.0.1:{live_port}: cannot serve the live view ({error})") from None
+        self._pacer = Pacer(rate, self._write_states, self._repeat_scene)
+        self._pacer.on_time = server.broadcast_time
+        return server
 
     def flush(self) -> None:
         """Write everything so far to disk: pending states, the open chunk, an fsync.
