@@ -7,7 +7,9 @@ the command line renders on stderr with exit status 1.
 Printing costs what the plan is worth: a plan of up to :data:`SCREEN_STEPS`
 steps prints as a table; a longer one as a summary and its first steps, one
 plain line each (``--full``: every step). ``--json`` writes the plan step by
-step as it goes. The branches of IF, WHILE and TRY are printed in place, each
+step as it goes (an error, too, as JSON:
+:func:`error_json`; exit status 1 for a program error, 2 for a file that cannot
+be read). The branches of IF, WHILE and TRY are printed in place, each
 step indented under the decision that holds it.
 """
 
@@ -19,11 +21,12 @@ import sys
 from collections import Counter
 from collections.abc import Iterator, Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 import numpy as np
 
 from cosmos import plan
+from cosmos.errors import CosmosError, UsageError
 from cosmos.lang import compile_program, read_program
 from cosmos.lang.compile.state import FrameLike
 
@@ -52,6 +55,24 @@ def load_fixtures() -> Mapping[str, FrameLike]:
     return {frame.name: frame for frame in frames}
 
 
+def error_json(error: CosmosError) -> dict[str, Any]:
+    """``{"ok": false, "error": {...}}``: the error's kind, message, location and rendering."""
+    span = error.span
+    where = (
+        {}
+        if span is None
+        else {
+            "file": span.file,
+            "line": span.line,
+            "column": span.column,
+            "end_line": span.end_line,
+            "end_column": span.end_column,
+        }
+    )
+    kind = "usage" if isinstance(error, UsageError) else "program"
+    return {"ok": False, "error": {"kind": kind, "message": error.message, **where, "text": error.render()}}
+
+
 def check_program(
     program: Path,
     as_json: bool = False,
@@ -60,7 +81,7 @@ def check_program(
     err: TextIO | None = None,
     full: bool = False,
 ) -> int:
-    """Compile ``program`` and print its plan; return the exit status (0).
+    """Compile ``program`` and print its plan; return the exit status (0; with ``as_json``, 1 or 2 on error).
 
     Args:
         program: Path of the program.
@@ -71,13 +92,19 @@ def check_program(
         full: Print every step of a long plan and every warning, not a summary.
 
     Raises:
-        ProgramError: Syntax or check errors.
-        UsageError: The file cannot be read.
+        ProgramError: Syntax or check errors (unless ``as_json``: printed as JSON).
+        UsageError: The file cannot be read (unless ``as_json``).
     """
     out = out or sys.stdout
     err = err or sys.stderr
-    source = read_program(program)
-    compiled = compile_program(source, str(program), load_fixtures() if fixtures is None else fixtures)
+    try:
+        source = read_program(program)
+        compiled = compile_program(source, str(program), load_fixtures() if fixtures is None else fixtures)
+    except CosmosError as error:
+        if not as_json:
+            raise
+        out.write(json.dumps(error_json(error), indent=2) + "\n")
+        return 2 if isinstance(error, UsageError) else 1
     warnings = compiled.warnings if full else compiled.warnings[:SUMMARY_WARNINGS]
     for warning in warnings:
         print(warning.render(source), file=err)
