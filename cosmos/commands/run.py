@@ -6,6 +6,7 @@ import sys
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
+from types import FrameType
 from typing import TYPE_CHECKING, Final
 
 import click
@@ -33,8 +34,18 @@ def compile_file(path: Path) -> Plan:
     return plan
 
 
-INTERRUPTED_STATUS: Final = 130
-"""Exit status of a run ended by Ctrl-C (or SIGTERM), as shells report a SIGINT: 128 + 2."""
+SIGNAL_STATUS_BASE: Final = 128
+"""A run ended by a signal exits with 128 + its number, as shells report it: 130 for Ctrl-C."""
+
+
+class _StopAndRemember(StopOnSignals):
+    """:class:`StopOnSignals` that also keeps the number of the last signal received."""
+
+    last_signal = 0
+
+    def _handle(self, signum: int, frame: FrameType | None) -> None:
+        self.last_signal = signum
+        super()._handle(signum, frame)
 
 
 @dataclass(frozen=True)
@@ -67,8 +78,9 @@ def run_program(
     The log goes to ``log_path``, or to ``logs/<stem>-<UTC time>.mcap`` (the one
     directory created if missing; ``-2``, ``-3``, ... added if that file exists).
     Ctrl-C and SIGTERM stop the arm; from before the log is opened until it is
-    closed they never end the process; the status is then 130. ``ros2``: also log the
-    ROS 2 channels. ``pace``: hold the run to real time, and serve a live view.
+    closed they never end the process; the status is then 128 + the signal (130:
+    Ctrl-C, 143: SIGTERM). ``ros2``: also log the ROS 2 channels. ``pace``: hold
+    the run to real time, and serve a live view.
 
     Raises:
         UsageError: If the log cannot be written (it exists and not ``force``, is not
@@ -80,7 +92,8 @@ def run_program(
     check_output(log_path, what="the log", force=force, make_parents=make_parents)
     progress = TerminalProgress() if sys.stderr.isatty() else None
     failure: CosmosError | None = None
-    with StopOnSignals() as signals:
+    signals = _StopAndRemember()
+    with signals:
         with Session(
             str(path), plan.source, log_path, rates, seed, progress, variation, ros2=ros2
         ) as session:
@@ -101,6 +114,6 @@ def run_program(
         if failure is not None:
             click.echo(failure.render(), err=True)
         click.echo(f"log: {session.log_path}")
-    if signals.received:
-        return INTERRUPTED_STATUS
+    if signals.last_signal:
+        return SIGNAL_STATUS_BASE + signals.last_signal
     return 0 if failure is None else 1

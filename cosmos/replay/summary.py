@@ -25,6 +25,35 @@ def _size(n_bytes: int) -> str:
     return f"{n_bytes / 1024:.1f} KiB" if n_bytes < 1024 * 1024 else f"{n_bytes / 2**20:.2f} MiB"
 
 
+def _chunks(record: RunRecord) -> str:
+    """``12 chunks, zstd (1.90 MiB of messages compressed to 417.0 KiB, 22 %)`` or the like."""
+    if not record.chunks:
+        return "no chunks"
+    parts = []
+    for name, (count, packed, unpacked) in sorted(record.chunks.items()):
+        ratio = f", {100 * packed / unpacked:.0f} %" if unpacked else ""
+        parts.append(f"{count} chunks {name} ({_size(unpacked)} to {_size(packed)}{ratio})")
+    return "; ".join(parts)
+
+
+def _channel_table(record: RunRecord) -> list[str]:
+    """The channels as ``mcap info`` lists them: topic, messages, rate, schema and encoding."""
+    channels = record.channels
+    if not channels:  # a record made without channel details: the counts only
+        width = max((len(topic) for topic in record.message_counts), default=0)
+        rows = sorted(record.message_counts.items())
+        return ["channels"] + [f"  {topic:<{width}}  {count:>8} messages" for topic, count in rows]
+    width = max(len(c.topic) for c in channels)
+    schema_width = max(len(c.schema) for c in channels)
+    lines = [f"channels  ({len(channels)})"]
+    for c in channels:
+        rate = f"{c.rate_hz:8.1f} Hz" if c.rate_hz else f"{'-':>8}   "
+        lines.append(
+            f"  {c.topic:<{width}}  {c.messages:>8} msgs  {rate}  {c.schema:<{schema_width}}  [{c.encoding}]"
+        )
+    return lines
+
+
 def format_summary(record: RunRecord, timeline: Sequence[StatementRun]) -> str:
     """Header (program, versions, rates, duration, channels) and the statement timeline."""
     meta = record.metadata
@@ -41,10 +70,8 @@ def format_summary(record: RunRecord, timeline: Sequence[StatementRun]) -> str:
     servo, param, state = (meta.get(f"{name}_hz", "?") for name in ("servo", "param", "state"))
     lines.append(f"rates     servo {servo} Hz, parameters {param} Hz, state {state} Hz")
     lines.append(f"duration  {record.end_time:.3f} s of simulated time")
-    lines.append("channels")
-    width = max((len(topic) for topic in record.message_counts), default=0)
-    for topic, count in sorted(record.message_counts.items()):
-        lines.append(f"  {topic:<{width}}  {count:>8} messages")
+    lines.append(f"file      {_size(record.total_bytes)}, {_chunks(record)}")
+    lines.extend(_channel_table(record))
     if record.truncated:
         lines.append(
             f"WARNING: this log was cut short (no footer): {_size(record.readable_bytes)} of "

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -91,6 +91,33 @@ class StateSeries:
 
 
 @dataclass(frozen=True)
+class ChannelInfo:
+    """One channel of a log as ``mcap info`` lists it.
+
+    Attributes:
+        topic: Its topic.
+        schema: Its schema's name ("" if none).
+        encoding: Message encoding (json, protobuf, cdr).
+        messages: Messages read.
+        first_ns: Log time of the first [ns] (0 if none).
+        last_ns: Log time of the last [ns] (0 if none).
+    """
+
+    topic: str
+    schema: str
+    encoding: str
+    messages: int
+    first_ns: int
+    last_ns: int
+
+    @property
+    def rate_hz(self) -> float:
+        """Messages per second of log time between the first and the last (0 if under two)."""
+        span = self.last_ns - self.first_ns
+        return (self.messages - 1) / (span / 1e9) if self.messages > 1 and span > 0 else 0.0
+
+
+@dataclass(frozen=True)
 class RunRecord:
     """Everything a run log holds that cosmos reads.
 
@@ -107,6 +134,8 @@ class RunRecord:
             precedes the cut was read.
         readable_bytes: Bytes of the file that were read.
         total_bytes: Size of the file.
+        channels: Every channel read, with its schema, encoding, count and times.
+        chunks: Per compression, the chunks read: count, compressed and uncompressed bytes.
     """
 
     path: Path
@@ -120,6 +149,8 @@ class RunRecord:
     truncated: bool
     readable_bytes: int
     total_bytes: int
+    channels: tuple[ChannelInfo, ...] = ()
+    chunks: Mapping[str, tuple[int, int, int]] = field(default_factory=dict)
 
     @property
     def end_time(self) -> float:
@@ -184,7 +215,37 @@ def run_record(path: Path, contents: McapContents) -> RunRecord:
         truncated=not contents.complete,
         readable_bytes=contents.readable_bytes,
         total_bytes=contents.total_bytes,
+        channels=_channels(contents),
+        chunks=dict(contents.chunks),
     )
+
+
+def _channels(contents: McapContents) -> tuple[ChannelInfo, ...]:
+    """Per channel with messages, its schema, encoding, count and first and last log times."""
+    times: dict[int, list[int]] = {}
+    for message in contents.messages:
+        span = times.setdefault(message.channel_id, [message.log_time, message.log_time, 0])
+        span[0], span[1], span[2] = (
+            min(span[0], message.log_time),
+            max(span[1], message.log_time),
+            span[2] + 1,
+        )
+    out = []
+    for cid, (first, last, count) in times.items():
+        channel = contents.channels[cid]
+        schema = contents.schemas.get(channel.schema_id)
+        name = printable(schema.name[:200]) if schema is not None else ""
+        out.append(
+            ChannelInfo(
+                printable(channel.topic[:200]),
+                name,
+                printable(channel.message_encoding[:40]),
+                count,
+                first,
+                last,
+            )
+        )
+    return tuple(sorted(out, key=lambda c: c.topic))
 
 
 def _metadata(path: Path, metadata: Mapping[str, str]) -> dict[str, str]:

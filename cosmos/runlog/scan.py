@@ -51,6 +51,8 @@ class McapContents:
         complete: Whether the file ends with a footer (and the magic after it).
         readable_bytes: Length of the prefix of the file that was read.
         total_bytes: Size of the file.
+        chunks: Per compression (``zstd``, ``lz4``, ``none``), the chunks read: count,
+            compressed bytes, uncompressed bytes.
     """
 
     header: Header | None = None
@@ -62,6 +64,7 @@ class McapContents:
     complete: bool = False
     readable_bytes: int = 0
     total_bytes: int = 0
+    chunks: dict[str, tuple[int, int, int]] = field(default_factory=dict)
 
 
 class _Damaged(Exception):
@@ -179,6 +182,9 @@ class _Walk:
         if crc != 0 and zlib.crc32(records) != crc:
             raise _Damaged
         self.chunk_records(records)
+        name = compression.decode("ascii", "replace") or "none"
+        count, packed, unpacked = self.contents.chunks.get(name, (0, 0, 0))
+        self.contents.chunks[name] = (count + 1, packed + records_length, unpacked + size)
 
     def chunk_records(self, records: bytes) -> None:
         """Keep the schemas, channels and messages of a decompressed chunk."""
