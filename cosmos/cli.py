@@ -157,6 +157,12 @@ def repl(log_path: Path | None) -> None:
     help="Start --view/--video this many seconds into the run.  [default: 0]",
 )
 @click.option("--force", is_flag=True, help="Overwrite existing --recover, --plot and --video files.")
+@click.option(
+    "--topics",
+    metavar="/A,/B",
+    default=None,
+    help="Print these channels' messages, decoded, one JSON line each (like mcap cat).",
+)
 def replay(
     log: Path,
     plot: Path | None,
@@ -167,6 +173,7 @@ def replay(
     rate: float | None,
     start_s: float | None,
     force: bool,
+    topics: str | None,
 ) -> None:
     """Summarise, plot, recover, play back or verify a run log."""
     from cosmos.commands.replay import ReplayOptions, replay_log
@@ -182,6 +189,7 @@ def replay(
         rate=1.0 if rate is None else rate,
         start_s=0.0 if start_s is None else start_s,
         force=force,
+        topics=tuple(t.strip() for t in (topics or "").split(",") if t.strip()),
     )
     _finish(replay_log(log, options))
 

@@ -47,6 +47,7 @@ class ReplayOptions:
         rate: Playback speed for view and video: 2 plays twice as fast as the run.
         start_s: Simulated time at which view and video start [s].
         force: Overwrite existing output files.
+        topics: Print the messages of these channels, one JSON line each, after the summary.
     """
 
     plot: Path | None = None
@@ -57,6 +58,7 @@ class ReplayOptions:
     rate: float = 1.0
     start_s: float = 0.0
     force: bool = False
+    topics: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.rate > 0:
@@ -93,6 +95,11 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
         record = read_log(log)
     timeline = statement_timeline(record)
     click.echo(format_summary(record, timeline))
+    if options.topics:
+        from cosmos.replay.topics import topic_lines
+
+        for line in topic_lines(log if options.recover_to is None else options.recover_to, options.topics):
+            click.echo(line)
 
     if options.plot is not None:
         from cosmos.replay.plot import plot_run  # matplotlib is slow to import
