@@ -139,7 +139,8 @@ def figure_for_run(record: RunRecord, timeline: Sequence[StatementRun]) -> Figur
         Patch(color=OUTCOME_COLORS.get(outcome, UNFINISHED_COLOR), label=f"statement {outcome}")
         for outcome in outcomes
     ]
-    force_ax.legend(handles=handles, loc="upper left", fontsize=8, ncols=4)
+    # Below the panels, never over the data.
+    figure.legend(handles=handles, loc="outside lower center", fontsize=8, ncols=len(handles))
     axes[0].set_ymargin(0.15)  # keep the curve clear of the statement bar
     first, last = float(np.min(state.t)), max(end, float(np.max(state.t)))
     for ax in axes:

@@ -85,3 +85,18 @@ def test_plot_of_a_log_without_states_is_an_error(written: WrittenRun, tmp_path:
     record = read_log(cut)
     with pytest.raises(CosmosError, match="no state samples"):
         figure_for_run(record, statement_timeline(record))
+
+
+def test_legend_is_off_the_data_and_the_title_names_the_program(written: WrittenRun) -> None:
+    """Catches a legend drawn inside a panel (over the curves) or a title without the program."""
+    record = read_log(written.path)
+    figure = figure_for_run(record, statement_timeline(record))
+    figure.canvas.draw()
+    renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
+    (legend,) = figure.legends
+    box = legend.get_window_extent(renderer)
+    assert all(ax.get_legend() is None for ax in figure.axes)
+    for ax in figure.axes:
+        assert not box.overlaps(ax.get_window_extent(renderer)), ax.get_ylabel()
+    assert {t.get_text() for t in legend.get_texts()} >= {"Fx", "Fy", "Fz", "|F|"}
+    assert record.metadata["program"] in figure.get_suptitle()
