@@ -11,11 +11,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from cosmos.errors import UsageError
 from cosmos.lang import CompileState
 from cosmos.repl.engine import ReplEngine
 from cosmos.repl.names import frame_table
 from cosmos.repl.output import Tone
 from cosmos.repl.status import format_vector
+from cosmos.runlog.live import DEFAULT_PORT as LIVE_PORT
 
 AXIS_LABELS = ("X", "Y", "Z", "RX", "RY", "RZ")
 
@@ -116,6 +118,26 @@ def _log(engine: ReplEngine, argument: str) -> bool:
     return True
 
 
+def _live(engine: ReplEngine, argument: str) -> bool:
+    log = engine.session.log
+    if log.live_server is None:
+        text = argument.strip() or str(LIVE_PORT)
+        if not text.isdigit() or not 0 <= int(text) <= 65535:
+            engine.printer.write(f"usage: :live [PORT]  (a port 0..65535, default {LIVE_PORT})", Tone.ERROR)
+            return True
+        try:
+            log.pace(1.0, int(text))
+        except UsageError as error:
+            engine.printer.write(error.render(), Tone.ERROR)
+            return True
+    assert log.live_server is not None
+    engine.printer.write(
+        f"live: ws://127.0.0.1:{log.live_server.port} (Foxglove: Open connection); "
+        "the arm now moves in real time"
+    )
+    return True
+
+
 def _quit(engine: ReplEngine, argument: str) -> bool:
     return False
 
@@ -131,6 +153,7 @@ COMMANDS = {
         Command("load", ":load FILE", "run a program file into the session (its names are kept)", _load),
         Command("reset", ":reset", "put the arm back home and forget names, frames and settings", _reset),
         Command("log", ":log", "print the path of the session's log", _log),
+        Command("live", ":live [PORT]", "stream the session to Foxglove, in real time", _live),
         Command("quit", ":quit", "end the session (or Ctrl-D)", _quit),
     )
 }

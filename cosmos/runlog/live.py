@@ -26,6 +26,11 @@ SEND_EVERY_S: Final = 0.02
 SCENE_EVERY_S: Final = 1.0
 """Simulated time between repeats of the whole scene for viewers that connect late [s]."""
 LIVE_HOST: Final = "127.0.0.1"
+DEFAULT_PORT: Final = 8765
+"""Foxglove's usual WebSocket port."""
+MAX_LAG_S: Final = 0.1
+"""A run more than this behind the wall clock (a REPL waiting at its prompt, a slow step) is not
+hurried to catch up: the pace restarts from where it is [s]."""
 
 
 class Pacer:
@@ -76,6 +81,8 @@ class Pacer:
         ahead = self._start + t / self._rate - now
         if ahead > 0:
             self._sleep(ahead)
+        elif ahead < -MAX_LAG_S:
+            self._start = now - t / self._rate
 
 
 def serve(context: Context, port: int, name: str) -> WebSocketServer:

@@ -159,6 +159,8 @@ class RunLog(StateBatches):
         if ros2_joints is not None:
             self._ros2 = Ros2Channels(context, ros2_joints)
         self._shown: dict[str, Any] = {}  # the scene's entities by id (a live view repeats them)
+        self.live_server: WebSocketServer | None = None
+        """The live view's server (:meth:`pace`), stopped by :meth:`close`."""
 
         record = metadata_record(
             program=program,
@@ -331,6 +333,7 @@ class RunLog(StateBatches):
             raise UsageError(f"127.0.0.1:{live_port}: cannot serve the live view ({error})") from None
         self._pacer = Pacer(rate, self._write_states, self._repeat_scene)
         self._pacer.on_time = server.broadcast_time
+        self.live_server = server
         return server
 
     def flush(self) -> None:
@@ -360,6 +363,8 @@ class RunLog(StateBatches):
         """
         if self._closed:
             return
+        if self.live_server is not None:
+            self.live_server.stop()
         try:
             self._write_states()
             self._writer.close()
