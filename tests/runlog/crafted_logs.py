@@ -106,6 +106,7 @@ def write_log(
     meta: dict[str, str] | None = None,
     program: str | bytes = PROGRAM,
     compression: CompressionType = CompressionType.ZSTD,
+    scene_encoding: str = "json",
 ) -> Path:
     """Write a complete cosmos-shaped log with the given messages (defaults: a valid run)."""
     states = [state(k) for k in range(20)] if states is None else states
@@ -123,8 +124,10 @@ def write_log(
             (STATE_TOPIC, states),
             ("/scene", scene),
         ):
-            schema = writer.register_schema(name=topic, encoding="jsonschema", data=b"{}")
-            channel = writer.register_channel(topic=topic, message_encoding="json", schema_id=schema)
+            encoding = scene_encoding if topic == "/scene" else "json"
+            schema_encoding = "jsonschema" if encoding == "json" else encoding
+            schema = writer.register_schema(name=topic, encoding=schema_encoding, data=b"{}")
+            channel = writer.register_channel(topic=topic, message_encoding=encoding, schema_id=schema)
             for k, message in enumerate(messages):
                 writer.add_message(channel, log_time=k * 4_000_000, data=encode(message), publish_time=0)
         writer.finish()

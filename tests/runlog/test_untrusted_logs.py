@@ -184,6 +184,33 @@ def test_malformed_scene_messages_are_one_located_line(tmp_path: Path) -> None:
     assert len(shown.at(1.0)) == 1
 
 
+def test_malformed_protobuf_scene_messages_are_one_located_line(tmp_path: Path) -> None:
+    """Catches the protobuf /scene reader (log format 2) crashing on bytes that are not a
+    SceneUpdate or on a non-finite size, instead of naming the message."""
+    from foxglove import messages as fm
+
+    from cosmos.runlog.scene import Box, entity
+
+    def update(size: float) -> bytes:
+        box = Box("box", (0.1, 0.2, 0.3), (size, 0.1, 0.1))
+        return fm.SceneUpdate(entities=[entity(box, 0)]).encode()
+
+    good = update(0.5)
+    for data, says in [
+        (b"\xff\xff\xff", "not a protobuf foxglove.SceneUpdate"),
+        (update(float("nan")), "size.x is not a number"),
+        (b"\x00" * (limits.MAX_SCENE_MESSAGE_BYTES + 1), "more than the"),
+    ]:
+        path = write_log(tmp_path / "scene.mcap", scene=[good, data], scene_encoding="protobuf")
+        with hang_guard(), pytest.raises(CosmosError) as caught:
+            scene_timeline(path, ())
+        assert caught.value.render().startswith(f"{path}: /scene message 2: ")
+        assert says in caught.value.render()
+    shown = scene_timeline(write_log(tmp_path / "fine.mcap", scene=[good], scene_encoding="protobuf"), ())
+    (box,) = shown.at(1.0)
+    assert box.half_sizes.tolist() == pytest.approx([0.25, 0.05, 0.05])
+
+
 @pytest.mark.parametrize(
     "changes, says",
     [
