@@ -52,6 +52,11 @@ def _optional(value: float | None) -> float | None:
     return None if value is None or not np.isfinite(value) else float(value)
 
 
+LOG_FORMAT = 2
+"""Version of what the log holds (docs/log-format.md): 2 writes the Foxglove channels as protobuf;
+1 (no ``log_format`` key) wrote them as JSON. The reader reads both and refuses a newer one."""
+
+
 def metadata_record(
     *,
     program: str,
@@ -70,6 +75,7 @@ def metadata_record(
     record = {
         "program": program,
         "cosmos_version": __version__,
+        "log_format": str(LOG_FORMAT),
         "servo_hz": _exact(servo_hz),
         "param_hz": _exact(param_hz),
         "state_hz": _exact(state_hz),

@@ -11,6 +11,7 @@ import numpy as np
 
 from cosmos.errors import CosmosError
 from cosmos.runlog import limits, validate
+from cosmos.runlog.messages import LOG_FORMAT
 from cosmos.runlog.printable import printable
 from cosmos.runlog.scan import McapContents, load_mcap
 from cosmos.runlog.schemas import (
@@ -197,6 +198,7 @@ def run_record(path: Path, contents: McapContents) -> RunRecord:
             f"{path}: not a cosmos run log (no '{METADATA_NAME}' metadata and no {STATE_TOPIC} channel)"
         )
     metadata = _metadata(path, records[0].metadata if records else {})
+    _check_format(path, metadata)
     by_topic: dict[str, list[bytes]] = {}
     for message in contents.messages:
         by_topic.setdefault(topics[message.channel_id], []).append(message.data)
@@ -246,6 +248,17 @@ def _channels(contents: McapContents) -> tuple[ChannelInfo, ...]:
             )
         )
     return tuple(sorted(out, key=lambda c: c.topic))
+
+
+def _check_format(path: Path, metadata: Mapping[str, str]) -> None:
+    """Refuse a log of a newer format than this cosmos reads, saying which cosmos wrote it."""
+    written = metadata.get("log_format", "1")
+    if not (written.isdigit() and int(written) <= LOG_FORMAT):
+        version = metadata.get("cosmos_version", "a newer cosmos")
+        raise CosmosError(
+            f"{path}: log format {written[:20]} (written by cosmos {version[:40]}); this cosmos "
+            f"reads formats 1 to {LOG_FORMAT}: read it with a cosmos of that version or later"
+        )
 
 
 def _metadata(path: Path, metadata: Mapping[str, str]) -> dict[str, str]:

@@ -80,7 +80,7 @@ def test_completion_of_keywords_names_and_commands() -> None:
     assert _completions("MOVE TO ab") == ["above"]
     assert _completions("pi") == ["pick"]  # a procedure call starts a line
     assert _completions(":st") == [":state"]
-    assert _completions(":") == [":help", ":state", ":frames", ":load", ":reset", ":log", ":quit"]
+    assert _completions(":") == [":help", ":state", ":frames", ":load", ":reset", ":log", ":live", ":quit"]
     assert _completions("MOVE BY (0, 0, 1") == []
 
 

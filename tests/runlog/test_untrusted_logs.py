@@ -286,3 +286,22 @@ def test_a_playback_longer_than_the_frame_cap_is_refused(tmp_path: Path) -> None
     with hang_guard(5), pytest.raises(UsageError, match=f"more than {MAX_FRAMES:,}: start later"):
         frame_times(record.state.t, Playback())
     assert frame_times(record.state.t, Playback(start_s=1e7 - 10)).size == 301
+
+
+def test_a_log_of_a_newer_format_is_one_line_naming_the_version(tmp_path: Path) -> None:
+    """Catches a log written by a later cosmos (a format this one cannot read) being misread, or
+    refused without saying which version is needed; format 1 (no key) and 2 still read."""
+    from crafted_logs import metadata
+
+    from cosmos.runlog.messages import LOG_FORMAT
+
+    newer = write_log(
+        tmp_path / "newer.mcap", meta=metadata(log_format=str(LOG_FORMAT + 1), cosmos_version="9.1")
+    )
+    with pytest.raises(CosmosError) as caught:
+        read_log(newer)
+    text = caught.value.render()
+    assert text.startswith(f"{newer}: log format {LOG_FORMAT + 1} (written by cosmos 9.1)")
+    assert f"reads formats 1 to {LOG_FORMAT}" in text and "\n" not in text
+    for readable in ("1", str(LOG_FORMAT)):
+        assert len(read_log(write_log(tmp_path / "ok.mcap", meta=metadata(log_format=readable))).state) > 0
