@@ -50,7 +50,7 @@ def test_summary_lists_run_facts_and_statement_rows(written: WrittenRun) -> None
     assert "programs/peg.cos" in text
     assert "servo 1000 Hz, parameters 200 Hz, state 250 Hz" in text
     assert "4.000 s of simulated time" in text
-    assert "/cosmos/state" in text and f"{written.states} messages" in text
+    assert "/cosmos/state" in text and f"{written.states} msgs" in text
     assert "WARNING" not in text
     rows = [line for line in text.splitlines() if line.strip()[:1].isdigit()]
     assert len(rows) == len(STATEMENTS)
