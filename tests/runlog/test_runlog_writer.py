@@ -391,3 +391,18 @@ def test_the_default_log_path_never_names_an_existing_file(
     second.write_bytes(b"")
     assert second == Path("logs/peg-20261122T031500Z-2.mcap")
     assert unused_log_path(Path("peg.cos"), now) == Path("logs/peg-20261122T031500Z-3.mcap")
+
+
+def test_log_channel_mirrors_each_event_with_its_level_and_line(run_log: tuple[Path, WrittenRun]) -> None:
+    """Catches /cosmos/log (protobuf foxglove.Log) out of step with /cosmos/event: a missing line,
+    another time, a wrong source line or file, or a failure not at ERROR level."""
+    by_topic = messages_by_topic(run_log[0])
+    events, logs = by_topic["/cosmos/event"], by_topic["/cosmos/log"]
+    assert len(events) == len(logs)
+    error, warning, info = 4, 3, 2  # foxglove.LogLevel (Log.proto)
+    for (event, t_ns, _), (log, log_ns, _) in zip(events, logs, strict=True):
+        assert log_ns == t_ns and log["timestamp"] == {"sec": t_ns // 10**9, "nsec": t_ns % 10**9}
+        assert (log["file"], log["line"], log["name"]) == ("programs/peg.cos", event["line"], "cosmos")
+        assert event["statement"] in log["message"]
+        expected = {"failed": error, "protective_stop": error, "collision": warning}.get(event["kind"], info)
+        assert log["level"] == expected, event
