@@ -1,4 +1,8 @@
-"""A picture of a run: tool position and force against time, statement by statement."""
+"""A picture of a run: tool position, force and orientation against time, statement by statement.
+
+Beside what the arm did, what each statement asked for: its goal and its force
+setpoint (:mod:`cosmos.replay.setpoints`).
+"""
 
 from __future__ import annotations
 
@@ -12,6 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from cosmos.errors import CosmosError
+from cosmos.replay.setpoints import Step, force_steps, goal_steps, rpy_degrees
 from cosmos.replay.summary import shorten
 from cosmos.replay.timeline import StatementRun
 from cosmos.runlog.output import written
@@ -90,14 +95,17 @@ def figure_for_run(record: RunRecord, timeline: Sequence[StatementRun]) -> Figur
     state = record.state
     if len(state) == 0:
         raise CosmosError(f"{record.path}: no state samples to plot")
-    figure = Figure(figsize=(13, 10), layout="constrained")
+    figure = Figure(figsize=(13, 12), layout="constrained")
     FigureCanvasAgg(figure)
-    axes = figure.subplots(4, 1, sharex=True, height_ratios=(1, 1, 1, 1.6))
+    axes = figure.subplots(5, 1, sharex=True, height_ratios=(1, 1, 1, 1.6, 1))
+    end = record.end_time
+    goals = goal_steps(record.segments, end)
     for ax, index, name in zip(axes[:3], range(3), "xyz", strict=False):
         ax.plot(state.t, _plottable(state.x[:, index]) * 1e3, color="#2d3748", linewidth=1.2)
+        _draw_steps(ax, goals, index, 1e3, "#805ad5", "goal" if index == 0 else None)
         ax.set_ylabel(f"tool {name} [mm]")
         ax.ticklabel_format(axis="y", useOffset=False)
-    force_ax = axes[3]
+    force_ax, turn_ax = axes[3], axes[4]
     colors = ("#e53e3e", "#38a169", "#3182ce")
     for index, (name, color) in enumerate(zip("xyz", colors, strict=True)):
         force_ax.plot(
@@ -105,11 +113,17 @@ def figure_for_run(record: RunRecord, timeline: Sequence[StatementRun]) -> Figur
         )
     magnitude = np.linalg.norm(_plottable(state.wrench[:, :3]), axis=1)
     force_ax.plot(state.t, magnitude, color="black", linewidth=1.6, label="|F|")
+    setpoints = force_steps(record.segments, end)
+    for index, color in enumerate(colors):
+        label = "force setpoint" if index == 0 else None
+        _draw_steps(force_ax, setpoints, index, 1.0, color, label, linestyle="-.")
     force_ax.set_ylabel("force on environment [N]")
-    force_ax.set_xlabel("simulated time [s]")
     force_ax.axhline(0.0, color="#a0aec0", linewidth=0.6)
-
-    end = record.end_time
+    angles = rpy_degrees(state.quat)
+    for index, (name, color) in enumerate(zip(("roll", "pitch", "yaw"), colors, strict=True)):
+        turn_ax.plot(state.t, angles[:, index], color=color, linewidth=1.0, label=name)
+    turn_ax.set_ylabel("tool RPY [deg]")
+    turn_ax.set_xlabel("simulated time [s]")
     for number, (start, stop) in enumerate(force_intervals(record.segments, end)):
         for ax in axes:
             ax.axvspan(
@@ -134,7 +148,7 @@ def figure_for_run(record: RunRecord, timeline: Sequence[StatementRun]) -> Figur
             fontsize=8,
         )
     outcomes = sorted({run.outcome for run in timeline if run.depth == 0})
-    handles, _ = force_ax.get_legend_handles_labels()
+    handles = [h for ax in (axes[0], force_ax, turn_ax) for h in ax.get_legend_handles_labels()[0]]
     handles += [
         Patch(color=OUTCOME_COLORS.get(outcome, UNFINISHED_COLOR), label=f"statement {outcome}")
         for outcome in outcomes
@@ -148,8 +162,30 @@ def figure_for_run(record: RunRecord, timeline: Sequence[StatementRun]) -> Figur
         if last > first:
             ax.set_xlim(first, last)
     program = record.metadata.get("program", record.path.name)
-    figure.suptitle(f"{program}: tool position and force", fontsize=11)
+    figure.suptitle(f"{program}: tool position, force and orientation", fontsize=11)
     return figure
+
+
+def _draw_steps(
+    ax: Axes,
+    steps: Sequence[Step],
+    index: int,
+    scale: float,
+    color: str,
+    label: str | None,
+    linestyle: str = ":",
+) -> None:
+    """Component ``index`` of each step, times ``scale``, as a horizontal line over its interval."""
+    for number, step in enumerate(steps):
+        value = float(_plottable(step.value[index : index + 1])[0]) * scale
+        ax.plot(
+            (step.start, step.stop),
+            (value, value),
+            color=color,
+            linewidth=1.4,
+            linestyle=linestyle,
+            label=label if number == 0 else None,
+        )
 
 
 def plot_run(record: RunRecord, timeline: Sequence[StatementRun], out: Path, force: bool = False) -> Path:

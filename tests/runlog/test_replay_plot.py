@@ -51,12 +51,13 @@ def test_figure_has_position_and_force_panels_marked_by_statement(written: Writt
     record = read_log(written.path)
     figure = figure_for_run(record, statement_timeline(record))
     axes = figure.axes
-    assert len(axes) == 4
+    assert len(axes) == 5
     assert [ax.get_ylabel() for ax in axes] == [
         "tool x [mm]",
         "tool y [mm]",
         "tool z [mm]",
         "force on environment [N]",
+        "tool RPY [deg]",
     ]
     assert len(axes[3].get_lines()) >= 4  # Fx, Fy, Fz, |F|
     labels = [text.get_text() for text in axes[0].texts]
@@ -76,7 +77,7 @@ def test_plot_writes_a_png(written: WrittenRun, tmp_path: Path) -> None:
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert out.stat().st_size > 30_000
     with Image.open(out) as image:
-        assert image.size == (1300, 1000)
+        assert image.size == (1300, 1200)
 
 
 def test_plot_of_a_log_without_states_is_an_error(written: WrittenRun, tmp_path: Path) -> None:
@@ -100,3 +101,26 @@ def test_legend_is_off_the_data_and_the_title_names_the_program(written: Written
         assert not box.overlaps(ax.get_window_extent(renderer)), ax.get_ylabel()
     assert {t.get_text() for t in legend.get_texts()} >= {"Fx", "Fy", "Fz", "|F|"}
     assert record.metadata["program"] in figure.get_suptitle()
+
+
+def test_setpoints_are_drawn_where_the_segments_asked_for_them(written: WrittenRun) -> None:
+    """Catches goals or force setpoints drawn at the wrong height or over the wrong interval
+    (checked against the segments as the mcap package's reader gives them)."""
+    record = read_log(written.path)
+    figure = figure_for_run(record, statement_timeline(record))
+    force_ax = figure.axes[3]
+    fz_color = next(line.get_color() for line in force_ax.get_lines() if line.get_label() == "Fz")
+    fz = {
+        (tuple(float(x) for x in line.get_xdata()), float(line.get_ydata()[0]))
+        for line in force_ax.get_lines()
+        if line.get_linestyle() == "-." and line.get_color() == fz_color
+    }
+    segments = sorted(record.segments, key=lambda s: s.t)
+    expected = set()
+    for k, segment in enumerate(segments):
+        if 0 in segment.motion_axes[:3]:
+            stop = segments[k + 1].t if k + 1 < len(segments) else record.end_time
+            assert segment.frame == (0.0, 1.0, 0.0, 0.0)  # half a turn about x: task z is world -z
+            fz_set = -segment.force_setpoint[2] * (1 - segment.motion_axes[2])
+            expected.add(((segment.t, stop), fz_set))
+    assert fz == expected
