@@ -7,11 +7,11 @@
 * :mod:`~cosmos.obstacles.capsules`: the arm's links and tool as capsules.
 * :mod:`~cosmos.obstacles.proximity`: capsule-to-obstacle distances (firas; the reference).
 * :mod:`~cosmos.obstacles.geometry`: the controller's geometric model for fast distances.
-* :mod:`~cosmos.obstacles.distance_kernel`, :mod:`~cosmos.obstacles.candidates_kernel`,
-  :mod:`~cosmos.obstacles.geometry_kernel`: its compiled arithmetic (closed-form distances,
+* :mod:`~cosmos.obstacles.kernels.distance`, :mod:`~cosmos.obstacles.kernels.candidates`,
+  :mod:`~cosmos.obstacles.kernels.geometry`: its compiled arithmetic (closed-form distances,
   candidate lists, closest points, estimates).
 * :mod:`~cosmos.obstacles.field`: the FIRAS field as joint torques (a runtime potential field).
-* :mod:`~cosmos.obstacles.field_kernel`: the field's compiled arithmetic (kinematics, torques).
+* :mod:`~cosmos.obstacles.kernels.field`: the field's compiled arithmetic (kinematics, torques).
 * :mod:`~cosmos.obstacles.minima`: detection of local minima.
 * :mod:`~cosmos.obstacles.collisions`: contacts the arm should not make.
 """

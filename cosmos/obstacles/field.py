@@ -29,8 +29,8 @@ candidate lists, closed forms for spheres and planes, MuJoCo's ``mj_geomDistance
 for boxes and cylinders, :mod:`cosmos.osc.firas` where a link touches), measured
 every ``geometry_every`` evaluations and estimated to first order in between.
 The arithmetic (the arm's kinematics, the bookkeeping of the closest points,
-the forces and torques) is compiled: :mod:`cosmos.obstacles.field_kernel` and
-:mod:`cosmos.obstacles.geometry_kernel`; :func:`repulsion_magnitude` below is
+the forces and torques) is compiled: :mod:`cosmos.obstacles.kernels.field` and
+:mod:`cosmos.obstacles.kernels.geometry`; :func:`cosmos.osc.firas.repulsion_magnitude` is
 the readable reference. docs/obstacles.md has the figures.
 """
 
@@ -43,11 +43,10 @@ import numpy as np
 import pinocchio as pin
 
 from cosmos.errors import CosmosError
-from cosmos.obstacles import field_kernel as fk
 from cosmos.obstacles.capsules import LINK_BODIES, arm_capsules, joint_reach_m
 from cosmos.obstacles.geometry import ProximityModel
+from cosmos.obstacles.kernels import field as fk
 from cosmos.obstacles.obstacle import Obstacle
-from cosmos.osc.firas import firas_magnitude
 from cosmos.robot_model import RobotModel
 
 FloatArray = np.ndarray
@@ -245,7 +244,7 @@ def obstacle_table(obstacles: tuple[Obstacle, ...], parameters: FieldParameters)
 
 
 def chain_table(robot: RobotModel, reach_m: FloatArray) -> FloatArray:
-    """The arm's kinematic chain for :func:`cosmos.obstacles.field_kernel.chain_kinematics_into`.
+    """The arm's kinematic chain for :func:`cosmos.obstacles.kernels.field.chain_kinematics_into`.
 
     Args:
         robot: The controller's model: six revolute joints in a serial chain.
@@ -274,28 +273,3 @@ def chain_table(robot: RobotModel, reach_m: FloatArray) -> FloatArray:
         chain[k, fk.CHAIN_AXIS : fk.CHAIN_AXIS + 3] = axis
         chain[k, fk.CHAIN_REACH] = reach_m[k]
     return chain
-
-
-def repulsion_magnitude(
-    distance_m: float, rho_0_m: float, eta: float, damping_ns_per_m: float, cap_n: float, approach_mps: float
-) -> float:
-    """|F| of the field on one link's point: FIRAS plus approach damping, capped, in [N].
-
-    Args:
-        distance_m: rho, the point's distance to the obstacle's surface, in [m].
-        rho_0_m: Influence distance, in [m].
-        eta: FIRAS gain, in [N m^3].
-        damping_ns_per_m: c, in [N s/m].
-        cap_n: Largest magnitude, in [N].
-        approach_mps: Speed of the point toward the obstacle along the normal, in [m/s].
-
-    Returns:
-        ``eta (1/rho - 1/rho_0)/rho^2 + c (1 - rho/rho_0) max(0, approach)``, capped;
-        0 at and beyond rho_0.
-    """
-    if distance_m >= rho_0_m:
-        return 0.0
-    magnitude = firas_magnitude(distance_m, rho_0_m, eta, cap_n)
-    if approach_mps > 0.0:
-        magnitude += damping_ns_per_m * min(1.0, 1.0 - distance_m / rho_0_m) * approach_mps
-    return min(magnitude, cap_n)

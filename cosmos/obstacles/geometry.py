@@ -10,9 +10,9 @@ per capsule and one per obstacle, writes their world poses into it directly
 (``geom_xpos``, ``geom_xmat``; no kinematics is run) and asks MuJoCo's
 ``mj_geomDistance`` (2 to 4 us a pair, called from Python) for the distance and
 the two closest points of a capsule and a box or a cylinder; a sphere's and a
-plane's are MuJoCo's closed forms, compiled (:mod:`cosmos.obstacles.distance_kernel`).
+plane's are MuJoCo's closed forms, compiled (:mod:`cosmos.obstacles.kernels.distance`).
 The candidate lists, the choice of each link's closest capsule and the
-estimate between measurements are compiled too (:mod:`cosmos.obstacles.geometry_kernel`).
+estimate between measurements are compiled too (:mod:`cosmos.obstacles.kernels.geometry`).
 :func:`cosmos.obstacles.proximity.capsule_proximity` (firas) remains the
 reference, checked against it in the tests, and is used when the capsule
 penetrates the obstacle, where MuJoCo returns a penetration depth rather than
@@ -24,11 +24,11 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from cosmos.obstacles import candidates_kernel as ck
-from cosmos.obstacles import distance_kernel as dk
-from cosmos.obstacles import field_kernel as fk
-from cosmos.obstacles import geometry_kernel as gk
 from cosmos.obstacles.capsules import LinkCapsules
+from cosmos.obstacles.kernels import candidates as ck
+from cosmos.obstacles.kernels import distance as dk
+from cosmos.obstacles.kernels import field as fk
+from cosmos.obstacles.kernels import geometry as gk
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.obstacles.proximity import capsule_proximity
 from cosmos.obstacles.scene import geom_size_and_bounds
@@ -87,16 +87,16 @@ CANDIDATE_MARGIN_M = 0.03
 class ProximityModel:
     """Capsules and obstacles as geoms of a private MuJoCo model; their near pairs.
 
-    The arithmetic is compiled (:mod:`cosmos.obstacles.geometry_kernel`); the
+    The arithmetic is compiled (:mod:`cosmos.obstacles.kernels.geometry`); the
     results are packed arrays: :attr:`approaches` holds, after :meth:`measure`
     or :meth:`estimate`, one row per (link, obstacle) within that obstacle's
-    rho_0 (layout ``APPROACH_*`` of :mod:`cosmos.obstacles.field_kernel`).
+    rho_0 (layout ``APPROACH_*`` of :mod:`cosmos.obstacles.kernels.field`).
 
     Args:
         capsules: The arm's capsules (in joint frames).
         obstacles: The obstacles, in the order their indices refer to.
         table: Per obstacle its centre, velocity, time added, rho_0 and gain factor
-            (layout ``OBSTACLE_*`` of :mod:`cosmos.obstacles.field_kernel`). # (k, OBSTACLE)
+            (layout ``OBSTACLE_*`` of :mod:`cosmos.obstacles.kernels.field`). # (k, OBSTACLE)
     """
 
     def __init__(self, capsules: LinkCapsules, obstacles: tuple[Obstacle, ...], table: FloatArray) -> None:
@@ -166,7 +166,7 @@ class ProximityModel:
 
         Args:
             frames: The arm's joint frames and link twists now (``FRAME_*`` of
-                :mod:`cosmos.obstacles.field_kernel`). # (6, FRAMES)
+                :mod:`cosmos.obstacles.kernels.field`). # (6, FRAMES)
             t_s: Simulated time, in [s].
 
         Returns:
@@ -190,7 +190,7 @@ class ProximityModel:
         Args:
             torque: Written: the field's joint torques, in [N m]. # (6,)
             acting: Written: per obstacle, whether and how it acted (``ACTING_*``). # (k, ACTING)
-            chain: The arm's chain (``CHAIN_*`` of :mod:`cosmos.obstacles.field_kernel`). # (6, CHAIN)
+            chain: The arm's chain (``CHAIN_*`` of :mod:`cosmos.obstacles.kernels.field`). # (6, CHAIN)
             q: Joint angles, in [rad]. # (6,)
             qd: Joint velocities, in [rad/s]. # (6,)
             frames: Written: the joint frames and link twists (``FRAME_*``). # (6, FRAMES)
@@ -231,7 +231,7 @@ class ProximityModel:
         closest one's point counts.
 
         Args:
-            frames: The arm's joint frames (``FRAME_*``, :mod:`cosmos.obstacles.field_kernel`). # (6, FRAMES)
+            frames: The arm's joint frames (``FRAME_*``, :mod:`cosmos.obstacles.kernels.field`). # (6, FRAMES)
             t_s: Simulated time, in [s].
             speed_mps: Bound on the relative speed of arm and obstacles since the last call, in [m/s].
 

@@ -73,6 +73,35 @@ def firas_magnitude(rho: FloatArray | float, rho_0: float, eta: float, cap: floa
     return np.where(rho < rho_0, magnitude, 0.0)
 
 
+def repulsion_magnitude(
+    distance_m: float, rho_0_m: float, eta: float, damping_ns_per_m: float, cap_n: float, approach_mps: float
+) -> float:
+    """|F| of the obstacle field on one link's point: FIRAS plus approach damping, capped, in [N].
+
+    Section 6's FIRAS magnitude (:func:`firas_magnitude`) with a damping term on the
+    approach speed that fades out toward rho_0; the compiled field
+    (:func:`cosmos.obstacles.kernels.field.repulsion_magnitude`) mirrors it.
+
+    Args:
+        distance_m: rho, the point's distance to the obstacle's surface, in [m].
+        rho_0_m: Influence distance, in [m].
+        eta: FIRAS gain, in [N m^3].
+        damping_ns_per_m: c, in [N s/m].
+        cap_n: Largest magnitude, in [N].
+        approach_mps: Speed of the point toward the obstacle along the normal, in [m/s].
+
+    Returns:
+        ``eta (1/rho - 1/rho_0)/rho^2 + c (1 - rho/rho_0) max(0, approach)``, capped;
+        0 at and beyond rho_0.
+    """
+    if distance_m >= rho_0_m:
+        return 0.0
+    magnitude = firas_magnitude(distance_m, rho_0_m, eta, cap_n)
+    if approach_mps > 0.0:
+        magnitude += damping_ns_per_m * min(1.0, 1.0 - distance_m / rho_0_m) * approach_mps
+    return min(magnitude, cap_n)
+
+
 def firas_potential(rho: FloatArray | float, rho_0: float, eta: float) -> FloatArray:
     """The uncapped FIRAS potential ``eta/2 (1/rho - 1/rho_0)^2`` inside ``rho_0``, else 0.
 

@@ -1,4 +1,4 @@
-"""The compiled closed-form distances (cosmos.obstacles.distance_kernel) against MuJoCo and the NumPy SDF."""
+"""The compiled closed-form distances (cosmos.obstacles.kernels.distance) against MuJoCo and the NumPy SDF."""
 
 from __future__ import annotations
 
@@ -6,9 +6,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from cosmos.obstacles import distance_kernel as dk
+from cosmos.obstacles.kernels import distance as dk
 from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
 from cosmos.obstacles.proximity import capsule_proximity, signed_distances
+from cosmos.osc import firas
 from cosmos.plan import ObstacleShape
 
 _KIND = {
@@ -91,6 +92,33 @@ def test_capsule_plane_is_mujocos_answer() -> None:
         assert got == pytest.approx(want, abs=1e-12)
         if want > 0.0:
             np.testing.assert_allclose(fromto, expected, atol=1e-12)
+
+
+def test_capsule_sphere_and_plane_are_the_firas_reference() -> None:
+    """Within distmax the closed forms give :mod:`cosmos.osc.firas`' distance and capsule point.
+
+    Catches the kernel drifting from its readable reference (a capsule end taken for
+    the other, the radius on the wrong side, the sphere's radius left out).
+    """
+    rng = np.random.default_rng(6)
+    fromto = np.zeros(6)
+    distmax = 10.0  # no cap: every answer is the reference's
+    for _ in range(200):
+        axis = _random_rotation(rng)[:, 2].copy()
+        mid = rng.uniform(-0.3, 0.3, 3)
+        half, radius = float(rng.uniform(0.02, 0.2)), float(rng.uniform(0.01, 0.06))
+        a, b = mid - half * axis, mid + half * axis
+        center, sphere_radius = rng.uniform(-0.4, 0.4, 3), float(rng.uniform(0.02, 0.1))
+        got = dk.capsule_sphere(fromto, mid, axis, half, radius, center, sphere_radius, distmax)
+        want = firas.capsule_sphere(a, b, radius, center, sphere_radius)
+        assert got == pytest.approx(want.distance, abs=1e-12)
+        if want.distance > 0.0:
+            np.testing.assert_allclose(fromto[:3], want.point, atol=1e-12)
+        point, normal = rng.uniform(-0.3, 0.3, 3), _random_rotation(rng)[:, 2].copy()
+        got = dk.capsule_plane(fromto, mid, axis, half, radius, point, normal, distmax)
+        want = firas.capsule_plane(a, b, radius, point, normal)
+        assert got == pytest.approx(want.distance, abs=1e-12)
+        np.testing.assert_allclose(fromto[:3], want.point, atol=1e-12)
 
 
 def _turned(obstacle: Obstacle, rotation: np.ndarray) -> Obstacle:

@@ -1,9 +1,9 @@
-"""The compiled field kernel (cosmos.obstacles.field_kernel) against Pinocchio and the Python field maths.
+"""The compiled field kernel (cosmos.obstacles.kernels.field) against Pinocchio and the Python field maths.
 
 Seeded random states; the kinematics are compared with Pinocchio's
 ``computeJointJacobians``, the torques with the point Jacobians taken by
 finite differences of Pinocchio's placements, the magnitudes with the Python
-:func:`cosmos.obstacles.field.repulsion_magnitude`.
+:func:`cosmos.osc.firas.repulsion_magnitude`.
 """
 
 from __future__ import annotations
@@ -13,9 +13,10 @@ import pinocchio as pin
 import pytest
 
 from cosmos.obstacles import arm_capsules
-from cosmos.obstacles import field_kernel as fk
 from cosmos.obstacles.capsules import joint_reach_m
-from cosmos.obstacles.field import FieldParameters, chain_table, repulsion_magnitude
+from cosmos.obstacles.field import FieldParameters, chain_table
+from cosmos.obstacles.kernels import field as fk
+from cosmos.osc.firas import repulsion_magnitude
 from tests.obstacles.obstacle_scenes import robot
 
 

@@ -10,12 +10,12 @@ import pytest
 
 from cosmos.bench.obstacles import bench_scene
 from cosmos.obstacles import arm_capsules
-from cosmos.obstacles import distance_kernel as dk
-from cosmos.obstacles import field_kernel as fk
-from cosmos.obstacles import geometry_kernel as gk
 from cosmos.obstacles.capsules import LinkCapsules, joint_reach_m
 from cosmos.obstacles.field import FieldParameters, chain_table, obstacle_table
 from cosmos.obstacles.geometry import ProximityModel, capsule_table
+from cosmos.obstacles.kernels import distance as dk
+from cosmos.obstacles.kernels import field as fk
+from cosmos.obstacles.kernels import geometry as gk
 from cosmos.obstacles.obstacle import Obstacle, box, sphere
 from cosmos.obstacles.proximity import capsule_proximity, signed_distances
 from cosmos.workcell import HOME_Q

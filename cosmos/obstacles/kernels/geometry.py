@@ -2,9 +2,9 @@
 
 :class:`cosmos.obstacles.geometry.ProximityModel` places the capsules and the
 moving obstacles in its private MuJoCo model (here), picks the candidate pairs
-worth a distance query (:mod:`cosmos.obstacles.candidates_kernel`), answers
+worth a distance query (:mod:`cosmos.obstacles.kernels.candidates`), answers
 those with a sphere or a plane in closed form
-(:mod:`cosmos.obstacles.distance_kernel`) and asks ``mj_geomDistance`` for the
+(:mod:`cosmos.obstacles.kernels.distance`) and asks ``mj_geomDistance`` for the
 others (from Python: one call a pair), and keeps, per (link, obstacle) within
 rho_0, the link's closest capsule and its point and normal (here). Between
 measurements it carries those points forward to first order with the links'
@@ -14,8 +14,8 @@ checks it against Pinocchio's kinematics, brute-force distances
 (:mod:`cosmos.osc.firas`) and first-order motion by finite differences.
 
 Layouts of the packed arrays are below; the frames, obstacles and approaches are
-those of :mod:`cosmos.obstacles.field_kernel`, the candidates and lists those of
-:mod:`cosmos.obstacles.candidates_kernel`.
+those of :mod:`cosmos.obstacles.kernels.field`, the candidates and lists those of
+:mod:`cosmos.obstacles.kernels.candidates`.
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.obstacles import distance_kernel as dk
-from cosmos.obstacles.candidates_kernel import (
+from cosmos.obstacles.kernels import distance as dk
+from cosmos.obstacles.kernels.candidates import (
     CANDIDATE_ANALYTIC,
     CANDIDATE_CAPSULE,
     CANDIDATE_LAST_M,
@@ -33,7 +33,7 @@ from cosmos.obstacles.candidates_kernel import (
     LIST_QUEUE,
     select_queries,
 )
-from cosmos.obstacles.field_kernel import (
+from cosmos.obstacles.kernels.field import (
     APPROACH_DISTANCE,
     APPROACH_LINK,
     APPROACH_NORMAL,
@@ -119,7 +119,7 @@ def place_and_select(
     travel_m: float,
     margin_m: float,
 ) -> tuple[int, int, int]:
-    """:func:`place_geoms_into` then :func:`~cosmos.obstacles.candidates_kernel.select_queries`, one call."""
+    """:func:`place_geoms_into` then :func:`~cosmos.obstacles.kernels.candidates.select_queries`, one call."""
     place_geoms_into(geom_xpos, geom_xmat, frames, capsules, obstacles, t_s)
     return select_queries(
         lists, candidates, count, geom_xpos, geom_xmat, capsules, shapes, obstacles, t_s, travel_m, margin_m
@@ -276,7 +276,7 @@ def estimated_torque_into(
     """An evaluation between measurements in one call: kinematics, :func:`estimate_into`, the torques.
 
     Returns:
-        The arm's speed bound, as :func:`~cosmos.obstacles.field_kernel.chain_kinematics_into`.
+        The arm's speed bound, as :func:`~cosmos.obstacles.kernels.field.chain_kinematics_into`.
     """
     speed = chain_kinematics_into(frames, chain, q, qd)
     estimated = estimate_into(approaches, held, count, frames, obstacles, t_s)

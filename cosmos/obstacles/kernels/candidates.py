@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.obstacles import distance_kernel as dk
-from cosmos.obstacles.field_kernel import (
+from cosmos.obstacles.kernels import distance as dk
+from cosmos.obstacles.kernels.field import (
     OBSTACLE_ADDED_S,
     OBSTACLE_CENTER,
     OBSTACLE_RHO_0,
@@ -87,7 +87,7 @@ def select_queries(
     its midpoint (``geom_xpos``, placed by :func:`place_geoms_into`), so its
     distance to an obstacle is at least the midpoint's signed distance minus
     ``bound``, and at least a separating axis' gap minus its radius
-    (:func:`~cosmos.obstacles.distance_kernel.segment_lower_bound`); the pairs
+    (:func:`~cosmos.obstacles.kernels.distance.segment_lower_bound`); the pairs
     where these lower bounds are below ``rho_0 + margin_m`` become the
     candidates (capsule-major, never queried). Then a pair ``last_m`` apart at
     its last query, when the travel bound was ``travel_then``, can have closed

@@ -80,6 +80,8 @@ def capsule_sphere(
 ) -> float:
     """Surface distance of a capsule and a sphere, as ``mj_geomDistance(capsule, sphere)``, in [m].
 
+    Mirrors :func:`cosmos.osc.firas.capsule_sphere` (within ``distmax_m``).
+
     The sphere's centre is projected on the capsule's segment (``mid +- half_m
     axis``, ``axis`` unit); the two surface points lie on the line through the
     projection and the centre.
@@ -129,6 +131,8 @@ def capsule_plane(
     distmax_m: float,
 ) -> float:
     """Height of a capsule above a plane, as ``mj_geomDistance(capsule, plane)``, in [m].
+
+    Mirrors :func:`cosmos.osc.firas.capsule_plane` (within ``distmax_m``).
 
     The lower of the segment's two ends (the ``+axis`` end first on a tie, as
     MuJoCo's ``mjc_PlaneCapsule``) minus the radius.

@@ -6,7 +6,7 @@ point's Jacobian). In Pinocchio and NumPy the joint frames, the Jacobian and
 the links' twists were a dozen small calls and copies per evaluation, and the
 force on each (link, obstacle) pair a Python loop; compiled they are two calls.
 ``tests/obstacles/test_obstacles_field_kernel.py`` checks them against
-Pinocchio (kinematics, point Jacobians) and :func:`cosmos.obstacles.field.repulsion_magnitude`.
+Pinocchio (kinematics, point Jacobians) and :func:`cosmos.osc.firas.repulsion_magnitude`.
 
 Arrays are written in place, so an evaluation allocates nothing here.
 """
@@ -122,7 +122,7 @@ def chain_kinematics_into(frames: FloatArray, chain: FloatArray, q: FloatArray, 
 def repulsion_magnitude(
     distance_m: float, rho_0_m: float, eta: float, damping_ns_per_m: float, cap_n: float, approach_mps: float
 ) -> float:
-    """:func:`cosmos.obstacles.field.repulsion_magnitude`: FIRAS plus approach damping, capped, in [N]."""
+    """:func:`cosmos.osc.firas.repulsion_magnitude`: FIRAS plus approach damping, capped, in [N]."""
     if distance_m >= rho_0_m:
         return 0.0
     if distance_m <= 0.0:
