@@ -1,6 +1,7 @@
 """Operational-space control maths (Khatib 1987): pure functions of numpy arrays.
 
-One module per concept, each citing the seed's equations:
+One module per concept, each citing the seed's equations; each is the readable
+reference of the compiled kernels that run it (``cosmos/runtime``, ``cosmos/obstacles/kernels``):
 
 * :mod:`~cosmos.osc.dynamics`: Lambda, Jbar, mu, p, N^T (eq. 13, 26-28), singularities (section 5),
   null-space damping and the dissipation matrix (eq. 31, 34, 38).
@@ -10,6 +11,9 @@ One module per concept, each citing the seed's equations:
 * :mod:`~cosmos.osc.unified`: the unified motion and force command (eq. 17-18, 29).
 * :mod:`~cosmos.osc.limits`: torque saturation and the joint-limit potential (section 6).
 * :mod:`~cosmos.osc.firas`: FIRAS repulsion and capsule-to-obstacle proximity (section 6).
+* :mod:`~cosmos.osc.friction`: Coulomb friction compensation toward the commanded motion.
+* :mod:`~cosmos.osc.contact`: the segment's touch latch (force integral) and contact latch.
+* :mod:`~cosmos.osc.admittance`: admittance control of compliant moment axes in contact.
 
 Conventions: world axes; twists and wrenches are ``[linear; angular]``; the
 operational error is ``x - x_d = (p - p_d, log(R R_d^T))``.

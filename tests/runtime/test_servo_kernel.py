@@ -12,8 +12,11 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
+from cosmos.osc.admittance import admittance_command, admittance_speed, low_pass, without_axes
+from cosmos.osc.contact import contact_latched, touch_latched
 from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
 from cosmos.osc.force import Selection, selection
+from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, integrate_motion_error, tracking_command
 from cosmos.osc.orientation import so3_exp
@@ -217,6 +220,9 @@ class TickCase:
         mode: The motion mode (kernel's MODE_* value).
         force: Task z force-controlled; otherwise every axis is motion-controlled.
         max_speed: The segment's speed limit, [m/s] (small: the push's speed cap binds).
+        admittance: Task RX, RY compliant (admittance control once in contact).
+        tangent_n: Sensed force along the task's x, [N] (contact for the admittance latch).
+        admittance_max_speed: W_max of the admittance speed, [rad/s].
     """
 
     touching: bool
@@ -228,6 +234,9 @@ class TickCase:
     mode: float = sk.MODE_GOAL
     force: bool = True
     max_speed: float = 10.0
+    admittance: bool = False
+    tangent_n: float = 25.0
+    admittance_max_speed: float = 10.0
 
 
 TICK_CASES = {
@@ -241,7 +250,15 @@ TICK_CASES = {
     "trajectory, motion only": TickCase(False, 3.0, False, 0.5, mode=sk.MODE_TRAJECTORY, force=False),
     "trajectory in contact (a slide)": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY),
     "hold, motion only": TickCase(True, 3.0, False, 0.5, saturate=True, mode=sk.MODE_HOLD, force=False),
+    "admittance, first contact": TickCase(False, 3.0, False, 0.6, admittance=True),
+    "admittance, speed bounded": TickCase(True, 2.0, True, 1.2, admittance=True, admittance_max_speed=0.05),
+    "admittance, tracking": TickCase(
+        True, 2.0, False, 2.0, mode=sk.MODE_TRAJECTORY, admittance=True, admittance_max_speed=0.02
+    ),
+    "admittance, sideways contact": TickCase(False, 0.3, False, 0.8, admittance=True, tangent_n=3.0),
+    "admittance, free space": TickCase(False, 0.3, False, 0.5, admittance=True, tangent_n=0.2),
 }
+ADMITTANCE_GAIN, ADMITTANCE_KV, MOMENT_BLEND = 3.0, 40.0, 0.3
 
 CONTACT_THRESHOLD_N = 1.0
 FORCE_GAINS = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
@@ -300,6 +317,10 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     assert dynamics.eigenvectors.shape[1] == 0, "want section 5's exact regime here"
     rotation_task = random_rotation(rng)
     sel = selection(MOTION_AXES_Z_FORCE if case.force else (True,) * 6, rotation_task)
+    # Compliant RX, RY: force axes of the plan, motion axes of the servo (runtime.servo).
+    omega_admittance = (
+        selection((True, True, False, False, False, True), rotation_task).omega_bar - sel.omega_bar
+    )
     held = rng.normal(0.0, 1.0, 6)
     viscous = rng.uniform(0.5, 5.0, 6)
 
@@ -313,13 +334,13 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     # The wrench the tool applies: large on motion axes, ``force_axis_n`` along task z.
     normal = rotation_task[:, 2]
     tangent = rotation_task[:, 0]
-    wrench = np.concatenate((25.0 * tangent + case.force_axis_n * normal, rng.normal(0.0, 2.0, 3)))
+    wrench = np.concatenate((case.tangent_n * tangent + case.force_axis_n * normal, rng.normal(0.0, 2.0, 3)))
     rotation_sensor = random_rotation(rng)
     to_tool, to_com = rng.normal(0.0, 0.15, 3), rng.normal(0.0, 0.05, 3)
     weight_z_n = float(GRAVITY[2]) * TOOL_MASS_KG
     sensor = _sensor_reading(wrench, rotation_sensor, to_tool, to_com, weight_z_n)
 
-    force_task = np.array((0.0, 0.0, -10.0, 0.0, 0.0, 0.0))
+    force_task = np.array((0.0, 0.0, -10.0, 0.4, -0.3, 0.0))  # the moments for the admittance axes
     force_world = np.concatenate((rotation_task @ force_task[:3], rotation_task @ force_task[3:]))
     start_s, ramp_s = 1.0, 0.2
     t_s = start_s + case.ramp_fraction * ramp_s
@@ -348,6 +369,11 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.COULOMB_BLEND] = COULOMB_BLEND
     scalars[sk.TOOL_WEIGHT_Z_N] = weight_z_n
     scalars[sk.LOOKAHEAD_S] = LOOKAHEAD_S
+    scalars[sk.ADMITTANCE] = float(case.admittance)
+    scalars[sk.ADMITTANCE_GAIN] = ADMITTANCE_GAIN
+    scalars[sk.ADMITTANCE_MAX_SPEED] = case.admittance_max_speed
+    scalars[sk.ADMITTANCE_KV] = ADMITTANCE_KV
+    scalars[sk.MOMENT_BLEND] = MOMENT_BLEND
 
     vectors = np.zeros((sk.VECTORS, 6))
     vectors[sk.KP], vectors[sk.KV] = (np.full(6, 400.0), np.full(6, 40.0)) if case.uniform else _gains(rng)
@@ -371,6 +397,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     matrices[sk.OMEGA_BAR] = sel.omega_bar
     matrices[sk.ROTATION_TASK] = padded(rotation_task)
     matrices[sk.ROTATION_SENSOR] = padded(rotation_sensor)
+    matrices[sk.OMEGA_ADMITTANCE] = omega_admittance
 
     state = np.full((sk.STATE_ROWS, 6), np.nan)  # output rows must all be written
     state[sk.FLAGS] = 0.0
@@ -384,6 +411,8 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     else:
         state[sk.INTEGRAL] = sel.omega_bar @ rng.normal(0.0, 0.3, 6)
     state[sk.COULOMB] = rng.uniform(-1.0, 1.0, 6)
+    state[sk.MOMENT_FILTERED] = rng.normal(0.0, 1.0, 6)
+    state[sk.FLAGS, sk.ADMITTING] = float(case.admittance and case.touching)
     state[sk.MOTION_INTEGRAL] = 0.0
     state[sk.MOTION_INTEGRAL, :3] = sel.omega[:3, :3] @ rng.uniform(-0.002, 0.002, 3)  # on motion axes
 
@@ -407,6 +436,7 @@ class ReferenceTick:
     rows: dict[int, np.ndarray]
     touching: bool
     torque_unsaturated: np.ndarray
+    admitting: bool = False
 
 
 def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None = None) -> ReferenceTick:
@@ -429,6 +459,17 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     velocity = jacobian @ inputs.qd
     displacement = jacobian @ (inputs.q - vec[sk.EVALUATION_Q])
     error = vec[sk.REFERENCE_ERROR] + displacement  # section 3's estimator: x = x_e + J (q - q_e)
+    state_error = error
+
+    # Compliant moment axes: the sensed wrench low-passed; in contact, no position goal on them.
+    omega_a = mat[sk.OMEGA_ADMITTANCE]
+    moment, admitting = st[sk.MOMENT_FILTERED], False
+    velocity_d, accel_d = vec[sk.REFERENCE_VELOCITY], vec[sk.REFERENCE_ACCELERATION]
+    if sc[sk.ADMITTANCE]:
+        moment = low_pass(moment, wrench, sc[sk.MOMENT_BLEND])
+        admitting = contact_latched(bool(st[sk.FLAGS, sk.ADMITTING]), wrench, CONTACT_THRESHOLD_N)
+    if admitting:
+        error, velocity_d, accel_d = (without_axes(omega_a, v) for v in (error, velocity_d, accel_d))
 
     # Eq. 19 or 20-21 with gains per task axis: the command in task axes, turned back to world.
     kp, kv = vec[sk.KP], vec[sk.KV]
@@ -438,27 +479,34 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         speeds = sc[sk.MAX_SPEED], sc[sk.MAX_ANGULAR_SPEED]
         motion_task = goal_command(error_task, velocity_task, kp, kv, *speeds)
     elif sc[sk.MODE] == sk.MODE_TRAJECTORY:
-        velocity_d, accel_d = (
-            rotation.T @ vec[sk.REFERENCE_VELOCITY],
-            rotation.T @ vec[sk.REFERENCE_ACCELERATION],
-        )
-        motion_task = tracking_command(error_task, velocity_task, velocity_d, accel_d, kp, kv)
+        velocity_d_task, accel_d_task = rotation.T @ velocity_d, rotation.T @ accel_d
+        motion_task = tracking_command(error_task, velocity_task, velocity_d_task, accel_d_task, kp, kv)
     else:
         motion_task = -kp * error_task - kv * velocity_task
     motion = rotation @ motion_task
     # A tracked trajectory's xd_d on the motion axes counts toward the Coulomb intent as itself.
     tracked = sc[sk.MODE] == sk.MODE_TRAJECTORY
-    speed = sel.omega @ vec[sk.REFERENCE_VELOCITY] if tracked else np.zeros(6)
+    speed = sel.omega @ velocity_d if tracked else np.zeros(6)
+    fraction = min(1.0, (inputs.t_s - sc[sk.START_S]) / sc[sk.RAMP_S])
+    start = vec[sk.FORCE_START]
+    setpoint = start + fraction * (vec[sk.FORCE_WORLD] - start)  # Figure 2's ramped setpoint
+    if admitting:  # the moment error sets a bounded rotation speed, tracked by a velocity servo
+        speed_a = admittance_speed(
+            omega_a, setpoint, moment, sc[sk.ADMITTANCE_GAIN], sc[sk.ADMITTANCE_MAX_SPEED]
+        )
+        motion = admittance_command(omega_a, motion, speed_a, velocity, sc[sk.ADMITTANCE_KV])
+        speed = speed + speed_a
+    extra = {sk.MOMENT_FILTERED: moment} if sc[sk.ADMITTANCE] else {}
     if not sc[sk.HAS_FORCE]:  # every axis motion-controlled: no force loop, latch and integral kept
         torque = unified_torque(dyn, sel, motion, np.zeros(6)) + inputs.held
         torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
-        return _finish_tick(inputs, wrench, error, velocity, displacement, motion, torque, speed=speed)
+        return _finish_tick(
+            inputs, wrench, state_error, velocity, displacement, motion, torque,
+            speed=speed, admitting=admitting, extra=extra,
+        )  # fmt: skip
 
-    # Figure 2's force loop: ramped setpoint, integral latched on the first push.
-    fraction = min(1.0, (inputs.t_s - sc[sk.START_S]) / sc[sk.RAMP_S])
-    start = vec[sk.FORCE_START]
-    setpoint = start + fraction * (vec[sk.FORCE_WORLD] - start)
-    touching = bool(st[sk.FLAGS, sk.TOUCHING]) or np.max(np.abs(sel.omega_bar @ wrench)) > CONTACT_THRESHOLD_N
+    # Figure 2's force loop: integral latched on the first push.
+    touching = touch_latched(bool(st[sk.FLAGS, sk.TOUCHING]), sel.omega_bar, wrench, CONTACT_THRESHOLD_N)
     integral = st[sk.INTEGRAL].copy()
     if touching:
         integral = integrate_force_error(
@@ -506,7 +554,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     return _finish_tick(
         inputs,
         wrench,
-        error,
+        state_error,
         velocity,
         displacement,
         acceleration,
@@ -515,6 +563,8 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         motion_integral=motion_integral,
         touching=touching,
         speed=speed,
+        admitting=admitting,
+        extra=extra,
     )
 
 
@@ -530,16 +580,16 @@ def _finish_tick(
     motion_integral: np.ndarray | None = None,
     touching: bool | None = None,
     speed: np.ndarray | None = None,
+    admitting: bool = False,
+    extra: dict[int, np.ndarray] | None = None,
 ) -> ReferenceTick:
-    """Coulomb compensation toward ``qd + Jbar (L a + xd_d)`` (low-passed) and the saturation about g."""
+    """Coulomb compensation toward ``qd + Jbar (L a + xd_c)`` (low-passed) and the saturation about g."""
     vec, st = inputs.vectors, inputs.state
-    jbar = inputs.dynamics.jbar
-    intent = inputs.qd + LOOKAHEAD_S * jbar @ acceleration
-    if speed is not None:
-        intent = intent + jbar @ speed
-    intent = intent * INTENT_SCALE
-    target = vec[sk.COULOMB_NM] * np.clip(intent, -1.0, 1.0)
-    coulomb = st[sk.COULOMB] + COULOMB_BLEND * (target - st[sk.COULOMB])
+    commanded = np.zeros(6) if speed is None else speed
+    intent = friction_intent(
+        inputs.qd, inputs.dynamics.jbar, acceleration, commanded, LOOKAHEAD_S, 1.0 / INTENT_SCALE
+    )
+    coulomb = coulomb_compensation(st[sk.COULOMB], vec[sk.COULOMB_NM], intent, COULOMB_BLEND)
     torque = torque + coulomb
     saturated, _ = saturate_torque(torque, vec[sk.TORQUE_MAX], keep=vec[sk.GRAVITY])
     rows = {
@@ -551,9 +601,10 @@ def _finish_tick(
         sk.MOTION_INTEGRAL: st[sk.MOTION_INTEGRAL] if motion_integral is None else motion_integral,
         sk.COULOMB: coulomb,
         sk.TORQUE: saturated,
+        **(extra or {}),
     }
     latched = bool(st[sk.FLAGS, sk.TOUCHING]) if touching is None else touching
-    return ReferenceTick(rows, latched, torque)
+    return ReferenceTick(rows, latched, torque, admitting)
 
 
 def _run_kernel(inputs: TickInputs) -> np.ndarray:
@@ -581,6 +632,7 @@ ROW_NAMES = {
     sk.COULOMB: "COULOMB",
     sk.TORQUE: "TORQUE",
     sk.MOTION_INTEGRAL: "MOTION_INTEGRAL",
+    sk.MOMENT_FILTERED: "MOMENT_FILTERED",
 }
 
 
@@ -589,17 +641,19 @@ def test_servo_tick_matches_the_osc_composition(name: str) -> None:
     """A whole tick against sensor -> estimator -> eq. 20-21 -> Figure 2 -> eq. 29, 34 -> Coulomb ->
     saturation composed from cosmos.osc. Catches a misplaced block of ``stacked``, a wrong packed
     index, the task-frame rotation transposed, the ramp, the latch (integral moving in free space,
-    or not once touching), the anti-windup clamp, the Coulomb look-ahead and the saturation."""
+    or not once touching), the anti-windup clamp, the Coulomb look-ahead and the saturation; on
+    compliant moment axes the moment filter, the contact latch, the admittance speed and its bound."""
     case = TICK_CASES[name]
     inputs = _tick_inputs(case, seed=sorted(TICK_CASES).index(name) + 100)
     expected = _reference_tick(inputs)
     state = _run_kernel(inputs)
-    for row, row_name in ROW_NAMES.items():
+    for row in expected.rows:
         try:
             assert_close(state[row], expected.rows[row])
         except AssertionError as failure:
-            raise AssertionError(f"state row {row_name} differs") from failure
+            raise AssertionError(f"state row {ROW_NAMES[row]} differs") from failure
     assert state[sk.FLAGS, sk.TOUCHING] == float(expected.touching)
+    assert state[sk.FLAGS, sk.ADMITTING] == float(expected.admitting)
 
 
 @pytest.mark.parametrize("name", list(TICK_CASES))
@@ -645,3 +699,26 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
         COULOMB_BLEND * inputs.vectors[sk.COULOMB_NM] * (1 - 1e-9)
     )
     assert intent_unclipped.any(), "every joint's Coulomb intent is clipped: the look-ahead goes untested"
+
+
+@pytest.mark.parametrize("name", [name for name, case in TICK_CASES.items() if case.admittance])
+def test_admittance_cases_exercise_what_they_claim(name: str) -> None:
+    """Guards the admittance cases: the latch is set by a contact force (not by the force axis alone),
+    the bound binds where the name says, and admittance changes the tick (so the reference's
+    admittance branch is compared, not skipped)."""
+    case = TICK_CASES[name]
+    inputs = _tick_inputs(case, seed=sorted(TICK_CASES).index(name) + 100)
+    reference = _reference_tick(inputs)
+    push = float(np.hypot(case.tangent_n, case.force_axis_n))
+    assert reference.admitting == (case.touching or push > CONTACT_THRESHOLD_N)
+    sc, mat = inputs.scalars, inputs.matrices
+    moment = reference.rows[sk.MOMENT_FILTERED]
+    fraction = min(1.0, (inputs.t_s - sc[sk.START_S]) / sc[sk.RAMP_S])
+    start = inputs.vectors[sk.FORCE_START]
+    setpoint = start + fraction * (inputs.vectors[sk.FORCE_WORLD] - start)
+    unbounded = ADMITTANCE_GAIN * np.linalg.norm((mat[sk.OMEGA_ADMITTANCE] @ (setpoint - moment))[3:])
+    assert (unbounded > case.admittance_max_speed) == (case.admittance_max_speed < 1.0)
+    inputs.scalars[sk.ADMITTANCE] = 0.0
+    plain = _reference_tick(inputs).rows[sk.TORQUE]
+    changed = np.max(np.abs(plain - reference.rows[sk.TORQUE])) > 1e-6
+    assert changed == reference.admitting

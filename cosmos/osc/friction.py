@@ -1,0 +1,73 @@
+"""Coulomb friction compensation of the joints, toward the motion they are told to make.
+
+The seed's torque (eq. 29) models no joint friction; the PUMA's joints have
+Coulomb friction of the order of a newton metre, enough to stall a slow
+motion or a light push. The servo adds, per joint, the friction torque in the
+direction the joint is moving or, from rest, is being told to move::
+
+    intent   = (qd + Jbar (L a + xd_c)) / v_c                    (Jbar: eq. 28)
+    target   = Gamma_c clip(intent, -1, 1)
+    Gamma_f <- Gamma_f + beta (target - Gamma_f)                  (once per servo tick)
+
+``a`` is the commanded operational acceleration and ``L`` a short look-ahead,
+so that ``Jbar L a`` is the joint speed the command is about to produce;
+``xd_c`` is an operational speed commanded outright (a tracked trajectory's
+``xd_d`` on the motion axes, an admittance speed, a push at its speed limit),
+so that a slow joint is not left to stick. ``v_c`` is the joint speed at which
+the full friction torque is compensated (a linear ramp below it avoids
+chattering at rest), and the first-order low-pass ``beta = dt / tau`` keeps a
+new setpoint or a change of sign from stepping the torque.
+
+The compiled servo tick (:mod:`cosmos.runtime.servo_kernel`) runs the same
+arithmetic; these are its readable reference.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cosmos.osc._types import FloatArray
+
+
+def friction_intent(
+    qd: FloatArray,
+    jbar: FloatArray,
+    acceleration: FloatArray,
+    commanded_speed: FloatArray,
+    lookahead_s: float,
+    full_speed_rad_s: float,
+) -> FloatArray:
+    """The joints' intended motion, scaled so that +-1 asks for the full friction torque.
+
+    Args:
+        qd: Joint velocities, in [rad/s]. # (n,)
+        jbar: The dynamically consistent inverse ``Jbar = A^-1 J^T Lambda`` (eq. 28). # (n, 6)
+        acceleration: The commanded operational acceleration, world, [m/s^2, rad/s^2]. # (6,)
+        commanded_speed: An operational speed commanded outright, world, [m/s, rad/s]
+            (zeros where none is). # (6,)
+        lookahead_s: L, how far ahead the commanded acceleration counts, in [s].
+        full_speed_rad_s: v_c, the joint speed at which the full torque is compensated, in [rad/s].
+
+    Returns:
+        ``(qd + Jbar (L a + xd_c)) / v_c``, unclipped. # (n,)
+    """
+    operational = lookahead_s * np.asarray(acceleration) + np.asarray(commanded_speed)
+    return (np.asarray(qd) + np.asarray(jbar).dot(operational)) / full_speed_rad_s
+
+
+def coulomb_compensation(
+    previous_nm: FloatArray, coulomb_nm: FloatArray, intent: FloatArray, blend: float
+) -> FloatArray:
+    """One servo tick of the low-passed Coulomb compensation torque.
+
+    Args:
+        previous_nm: Gamma_f of the previous tick, in [N m]. # (n,)
+        coulomb_nm: Gamma_c, each joint's Coulomb friction torque, in [N m]. # (n,)
+        intent: :func:`friction_intent`. # (n,)
+        blend: beta, the low-pass's share of the new target per tick, in [0, 1].
+
+    Returns:
+        ``Gamma_f + beta (Gamma_c clip(intent, -1, 1) - Gamma_f)``, in [N m]. # (n,)
+    """
+    target = np.asarray(coulomb_nm) * np.clip(intent, -1.0, 1.0)
+    return np.asarray(previous_nm) + blend * (target - np.asarray(previous_nm))
