@@ -15,7 +15,7 @@ from numba.core import event
 
 import cosmos.jit
 from cosmos.jit import cache, kernel, notice
-from cosmos.runtime import servo_kernel
+from cosmos.runtime.kernels import servo as servo_kernel
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -76,7 +76,7 @@ def test_a_second_environment_shares_the_cache(tmp_path: Path) -> None:
     copy = tmp_path / "elsewhere"
     shutil.copytree(ROOT / "cosmos", copy / "cosmos", ignore=shutil.ignore_patterns("__pycache__"))
     probe = (
-        "import cosmos, cosmos.runtime.servo_kernel as k; "
+        "import cosmos, cosmos.runtime.kernels.servo as k; "
         f"assert cosmos.__file__.startswith({str(copy)!r}), cosmos.__file__; "
         "print(k.servo_tick._cache.cache_path)"
     )

@@ -94,7 +94,7 @@ def setpoint_for(
     cruise_speed = None
     if duration_s is None and segment.kind is SegmentKind.SLIDE and segment.speed_limit_mps:
         # Along a surface, friction opposes the motion: a trajectory tracked with eq. 19
-        # (and its integral, cosmos.runtime.servo_kernel) pushes through it, where eq. 20's
+        # (and its integral, cosmos.runtime.kernels.servo) pushes through it, where eq. 20's
         # velocity servo would crawl. It cruises at the SPEED between short ramps.
         cruise_speed, duration_s = segment.speed_limit_mps, 1.0  # the cruise sets the duration
     if duration_s is not None:

@@ -15,8 +15,8 @@ joints' friction is compensated (:mod:`cosmos.osc.friction`)::
 and the motion command keeps no position goal on those axes: the pose error,
 ``xd_d`` and ``xdd_d`` lose their ``Omega_a`` part (:func:`without_axes`).
 
-The compiled servo tick (:mod:`cosmos.runtime.servo_kernel`) runs the same
-arithmetic; these are its readable reference.
+The compiled kernels of :mod:`cosmos.runtime.kernels.contact` run the same
+arithmetic; these are their readable reference.
 """
 
 from __future__ import annotations

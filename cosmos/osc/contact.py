@@ -14,8 +14,8 @@ law back and forth.
   segment's orientation to admittance control (:mod:`cosmos.osc.admittance`)
   at the first contact force of any direction, ``|f_s| > F_contact``.
 
-The compiled servo tick (:mod:`cosmos.runtime.servo_kernel`) runs the same
-tests; these are its readable reference.
+The compiled kernels of :mod:`cosmos.runtime.kernels.contact` run the same
+tests; these are their readable reference.
 """
 
 from __future__ import annotations

@@ -18,8 +18,8 @@ the full friction torque is compensated (a linear ramp below it avoids
 chattering at rest), and the first-order low-pass ``beta = dt / tau`` keeps a
 new setpoint or a change of sign from stepping the torque.
 
-The compiled servo tick (:mod:`cosmos.runtime.servo_kernel`) runs the same
-arithmetic; these are its readable reference.
+The compiled kernels of :mod:`cosmos.runtime.kernels.contact` run the same
+arithmetic; these are their readable reference.
 """
 
 from __future__ import annotations

@@ -21,11 +21,11 @@ import numpy as np
 
 from cosmos.plant import Plant
 from cosmos.robot_model import GRAVITY, RobotModel
+from cosmos.runtime.kernels.commands import environment_wrench_into
 from cosmos.runtime.parameters import ParameterLevel
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.rotation_plan import RotationPlan, plan_rotation
 from cosmos.runtime.servo import ServoGains, ServoLevel
-from cosmos.runtime.servo_kernel import environment_wrench_into
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 from cosmos.workcell import TOOL
 

@@ -19,7 +19,7 @@ import pinocchio as pin
 from cosmos.osc.dynamics import OperationalDynamics, operational_dynamics
 from cosmos.osc.limits import joint_limit_torque
 from cosmos.robot_model import RobotModel
-from cosmos.runtime import evaluation_kernel as ek
+from cosmos.runtime.kernels import evaluation as ek
 from cosmos.workcell import TOOL
 
 FloatArray = np.ndarray
@@ -55,7 +55,7 @@ class Evaluation:
     """One evaluation of the model at the configuration ``q``: read-only arrays, views of ``values``.
 
     Attributes:
-        values: Everything below, packed (layout: :mod:`cosmos.runtime.evaluation_kernel`).
+        values: Everything below, packed (layout: :mod:`cosmos.runtime.kernels.evaluation`).
         joint_limit_torque: Section 6's joint-limit repulsion, in [N m]. # (6,)
         q: Joint positions at the evaluation, in [rad]. # (6,)
         position: Tool point in world, in [m]. # (3,)

@@ -11,8 +11,8 @@ servo tracks), and maps them to joint torques with the folded
 matrices of eq. 29, adding the null-space damping of eq. 34, the joint-limit
 potential of section 6 and friction compensation, saturated to the drives.
 
-The arithmetic is compiled (:mod:`cosmos.runtime.servo_kernel`,
-:mod:`cosmos.runtime.parameter_kernel`); this class keeps the buffers it works in.
+The arithmetic is compiled (:mod:`cosmos.runtime.kernels.servo`,
+:mod:`cosmos.runtime.kernels.parameter`); this class keeps the buffers it works in.
 """
 
 from __future__ import annotations
@@ -26,8 +26,8 @@ from cosmos.osc.force import Selection, selection
 from cosmos.osc.orientation import pose_error
 from cosmos.osc.unified import ForceGains
 from cosmos.plant import LiveSignals
-from cosmos.runtime import servo_kernel as kernel
-from cosmos.runtime.parameter_kernel import refold
+from cosmos.runtime.kernels import servo as kernel
+from cosmos.runtime.kernels.parameter import refold
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -50,7 +50,7 @@ class ServoGains:
             toward the direction of motion, in [s].
         coulomb_filter_s: Time constant of the low-pass on the Coulomb compensation, [s].
         admittance_gain: On force-controlled moment axes, rotation speed per N m of
-            moment error, in [rad/s / N m] (admittance control; see servo_kernel).
+            moment error, in [rad/s / N m] (admittance control; see kernels.servo).
         admittance_max_speed_rad_s: Bound on that speed, in [rad/s].
         admittance_kv: Velocity gain of the unit-mass servo that tracks it, in [1/s].
         moment_filter_s: Time constant of the low-pass on the sensed moment there, [s].
@@ -252,7 +252,7 @@ class ServoLevel:
             state[kernel.INTEGRAL] = 0.0
             self._selection = selection(setpoint.motion_axes, setpoint.rotation_task_to_world)
             # Force-controlled moment axes run admittance control: for the servo they are
-            # motion axes whose speed the moment error sets (servo_kernel.servo_tick).
+            # motion axes whose speed the moment error sets (kernels.servo.servo_tick).
             axes = tuple(setpoint.motion_axes[:3]) + (True, True, True)
             self._servo_selection = selection(axes, setpoint.rotation_task_to_world)
             self._matrices[kernel.OMEGA_ADMITTANCE] = (

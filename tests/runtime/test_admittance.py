@@ -1,4 +1,4 @@
-"""Admittance control on compliant moment axes (servo_kernel.servo_tick), against its analytic law.
+"""Admittance control on compliant moment axes (kernels.servo.servo_tick), against its analytic law.
 
 With a unit arm (J = I, A = I, so Lambda = I and eq. 29 is ``Gamma = F``), no
 friction, no gravity and the tool at rest, one tick's torque is the operational
@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from cosmos.osc.force import selection
-from cosmos.runtime import servo_kernel as sk
-from cosmos.runtime.parameter_kernel import fold_servo
+from cosmos.runtime.kernels import servo as sk
+from cosmos.runtime.kernels.parameter import fold_servo
 
 K_A, MAX_SPEED, KV_A, KP, KV = 30.0, 0.3, 40.0, 400.0, 40.0
 CONTACT_N = 1.0

@@ -6,7 +6,7 @@ import numpy as np
 
 from cosmos.osc.dynamics import TRANSLATION_GIVE_UP
 from cosmos.osc.limits import joint_limit_task_projection
-from cosmos.runtime.parameter_kernel import joint_limit_projection_into
+from cosmos.runtime.kernels.parameter import joint_limit_projection_into
 
 MARGIN, WHOLE = 0.30, 0.15
 LOWER, UPPER = np.full(6, -2.0), np.full(6, 2.0)

@@ -1,4 +1,4 @@
-"""The compiled parameter-level folding (cosmos.runtime.parameter_kernel) against its references.
+"""The compiled parameter-level folding (cosmos.runtime.kernels.parameter) against its references.
 
 Lambda and the folded servo matrices are checked against the pure-NumPy
 operational-space maths of cosmos.osc (eq. 27-29, 34 and section 5's blended
@@ -28,9 +28,9 @@ from cosmos.osc.force import Selection, selection
 from cosmos.osc.orientation import pose_error, so3_exp, so3_log
 from cosmos.osc.unified import ForceGains, servo_matrices
 from cosmos.robot_model import build_robot_model
-from cosmos.runtime import evaluation_kernel as ek
-from cosmos.runtime import parameter_kernel as pk
-from cosmos.runtime import servo_kernel as sk
+from cosmos.runtime.kernels import evaluation as ek
+from cosmos.runtime.kernels import parameter as pk
+from cosmos.runtime.kernels import servo as sk
 from cosmos.runtime.parameters import ParameterLevel
 from cosmos.workcell import TOOL
 

@@ -11,7 +11,7 @@ import numpy as np
 
 from cosmos.osc.orientation import rpy_to_matrix, so3_exp, so3_log, unwrap_rotation_vector
 from cosmos.runtime.blockers import BlockerKind, progress_blockers
-from cosmos.runtime.parameter_kernel import unwrapped_rotation_error
+from cosmos.runtime.kernels.parameter import unwrapped_rotation_error
 from cosmos.runtime.servo import LIMIT_PROJECTION_MARGIN_RAD
 from cosmos.runtime.setpoint import DEFAULT_MAX_ANGULAR_SPEED, MotionMode, ServoSetpoint
 from tests.runtime.runtime_helpers import ROBOT, run_for, runtime_at

@@ -1,4 +1,4 @@
-"""The compiled servo kernel (cosmos.runtime.servo_kernel) against the readable NumPy maths of cosmos.osc.
+"""The compiled servo kernels (cosmos.runtime.kernels) against the readable NumPy maths of cosmos.osc.
 
 Every check draws seeded random inputs, runs the numba kernel and compares it
 with the reference functions (each citing Khatib's equations), to ~1e-9
@@ -29,7 +29,8 @@ from cosmos.osc.unified import (
     unified_torque,
 )
 from cosmos.robot_model import GRAVITY
-from cosmos.runtime import servo_kernel as sk
+from cosmos.runtime.kernels import commands, linear
+from cosmos.runtime.kernels import servo as sk
 from cosmos.runtime.wrench import environment_wrench
 
 RTOL = 1e-9
@@ -74,7 +75,7 @@ def test_environment_wrench_matches_the_wrench_module(seed: int) -> None:
     mass_kg = rng.uniform(0.2, 3.0)
     expected = environment_wrench(sensor, rotation, to_tool, to_com, mass_kg)
     out = np.full(6, np.nan)  # every entry must be written
-    sk.environment_wrench_into(out, sensor, rotation, to_tool, to_com, float(GRAVITY[2]) * mass_kg)
+    commands.environment_wrench_into(out, sensor, rotation, to_tool, to_com, float(GRAVITY[2]) * mass_kg)
     assert_close(out, expected)
 
 
@@ -86,7 +87,7 @@ def test_matvec_is_the_matrix_product() -> None:
     rng = np.random.default_rng(7)
     for rows, cols in ((6, 6), (3, 6), (6, 3)):
         matrix, vector = rng.normal(size=(rows, cols)), rng.normal(size=cols)
-        assert_close(sk.matvec(matrix, vector), matrix @ vector)
+        assert_close(linear.matvec(matrix, vector), matrix @ vector)
 
 
 # --- unit_mass_command_into --------------------------------------------------------------------
@@ -94,7 +95,7 @@ def test_matvec_is_the_matrix_product() -> None:
 
 def _command(*args: object) -> np.ndarray:
     out = np.full(6, np.nan)  # every component must be written
-    sk.unit_mass_command_into(out, *args)
+    commands.unit_mass_command_into(out, *args)
     return out
 
 
@@ -155,7 +156,7 @@ def test_hold_command_is_a_spring_and_damper() -> None:
 
 def _saturated(torque: np.ndarray, torque_max: np.ndarray, keep: np.ndarray) -> np.ndarray:
     out = torque.copy()
-    sk.saturate_about(out, torque_max, keep)
+    commands.saturate_about(out, torque_max, keep)
     return out
 
 

@@ -19,8 +19,9 @@ import numpy as np
 from cosmos.jit import kernel
 from cosmos.osc.dynamics import SINGULAR_GIVE_UP_RATE, TRANSLATION_GIVE_UP
 from cosmos.osc.orientation import NEAR_PI_SIN, SMALL_ANGLE_RAD
-from cosmos.runtime import evaluation_kernel as ek
-from cosmos.runtime import servo_kernel as sk
+from cosmos.runtime.kernels import evaluation as ek
+from cosmos.runtime.kernels import servo as sk
+from cosmos.runtime.kernels.linear import matmul, matvec
 
 FloatArray = np.ndarray
 
@@ -34,6 +35,9 @@ def lambda_and_projection(
     projection: FloatArray,
 ) -> FloatArray:
     """Lambda from Lambda^-1, singular directions removed (section 5), and the task projection. # (6, 6).
+
+    Mirrors :func:`cosmos.osc.dynamics.operational_dynamics` (its ``lambda_``, by
+    :func:`cosmos.osc.dynamics.blend_weights`) and :func:`cosmos.osc.dynamics.singular_task_projection`.
 
     The plain inverse where the trace of Lambda (row-scaled: rotations count as
     masses at ``length_scale_m``) proves every effective mass is below
@@ -65,7 +69,7 @@ def lambda_and_projection(
         if blend < 1.0:  # one factor of singular_task_projection
             weight = min(1.0, SINGULAR_GIVE_UP_RATE * (1.0 - blend))
             _remove_direction(projection, scale * eigenvectors[:, i], weight)
-    return sk.matmul(eigenvectors * weights, eigenvectors.T) * outer
+    return matmul(eigenvectors * weights, eigenvectors.T) * outer
 
 
 @kernel
@@ -152,24 +156,24 @@ def fold_servo(
             (:func:`cosmos.osc.limits.joint_limit_task_projection`). # (6, 6)
     """
     j_t = jacobian.T.copy()
-    a_inv_jt = sk.matmul(inertia_inv, j_t)
-    lambda_inv = sk.matmul(jacobian, a_inv_jt)  # eq. 27
+    a_inv_jt = matmul(inertia_inv, j_t)
+    lambda_inv = matmul(jacobian, a_inv_jt)  # eq. 27
     lambda_ = lambda_and_projection(
         lambda_inv, max_effective_mass_kg, blend_width, length_scale_m, projection
     )
-    projection[:, :] = sk.matmul(projection, limit_projection)
-    jbar = sk.matmul(a_inv_jt, lambda_)  # eq. 28
-    force_to_torque = sk.matmul(j_t, omega_bar)
-    jt_lambda = sk.matmul(j_t, lambda_)
-    stacked[:, 0:6] = sk.matmul(sk.matmul(jt_lambda, projection), omega)
+    projection[:, :] = matmul(projection, limit_projection)
+    jbar = matmul(a_inv_jt, lambda_)  # eq. 28
+    force_to_torque = matmul(j_t, omega_bar)
+    jt_lambda = matmul(j_t, lambda_)
+    stacked[:, 0:6] = matmul(matmul(jt_lambda, projection), omega)
     stacked[:, 6:12] = force_to_torque
-    stacked[:, 12:18] = -k_vf * sk.matmul(sk.matmul(force_to_torque, lambda_), omega_bar)
-    stacked[:, 18] = bias + gravity - sk.matvec(jt_lambda, jdot_qdot) + held_torque
-    stacked[:, 19:25] = -xi_q * (inertia - sk.matmul(jt_lambda, jacobian))
+    stacked[:, 12:18] = -k_vf * matmul(matmul(force_to_torque, lambda_), omega_bar)
+    stacked[:, 18] = bias + gravity - matvec(jt_lambda, jdot_qdot) + held_torque
+    stacked[:, 19:25] = -xi_q * (inertia - matmul(jt_lambda, jacobian))
     for i in range(6):
         stacked[i, 19 + i] += viscous[i]
-    force_to_acceleration[:, :] = sk.matmul(lambda_inv, omega_bar)
-    jbar_lookahead[:, :] = lookahead_s * sk.matmul(jbar, projection)
+    force_to_acceleration[:, :] = matmul(lambda_inv, omega_bar)
+    jbar_lookahead[:, :] = lookahead_s * matmul(jbar, projection)
 
 
 @kernel
@@ -232,7 +236,7 @@ def refold(
     error = vectors[sk.REFERENCE_ERROR]
     error[:3] = evaluation[ek.POSITION : ek.POSITION + 3] - goal_position
     error[3:] = unwrapped_rotation_error(
-        rotation_log(sk.matmul(rotation_tool, goal_rotation_to_world.T)), error[3:]
+        rotation_log(matmul(rotation_tool, goal_rotation_to_world.T)), error[3:]
     )
     limit_projection = np.eye(6)
     if constants.shape[0] > LIMITS_OFFSET:
@@ -302,7 +306,7 @@ def joint_limit_projection_into(
     if not near or abs(np.linalg.det(jacobian)) < 1e-12:
         return
     inverse = np.linalg.inv(jacobian)
-    rates = sk.matvec(inverse, goal_direction)
+    rates = matvec(inverse, goal_direction)
     for i in range(6):
         distance = q[i] - q_lower[i] if rates[i] < 0.0 else q_upper[i] - q[i]
         if rates[i] == 0.0 or distance >= margin_rad:

@@ -1,16 +1,22 @@
 """The servo level's per-tick arithmetic, compiled (numba): one call per servo tick.
 
-The maths are those of :mod:`cosmos.osc` (which stays the readable reference,
-and against which ``tests/runtime/test_servo_kernel.py`` checks these on random
+The maths are those of :mod:`cosmos.osc` (the readable reference; against it
+``tests/runtime/test_servo_kernel.py`` checks a whole tick on seeded random
 inputs): the wrench the tool applies to the environment from the wrist sensor
-(:mod:`cosmos.runtime.wrench`), the estimator ``x = x_e + J (q - q_e)``
-(section 3), the motion command (eq. 19, eq. 20-21 with the speed limit applied
-to translation and rotation separately), the active force command (F_d fed
-forward, PI on the force error with its anti-windup clamp, eq. 17-18 and
-Figure 2) or, on force-controlled moment axes in contact, admittance control,
-eq. 29's single product with the folded matrix, Coulomb friction
-compensation and the saturation that scales the command about gravity
-(:mod:`cosmos.osc.limits`). In NumPy this is some 40 small-array calls of
+(:func:`cosmos.runtime.wrench.environment_wrench`), the estimator
+``x = x_e + J (q - q_e)`` (section 3), the motion command (eq. 19, eq. 20-21,
+:mod:`cosmos.osc.motion`), the active force command (F_d fed forward, PI on the
+force error with its anti-windup clamp, eq. 17-18 and Figure 2,
+:func:`cosmos.osc.unified.integrate_force_error` and :func:`cosmos.osc.unified.force_feedback`,
+integral action only once :func:`cosmos.osc.contact.touch_latched`), a push held to
+its SPEED (:func:`cosmos.osc.unified.speed_limited_push`), a slide's integral action
+(:func:`cosmos.osc.motion.integrate_motion_error`) or, on compliant moment axes in
+contact, admittance control (:mod:`cosmos.osc.admittance`), eq. 29's single product
+with the folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction
+compensation (:mod:`cosmos.osc.friction`) and the saturation that scales the command
+about gravity (:func:`cosmos.osc.limits.saturate_torque`). The pieces with a kernel of
+their own are in :mod:`cosmos.runtime.kernels.commands` and
+:mod:`cosmos.runtime.kernels.contact`. In NumPy this is some 40 small-array calls of
 about a microsecond each; compiled it is one call.
 
 Results are written in place into the arrays passed (``state``, ``out``), so a
@@ -24,6 +30,17 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
+from cosmos.runtime.kernels import commands
+from cosmos.runtime.kernels.commands import environment_wrench_into, saturate_about, unit_mass_command_into
+from cosmos.runtime.kernels.contact import (
+    admittance_command,
+    admittance_speed,
+    contact_latched,
+    coulomb_compensation_into,
+    low_pass_into,
+    touch_latched,
+)
+from cosmos.runtime.kernels.linear import matvec, rotate_blocks
 
 FloatArray = np.ndarray
 
@@ -38,7 +55,7 @@ ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, 
 K_VF, FORCE_SPEED_KV, PUSH_SPEED, FORCE_SPEED_KI, FORCE_SPEED_INTEGRAL_LIMIT = range(21, 26)
 MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S = range(26, 29)
 SCALARS = 29
-MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = 0.0, 1.0, 2.0
+MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # ``vectors``, rows of six. REFERENCE_*: ``x_e - x_d`` at the evaluation (tracking: at this
 # tick's trajectory sample), ``xd_d`` and ``xdd_d``. SENSOR_OFFSETS: tool point then tool
@@ -77,145 +94,6 @@ W_STACKED = W_MATRICES + MATRICES * 36
 W_STATE = W_STACKED + 6 * 25
 W_SENSED = W_STATE + STATE_ROWS * 6
 WORKSPACE = W_SENSED + SENSED_ROWS * 6
-
-
-@kernel
-def matvec(matrix: FloatArray, vector: FloatArray) -> FloatArray:
-    """``matrix @ vector`` in plain loops (BLAS costs more than the product at this size)."""
-    rows, cols = matrix.shape
-    out = np.zeros(rows)
-    for i in range(rows):
-        acc = 0.0
-        for k in range(cols):
-            acc += matrix[i, k] * vector[k]
-        out[i] = acc
-    return out
-
-
-@kernel
-def matmul(a: FloatArray, b: FloatArray) -> FloatArray:
-    """``a @ b`` in plain loops: for 6 x 6 operands cheaper than a BLAS call from compiled code."""
-    n, m, p = a.shape[0], a.shape[1], b.shape[1]
-    out = np.zeros((n, p))
-    for i in range(n):
-        for k in range(m):
-            aik = a[i, k]
-            for j in range(p):
-                out[i, j] += aik * b[k, j]
-    return out
-
-
-@kernel
-def _max_abs_product(matrix: FloatArray, vector: FloatArray) -> float:
-    """``max |matrix @ vector|`` without the product's array."""
-    largest = 0.0
-    for i in range(matrix.shape[0]):
-        acc = 0.0
-        for k in range(matrix.shape[1]):
-            acc += matrix[i, k] * vector[k]
-        largest = max(largest, abs(acc))
-    return largest
-
-
-@kernel
-def environment_wrench_into(
-    out: FloatArray,
-    sensor: FloatArray,
-    rotation_sensor_to_world: FloatArray,
-    sensor_to_tool_m: FloatArray,
-    sensor_to_com_m: FloatArray,
-    weight_z_n: float,
-) -> None:
-    """:func:`cosmos.runtime.wrench.environment_wrench`, written into ``out``. # (6,)."""
-    r = rotation_sensor_to_world
-    fx, fy, fz, mx, my, mz = sensor[0], sensor[1], sensor[2], sensor[3], sensor[4], sensor[5]
-    ex = r[0, 0] * fx + r[0, 1] * fy + r[0, 2] * fz
-    ey = r[1, 0] * fx + r[1, 1] * fy + r[1, 2] * fz
-    ez = r[2, 0] * fx + r[2, 1] * fy + r[2, 2] * fz + weight_z_n
-    sx = r[0, 0] * mx + r[0, 1] * my + r[0, 2] * mz
-    sy = r[1, 0] * mx + r[1, 1] * my + r[1, 2] * mz
-    sz = r[2, 0] * mx + r[2, 1] * my + r[2, 2] * mz
-    tx, ty, tz = sensor_to_tool_m[0], sensor_to_tool_m[1], sensor_to_tool_m[2]
-    cx, cy = sensor_to_com_m[0], sensor_to_com_m[1]
-    out[0], out[1], out[2] = ex, ey, ez
-    out[3] = sx - (ty * ez - tz * ey) + cy * weight_z_n
-    out[4] = sy - (tz * ex - tx * ez) - cx * weight_z_n
-    out[5] = sz - (tx * ey - ty * ex)
-
-
-@kernel
-def _rotate_blocks(rotation: FloatArray, vector: FloatArray, transpose: bool) -> FloatArray:
-    """``(R v[:3], R v[3:])``, or with R^T. # (6,)."""
-    out = np.empty(6)
-    for block in range(2):
-        o = 3 * block
-        for i in range(3):
-            acc = 0.0
-            for k in range(3):
-                acc += (rotation[k, i] if transpose else rotation[i, k]) * vector[o + k]
-            out[o + i] = acc
-    return out
-
-
-@kernel
-def unit_mass_command_into(
-    command: FloatArray,
-    mode: float,
-    error: FloatArray,
-    velocity: FloatArray,
-    velocity_desired: FloatArray,
-    acceleration_desired: FloatArray,
-    kp: FloatArray,
-    kv: FloatArray,
-    max_speed: float,
-    max_angular_speed: float,
-) -> None:
-    """F*_m of a unit mass, into ``command``. # (6,).
-
-    Eq. 20-21 (GOAL), eq. 19 (TRAJECTORY) or eq. 19 with x_d fixed (HOLD); gains
-    are per axis of the frame ``error`` and ``velocity`` are written in.
-    """
-    if mode == MODE_GOAL:
-        # Eq. 21's nu, applied to the linear and the angular part separately.
-        for o, limit in ((0, max_speed), (3, max_angular_speed)):
-            d0 = -kp[o] / kv[o] * error[o]
-            d1 = -kp[o + 1] / kv[o + 1] * error[o + 1]
-            d2 = -kp[o + 2] / kv[o + 2] * error[o + 2]
-            norm = math.sqrt(d0**2 + d1**2 + d2**2)
-            nu = 1.0 if norm <= limit else limit / norm
-            command[o] = kv[o] * (nu * d0 - velocity[o])
-            command[o + 1] = kv[o + 1] * (nu * d1 - velocity[o + 1])
-            command[o + 2] = kv[o + 2] * (nu * d2 - velocity[o + 2])
-    elif mode == MODE_TRAJECTORY:
-        for i in range(6):
-            command[i] = (
-                acceleration_desired[i] - kp[i] * error[i] - kv[i] * (velocity[i] - velocity_desired[i])
-            )
-    else:
-        for i in range(6):
-            command[i] = -kp[i] * error[i] - kv[i] * velocity[i]
-
-
-@kernel
-def saturate_about(torque: FloatArray, torque_max: FloatArray, keep: FloatArray) -> None:
-    """:func:`cosmos.osc.limits.saturate_torque` in place: scale ``torque - keep`` into the limits."""
-    n = torque.shape[0]
-    inside = True
-    for i in range(n):
-        if abs(torque[i]) > torque_max[i]:
-            inside = False
-    if inside:
-        return
-    scale = 1.0
-    kept = np.empty(n)
-    for i in range(n):
-        kept[i] = min(max(keep[i], -torque_max[i]), torque_max[i])
-        delta = torque[i] - kept[i]
-        if delta != 0.0:
-            scale = min(scale, (math.copysign(torque_max[i], delta) - kept[i]) / delta)
-    scale = max(0.0, scale)
-    for i in range(n):
-        torque[i] = kept[i] + scale * (torque[i] - kept[i])
 
 
 @kernel
@@ -272,13 +150,10 @@ def servo_tick(
         # Compliant moment axes give way to contact moments: from the first contact force
         # on (latched for the segment) they run admittance control; in free space, where
         # there is nothing to comply with, they hold the segment's orientation.
-        moment = state[MOMENT_FILTERED]
-        moment += scalars[MOMENT_BLEND] * (wrench - moment)
+        low_pass_into(state[MOMENT_FILTERED], wrench, scalars[MOMENT_BLEND])
         flags = state[FLAGS]
-        if flags[ADMITTING] == 0.0:
-            push = math.sqrt(wrench[0] ** 2 + wrench[1] ** 2 + wrench[2] ** 2)
-            if push > scalars[CONTACT_THRESHOLD_N]:
-                flags[ADMITTING] = 1.0
+        if contact_latched(flags[ADMITTING] != 0.0, wrench, scalars[CONTACT_THRESHOLD_N]):
+            flags[ADMITTING] = 1.0
         admittance = flags[ADMITTING] != 0.0
     if admittance:  # no position goal on the moment axes under admittance control
         omega_admittance = matrices[OMEGA_ADMITTANCE]
@@ -305,16 +180,16 @@ def servo_tick(
         unit_mass_command_into(
             motion_task,
             mode,
-            _rotate_blocks(r, error, True),
-            _rotate_blocks(r, velocity, True),
-            _rotate_blocks(r, velocity_desired, True),
-            _rotate_blocks(r, acceleration_desired, True),
+            rotate_blocks(r, error, True),
+            rotate_blocks(r, velocity, True),
+            rotate_blocks(r, velocity_desired, True),
+            rotate_blocks(r, acceleration_desired, True),
             kp,
             kv,
             max_speed,
             max_angular_speed,
         )
-        motion = _rotate_blocks(r, motion_task, False)
+        motion = rotate_blocks(r, motion_task, False)
 
     feedback = work[FEEDBACK]
     feedback[:] = 0.0
@@ -337,12 +212,14 @@ def servo_tick(
         # the joints' Coulomb friction is compensated (below). The seed's force loop would
         # leave a contact's aligning moment (0.02 N m for the round tip on the slope) to
         # fight the wrist's friction (~1 N m); a speed servo does not.
-        speed = matvec(omega_admittance, setpoint - state[MOMENT_FILTERED]) * scalars[ADMITTANCE_GAIN]
-        norm = math.sqrt(speed[3] ** 2 + speed[4] ** 2 + speed[5] ** 2)
-        if norm > scalars[ADMITTANCE_MAX_SPEED]:
-            speed *= scalars[ADMITTANCE_MAX_SPEED] / norm
-        servo = scalars[ADMITTANCE_KV] * (speed - matvec(omega_admittance, velocity))
-        motion = motion - matvec(omega_admittance, motion) + servo
+        speed = admittance_speed(
+            omega_admittance,
+            setpoint,
+            state[MOMENT_FILTERED],
+            scalars[ADMITTANCE_GAIN],
+            scalars[ADMITTANCE_MAX_SPEED],
+        )
+        motion = admittance_command(omega_admittance, motion, speed, velocity, scalars[ADMITTANCE_KV])
         commanded_speed = commanded_speed + speed
     acceleration = motion
     pushing_at_speed = False
@@ -362,7 +239,7 @@ def servo_tick(
         flags = state[FLAGS]
         # Integral action only once something pushes back (latched for the segment): in
         # free space the force error cannot be closed and would wind up into an impact.
-        if flags[TOUCHING] == 0.0 and _max_abs_product(omega_bar, wrench) > scalars[CONTACT_THRESHOLD_N]:
+        if touch_latched(flags[TOUCHING] != 0.0, omega_bar, wrench, scalars[CONTACT_THRESHOLD_N]):
             flags[TOUCHING] = 1.0
         if flags[TOUCHING] != 0.0 and mode == MODE_TRAJECTORY and t_s >= scalars[TRAJECTORY_END_S]:
             # A trajectory tracked in contact (SLIDE), once its reference has stopped: eq. 19 plus
@@ -456,17 +333,16 @@ def servo_tick(
         admittance or mode == MODE_TRAJECTORY or pushing_at_speed
     ):  # Jbar xd_d: a slow joint is not left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
-    jbar_lookahead, intent_scale = matrices[JBAR_LOOKAHEAD], scalars[INTENT_SCALE]
-    coulomb, coulomb_nm = state[COULOMB], vectors[COULOMB_NM]
-    blend = scalars[COULOMB_BLEND]
-    for i in range(6):
-        acc = 0.0
-        for k in range(6):
-            acc += jbar_lookahead[i, k] * acceleration[k]
-        intent = (qd[i] + acc) * intent_scale
-        target = coulomb_nm[i] * min(max(intent, -1.0), 1.0)
-        coulomb[i] += blend * (target - coulomb[i])
-        torque[i] += coulomb[i]
+    coulomb_compensation_into(
+        torque,
+        state[COULOMB],
+        qd,
+        matrices[JBAR_LOOKAHEAD],
+        acceleration,
+        vectors[COULOMB_NM],
+        scalars[INTENT_SCALE],
+        scalars[COULOMB_BLEND],
+    )
     saturate_about(torque, vectors[TORQUE_MAX], vectors[GRAVITY])
 
 

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.runtime.servo_kernel import matmul, matvec
+from cosmos.runtime.kernels.linear import matmul, matvec
 
 FloatArray = np.ndarray
 

@@ -1,0 +1,113 @@
+"""The servo tick's sensing, motion command and saturation, compiled (numba).
+
+Each mirrors a readable reference, against which ``tests/runtime/test_servo_kernel.py``
+checks it on seeded random inputs:
+
+* :func:`environment_wrench_into`: :func:`cosmos.runtime.wrench.environment_wrench`
+  (the wrench the tool applies to the environment, from the wrist sensor);
+* :func:`unit_mass_command_into`: :func:`cosmos.osc.motion.goal_command` (eq. 20-21, the
+  speed limit applied to translation and rotation separately) and
+  :func:`cosmos.osc.motion.tracking_command` (eq. 19);
+* :func:`saturate_about`: :func:`cosmos.osc.limits.saturate_torque`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from cosmos.jit import kernel
+
+FloatArray = np.ndarray
+
+# Values of the servo's ``scalars[MODE]`` (cosmos.runtime.kernels.servo).
+MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = 0.0, 1.0, 2.0
+
+
+@kernel
+def environment_wrench_into(
+    out: FloatArray,
+    sensor: FloatArray,
+    rotation_sensor_to_world: FloatArray,
+    sensor_to_tool_m: FloatArray,
+    sensor_to_com_m: FloatArray,
+    weight_z_n: float,
+) -> None:
+    """:func:`cosmos.runtime.wrench.environment_wrench`, written into ``out``. # (6,)."""
+    r = rotation_sensor_to_world
+    fx, fy, fz, mx, my, mz = sensor[0], sensor[1], sensor[2], sensor[3], sensor[4], sensor[5]
+    ex = r[0, 0] * fx + r[0, 1] * fy + r[0, 2] * fz
+    ey = r[1, 0] * fx + r[1, 1] * fy + r[1, 2] * fz
+    ez = r[2, 0] * fx + r[2, 1] * fy + r[2, 2] * fz + weight_z_n
+    sx = r[0, 0] * mx + r[0, 1] * my + r[0, 2] * mz
+    sy = r[1, 0] * mx + r[1, 1] * my + r[1, 2] * mz
+    sz = r[2, 0] * mx + r[2, 1] * my + r[2, 2] * mz
+    tx, ty, tz = sensor_to_tool_m[0], sensor_to_tool_m[1], sensor_to_tool_m[2]
+    cx, cy = sensor_to_com_m[0], sensor_to_com_m[1]
+    out[0], out[1], out[2] = ex, ey, ez
+    out[3] = sx - (ty * ez - tz * ey) + cy * weight_z_n
+    out[4] = sy - (tz * ex - tx * ez) - cx * weight_z_n
+    out[5] = sz - (tx * ey - ty * ex)
+
+
+@kernel
+def unit_mass_command_into(
+    command: FloatArray,
+    mode: float,
+    error: FloatArray,
+    velocity: FloatArray,
+    velocity_desired: FloatArray,
+    acceleration_desired: FloatArray,
+    kp: FloatArray,
+    kv: FloatArray,
+    max_speed: float,
+    max_angular_speed: float,
+) -> None:
+    """F*_m of a unit mass, into ``command``. # (6,).
+
+    Eq. 20-21 (GOAL, :func:`cosmos.osc.motion.goal_command`), eq. 19 (TRAJECTORY,
+    :func:`cosmos.osc.motion.tracking_command`) or eq. 19 with x_d fixed (HOLD); gains
+    are per axis of the frame ``error`` and ``velocity`` are written in.
+    """
+    if mode == MODE_GOAL:
+        # Eq. 21's nu, applied to the linear and the angular part separately.
+        for o, limit in ((0, max_speed), (3, max_angular_speed)):
+            d0 = -kp[o] / kv[o] * error[o]
+            d1 = -kp[o + 1] / kv[o + 1] * error[o + 1]
+            d2 = -kp[o + 2] / kv[o + 2] * error[o + 2]
+            norm = math.sqrt(d0**2 + d1**2 + d2**2)
+            nu = 1.0 if norm <= limit else limit / norm
+            command[o] = kv[o] * (nu * d0 - velocity[o])
+            command[o + 1] = kv[o + 1] * (nu * d1 - velocity[o + 1])
+            command[o + 2] = kv[o + 2] * (nu * d2 - velocity[o + 2])
+    elif mode == MODE_TRAJECTORY:
+        for i in range(6):
+            command[i] = (
+                acceleration_desired[i] - kp[i] * error[i] - kv[i] * (velocity[i] - velocity_desired[i])
+            )
+    else:
+        for i in range(6):
+            command[i] = -kp[i] * error[i] - kv[i] * velocity[i]
+
+
+@kernel
+def saturate_about(torque: FloatArray, torque_max: FloatArray, keep: FloatArray) -> None:
+    """:func:`cosmos.osc.limits.saturate_torque` in place: scale ``torque - keep`` into the limits."""
+    n = torque.shape[0]
+    inside = True
+    for i in range(n):
+        if abs(torque[i]) > torque_max[i]:
+            inside = False
+    if inside:
+        return
+    scale = 1.0
+    kept = np.empty(n)
+    for i in range(n):
+        kept[i] = min(max(keep[i], -torque_max[i]), torque_max[i])
+        delta = torque[i] - kept[i]
+        if delta != 0.0:
+            scale = min(scale, (math.copysign(torque_max[i], delta) - kept[i]) / delta)
+    scale = max(0.0, scale)
+    for i in range(n):
+        torque[i] = kept[i] + scale * (torque[i] - kept[i])
