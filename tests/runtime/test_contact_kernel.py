@@ -1,0 +1,177 @@
+"""The servo's compiled contact laws (cosmos.runtime.kernels.contact) against their cosmos.osc references.
+
+Each kernel is run on seeded random inputs and at its edges (a push at the
+threshold, a speed at its bound, an intent at the clip) and compared with the
+readable NumPy function it mirrors (cosmos.osc.contact, .admittance, .friction).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cosmos.osc.admittance import admittance_command, admittance_speed, low_pass
+from cosmos.osc.contact import contact_latched, touch_latched
+from cosmos.osc.force import selection
+from cosmos.osc.friction import coulomb_compensation, friction_intent
+from cosmos.osc.orientation import so3_exp
+from cosmos.runtime.kernels import contact as ck
+
+SEEDS = range(20)
+
+
+def _close(actual: np.ndarray, expected: np.ndarray) -> None:
+    scale = max(float(np.max(np.abs(expected))), 1e-12)
+    np.testing.assert_allclose(actual, expected, rtol=1e-12, atol=1e-12 * scale)
+
+
+def _omega_bar(rng: np.random.Generator) -> np.ndarray:
+    """A random selection's Omega_bar in a random task frame. # (6, 6)."""
+    axes = tuple(bool(b) for b in rng.integers(0, 2, 6))
+    return selection(axes, so3_exp(rng.uniform(-3.0, 3.0, 3))).omega_bar
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_the_latches_are_their_references(seed: int) -> None:
+    """Catches a latch that reads the wrong part of the wrench (moments for forces, world for
+    selected axes), that resets once set, or that compares with >= where the reference has >."""
+    rng = np.random.default_rng(seed)
+    omega_bar = _omega_bar(rng)
+    wrench = rng.normal(0.0, 2.0, 6)
+    threshold = float(rng.uniform(0.5, 3.0))
+    for before in (False, True):
+        assert ck.touch_latched(before, omega_bar, wrench, threshold) == touch_latched(
+            before, omega_bar, wrench, threshold
+        )
+        assert ck.contact_latched(before, wrench, threshold) == contact_latched(before, wrench, threshold)
+
+
+def test_the_latches_at_their_threshold() -> None:
+    """A push exactly at the threshold does not latch, one just above does, a set latch stays set.
+
+    Catches >= for >, the moment part counted as a contact force, and a latch that drops."""
+    threshold = 2.0
+    at = np.array((0.0, 0.0, 2.0, 50.0, -50.0, 50.0))  # big moments, force exactly at the threshold
+    above = at * np.array((1.0, 1.0, 1.0 + 1e-12, 1.0, 1.0, 1.0))
+    z_force = selection((True, True, False, True, True, True), np.eye(3)).omega_bar
+    for wrench, expected in ((at, False), (above, True)):
+        assert ck.contact_latched(False, wrench, threshold) is contact_latched(False, wrench, threshold)
+        assert contact_latched(False, wrench, threshold) is expected
+        assert ck.touch_latched(False, z_force, wrench, threshold) is expected
+        assert touch_latched(False, z_force, wrench, threshold) is expected
+    assert ck.contact_latched(True, np.zeros(6), threshold) and ck.touch_latched(
+        True, z_force, np.zeros(6), 1.0
+    )
+    # A force on a motion axis only: the touch latch stays open, the contact latch closes.
+    sideways = np.array((5.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    assert not ck.touch_latched(False, z_force, sideways, threshold)
+    assert ck.contact_latched(False, sideways, threshold)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_low_pass_is_its_reference(seed: int) -> None:
+    """Catches the blend applied to the wrong side (``sample + b (previous - sample)``)."""
+    rng = np.random.default_rng(seed)
+    previous, sample, blend = rng.normal(size=6), rng.normal(size=6), float(rng.uniform(0.0, 1.0))
+    filtered = previous.copy()
+    ck.low_pass_into(filtered, sample, blend)
+    _close(filtered, low_pass(previous, sample, blend))
+
+
+def _admittance_axes(rng: np.random.Generator) -> np.ndarray:
+    """Omega_a: RX and RY of a random task frame (force axes of the plan, motion axes of the servo)."""
+    rotation = so3_exp(rng.uniform(-3.0, 3.0, 3))
+    plan = selection((True, True, False, False, False, True), rotation)
+    servo = selection((True, True, False, True, True, True), rotation)
+    return plan.omega_bar - servo.omega_bar
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_admittance_is_its_reference(seed: int) -> None:
+    """Speed and command against cosmos.osc.admittance, with the bound binding on odd seeds.
+
+    Catches the bound taken on the whole twist (or the linear part), the error's sign
+    (M_f - F_d), the servo on every axis instead of Omega_a's, or the held motion dropped."""
+    rng = np.random.default_rng(seed)
+    omega_a = _admittance_axes(rng)
+    setpoint, moment = rng.normal(0.0, 1.0, 6), rng.normal(0.0, 1.0, 6)
+    gain = float(rng.uniform(1.0, 30.0))
+    unbounded = np.linalg.norm((gain * omega_a @ (setpoint - moment))[3:])
+    bound = 0.5 * unbounded if seed % 2 else 2.0 * unbounded
+    speed = ck.admittance_speed(omega_a, setpoint, moment, gain, bound)
+    expected = admittance_speed(omega_a, setpoint, moment, gain, bound)
+    _close(speed, expected)
+    assert np.linalg.norm(speed[3:]) == pytest.approx(min(bound, unbounded), rel=1e-12)
+    motion, velocity, kv = rng.normal(0.0, 5.0, 6), rng.normal(0.0, 0.3, 6), float(rng.uniform(10.0, 60.0))
+    _close(
+        ck.admittance_command(omega_a, motion, speed, velocity, kv),
+        admittance_command(omega_a, motion, expected, velocity, kv),
+    )
+
+
+def test_admittance_speed_at_its_bound_and_at_rest() -> None:
+    """At the bound exactly the speed is left alone; no moment error, no speed (no 0/0).
+
+    Catches a bound that scales at equality, and a norm divided through when it is zero."""
+    omega_a = _admittance_axes(np.random.default_rng(3))
+    setpoint = np.array((0.0, 0.0, -10.0, 0.4, -0.3, 0.0))
+    moment = np.zeros(6)
+    speed = admittance_speed(omega_a, setpoint, moment, 2.0, 1.0)
+    at_bound = float(np.linalg.norm(speed[3:]))
+    _close(ck.admittance_speed(omega_a, setpoint, moment, 2.0, at_bound), speed)
+    still = ck.admittance_speed(omega_a, setpoint, setpoint, 2.0, 0.0)
+    assert np.array_equal(still, np.zeros(6)) and np.array_equal(
+        admittance_speed(omega_a, setpoint, setpoint, 2.0, 0.0), np.zeros(6)
+    )
+
+
+def _friction_inputs(rng: np.random.Generator) -> tuple[np.ndarray, ...]:
+    jbar = np.eye(6) + rng.normal(0.0, 0.5, (6, 6))
+    return (
+        rng.normal(0.0, 0.02, 6),  # qd, [rad/s]
+        jbar,
+        rng.normal(0.0, 0.5, 6),  # commanded acceleration
+        rng.normal(0.0, 0.02, 6),  # commanded speed
+        rng.uniform(0.5, 25.0, 6),  # Gamma_c, [N m]
+        rng.uniform(-5.0, 5.0, 6),  # previous Gamma_f
+    )
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_coulomb_compensation_is_its_reference(seed: int) -> None:
+    """The kernel's ``(qd + L Jbar (a + xd_c / L)) / v_c`` equals the reference's ``qd + Jbar (L a + xd_c)``.
+
+    Catches the look-ahead applied to the commanded speed too, the clip on the torque instead
+    of the intent, the low-pass's blend reversed, or the torque not receiving the result."""
+    rng = np.random.default_rng(seed)
+    qd, jbar, acceleration, speed, coulomb_nm, previous = _friction_inputs(rng)
+    lookahead_s, full_speed, blend = 0.02, float(rng.uniform(0.005, 0.05)), float(rng.uniform(0.01, 1.0))
+    intent = friction_intent(qd, jbar, acceleration, speed, lookahead_s, full_speed)
+    expected = coulomb_compensation(previous, coulomb_nm, intent, blend)
+    torque, coulomb = rng.normal(0.0, 10.0, 6), previous.copy()
+    torque_before = torque.copy()
+    kernel_acceleration = acceleration + speed / lookahead_s  # as servo_tick passes it
+    ck.coulomb_compensation_into(
+        torque, coulomb, qd, lookahead_s * jbar, kernel_acceleration, coulomb_nm, 1.0 / full_speed, blend
+    )
+    _close(coulomb, expected)
+    _close(torque, torque_before + expected)
+
+
+def test_coulomb_compensation_at_the_clip() -> None:
+    """An intent far beyond +-1 asks for exactly +-Gamma_c; with blend 1 that is the torque; at rest
+    with no command, the compensation decays toward zero.
+
+    Catches a clip missing (torque growing with speed) or a sign flipped on a joint."""
+    coulomb_nm = np.arange(1.0, 7.0)
+    qd = np.array((1.0, -1.0, 1.0, -1.0, 1.0, -1.0))  # 100 x v_c
+    zero = np.zeros(6)
+    coulomb, torque = zero.copy(), zero.copy()
+    ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, coulomb_nm, 100.0, 1.0)
+    intent = friction_intent(qd, np.eye(6), zero, zero, 1.0, 0.01)
+    _close(coulomb, coulomb_compensation(zero, coulomb_nm, intent, 1.0))
+    _close(coulomb, coulomb_nm * np.sign(qd))
+    previous = coulomb.copy()
+    ck.coulomb_compensation_into(torque, coulomb, zero, np.eye(6), zero, coulomb_nm, 100.0, 0.25)
+    _close(coulomb, 0.75 * previous)
+    _close(coulomb, coulomb_compensation(previous, coulomb_nm, zero, 0.25))
