@@ -4,8 +4,8 @@ One module per concept, each citing the seed's equations; each is the readable
 reference of the compiled kernels that run it (``cosmos/runtime``, ``cosmos/obstacles/kernels``):
 
 * :mod:`~cosmos.osc.dynamics`: Lambda, Jbar, mu, p, N^T (eq. 13, 26-28), singularities (section 5),
-  null-space damping and the dissipation matrix (eq. 31, 34, 38).
-* :mod:`~cosmos.osc.force`: ``Gamma = J^T F`` (eq. 16) and the selection matrices (Figure 2).
+  null-space damping (eq. 34).
+* :mod:`~cosmos.osc.force`: the selection matrices (Figure 2).
 * :mod:`~cosmos.osc.motion`: motion commands F*_m (eq. 19-21, 36-37), timed trajectories.
 * :mod:`~cosmos.osc.orientation`: so(3) exp/log, the orientation error, quaternions, RPY.
 * :mod:`~cosmos.osc.unified`: the unified motion and force command (eq. 17-18, 29).

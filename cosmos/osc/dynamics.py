@@ -282,22 +282,6 @@ def singular_task_projection(
     return projection
 
 
-def kinetic_energy_matrix_square(inertia: FloatArray, jacobian: FloatArray) -> FloatArray:
-    """Eq. 13 for a square invertible Jacobian: ``Lambda = J^-T A J^-1``.
-
-    Reference form for checks; the controller uses :func:`operational_dynamics`.
-
-    Args:
-        inertia: A(q). # (n, n)
-        jacobian: J(q), square and invertible. # (n, n)
-
-    Returns:
-        Lambda. # (n, n)
-    """
-    j_inv = np.linalg.inv(jacobian)
-    return j_inv.T.dot(inertia).dot(j_inv)
-
-
 def null_space_damping(
     dynamics: OperationalDynamics, inertia: FloatArray, qdot: FloatArray, xi_q: float
 ) -> FloatArray:
@@ -316,23 +300,3 @@ def null_space_damping(
     """
     j = dynamics.jacobian
     return -xi_q * (inertia.dot(qdot) - j.T.dot(dynamics.lambda_.dot(j.dot(qdot))))
-
-
-def dissipation_matrix(
-    dynamics: OperationalDynamics, inertia: FloatArray, xi: float, xi_q: float
-) -> FloatArray:
-    """Eq. 38: ``D = -((xi - xi_q) J^T Lambda J + xi_q A)``; eq. 31 when ``xi_q = 0``.
-
-    ``Gamma_dis = D qd`` are the dissipative joint forces of the closed loop.
-
-    Args:
-        dynamics: The operational model at this configuration.
-        inertia: A(q). # (n, n)
-        xi: Operational velocity gain, in [1/s].
-        xi_q: Null-space joint damping gain, in [1/s].
-
-    Returns:
-        D, negative definite when ``0 < xi_q <= xi``. # (n, n)
-    """
-    j = dynamics.jacobian
-    return -((xi - xi_q) * j.T.dot(dynamics.lambda_).dot(j) + xi_q * inertia)

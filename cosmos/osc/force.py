@@ -1,4 +1,4 @@
-"""Force transformation (seed eq. 16) and the generalised selection matrices (eq. 17-18, Figure 2).
+"""The generalised selection matrices (eq. 17-18, Figure 2).
 
 A task frame ``T`` (``rotation_task_to_world = R``) says along which of its axes
 the end effector is motion-controlled and along which force-controlled.
@@ -28,19 +28,6 @@ class Selection(NamedTuple):
 
     omega: FloatArray  # (6, 6) motion-controlled directions
     omega_bar: FloatArray  # (6, 6) force-controlled directions
-
-
-def joint_torque(jacobian: FloatArray, wrench: FloatArray) -> FloatArray:
-    """Eq. 16: ``Gamma = J^T F`` (virtual work).
-
-    Args:
-        jacobian: J(q), rows ``[linear; angular]``. # (m, n)
-        wrench: Operational force F on the end effector, in [N] and [N m]. # (m,)
-
-    Returns:
-        The joint forces Gamma, in [N m]. # (n,)
-    """
-    return jacobian.T.dot(wrench)
 
 
 def task_diagonal_to_world(values_task: FloatArray, rotation_task_to_world: FloatArray) -> FloatArray:

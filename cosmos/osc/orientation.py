@@ -119,77 +119,6 @@ def so3_log(rotation: FloatArray) -> FloatArray:
     return np.array(_log_rows(rotation.tolist()))
 
 
-def so3_left_jacobian(rotation_vector: FloatArray) -> FloatArray:
-    """Left Jacobian of SO(3): ``d/dt exp(v) = [J_l(v) dv/dt]x exp(v)``.
-
-    Args:
-        rotation_vector: Axis times angle, in [rad]. # (3,)
-
-    Returns:
-        ``J_l = I + (1 - cos t)/t^2 [v]x + (t - sin t)/t^3 [v]x^2``. # (3, 3)
-    """
-    x, y, z = rotation_vector.tolist()
-    t2 = x * x + y * y + z * z
-    if t2 < SMALL_ANGLE_RAD * SMALL_ANGLE_RAD:
-        a, b = 0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0
-    else:
-        t = math.sqrt(t2)
-        a, b = (1.0 - math.cos(t)) / t2, (t - math.sin(t)) / (t2 * t)
-    return _i_plus_skew_terms(x, y, z, t2, a, b)
-
-
-def so3_left_jacobian_inverse(rotation_vector: FloatArray) -> FloatArray:
-    """Inverse left Jacobian: with ``R = exp(v)`` and ``dR/dt = [w]x R``, ``dv/dt = J_l^{-1} w``.
-
-    Defined for angles below 2 pi; ``J_l^{-1}(v) v = v``.
-
-    Args:
-        rotation_vector: Axis times angle, in [rad]. # (3,)
-
-    Returns:
-        ``I - [v]x / 2 + (1/t^2 - (1 + cos t)/(2 t sin t)) [v]x^2``. # (3, 3)
-    """
-    x, y, z = rotation_vector.tolist()
-    t2 = x * x + y * y + z * z
-    if t2 < SMALL_ANGLE_RAD * SMALL_ANGLE_RAD:
-        b = 1.0 / 12.0 + t2 / 720.0
-    else:
-        t = math.sqrt(t2)
-        b = 1.0 / t2 - (1.0 + math.cos(t)) / (2.0 * t * math.sin(t))
-    return _i_plus_skew_terms(x, y, z, t2, -0.5, b)
-
-
-def _i_plus_skew_terms(x: float, y: float, z: float, t2: float, a: float, b: float) -> FloatArray:
-    """``I + a [v]x + b [v]x^2`` with ``[v]x^2 = v v^T - t2 I``."""
-    bxy, bxz, byz = b * x * y, b * x * z, b * y * z
-    return np.array(
-        (
-            1.0 + b * (x * x - t2),
-            bxy - a * z,
-            bxz + a * y,
-            bxy + a * z,
-            1.0 + b * (y * y - t2),
-            byz - a * x,
-            bxz - a * y,
-            byz + a * x,
-            1.0 + b * (z * z - t2),
-        )  # fmt: skip
-    ).reshape(3, 3)
-
-
-def rotation_difference(rotation_a_to_world: FloatArray, rotation_b_to_world: FloatArray) -> FloatArray:
-    """``log(R_a R_b^T)``: the world-axes rotation vector taking orientation b to orientation a.
-
-    Args:
-        rotation_a_to_world: Orientation a. # (3, 3)
-        rotation_b_to_world: Orientation b. # (3, 3)
-
-    Returns:
-        ``v`` in [rad] with ``exp(v) R_b = R_a``; zero iff the two are equal. # (3,)
-    """
-    return np.array(_log_rows(rotation_a_to_world.dot(rotation_b_to_world.T).tolist()))
-
-
 def unwrap_rotation_vector(log: FloatArray, previous: FloatArray) -> FloatArray:
     """The rotation vector of ``log``'s rotation nearest ``previous``: ``log`` or the other way round.
 
@@ -234,35 +163,6 @@ def pose_error(
     dx, dy, dz = (position - position_desired).tolist()
     ex, ey, ez = _log_rows(rotation_to_world.dot(rotation_desired_to_world.T).tolist())
     return np.array((dx, dy, dz, ex, ey, ez))
-
-
-def quat_to_matrix(quaternion_wxyz: FloatArray) -> FloatArray:
-    """Rotation matrix of a quaternion (w, x, y, z); the quaternion need not be unit.
-
-    Args:
-        quaternion_wxyz: Scalar part first. # (4,)
-
-    Returns:
-        The rotation matrix. # (3, 3)
-    """
-    w, x, y, z = quaternion_wxyz.tolist()
-    s = 2.0 / (w * w + x * x + y * y + z * z)
-    xx, yy, zz = s * x * x, s * y * y, s * z * z
-    xy, xz, yz = s * x * y, s * x * z, s * y * z
-    wx, wy, wz = s * w * x, s * w * y, s * w * z
-    return np.array(
-        (
-            1.0 - yy - zz,
-            xy - wz,
-            xz + wy,
-            xy + wz,
-            1.0 - xx - zz,
-            yz - wx,
-            xz - wy,
-            yz + wx,
-            1.0 - xx - yy,
-        )  # fmt: skip
-    ).reshape(3, 3)
 
 
 def matrix_to_quat(rotation: FloatArray) -> FloatArray:

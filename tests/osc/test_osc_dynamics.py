@@ -1,4 +1,4 @@
-"""Operational-space dynamics (eq. 13, 26-28, 31, 34, 38) against Pinocchio's ABA and brute force."""
+"""Operational-space dynamics (eq. 13, 26-28, 34) against Pinocchio's ABA and brute force."""
 
 from __future__ import annotations
 
@@ -8,8 +8,6 @@ import pytest
 from cosmos.osc.dynamics import (
     SingularityPolicy,
     blend_weights,
-    dissipation_matrix,
-    kinetic_energy_matrix_square,
     null_space_damping,
     operational_dynamics,
 )
@@ -41,7 +39,8 @@ def test_eq13_and_eq27_agree_and_kinetic_energy_is_invariant(arm, rng):
         s = arm.random_state(rng)
         dyn = dynamics_of(s)
         assert dyn.eigenvectors.shape == (6, 0), "well-conditioned: fast path, no eigendecomposition"
-        lam13 = kinetic_energy_matrix_square(s.inertia, s.jacobian)
+        j_inv = np.linalg.inv(s.jacobian)
+        lam13 = j_inv.T @ s.inertia @ j_inv  # eq. 13, square J
         np.testing.assert_allclose(dyn.lambda_, lam13, rtol=1e-8, atol=1e-8 * np.abs(lam13).max())
         xd = s.jacobian @ s.qd
         assert 0.5 * xd @ dyn.lambda_ @ xd == pytest.approx(0.5 * s.qd @ s.inertia @ s.qd, rel=1e-9)
@@ -181,24 +180,17 @@ def test_fast_and_eigen_paths_agree_where_both_apply(arm, rng):
     np.testing.assert_allclose(slow.lambda_, fast.lambda_, rtol=1e-8, atol=1e-8 * masses[-1])
 
 
-def test_null_space_damping_is_eq34_and_d_is_negative_definite(arm, rng):
+def test_null_space_damping_is_eq34(arm, rng):
     s = arm.random_state(rng)
     rows = slice(0, 3)
     dyn = dynamics_of(s, rows)
     j = s.jacobian[rows]
-    xi, xi_q = 20.0, 5.0
+    xi_q = 5.0
     gamma_s = null_space_damping(dyn, s.inertia, s.qd, xi_q)
     n_proj = np.eye(arm.n) - dyn.jbar @ j
     np.testing.assert_allclose(gamma_s, -xi_q * s.inertia @ n_proj @ s.qd, atol=1e-9)
     # It does not act on the end effector.
     np.testing.assert_allclose(j @ np.linalg.solve(s.inertia, gamma_s), 0.0, atol=1e-9)
-    # Eq. 38 is the sum of the eq. 19 damping (-xi J^T Lambda J) and Gamma_s, and is negative definite.
-    d = dissipation_matrix(dyn, s.inertia, xi, xi_q)
-    np.testing.assert_allclose(d @ s.qd, -xi * j.T @ dyn.lambda_ @ j @ s.qd + gamma_s, atol=1e-8)
-    assert np.linalg.eigvalsh(0.5 * (d + d.T)).max() < 0.0
-    # Eq. 31 alone (xi_q = 0) is only semi-definite for a redundant task: rank m.
-    d31 = dissipation_matrix(dyn, s.inertia, xi, 0.0)
-    assert np.linalg.matrix_rank(d31, tol=1e-8) == 3
 
 
 def test_singular_task_projection_gives_up_rotation_not_translation():

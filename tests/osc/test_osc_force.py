@@ -1,4 +1,4 @@
-"""Eq. 16 and the selection matrices of Figure 2."""
+"""The selection matrices of Figure 2."""
 
 from __future__ import annotations
 
@@ -7,15 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from cosmos.osc.force import joint_torque, selection, task_diagonal_to_world
+from cosmos.osc.force import selection, task_diagonal_to_world
 from cosmos.osc.orientation import rpy_to_matrix, so3_exp
-
-
-def test_joint_torque_does_the_same_virtual_work(arm, rng):
-    s = arm.random_state(rng)
-    wrench = rng.normal(size=6)
-    # Virtual work: F . xd = Gamma . qd for xd = J qd.
-    assert wrench @ (s.jacobian @ s.qd) == pytest.approx(joint_torque(s.jacobian, wrench) @ s.qd)
 
 
 @pytest.mark.parametrize("axes", [(1, 1, 1, 1, 1, 1), (1, 1, 0, 1, 1, 1), (0, 0, 1, 1, 0, 1), (0,) * 6])

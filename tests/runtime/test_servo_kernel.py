@@ -22,6 +22,7 @@ from cosmos.osc.motion import goal_command, integrate_motion_error, tracking_com
 from cosmos.osc.orientation import so3_exp
 from cosmos.osc.unified import (
     ForceGains,
+    force_command,
     force_feedback,
     integrate_force_error,
     servo_matrices,
@@ -520,6 +521,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
             motion_integral[:3], error, sel.omega_bar, DT_S, sc[sk.MOTION_INTEGRAL_LIMIT]
         )
         motion = motion - np.concatenate((sc[sk.MOTION_KI] * motion_integral[:3], np.zeros(3)))
+    integral_before_cap = integral.copy()
     feedback = force_feedback(setpoint, wrench, integral, FORCE_GAINS)
     feedback, limited, _ = speed_limited_push(
         feedback,
@@ -540,7 +542,12 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         speed = speed + np.concatenate(((sc[sk.PUSH_SPEED] + n @ velocity[:3]) * n, np.zeros(3)))
         grown = integral[:3] - st[sk.INTEGRAL, :3]
         integral[:3] -= n * n.dot(grown)
-    f_a = feedback - dyn.lambda_ @ (sel.omega_bar @ velocity) * FORCE_GAINS.k_vf
+    # Eq. 18's F_a, with the speed cap's cut of F_fb (zero unless it binds) carried over.
+    uncapped = force_feedback(setpoint, wrench, integral_before_cap, FORCE_GAINS)
+    f_a = force_command(
+        setpoint, wrench, integral_before_cap, velocity, dyn.lambda_, sel.omega_bar, FORCE_GAINS
+    )
+    f_a = f_a + (feedback - uncapped)
 
     # Eq. 29 with the held potentials, eq. 34's null-space damping and viscous friction.
     torque = unified_torque(dyn, sel, motion, f_a) + inputs.held
