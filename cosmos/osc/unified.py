@@ -148,27 +148,6 @@ def force_command(
     return force_feedback(force_setpoint, force_sensed, force_integral, gains) - damping
 
 
-def unified_wrench(
-    dynamics: OperationalDynamics,
-    selection: Selection,
-    motion_command: FloatArray,
-    force_command: FloatArray,
-) -> FloatArray:
-    """Eq. 17-18 with Figure 2's selection: ``F = Lambda Omega F*_m + Omega_bar F_a + mu + p``.
-
-    Args:
-        dynamics: The operational model at this configuration.
-        selection: Omega and Omega_bar in world axes.
-        motion_command: F*_m (eq. 19, 20 or 36, 37), in [m/s^2] and [rad/s^2]. # (6,)
-        force_command: F_a from :func:`force_command`, in [N] and [N m]. # (6,)
-
-    Returns:
-        F, the wrench the actuators apply on the end effector. # (6,)
-    """
-    motion = dynamics.lambda_.dot(dynamics.task_projection.dot(selection.omega.dot(motion_command)))
-    return motion + selection.omega_bar.dot(force_command) + dynamics.mu + dynamics.p
-
-
 def unified_torque(
     dynamics: OperationalDynamics,
     selection: Selection,
