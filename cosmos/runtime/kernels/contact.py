@@ -10,7 +10,8 @@ at the edges (thresholds, bounds, clipping):
 * :func:`admittance_speed`: :func:`cosmos.osc.admittance.admittance_speed`;
 * :func:`admittance_command`: :func:`cosmos.osc.admittance.admittance_command`;
 * :func:`coulomb_compensation_into`: :func:`cosmos.osc.friction.friction_intent` and
-  :func:`cosmos.osc.friction.coulomb_compensation`.
+  :func:`cosmos.osc.friction.coulomb_compensation`;
+* :func:`speed_limited_push_into`: :func:`cosmos.osc.unified.speed_limited_push` (a push's SPEED).
 """
 
 from __future__ import annotations
@@ -103,3 +104,64 @@ def coulomb_compensation_into(
         target = coulomb_nm[i] * min(max(intent, -1.0), 1.0)
         coulomb[i] += blend * (target - coulomb[i])
         torque[i] += coulomb[i]
+
+
+@kernel
+def speed_limited_push_into(
+    feedback: FloatArray,
+    force_goal: FloatArray,
+    force_sensed: FloatArray,
+    velocity: FloatArray,
+    force_to_acceleration: FloatArray,
+    max_speed: float,
+    kv: float,
+    k_vf: float,
+    ki: float,
+    speed_integral: float,
+    dt_s: float,
+    integral_limit: float,
+) -> tuple[bool, float, float]:
+    """:func:`cosmos.osc.unified.speed_limited_push`, the cap applied to ``feedback`` in place.
+
+    Args:
+        feedback: F_fb in, capped along the push out, world, [N, N m]. # (6,)
+        force_goal: F_d (not ramped), world. # (6,)
+        force_sensed: F_s, world. # (6,)
+        velocity: Tool twist, world. # (6,)
+        force_to_acceleration: ``Lambda^-1 Omega_bar``. # (6, 6)
+        max_speed: V_max, in [m/s].
+        kv: Velocity gain of the speed servo, in [1/s].
+        k_vf: The force axes' damping gain, in [1/s].
+        ki: Integral gain of the speed servo, in [1/s^2].
+        speed_integral: Its integral so far, in [m].
+        dt_s: Servo period, in [s].
+        integral_limit: Anti-windup bound on the integral, in [m].
+
+    Returns:
+        ``(limited, n^T xd, speed_integral)``: whether the cap bound, the speed along the
+        push and the updated integral (unchanged unless the cap bound).
+    """
+    push = math.sqrt(force_goal[0] ** 2 + force_goal[1] ** 2 + force_goal[2] ** 2)
+    if not push > 0.0:
+        return False, 0.0, speed_integral
+    n0, n1, n2 = force_goal[0] / push, force_goal[1] / push, force_goal[2] / push
+    f2a = force_to_acceleration
+    inverse_mass = 0.0
+    for i, ni in ((0, n0), (1, n1), (2, n2)):
+        inverse_mass += ni * (f2a[i, 0] * n0 + f2a[i, 1] * n1 + f2a[i, 2] * n2)
+    if not inverse_mass > 0.0:
+        return False, 0.0, speed_integral
+    along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
+    allowed = (n0 * force_sensed[0] + n1 * force_sensed[1] + n2 * force_sensed[2]) + (
+        kv * (max_speed - along) + k_vf * along
+    ) / inverse_mass
+    allowed += ki * speed_integral / inverse_mass
+    asked = n0 * feedback[0] + n1 * feedback[1] + n2 * feedback[2]
+    if not asked > allowed:
+        return False, along, speed_integral
+    grown = speed_integral + (max_speed - along) * dt_s
+    cut = allowed - asked
+    feedback[0] += cut * n0
+    feedback[1] += cut * n1
+    feedback[2] += cut * n2
+    return True, along, min(max(grown, -integral_limit), integral_limit)

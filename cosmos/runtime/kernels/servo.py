@@ -38,6 +38,7 @@ from cosmos.runtime.kernels.contact import (
     contact_latched,
     coulomb_compensation_into,
     low_pass_into,
+    speed_limited_push_into,
     touch_latched,
 )
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
@@ -269,44 +270,41 @@ def servo_tick(
         for i in range(6):  # F_a without damping
             feedback[i] = (1.0 + k_f) * setpoint[i] - k_f * wrench[i] + k_i * integral[i]
         # The SPEED of a force-controlled push (cosmos.osc.unified.speed_limited_push).
-        push = math.sqrt(goal[0] ** 2 + goal[1] ** 2 + goal[2] ** 2)
         push_speed = scalars[PUSH_SPEED]  # 0: no cap
-        if push > 0.0 and push_speed > 0.0:
-            n0, n1, n2 = goal[0] / push, goal[1] / push, goal[2] / push
-            f2a = matrices[FORCE_TO_ACCELERATION]
-            inverse_mass = 0.0
-            for i, ni in ((0, n0), (1, n1), (2, n2)):
-                inverse_mass += ni * (f2a[i, 0] * n0 + f2a[i, 1] * n1 + f2a[i, 2] * n2)
-            if inverse_mass > 0.0:
-                along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
-                allowed = (n0 * wrench[0] + n1 * wrench[1] + n2 * wrench[2]) + (
-                    scalars[FORCE_SPEED_KV] * (push_speed - along) + scalars[K_VF] * along
-                ) / inverse_mass
-                flags = state[FLAGS]
-                allowed += scalars[FORCE_SPEED_KI] * flags[PUSH_SPEED_INTEGRAL] / inverse_mass
-                asked = n0 * feedback[0] + n1 * feedback[1] + n2 * feedback[2]
-                if asked > allowed:
-                    bound = scalars[FORCE_SPEED_INTEGRAL_LIMIT]
-                    grown_integral = flags[PUSH_SPEED_INTEGRAL] + (push_speed - along) * scalars[DT_S]
-                    flags[PUSH_SPEED_INTEGRAL] = min(max(grown_integral, -bound), bound)
-                    # At its speed limit the push is a velocity command: friction is compensated
-                    # toward it, as toward a tracked trajectory's xd_d (the joints would stick).
-                    pushing_at_speed = True
-                    # (its own motion along n is not taken out of the intent then)
-                    commanded_speed[0] += (push_speed + along) * n0
-                    commanded_speed[1] += (push_speed + along) * n1
-                    commanded_speed[2] += (push_speed + along) * n2
-                    cut = allowed - asked
-                    feedback[0] += cut * n0
-                    feedback[1] += cut * n1
-                    feedback[2] += cut * n2
-                    if flags[TOUCHING] != 0.0:  # anti-windup: the integral does not grow along n
-                        grown = n0 * (integral[0] - previous_integral[0])
-                        grown += n1 * (integral[1] - previous_integral[1])
-                        grown += n2 * (integral[2] - previous_integral[2])
-                        integral[0] -= grown * n0
-                        integral[1] -= grown * n1
-                        integral[2] -= grown * n2
+        if push_speed > 0.0:
+            flags = state[FLAGS]
+            limited, along, speed_integral = speed_limited_push_into(
+                feedback,
+                goal,
+                wrench,
+                velocity,
+                matrices[FORCE_TO_ACCELERATION],
+                push_speed,
+                scalars[FORCE_SPEED_KV],
+                scalars[K_VF],
+                scalars[FORCE_SPEED_KI],
+                flags[PUSH_SPEED_INTEGRAL],
+                scalars[DT_S],
+                scalars[FORCE_SPEED_INTEGRAL_LIMIT],
+            )
+            if limited:
+                flags[PUSH_SPEED_INTEGRAL] = speed_integral
+                # At its speed limit the push is a velocity command: friction is compensated
+                # toward it, as toward a tracked trajectory's xd_d (the joints would stick;
+                # its own motion along n is not taken out of the intent then).
+                pushing_at_speed = True
+                push = math.sqrt(goal[0] ** 2 + goal[1] ** 2 + goal[2] ** 2)
+                n0, n1, n2 = goal[0] / push, goal[1] / push, goal[2] / push
+                commanded_speed[0] += (push_speed + along) * n0
+                commanded_speed[1] += (push_speed + along) * n1
+                commanded_speed[2] += (push_speed + along) * n2
+                if flags[TOUCHING] != 0.0:  # anti-windup: the integral does not grow along n
+                    grown = n0 * (integral[0] - previous_integral[0])
+                    grown += n1 * (integral[1] - previous_integral[1])
+                    grown += n2 * (integral[2] - previous_integral[2])
+                    integral[0] -= grown * n0
+                    integral[1] -= grown * n1
+                    integral[2] -= grown * n2
         if flags[TOUCHING] == 0.0:
             force_to_acceleration = matrices[FORCE_TO_ACCELERATION]
             for i in range(6):
