@@ -221,14 +221,14 @@ def refold(
 ) -> None:
     """Everything the servo kernel needs from one evaluation and the segment's selection and goal.
 
-    ``evaluation`` is an evaluation's packed values (:mod:`cosmos.runtime.evaluation_kernel`).
+    ``evaluation`` is an evaluation's packed values (:mod:`cosmos.runtime.kernels.evaluation`).
     :func:`fold_servo` into ``stacked`` and ``matrices``, the evaluation's J, q, g and
     wrist geometry copied into the servo's blocks, and the reference error
     ``x_e - x_d = (p - p_d, log(R R_d^T))`` (eq. 19, 21), its rotation unwrapped
     against the previous one (the row's old content): a goal motion keeps turning
     the way it started, through 180 deg and beyond. ``constants`` holds k_vf,
     xi_q, the Coulomb look-ahead and section 5's three policy values, in that order.
-    Block layouts: :mod:`cosmos.runtime.servo_kernel`.
+    Block layouts: :mod:`cosmos.runtime.kernels.servo`.
     """
     jacobian = evaluation[ek.JACOBIAN : ek.JACOBIAN + 36].reshape((6, 6))
     gravity = evaluation[ek.GRAVITY : ek.GRAVITY + 6]
