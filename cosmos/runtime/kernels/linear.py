@@ -1,7 +1,7 @@
 """Small dense products in plain loops, compiled (numba): the kernels' linear algebra.
 
 For 6 x 6 operands a BLAS call from compiled code costs more than the product;
-these are ``@`` written out. ``tests/runtime/test_servo_kernel.py`` checks them
+these are ``@`` written out. ``tests/runtime/test_linear_kernel.py`` checks them
 against NumPy's products.
 """
 
