@@ -359,6 +359,44 @@ class JamCheck:
     stall_time_s: float
 
 
+class SearchPattern(enum.Enum):
+    """The lateral pattern of an INSERT's search (:mod:`cosmos.osc.search`)."""
+
+    SPIRAL = "spiral"
+    """Archimedean spiral ``r = pitch theta / 2 pi`` out to the radius."""
+    LISSAJOUS = "lissajous"
+    """``(r sin(a phi), r sin((a + 1) phi))``, ``a = ceil(pi r / pitch)``, one period."""
+
+
+@dataclass(frozen=True, eq=False)
+class Search:
+    """INSERT ... SEARCH: find the hole before inserting.
+
+    From the segment's start the two ``lateral_axes`` are motion-controlled and
+    track the pattern (eq. 19) at ``speed_mps`` along its arc, while the insertion
+    axis keeps its force. When the tool has gone ``found_depth_m`` along the
+    insertion direction beyond where it started, the hole is found: the lateral
+    axes return to the segment's compliance and the INSERT goes on. A pattern
+    run to its end without that fails the statement.
+
+    Attributes:
+        pattern: Spiral or Lissajous.
+        radius_m: How far out the pattern goes [m].
+        pitch_m: Spiral: the distance between its turns; Lissajous: the largest
+            distance between its strands [m].
+        lateral_axes: The task-frame translation axes (0..2) of the pattern's x and y.
+        speed_mps: Tangential speed along the pattern [m/s].
+        found_depth_m: Depth beyond the start that counts as the hole found [m].
+    """
+
+    pattern: SearchPattern
+    radius_m: float
+    pitch_m: float
+    lateral_axes: tuple[int, int]
+    speed_mps: float
+    found_depth_m: float
+
+
 @dataclass(frozen=True, eq=False)
 class Segment:
     """One control law held until completion, a stop condition, a timeout or a failure.
@@ -400,6 +438,7 @@ class Segment:
         jam_check: INSERT only: when to fail as jammed.
         force_limit_n: The protective stop's force limit in free motion set by the last
             ``LIMIT FORCE`` [N]; None for the executor's default.
+        search: INSERT only: the search for the hole before inserting, or None.
     """
 
     index: int
@@ -425,6 +464,7 @@ class Segment:
     timeout_s: float | None
     jam_check: JamCheck | None
     force_limit_n: float | None = None
+    search: Search | None = None
 
     @property
     def force_axes(self) -> BoolArray:
@@ -721,6 +761,16 @@ def segment_to_json(segment: Segment) -> dict[str, Any]:
         else {
             "stall_speed": segment.jam_check.stall_speed_mps,
             "stall_time": segment.jam_check.stall_time_s,
+        },
+        "search": None
+        if segment.search is None
+        else {
+            "pattern": segment.search.pattern.value,
+            "radius": segment.search.radius_m,
+            "pitch": segment.search.pitch_m,
+            "lateral_axes": list(segment.search.lateral_axes),
+            "speed": segment.search.speed_mps,
+            "found_depth": segment.search.found_depth_m,
         },
     }
 

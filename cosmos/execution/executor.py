@@ -34,6 +34,7 @@ from cosmos.execution.monitor import (
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
+from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
 from cosmos.execution.walker import PlanWalker, Senses
 from cosmos.lang.check.limits import timed_move_problem
@@ -205,10 +206,13 @@ class Executor:
                 return Outcome(Verdict.FAILED, infeasible)
         goal_index = 0
         setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s)
+        search = search_phase(segment, start_s, start_position, start_rotation)  # INSERT ... SEARCH
+        if search is not None:
+            setpoint = search.setpoint(setpoint)
         rt.set_setpoint(setpoint)
         self._log_segment(segment, setpoint)
         trajectory = setpoint.trajectory
-        timed_until = None if trajectory is None else start_s + trajectory.duration_s
+        timed_until = None if trajectory is None or search else start_s + trajectory.duration_s
         robot = rt.robot
 
         def cause() -> str:
@@ -280,6 +284,15 @@ class Executor:
                 if stuck is not None:
                     head = statement_head(segment.statement)
                     return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
+            if search is not None:
+                found = search.check(rt.time_s, position)
+                if isinstance(found, Outcome):
+                    return found
+                if found is not None:  # the lateral axes return to the INSERT's compliance
+                    self._event("found", segment, found)
+                    here = (position.copy(), meter.rotation.copy())
+                    rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, rt.time_s))
+                    monitor.searching = search = None
             outcome = monitor.check(snapshot)
             if outcome is not None:
                 return outcome

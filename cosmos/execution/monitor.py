@@ -146,6 +146,8 @@ class SegmentMonitor:
         self._closest_s = start_s
         self._last_depth = 0.0
         self._last_progress_s = start_s
+        self.searching: object | None = segment.search
+        """An INSERT's search still under way (cosmos.execution.search): no jam check meanwhile."""
         rotation = segment.frame_rotation
         self._rotation_t = np.array(rotation).T
         self._motion = np.asarray(segment.motion_axes, dtype=bool)
@@ -307,7 +309,9 @@ class SegmentMonitor:
         if travelled >= depth.depth_m:
             return Outcome(Verdict.DONE, f"depth {travelled * 1e3:.1f} mm reached")
         jam = self.segment.jam_check
-        if jam is not None:
+        if self.searching is not None:  # the pattern moves across: depth is the search's to judge
+            self._last_depth, self._last_progress_s = travelled, snap.t_s
+        elif jam is not None:
             if travelled > self._last_depth + jam.stall_speed_mps * jam.stall_time_s:
                 self._last_depth = travelled
                 self._last_progress_s = snap.t_s

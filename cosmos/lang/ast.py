@@ -46,6 +46,8 @@ __all__ = [  # the statements and clauses here, and the parts of cosmos.lang.exp
     "Comparison",
     "Comply",
     "ComplyClause",
+    "SearchClause",
+    "SearchPattern",
     "Condition",
     "Contact",
     "Direction",
@@ -108,6 +110,7 @@ class ClauseKind(enum.Enum):
     INFLUENCE = "INFLUENCE"
     GAIN = "GAIN"
     MAX = "MAX"
+    PITCH = "PITCH"
 
 
 @dataclass(frozen=True)
@@ -143,7 +146,23 @@ class ComplyClause:
     span: Span
 
 
-Clause = ValueClause | ViaClause | UntilClause | ComplyClause
+class SearchPattern(enum.Enum):
+    """The pattern of INSERT's SEARCH."""
+
+    SPIRAL = "SPIRAL"
+    LISSAJOUS = "LISSAJOUS"
+
+
+@dataclass(frozen=True)
+class SearchClause:
+    """``SEARCH SPIRAL RADIUS r PITCH p`` inside INSERT: the pattern and its RADIUS and PITCH."""
+
+    pattern: SearchPattern
+    parameters: tuple[ValueClause, ...]
+    span: Span
+
+
+Clause = ValueClause | ViaClause | UntilClause | ComplyClause | SearchClause
 
 
 # ----------------------------------------------------------------- statements

@@ -33,7 +33,7 @@ def spiral_point(theta: float, pitch_m: float) -> tuple[float, float]:
 
 
 def spiral_arc_length(theta: float, pitch_m: float) -> float:
-    """Arc length of the spiral from its centre to ``theta``: ``a/2 (theta sqrt(1+theta^2) + asinh theta)``."""
+    """Arc of the spiral from its centre to ``theta``: ``a/2 (theta sqrt(1+theta^2) + asinh theta)``."""
     a = pitch_m / (2.0 * math.pi)
     return 0.5 * a * (theta * math.sqrt(1.0 + theta * theta) + math.asinh(theta))
 

@@ -68,6 +68,8 @@ class EventKind(StrEnum):
     """A TRY's ON FAIL part took over the failure logged just before."""
     RETRY = "retry"
     """A RETRY runs its TRY block again."""
+    FOUND = "found"
+    """An INSERT's SEARCH found the hole: where, when, and the INSERT goes on."""
 
 
 OUTCOME_KINDS: Final = frozenset(("done", "stopped", "failed", "interrupted"))

@@ -8,6 +8,7 @@ from enum import Enum
 import numpy as np
 
 from cosmos.osc.motion import PoseTrajectory
+from cosmos.osc.search import SearchTrajectory
 
 FloatArray = np.ndarray
 
@@ -51,7 +52,7 @@ class ServoSetpoint:
         max_angular_speed: Its rotational counterpart, in [rad/s].
         kp_task: Unit-mass position gains per task axis, in [1/s^2]. # (6,)
         kv_task: Velocity gains per task axis, in [1/s]. # (6,)
-        trajectory: The timed trajectory in TRAJECTORY mode.
+        trajectory: The timed trajectory in TRAJECTORY mode (an INSERT's search pattern too).
         limit_push_speed: Hold the force-controlled push to ``max_speed`` (INSERT: the
             insertion axis's speed limit; :func:`cosmos.osc.unified.speed_limited_push`).
     """
@@ -69,7 +70,7 @@ class ServoSetpoint:
     max_angular_speed: float = DEFAULT_MAX_ANGULAR_SPEED
     kp_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KP))
     kv_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KV))
-    trajectory: PoseTrajectory | None = None
+    trajectory: PoseTrajectory | SearchTrajectory | None = None
     limit_push_speed: bool = False
 
     force_world: FloatArray = field(init=False)

@@ -39,6 +39,10 @@ MAX_OBSTACLE_SPEED_MPS = 5.0
 MAX_ANGLE_RAD = 4.0 * math.pi
 """Largest angle a program may write [rad] (two turns)."""
 MAX_COUNT = 10_000
+MAX_SEARCH_RADIUS_M = 0.05
+"""Largest SEARCH RADIUS [m]: a search is for a part placed within centimetres."""
+MIN_SEARCH_PITCH_M = 5e-4
+"""Smallest SEARCH PITCH [m]: finer than the arm's tracking under friction, and slow."""
 """Largest REPEAT count and GAIN."""
 
 
@@ -82,6 +86,10 @@ SLOT_RANGES: dict[tuple[str, units.Dim], Range] = {
     ("DEPTH", units.LENGTH): _TRAVEL,
     ("MOVE BY", units.LENGTH): _TRAVEL,
     ("FORCE", units.FORCE): _FORCE,
+    ("SEARCH RADIUS", units.LENGTH): Range(
+        0.0, MAX_SEARCH_RADIUS_M, 1e-3, "mm", "a search finds a part placed within centimetres"
+    ),
+    ("SEARCH PITCH", units.LENGTH): Range(MIN_SEARCH_PITCH_M, MAX_SEARCH_RADIUS_M, 1e-3, "mm"),
     ("LIMIT FORCE", units.FORCE): _FORCE,
     ("REPEAT", units.DIMENSIONLESS): Range(0.0, MAX_COUNT, 1.0, "", "passes"),
     ("GAIN", units.DIMENSIONLESS): Range(0.0, MAX_COUNT, 1.0, ""),

@@ -72,7 +72,12 @@ def _check_clauses(keyword: str, clauses: tuple[ast.Clause, ...]) -> set[str] | 
 
 
 _NONE_PRESENT: set[str] = set()  # never changed
-_KEYWORDS: dict[type, str] = {ast.ViaClause: "VIA", ast.UntilClause: "UNTIL", ast.ComplyClause: "COMPLY"}
+_KEYWORDS: dict[type, str] = {
+    ast.ViaClause: "VIA",
+    ast.UntilClause: "UNTIL",
+    ast.ComplyClause: "COMPLY",
+    ast.SearchClause: "SEARCH",
+}
 """The keyword of each clause type other than a value clause."""
 
 
@@ -133,6 +138,22 @@ def _check_insert(statement: ast.Insert, place: Place) -> None:
     present = _check_clauses("INSERT", statement.clauses)
     _require("INSERT", present, ast.ClauseKind.DEPTH, statement)
     _require("INSERT", present, ast.ClauseKind.FORCE, statement)
+    search = present.get("SEARCH") if isinstance(present, dict) else None
+    if isinstance(search, ast.SearchClause):
+        _check_search(search)
+
+
+def _check_search(search: ast.SearchClause) -> None:
+    """SEARCH SPIRAL (or LISSAJOUS) needs its RADIUS and its PITCH, each once."""
+    keyword = f"SEARCH {search.pattern.value}"
+    given = _check_clauses(keyword, search.parameters)
+    for needed, example in ((ast.ClauseKind.RADIUS, "RADIUS 6 mm"), (ast.ClauseKind.PITCH, "PITCH 3 mm")):
+        if needed.value not in given:
+            raise ProgramError(
+                f"{keyword} needs {needed.value}, as in SEARCH {search.pattern.value} RADIUS 6 mm PITCH 3 mm "
+                f"({example} missing)",
+                search.span,
+            )
 
 
 def _check_wait(statement: ast.Wait, place: Place) -> None:

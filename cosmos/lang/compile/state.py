@@ -51,6 +51,9 @@ class Defaults:
         via_radius_m: A via point counts as passed within this distance [m].
         jam_stall_speed_mps: INSERT is jammed below this speed along its axis [m/s] ...
         jam_stall_time_s: ... held for this long [s].
+        search_speed_mps: Tangential speed of INSERT's SEARCH pattern [m/s].
+        search_found_depth_m: A SEARCH has found the hole when the tool has gone this
+            much deeper than where the INSERT started [m].
     """
 
     speed_mps: float = 0.1
@@ -67,6 +70,8 @@ class Defaults:
     via_radius_m: float = 0.01
     jam_stall_speed_mps: float = 5e-4
     jam_stall_time_s: float = 1.0
+    search_speed_mps: float = 0.01
+    search_found_depth_m: float = 1e-3
 
 
 @dataclass(frozen=True, eq=False)

@@ -200,6 +200,12 @@ class _Builder(Transformer):
     def comply_clause(self, children: list[Any]) -> ast.ComplyClause:
         return ast.ComplyClause(children[1], span_of(children))
 
+    def search_clause(self, children: list[Any]) -> ast.SearchClause:
+        parameters = tuple(c for c in children[2:] if isinstance(c, ast.ValueClause))
+        last = parameters[-1].span if parameters else children[1]
+        pattern = ast.SearchPattern[children[1].type]
+        return ast.SearchClause(pattern, parameters, span_between(children[0], last))
+
     def axes(self, children: list[Any]) -> tuple[ast.AxisRef, ...]:
         return tuple(child for child in children if isinstance(child, ast.AxisRef))
 

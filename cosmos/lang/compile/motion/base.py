@@ -84,6 +84,7 @@ class MotionBuilderBase:
         via: tuple[plan.AbsoluteTarget, ...] = (),
         duration: float | None = None,
         jam_check: plan.JamCheck | None = None,
+        search: plan.Search | None = None,
     ) -> None:
         span = statement.span
         if span is not self._text_span:  # a statement's segments share its text
@@ -113,5 +114,6 @@ class MotionBuilderBase:
             timeout_s=timeout,
             jam_check=jam_check,
             force_limit_n=self.state.force_limit_n,
+            search=search,
         )
         self._segments.append(segment)

@@ -47,8 +47,9 @@ def clauses_of(clauses: tuple[ast.Clause, ...]) -> Clauses:
             found.via = clause  # type: ignore[assignment]
         elif kind is _UNTIL_CLAUSE:
             found.until = clause  # type: ignore[assignment]
-        else:
+        elif kind is _COMPLY_CLAUSE:
             found.comply = clause  # type: ignore[assignment]
+        # INSERT's SEARCH clause is read by the INSERT handler itself
     return found
 
 
@@ -57,6 +58,7 @@ _NO_CLAUSES = Clauses((), {}, None, None, None)
 _VALUE_CLAUSE = ast.ValueClause
 _VIA_CLAUSE = ast.ViaClause
 _UNTIL_CLAUSE = ast.UntilClause
+_COMPLY_CLAUSE = ast.ComplyClause
 
 
 @dataclass(frozen=True, eq=False)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from cosmos import plan
 from cosmos.errors import ProgramError
 from cosmos.lang import ast, units
-from cosmos.lang.compile.motion.axes import held_since
+from cosmos.lang.compile.motion.axes import AXIS_NAMES, held_since
 from cosmos.lang.compile.motion.axis_rules import AxisRules
 from cosmos.lang.compile.motion.clause_values import ClauseValues
 from cosmos.lang.compile.motion.clauses import clauses_of
@@ -67,6 +67,10 @@ class Insert(AxisRules, ClauseValues):
                 statement.span,
             )
         self._warn_away_from_fixture(statement.direction, fixture, "INSERT")
+        search_clause = next((c for c in statement.clauses if isinstance(c, ast.SearchClause)), None)
+        search = None
+        if search_clause is not None:
+            search = self._search(search_clause, axis, free, contact_axis)
         self._add(
             _INSERT,
             statement,
@@ -78,4 +82,51 @@ class Insert(AxisRules, ClauseValues):
             until=None if clauses.until is None else self._until(clauses, frame, force_expected=True),
             timeout=self._timeout(clauses),
             jam_check=self._jam_check,
+            search=search,
+        )
+
+    def _search(
+        self, clause: ast.SearchClause, axis: int, free: set[int], contact_axis: int | None
+    ) -> plan.Search:
+        """INSERT's SEARCH: its pattern on the two translations across the insertion axis.
+
+        During the search those axes are motion-controlled and track the pattern (eq. 19),
+        so they must be the INSERT's to move: compliant at zero force (its COMPLY axes), not
+        a held contact's force axis nor left stiff by the INSERT's COMPLY list.
+        """
+        keyword = f"SEARCH {clause.pattern.value}"
+        lateral = tuple(i for i in range(3) if i != axis)
+        names = " and ".join(AXIS_NAMES[i] for i in lateral)
+        for i in lateral:
+            if i == contact_axis:
+                raise ProgramError(
+                    f"{keyword} moves {names}, across the insertion, but {AXIS_NAMES[i]} carries "
+                    f"{held_since(self.state.contact)}; make the contact along the insertion",
+                    clause.span,
+                )
+            if i not in free:
+                raise ProgramError(
+                    f"{keyword} moves {names}, across the insertion, but this INSERT keeps "
+                    f"{AXIS_NAMES[i]} stiff: a search moves the compliant axes; "
+                    f"give COMPLY {' '.join(AXIS_NAMES[j] for j in sorted(free | set(lateral)))}",
+                    clause.span,
+                )
+        exprs = {p.kind: p.value for p in clause.parameters}
+        radius_expr, pitch_expr = exprs[ast.ClauseKind.RADIUS], exprs[ast.ClauseKind.PITCH]
+        radius = self._positive_scalar(radius_expr, units.LENGTH, "SEARCH RADIUS")
+        pitch = self._positive_scalar(pitch_expr, units.LENGTH, "SEARCH PITCH")
+        if pitch > radius:
+            raise ProgramError(
+                f"PITCH {self.text_of(pitch_expr.span)} is larger than RADIUS "
+                f"{self.text_of(radius_expr.span)}: the pattern would end before its first turn; "
+                "give a PITCH at most the RADIUS",
+                pitch_expr.span,
+            )
+        return plan.Search(
+            pattern=plan.SearchPattern[clause.pattern.name],
+            radius_m=radius,
+            pitch_m=pitch,
+            lateral_axes=(lateral[0], lateral[1]),
+            speed_mps=self.defaults.search_speed_mps,
+            found_depth_m=self.defaults.search_found_depth_m,
         )

@@ -1,0 +1,98 @@
+"""The search phase of INSERT ... SEARCH: the pattern's setpoint, and when the hole is found.
+
+While searching, the INSERT's two lateral translations are motion-controlled and
+track the pattern (:class:`cosmos.osc.search.SearchTrajectory`) with eq. 19,
+``F*_m = xdd_d - kp (x - x_d) - kv (xd - xd_d)``, at the servo's default gains,
+while the insertion axis keeps its force (the complement of Omega, as in SLIDE)
+and the lateral rotations stay compliant. A pattern offset on the compliant axes'
+zero-force setpoint through a spring would do the same with a softer, friction-
+dependent lag; a tracked trajectory keeps the tool on the pattern it reports.
+
+The hole is found when the tool has gone ``found_depth_m`` deeper than where the
+INSERT started (over the hole's chamfer the force drops it in); the lateral axes
+then return to the INSERT's compliance (a new setpoint from the pose there) and
+the INSERT goes on. A pattern run to its end, and :data:`SETTLE_S` beyond, fails.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from cosmos.execution.monitor import Outcome, Verdict
+from cosmos.osc.search import LissajousPath, SearchTrajectory, SpiralPath
+from cosmos.plan import DepthReached, Search, SearchPattern, Segment
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+FloatArray = np.ndarray
+
+SETTLE_S = 0.5
+"""After the pattern's end the tool has this long to drop into a hole it reached last [s]."""
+
+
+class SearchPhase:
+    """One INSERT's search, from its start until the hole is found or the pattern ends."""
+
+    def __init__(
+        self, segment: Segment, search: Search, start_s: float, position: FloatArray, rotation: FloatArray
+    ):
+        self.segment = segment
+        self.search = search
+        self.name = f"SEARCH {search.pattern.name}"
+        lateral = np.array(segment.frame_rotation)[:, list(search.lateral_axes)]
+        path = (
+            SpiralPath(search.radius_m, search.pitch_m)
+            if search.pattern is SearchPattern.SPIRAL
+            else LissajousPath.of(search.radius_m, search.pitch_m)
+        )
+        self.trajectory = SearchTrajectory.of(path, position, rotation, lateral, search.speed_mps)
+        self._lateral = lateral
+        assert isinstance(segment.completion, DepthReached)  # an INSERT's
+        self._direction = segment.completion.direction_world
+        self.start_s = start_s
+        self.start_position = np.array(position)
+        self._farthest_m = 0.0
+
+    def setpoint(self, base: ServoSetpoint) -> ServoSetpoint:
+        """The INSERT's setpoint with its lateral translations tracking the pattern."""
+        motion = list(base.motion_axes)
+        for i in self.search.lateral_axes:
+            motion[i] = True
+        return replace(
+            base,
+            mode=MotionMode.TRAJECTORY,
+            motion_axes=tuple(motion),
+            trajectory=self.trajectory,
+            start_s=self.start_s,
+        )
+
+    def check(self, t_s: float, position: FloatArray) -> Outcome | str | None:
+        """``None`` while searching; the found message once found; a failure at the pattern's end."""
+        moved = position - self.start_position
+        depth = float(moved.dot(self._direction))
+        across = float(np.linalg.norm(moved.dot(self._lateral)))
+        self._farthest_m = max(self._farthest_m, across)
+        elapsed = t_s - self.start_s
+        if depth >= self.search.found_depth_m:
+            return (
+                f"{self.name} found the hole {across * 1e3:.1f} mm from the start after "
+                f"{elapsed:.2f} s ({depth * 1e3:.1f} mm deeper)"
+            )
+        if elapsed >= self.trajectory.duration_s + SETTLE_S:
+            return Outcome(
+                Verdict.FAILED,
+                f"{self.name} covered {self.search.radius_m * 1e3:g} mm without finding the hole: "
+                f"out to {self._farthest_m * 1e3:.1f} mm from its start in {elapsed:.1f} s, never "
+                f"{self.search.found_depth_m * 1e3:g} mm deeper",
+            )
+        return None
+
+
+def search_phase(
+    segment: Segment, start_s: float, position: FloatArray, rotation: FloatArray
+) -> SearchPhase | None:
+    """The segment's search phase, if it has one."""
+    if segment.search is None:
+        return None
+    return SearchPhase(segment, segment.search, start_s, position, rotation)
