@@ -312,6 +312,9 @@ def _ends(segment: plan.Segment) -> str:
         text += f"; timeout {segment.timeout_s:g} s"
     if segment.jam_check is not None:
         text += "; jam check"
+    if segment.search is not None:
+        search = segment.search
+        text += f"; search {search.pattern.value} {search.radius_m * 1e3:g} mm pitch {search.pitch_m * 1e3:g} mm"
     return text
 
 

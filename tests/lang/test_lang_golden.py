@@ -45,7 +45,7 @@ def check(segment: plan.Segment, **expected: Any) -> None:
             assert [int(a) for a in actual] == value, where
         elif field in ("force_setpoint", "frame_rotation"):
             np.testing.assert_allclose(actual, value, atol=1e-12, err_msg=where)
-        elif field in ("target", "completion", "until", "jam_check"):
+        elif field in ("target", "completion", "until", "jam_check", "search"):
             check_object(actual, value, where)
         elif field == "via":
             assert len(actual) == len(value), where
@@ -377,6 +377,49 @@ def test_insert_across_a_held_contact_keeps_the_contact_force() -> None:
 def test_insert_comply_none_keeps_lateral_axes_stiff() -> None:
     [segment] = segments_after(CONTACT_DOWN, "INSERT DOWN DEPTH 5 mm FORCE 10 N COMPLY NONE")
     check(segment, motion_axes=[1, 1, 0, 1, 1, 1], force_setpoint=[0, 0, -10, 0, 0, 0])
+
+
+def test_insert_search_spiral_moves_the_lateral_translations() -> None:
+    line = "INSERT DOWN DEPTH 25 mm FORCE 15 N SEARCH SPIRAL RADIUS 20 mm PITCH 6 mm TIMEOUT 30 s"
+    [segment] = segments_after(CONTACT_DOWN, line)
+    check(
+        segment,
+        kind=plan.SegmentKind.INSERT,
+        motion_axes=[0, 0, 0, 0, 0, 1],  # the search's pattern is the executor's, not the plan's axes
+        force_setpoint=[0, 0, -15, 0, 0, 0],
+        completion={"type": plan.DepthReached, "direction_world": [0, 0, -1], "depth_m": 0.025},
+        search={
+            "type": plan.Search,
+            "pattern": plan.SearchPattern.SPIRAL,
+            "radius_m": 0.02,
+            "pitch_m": 0.006,
+            "lateral_axes": (0, 1),
+            "speed_mps": 0.01,
+            "found_depth_m": 0.001,
+        },
+    )
+
+
+def test_insert_search_lissajous_across_an_x_insertion() -> None:
+    prelude = PRELUDE + "CONTACT +X FORCE 5 N\n"
+    [segment] = segments_after(
+        prelude, "INSERT +X DEPTH 10 mm FORCE 5 N SEARCH LISSAJOUS PITCH 2 mm RADIUS 5 mm"
+    )
+    check(
+        segment,
+        search={
+            "type": plan.Search,
+            "pattern": plan.SearchPattern.LISSAJOUS,
+            "radius_m": 0.005,
+            "pitch_m": 0.002,
+            "lateral_axes": (1, 2),
+        },
+    )
+
+
+def test_insert_without_search_has_none() -> None:
+    [segment] = segments_after(CONTACT_DOWN, "INSERT DOWN DEPTH 30 mm FORCE 15 N")
+    assert segment.search is None
 
 
 # ------------------------------------------------------------ COMPLY and WAIT

@@ -147,12 +147,10 @@ def _check_search(search: ast.SearchClause) -> None:
     """SEARCH SPIRAL (or LISSAJOUS) needs its RADIUS and its PITCH, each once."""
     keyword = f"SEARCH {search.pattern.value}"
     given = _check_clauses(keyword, search.parameters)
-    for needed, example in ((ast.ClauseKind.RADIUS, "RADIUS 6 mm"), (ast.ClauseKind.PITCH, "PITCH 3 mm")):
+    for needed in (ast.ClauseKind.RADIUS, ast.ClauseKind.PITCH):
         if needed.value not in given:
             raise ProgramError(
-                f"{keyword} needs {needed.value}, as in SEARCH {search.pattern.value} RADIUS 6 mm PITCH 3 mm "
-                f"({example} missing)",
-                search.span,
+                f"{keyword} needs {needed.value}, as in {keyword} RADIUS 6 mm PITCH 3 mm", search.span
             )
 
 
