@@ -78,7 +78,7 @@ def test_completion_of_keywords_names_and_commands() -> None:
     assert after_to[:5] == ["world", "table", "hole", "slope", "above"]  # names before keywords
     assert "TO" in after_to
     assert _completions("MOVE TO ab") == ["above"]
-    assert _completions("pi") == ["pick"]  # a procedure call starts a line
+    assert _completions("pic") == ["pick"]  # a procedure call starts a line ("pi": PITCH too)
     assert _completions(":st") == [":state"]
     assert _completions(":") == [":help", ":state", ":frames", ":load", ":reset", ":log", ":live", ":quit"]
     assert _completions("MOVE BY (0, 0, 1") == []

@@ -35,6 +35,15 @@ def test_spiral_search_finds_the_hole_and_inserts(
     assert succeeded(result), result
 
 
+def test_lissajous_search_finds_the_hole_and_inserts(tmp_path: Path) -> None:
+    """The Lissajous pattern from 16 mm off finds the hole and inserts too. Catches a
+    Lissajous path that never leaves its start or is timed wrongly (the search would fail)."""
+    source = program(16.0, 0.0, "SEARCH LISSAJOUS RADIUS 20 mm PITCH 6 mm")
+    result = inserted(run_seeded(tmp_path, "lissajous", source, 3))
+    assert result.found.startswith("SEARCH LISSAJOUS found the hole"), result
+    assert succeeded(result), result
+
+
 def test_a_search_too_small_fails_with_its_reason(tmp_path: Path) -> None:
     """A spiral of 4 mm from 16 mm off never reaches the mouth: the INSERT fails saying the
     search covered its radius, with the measured reach. Catches a search that ends as a
