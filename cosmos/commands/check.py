@@ -314,7 +314,9 @@ def _ends(segment: plan.Segment) -> str:
         text += "; jam check"
     if segment.search is not None:
         search = segment.search
-        text += f"; search {search.pattern.value} {search.radius_m * 1e3:g} mm pitch {search.pitch_m * 1e3:g} mm"
+        text += (
+            f"; search {search.pattern.value} {search.radius_m * 1e3:g} mm pitch {search.pitch_m * 1e3:g} mm"
+        )
     return text
 
 
