@@ -417,6 +417,16 @@ def test_insert_search_lissajous_across_an_x_insertion() -> None:
     )
 
 
+def test_insert_search_warns_of_a_timeout_shorter_than_its_pattern() -> None:
+    """The spiral of 20 mm at pitch 6 mm is pi 20^2 / 6 ~ 209 mm long: 21 s at 10 mm/s plus its
+    ramps. Catches a warning that misjudges the pattern's time (or is never given)."""
+    search = "INSERT DOWN DEPTH 25 mm FORCE 15 N SEARCH SPIRAL RADIUS 20 mm PITCH 6 mm"
+    _, warnings = steps_after(CONTACT_DOWN, search + " TIMEOUT 20 s")
+    assert any("before its SEARCH SPIRAL has covered its RADIUS" in w.message for w in warnings)
+    _, warnings = steps_after(CONTACT_DOWN, search + " TIMEOUT 22 s")
+    assert not any("SEARCH" in w.message for w in warnings)
+
+
 def test_insert_without_search_has_none() -> None:
     [segment] = segments_after(CONTACT_DOWN, "INSERT DOWN DEPTH 30 mm FORCE 15 N")
     assert segment.search is None

@@ -8,7 +8,9 @@ from cosmos.lang import ast, units
 from cosmos.lang.compile.motion.axes import AXIS_NAMES, held_since
 from cosmos.lang.compile.motion.axis_rules import AxisRules
 from cosmos.lang.compile.motion.clause_values import ClauseValues
-from cosmos.lang.compile.motion.clauses import clauses_of
+from cosmos.lang.compile.motion.clauses import Clauses, clauses_of
+from cosmos.osc.motion import cruise_duration
+from cosmos.osc.search import LissajousPath, SpiralPath
 from cosmos.rotations import signed_column
 
 _INSERT = plan.SegmentKind.INSERT
@@ -71,6 +73,7 @@ class Insert(AxisRules, ClauseValues):
         search = None
         if search_clause is not None:
             search = self._search(search_clause, axis, free, contact_axis)
+            self._warn_search_timeout(search, clauses, search_clause)
         self._add(
             _INSERT,
             statement,
@@ -84,6 +87,23 @@ class Insert(AxisRules, ClauseValues):
             jam_check=self._jam_check,
             search=search,
         )
+
+    def _warn_search_timeout(self, search: plan.Search, clauses: Clauses, clause: ast.SearchClause) -> None:
+        """A TIMEOUT that ends the INSERT before its pattern has covered its RADIUS."""
+        timeout = self._timeout(clauses)
+        if timeout is None:
+            return
+        if search.pattern is plan.SearchPattern.SPIRAL:
+            path: SpiralPath | LissajousPath = SpiralPath(search.radius_m, search.pitch_m)
+        else:
+            path = LissajousPath.of(search.radius_m, search.pitch_m)
+        needed = cruise_duration(path.length_m, search.speed_mps)
+        if timeout < needed:
+            self.warn(
+                f"TIMEOUT {timeout:g} s ends the INSERT before its SEARCH {clause.pattern.value} has "
+                f"covered its RADIUS ({needed:.3g} s at {search.speed_mps * 1e3:g} mm/s)",
+                clauses.span_of(ast.ClauseKind.TIMEOUT),
+            )
 
     def _search(
         self, clause: ast.SearchClause, axis: int, free: set[int], contact_axis: int | None
