@@ -28,8 +28,8 @@ def test_spiral_search_finds_the_hole_and_inserts(
 ) -> None:
     """From 16 and 18.4 mm off, the spiral finds the hole (a ``found`` event), then the INSERT
     reaches 25 mm with the tip on the hole's axis. Catches a search that never hands back
-    to compliance (it would scrape the wall), that misreads the depth, or a pattern moving
-    the wrong axes."""
+    to compliance (it would scrape the wall), that misreads the depth, a pattern moving
+    the wrong axes, or a jam check left on while searching (it fails after 1 s)."""
     result = inserted(run_seeded(tmp_path, "search", program(dx_mm, dy_mm, SEARCH), seed))
     assert result.found.startswith("SEARCH SPIRAL found the hole"), result
     assert succeeded(result), result
