@@ -101,6 +101,29 @@ def integrate_force_error(
     return np.minimum(np.maximum(updated, -limit), limit)
 
 
+REACH_FRACTION = 0.9
+"""Share of its goal the push must reach before the force error is integrated."""
+
+
+def force_goal_reached(force_goal: FloatArray, force_sensed: FloatArray) -> bool:
+    """Whether the sensed push along the goal has reached ``REACH_FRACTION`` of it.
+
+    The force loop's integral (:func:`integrate_force_error`) starts only then: while
+    a soft contact builds up after the touch, the error is large for a few hundred
+    milliseconds and its integral would overshoot the setpoint (51 % on a 10 N
+    CONTACT with the elliptic friction cone); once reached, the integral removes the
+    steady error as before. A zero goal counts as reached.
+
+    Args:
+        force_goal: The segment's F_d goal, applied to the environment, in [N] and [N m]. # (6,)
+        force_sensed: F_s, applied to the environment, in [N] and [N m]. # (6,)
+
+    Returns:
+        True once ``F_goal . F_s >= REACH_FRACTION |F_goal|^2``.
+    """
+    return bool(force_goal.dot(force_sensed) >= REACH_FRACTION * force_goal.dot(force_goal))
+
+
 def force_feedback(
     force_setpoint: FloatArray,
     force_sensed: FloatArray,

@@ -262,6 +262,7 @@ class ServoLevel:
         state[kernel.FLAGS, kernel.TOUCHING] = 0.0  # latched by the first push felt on a force axis
         state[kernel.FLAGS, kernel.ADMITTING] = 0.0  # latched by the first contact force
         state[kernel.FLAGS, kernel.PUSH_SPEED_INTEGRAL] = 0.0
+        state[kernel.FLAGS, kernel.REACHED] = 0.0
         state[kernel.MOTION_INTEGRAL] = 0.0
         scalars, vectors = self._scalars, self._vectors
         tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None

@@ -24,6 +24,7 @@ from cosmos.osc.unified import (
     ForceGains,
     force_command,
     force_feedback,
+    force_goal_reached,
     integrate_force_error,
     servo_matrices,
     speed_limited_push,
@@ -245,6 +246,7 @@ TICK_CASES = {
     "free space, a push below the threshold": TickCase(False, 0.5, False, 0.4),
     "free space, uniform gains": TickCase(False, -0.8, True, 0.7, saturate=True),
     "the tick that latches the touch": TickCase(False, 3.0, True, 1.5),
+    "the tick that latches the touch at 95 % of its goal": TickCase(False, -9.5, True, 1.5),
     "touching, light push": TickCase(True, 0.2, False, 2.0, saturate=True),
     "touching, integral clamped": TickCase(True, -2.0, False, 0.9, integral_at_limit=True),
     "touching, push capped by its speed": TickCase(True, 0.2, False, 2.0, max_speed=0.001),
@@ -404,6 +406,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     state = np.full((sk.STATE_ROWS, 6), np.nan)  # output rows must all be written
     state[sk.FLAGS] = 0.0
     state[sk.FLAGS, sk.TOUCHING] = float(case.touching)
+    state[sk.FLAGS, sk.REACHED] = float(case.touching)  # in contact: the push has reached its goal
     state[sk.FLAGS, sk.PUSH_SPEED_INTEGRAL] = 0.001 * float(case.max_speed < 0.01)
     if case.integral_at_limit:
         # Along the force axis, its largest world component 1 mN s short of the clamp, on the
@@ -510,7 +513,8 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     # Figure 2's force loop: integral latched on the first push.
     touching = touch_latched(bool(st[sk.FLAGS, sk.TOUCHING]), sel.omega_bar, wrench, CONTACT_THRESHOLD_N)
     integral = st[sk.INTEGRAL].copy()
-    if touching:
+    reached = bool(st[sk.FLAGS, sk.REACHED]) or force_goal_reached(vec[sk.FORCE_WORLD], wrench)
+    if touching and reached:
         integral = integrate_force_error(
             integral, setpoint, wrench, sel.omega_bar, DT_S, FORCE_GAINS.integral_limit
         )
@@ -677,8 +681,11 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
         assert latched == case.touching and np.array_equal(expected[sk.INTEGRAL], integral_before)
         return
     assert latched == (case.touching or abs(case.force_axis_n) > CONTACT_THRESHOLD_N)
-    if latched:
+    reached = case.touching or force_goal_reached(inputs.vectors[sk.FORCE_WORLD], expected[sk.WRENCH])
+    if latched and reached:
         assert not np.array_equal(expected[sk.INTEGRAL], integral_before)
+    elif latched:  # touching, the push short of its goal: the integral waits for it
+        assert np.array_equal(expected[sk.INTEGRAL], integral_before)
     else:
         assert np.array_equal(expected[sk.INTEGRAL], integral_before)
         # Were it integrating, it would have moved: the latch is what holds it.

@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
+from cosmos.osc.unified import REACH_FRACTION
 from cosmos.runtime.kernels import commands
 from cosmos.runtime.kernels.commands import environment_wrench_into, saturate_about, unit_mass_command_into
 from cosmos.runtime.kernels.contact import (
@@ -78,6 +79,7 @@ STATE_ROWS = 10
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 PUSH_SPEED_INTEGRAL = 2  # column of FLAGS: integral of a capped push's speed error this segment, [m]
+REACHED = 3  # column of FLAGS: 1.0 once the push felt along the goal reached REACH_FRACTION of it
 
 # Rows of a tick's work array (servo_tick).
 MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
@@ -259,7 +261,15 @@ def servo_tick(
                 acceleration[i] -= ki * motion_integral[i]
         integral = state[INTEGRAL]
         previous_integral = integral.copy()
-        if flags[TOUCHING] != 0.0:
+        if flags[REACHED] == 0.0:  # cosmos.osc.unified.force_goal_reached (latched)
+            size = 0.0
+            felt = 0.0
+            for i in range(6):
+                size += goal[i] * goal[i]
+                felt += goal[i] * wrench[i]
+            if felt >= REACH_FRACTION * size:
+                flags[REACHED] = 1.0
+        if flags[TOUCHING] != 0.0 and flags[REACHED] != 0.0:
             limit, dt = scalars[INTEGRAL_LIMIT], scalars[DT_S]
             for i in range(6):
                 acc = 0.0
