@@ -15,7 +15,7 @@ from cosmos.osc.contact import contact_latched, touch_latched
 from cosmos.osc.force import selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.orientation import so3_exp
-from cosmos.osc.unified import speed_limited_push
+from cosmos.osc.unified import REACH_FRACTION, force_goal_reached, speed_limited_push
 from cosmos.runtime.kernels import contact as ck
 
 SEEDS = range(20)
@@ -67,6 +67,23 @@ def test_the_latches_at_their_threshold() -> None:
     sideways = np.array((5.0, 0.0, 0.0, 0.0, 0.0, 0.0))
     assert not ck.touch_latched(False, z_force, sideways, threshold)
     assert ck.contact_latched(False, sideways, threshold)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_goal_reached_is_its_reference(seed: int) -> None:
+    """The force integral's gate (push along the goal >= 90 % of it) against
+    cosmos.osc.unified.force_goal_reached, around the boundary and latched.
+
+    Catches a gate on the push's size rather than along the goal, a wrong fraction, or a latch that drops."""
+    rng = np.random.default_rng(seed)
+    goal = np.concatenate((rng.normal(0.0, 10.0, 3), np.zeros(3)))
+    for share in (0.5, REACH_FRACTION - 1e-6, REACH_FRACTION + 1e-6, 1.3):
+        sideways = np.cross(goal[:3], rng.normal(0.0, 1.0, 3))  # orthogonal to the goal: no share
+        wrench = np.concatenate((share * goal[:3] + sideways, rng.normal(0.0, 5.0, 3)))
+        expected = force_goal_reached(goal, wrench)
+        assert expected is (share >= REACH_FRACTION)
+        assert ck.goal_reached(False, goal, wrench, REACH_FRACTION) is expected
+        assert ck.goal_reached(True, goal, wrench, REACH_FRACTION)
 
 
 @pytest.mark.parametrize("seed", SEEDS)

@@ -33,6 +33,19 @@ def touch_latched(touching: bool, omega_bar: FloatArray, wrench: FloatArray, thr
 
 
 @kernel
+def goal_reached(reached: bool, goal: FloatArray, wrench: FloatArray, fraction: float) -> bool:
+    """``reached or F_goal . F_s >= fraction |F_goal|^2`` (cosmos.osc.unified.force_goal_reached)."""
+    if reached:
+        return True
+    size = 0.0
+    felt = 0.0
+    for i in range(goal.shape[0]):
+        size += goal[i] * goal[i]
+        felt += goal[i] * wrench[i]
+    return felt >= fraction * size
+
+
+@kernel
 def contact_latched(latched: bool, wrench: FloatArray, threshold_n: float) -> bool:
     """``latched or |f_s| > F_contact``: any contact force, f_s the wrench's force part."""
     if latched:

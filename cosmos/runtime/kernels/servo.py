@@ -38,6 +38,7 @@ from cosmos.runtime.kernels.contact import (
     admittance_speed,
     contact_latched,
     coulomb_compensation_into,
+    goal_reached,
     low_pass_into,
     speed_limited_push_into,
     touch_latched,
@@ -261,14 +262,10 @@ def servo_tick(
                 acceleration[i] -= ki * motion_integral[i]
         integral = state[INTEGRAL]
         previous_integral = integral.copy()
-        if flags[REACHED] == 0.0:  # cosmos.osc.unified.force_goal_reached (latched)
-            size = 0.0
-            felt = 0.0
-            for i in range(6):
-                size += goal[i] * goal[i]
-                felt += goal[i] * wrench[i]
-            if felt >= REACH_FRACTION * size:
-                flags[REACHED] = 1.0
+        # ... and once the push has reached most of its goal: while a soft contact builds up
+        # after the touch the error would wind the integral into an overshoot.
+        if goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
+            flags[REACHED] = 1.0
         if flags[TOUCHING] != 0.0 and flags[REACHED] != 0.0:
             limit, dt = scalars[INTEGRAL_LIMIT], scalars[DT_S]
             for i in range(6):
