@@ -1,6 +1,6 @@
 """The contact-while-sliding grid of issue 14, item 5: every force x speed x direction x frame.
 
-Run ``python tests/run/slide_grid.py`` (about 1.5 minutes on two cores; ``--quick`` for
+Run ``python tests/run/slide_grid.py`` (40-100 s on two cores; ``--quick`` for
 five representative cases). Each case is a program: touch the table with
 CONTACT DOWN at the force, SLIDE 60 mm at the speed along the direction, in
 the world frame or in a task frame turned 45 deg about z. From the run's own
