@@ -154,10 +154,10 @@ def run(
 
     if isinstance(seed, bool) or not isinstance(seed, int):
         raise UsageError(f"seed must be an integer; got {seed!r}")
-    defaults = Rates()  # the command line's defaults
-    servo = defaults.servo_hz if servo_hz is None else _rate(servo_hz, "servo_hz")
-    param = min(defaults.param_hz, servo) if param_hz is None else _rate(param_hz, "param_hz")
-    rates = Rates(servo_hz=servo, param_hz=param, state_hz=defaults.state_hz)
+    rates = Rates.chosen(
+        None if servo_hz is None else _rate(servo_hz, "servo_hz"),
+        None if param_hz is None else _rate(param_hz, "param_hz"),
+    )
     plan = check(program, name=name)
     for warning in plan.warnings:
         warnings.warn(warning.render(plan.source), CosmosWarning, stacklevel=2)

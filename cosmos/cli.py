@@ -95,12 +95,7 @@ def run(
     from cosmos.commands.sweep import variation_for_run
     from cosmos.runtime.rates import Rates
 
-    defaults = Rates()
-    rates = Rates(
-        servo_hz=servo_hz or defaults.servo_hz,
-        param_hz=param_hz or min(defaults.param_hz, servo_hz or defaults.servo_hz),
-        state_hz=defaults.state_hz,
-    )
+    rates = Rates.chosen(servo_hz or None, param_hz or None)
     variation = variation_for_run(program, vary, sample, seed)
     paced = live or realtime or rate is not None
     pace = Pace(rate or 1.0, port if live else None) if paced else None

@@ -25,6 +25,7 @@ import numpy as np
 
 from cosmos.osc.orientation import so3_log
 from cosmos.plant import Plant
+from cosmos.runtime.rotation_plan import JointAtLimit
 from cosmos.workcell import ARM_CAPABILITY, TOOL, TOOL_SITE
 
 FloatArray = np.ndarray
@@ -144,7 +145,7 @@ def stall_cause(
     ]
     if near:
         _, joint, limit = min(near)
-        return f"joint {joint + 1} at its limit of {math.degrees(limit):.0f} deg"
+        return JointAtLimit(joint + 1, float(limit)).message
     singular = singularity(q, jacobian)
     if singular is not None:
         return f"{singular}, which prevents progress"

@@ -52,3 +52,14 @@ class Rates:
             )
         if not 100 <= self.state_hz <= PHYSICS_HZ:
             raise UsageError(f"state rate must be in [100, {PHYSICS_HZ:g}] Hz")
+
+    @classmethod
+    def chosen(cls, servo_hz: float | None, param_hz: float | None) -> Rates:
+        """The rates a run asks for, defaults where it says nothing (``cosmos run``, ``cosmos.run``).
+
+        The parameter rate defaults to the default's, but never faster than the servo.
+        """
+        defaults = cls()
+        servo = defaults.servo_hz if servo_hz is None else servo_hz
+        param = min(defaults.param_hz, servo) if param_hz is None else param_hz
+        return cls(servo_hz=servo, param_hz=param, state_hz=defaults.state_hz)
