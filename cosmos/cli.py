@@ -115,11 +115,12 @@ def check(program: Path, as_json: bool, full: bool) -> None:
 
 @cli.command()
 @click.option("--log", "log_path", type=click.Path(path_type=Path), help="MCAP log path.")
-def repl(log_path: Path | None) -> None:
+@click.option("--force", is_flag=True, help="Overwrite the --log file if it exists.")
+def repl(log_path: Path | None, force: bool) -> None:
     """Interactive session on a live simulated arm."""
     from cosmos.commands.repl import run_repl
 
-    _finish(run_repl(log_path))
+    _finish(run_repl(log_path, force))
 
 
 @cli.command()

@@ -7,17 +7,22 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 from cosmos.repl.app import ReplApp
-from cosmos.runlog.writer import default_log_path
+from cosmos.runlog.output import check_output, unused_log_path
 
 DEFAULT_PROGRAM = Path("repl.cos")
 """Names the default log: ``logs/repl-<UTC time>.mcap``."""
 
 
-def run_repl(log_path: Path | None) -> int:
+def run_repl(log_path: Path | None, force: bool = False) -> int:
     """Run a REPL session on the terminal (or on lines piped to stdin); return the exit status.
+
+    The log follows ``cosmos run``'s rules (:mod:`cosmos.runlog.output`): an existing
+    ``--log`` file is kept unless ``force``, and only the default ``logs/`` is created.
 
     Raises:
         UsageError: The log cannot be created.
     """
-    log_path = log_path or default_log_path(DEFAULT_PROGRAM, datetime.now(UTC))
+    make_parents = log_path is None
+    log_path = log_path or unused_log_path(DEFAULT_PROGRAM, datetime.now(UTC))
+    check_output(log_path, what="the log", force=force, make_parents=make_parents)
     return ReplApp(log_path, sys.stdout).run()

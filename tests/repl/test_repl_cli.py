@@ -69,3 +69,21 @@ def test_unwritable_log_is_a_usage_error(tmp_path: Path) -> None:
     blocker.write_text("")
     with pytest.raises(UsageError, match="cannot write the log"):
         ReplApp(blocker / "x.mcap", io.StringIO(), stdin=io.StringIO())
+
+
+def test_repl_log_follows_the_run_rules(tmp_path: Path) -> None:
+    """Catches ``cosmos repl --log`` overwriting an existing file or creating a typed directory.
+
+    ``cosmos run`` refuses both in one line (``--force`` overwrites); the REPL used to
+    truncate the file and make the directory silently.
+    """
+    from cosmos.commands.repl import run_repl
+
+    kept = tmp_path / "kept.mcap"
+    kept.write_bytes(b"earlier session")
+    with pytest.raises(UsageError, match="kept.mcap: already exists; pass --force"):
+        run_repl(kept)
+    assert kept.read_bytes() == b"earlier session"
+    with pytest.raises(UsageError, match="no such directory"):
+        run_repl(tmp_path / "missing" / "x.mcap")
+    assert not (tmp_path / "missing").exists()
