@@ -37,6 +37,7 @@ Statement-level semantics the executor must honour:
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -331,14 +332,15 @@ def condition_holds(
     if isinstance(condition, LastOutcome):  # the compiler keeps LAST out of UNTIL
         raise ValueError(f"{condition.text} is read by IF and WHILE, not by a stop condition")
     quantity = condition.quantity
+    # Scalar arithmetic on the three components: this runs every servo tick.
     if quantity is Quantity.FORCE:
-        measured = float(np.linalg.norm(force_world))
+        measured = math.hypot(*force_world.tolist())
     elif quantity is Quantity.TORQUE:
-        measured = float(np.linalg.norm(torque_world))
+        measured = math.hypot(*torque_world.tolist())
     elif quantity is Quantity.FORCE_ALONG:
-        measured = float(np.dot(force_world, condition.direction_world))  # type: ignore[arg-type]
+        measured = float(force_world.dot(condition.direction_world))  # type: ignore[arg-type]
     elif quantity is Quantity.TORQUE_ABOUT:
-        measured = float(np.dot(torque_world, condition.direction_world))  # type: ignore[arg-type]
+        measured = float(torque_world.dot(condition.direction_world))  # type: ignore[arg-type]
     else:
         measured = distance_m
     return condition.op.holds(measured, condition.value)

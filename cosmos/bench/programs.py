@@ -52,6 +52,9 @@ class ExecutorRun:
         ticks: Servo ticks run.
         wall_s: Wall time of the executor's run of the plan [s] (no start-up, no compile).
         session_s: Wall time to open the session (plant, models, log) [s].
+        runtime_s: Of ``wall_s``, the time inside the runtime's ticks (sense, parameters,
+            servo, physics, record) [s]; the rest is the executor's own: its judgement of
+            each tick (monitor, protective stops, obstacles) and each segment's set-up.
     """
 
     program: str
@@ -60,11 +63,22 @@ class ExecutorRun:
     ticks: int
     wall_s: float
     session_s: float
+    runtime_s: float = 0.0
 
     @property
     def tick_us(self) -> float:
         """Wall time per servo tick of the executor's loop [us]."""
         return self.wall_s / max(1, self.ticks) * 1e6
+
+    @property
+    def runtime_tick_us(self) -> float:
+        """Wall time per servo tick inside the runtime's tick, in the same run [us]."""
+        return self.runtime_s / max(1, self.ticks) * 1e6
+
+    @property
+    def to_runtime_tick(self) -> float:
+        """The executor's loop over the runtime's tick alone, same run: 1.0 is no cost of its own."""
+        return self.wall_s / self.runtime_s if self.runtime_s > 0 else 0.0
 
     @property
     def real_time_factor(self) -> float:
@@ -85,6 +99,15 @@ def executor_run(path: Path) -> ExecutorRun:
         opened = time.perf_counter()
         with Session(str(path), plan.source, Path(tmp) / "run.mcap", rates) as session:
             runtime = session.runtime
+            inside = [0]
+            runtime_tick, clock = runtime.tick, time.perf_counter_ns
+
+            def timed_tick() -> None:  # the executor looks the tick up at each segment's start
+                start = clock()
+                runtime_tick()
+                inside[0] += clock() - start
+
+            runtime.tick = timed_tick  # type: ignore[method-assign]
             start_s, ok = runtime.time_s, True
             started = time.perf_counter()
             try:
@@ -100,6 +123,7 @@ def executor_run(path: Path) -> ExecutorRun:
         round(simulated_s * rates.servo_hz),
         wall_s,
         started - opened,
+        inside[0] / 1e9,
     )
 
 

@@ -44,11 +44,14 @@ def report(f: Mapping[str, object]) -> list[str]:
         f"floor (mj_step + computeAllTerms + Jacobian): {g['floor_tick_us']:.1f} us/tick "
         f"(best of {_listed(g['floor_tick_us_runs'])}); bench loop / floor = {g['ratio_to_floor']:.2f}",
         f"executor (shipped programs, in process): {g['executor_tick_us']:.1f} us/tick; "
-        f"/ bench loop = {g['executor_to_bench_loop']:.2f}, / floor = {g['executor_to_floor']:.2f}",
+        f"/ bench loop = {g['executor_to_bench_loop']:.2f}, / floor = {g['executor_to_floor']:.2f}; "
+        f"/ the runtime's tick in the same runs ({g['runtime_tick_us']:.1f} us) = "
+        f"{g['executor_to_runtime_tick']:.3f}",
     ]
     for name, run in programs.items():
         lines.append(
             f"  {name:<18} {run['ticks']:6d} ticks  {run['executor_tick_us']:5.1f} us/tick  "
+            f"(x{run['executor_to_runtime_tick']:.3f} the runtime's)  "
             f"real-time factor {run['real_time_factor']:5.1f}  whole `cosmos run` {run['run_wall_s']:.2f} s "
             f"(real-time factor {run['whole_run_real_time_factor']:.1f}){'' if run['ok'] else '  FAILED'}"
         )

@@ -238,21 +238,29 @@ class Executor:
         supervisor.start(segment, start_position, goals[0][0])
         via_radius = segment.via_radius_m or 0.01
         ticks = 0
-        servo = rt.servo
-        obstacles = self.obstacles
+        obstacles = self.obstacles if self.obstacles is not None and self.obstacles.active else None
         watch_minima = obstacles is not None and isinstance(segment.completion, GoalReached)
-        if obstacles is not None:
-            obstacles.start_goal()
-        position = meter.position
+        if self.obstacles is not None:
+            self.obstacles.start_goal()
+        supervisor.field_acting = False
+        # Looked up once: the loop below runs every servo tick. The arrays are live views,
+        # rewritten in place by the servo and the physics.
+        data = rt.plant.data
+        tick, check, judge = rt.tick, supervisor.check, monitor.check
+        wrench, torque, position = rt.wrench, rt.servo.torque, meter.position
+        snapshot = Snapshot(data.time, position, meter.rotation, rt.servo.last_velocity, wrench)
+        last_goal = len(goals) - 1
+        progress, progress_every = self.progress, self.progress_every
         while True:
             if obstacles is not None:
                 obstacles.before_tick()
-            rt.tick()
+            tick()
             ticks += 1
+            now = data.time
             if obstacles is not None:
                 for reason in obstacles.after_tick():
                     self._event("collision", segment, reason)
-                supervisor.field_acting = obstacles.active and bool(obstacles.field.influences)
+                supervisor.field_acting = bool(obstacles.field.influences)
             if self.stop_requested:
                 self.stop_requested = False
                 self.hold()
@@ -260,22 +268,22 @@ class Executor:
                 raise Interrupted(
                     f"{statement_head(segment.statement)} interrupted", segment.span, self._source
                 )
-            stop = supervisor.check(rt.time_s, rt.wrench, servo.torque, position)
+            stop = check(now, wrench, torque, position)
             if stop is not None:
                 if stop.kind is StopKind.PATH:  # off its line: say if a singularity is why
                     singular = singularity(rt.q, rt.evaluation.jacobian)
                     if singular is not None:
                         stop = replace(stop, message=f"{stop.message}; {singular}")
                 return Outcome(Verdict.FAILED, stop.message, stop)
-            snapshot = Snapshot(rt.time_s, position, meter.rotation, servo.last_velocity, rt.wrench)
-            if goal_index < len(goals) - 1:
+            snapshot.t_s = now
+            if goal_index < last_goal:
                 if float(np.linalg.norm(position - goals[goal_index][0])) < via_radius:
                     goal_index += 1
                     supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
                     rt.set_setpoint(
                         setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s)
                     )
-                outcome = monitor.check(snapshot, completion=False)
+                outcome = judge(snapshot, completion=False)
                 if outcome is not None:
                     return outcome
                 continue
@@ -285,19 +293,19 @@ class Executor:
                     head = statement_head(segment.statement)
                     return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
             if search is not None:
-                found = search.check(rt.time_s, position)
+                found = search.check(now, position)
                 if isinstance(found, Outcome):
                     return found
                 if found is not None:  # the lateral axes return to the INSERT's compliance
                     self._event("found", segment, found)
                     here = (position.copy(), meter.rotation.copy())
-                    rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, rt.time_s))
+                    rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now))
                     monitor.searching = search = None
-            outcome = monitor.check(snapshot)
+            outcome = judge(snapshot)
             if outcome is not None:
                 return outcome
-            if self.progress is not None and ticks % self.progress_every == 0:
-                self.progress(Progress(segment.line, segment.statement, rt.time_s))
+            if progress is not None and ticks % progress_every == 0:
+                progress(Progress(segment.line, segment.statement, now))
 
     def hold(self, duration_s: float = 0.0) -> None:
         """Hold the measured pose with every axis under position control (no force)."""

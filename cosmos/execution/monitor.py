@@ -71,9 +71,13 @@ class Outcome:
     stop: ProtectiveStop | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Snapshot:
     """What the monitor looks at in one tick (world axes).
+
+    Made once per segment: the arrays are live views of the runtime's and the
+    plant's buffers (rewritten in place every tick), and the executor sets
+    ``t_s`` each tick, so a tick allocates nothing to be judged.
 
     Attributes:
         t_s: Simulated time, in [s].
@@ -152,8 +156,23 @@ class SegmentMonitor:
         self._rotation_t = np.array(rotation).T
         self._motion = np.asarray(segment.motion_axes, dtype=bool)
         self._force_axes = ~self._motion
+        # The TIMEOUT in force: a CONTACT's bounds the search for the surface (language.md);
+        # once it touched, settling the force has its own bound (ForceSettled.max_time_s).
+        timeout = None if segment.kind is SegmentKind.CONTACT_HOLD else segment.timeout_s
+        if timeout is None and isinstance(segment.completion, UntilOnly):
+            timeout = MAX_DURATION_S  # WAIT UNTIL without TIMEOUT: bounded all the same
+        self._timeout_s = timeout
+        self._deadline_s = math.inf if timeout is None else statement_start_s + timeout - 1e-9
+        # A force-settled ending compares the force axes of the wrench in the task frame with
+        # their setpoints: one product per tick with the rows of diag(R^T, R^T) it needs.
+        rows = np.kron(np.eye(2), self._rotation_t)[self._force_axes]
+        self._force_rows = np.ascontiguousarray(rows)
+        self._force_goal = np.asarray(segment.force_setpoint, dtype=float)[self._force_axes]
         # An axis made a spring by COMPLY ... STIFFNESS settles where its spring and the
         # world balance, which need not be the goal: there a stall is an arrival.
+        direction = getattr(segment.completion, "direction_world", None)  # a touch's or a depth's
+        self._direction: tuple[float, ...] = (0.0,) * 3 if direction is None else tuple(direction.tolist())
+        self._start_xyz: tuple[float, ...] = tuple(np.asarray(start_position, dtype=float).tolist())
         self._sprung = any(
             stiffness is not None and stiffness > 0.0 and moving
             for stiffness, moving in zip(segment.stiffness, self._motion, strict=True)
@@ -168,8 +187,8 @@ class SegmentMonitor:
                 UNTIL and TIMEOUT are judged, reaching the goal is not.
         """
         seg = self.segment
-        force = snap.wrench[:3]
         if seg.until is not None:
+            force = snap.wrench[:3]
             distance = _norm3(snap.position - self.statement_start_position)
             if condition_holds(seg.until, force, snap.wrench[3:], distance):
                 measured = _measured(seg.until, force, snap.wrench[3:], distance)
@@ -179,13 +198,9 @@ class SegmentMonitor:
         done = self._completion(snap) if completion else None
         if done is not None:
             return done
-        # A CONTACT's TIMEOUT bounds the search for the surface (language.md); once it
-        # touched, settling the force has its own bound (ForceSettled.max_time_s).
-        timeout = None if seg.kind is SegmentKind.CONTACT_HOLD else seg.timeout_s
-        if timeout is None and isinstance(seg.completion, UntilOnly):
-            timeout = MAX_DURATION_S  # WAIT UNTIL without TIMEOUT: bounded all the same
-        if timeout is not None and snap.t_s - self.statement_start_s >= timeout:
-            return Outcome(Verdict.FAILED, self._timeout_reason(timeout))
+        if snap.t_s >= self._deadline_s and self._timeout_s is not None:
+            if snap.t_s - self.statement_start_s >= self._timeout_s:  # as written, to the tick
+                return Outcome(Verdict.FAILED, self._timeout_reason(self._timeout_s))
         return None
 
     def _timeout_reason(self, timeout_s: float) -> str:
@@ -198,25 +213,29 @@ class SegmentMonitor:
 
     def _completion(self, snap: Snapshot) -> Outcome | None:
         completion = self.segment.completion
-        elapsed = snap.t_s - self.start_s
         if isinstance(completion, GoalReached):
             return self._goal_reached(snap, completion)
         if isinstance(completion, ContactTouch):
-            push = float(snap.wrench[:3].dot(completion.direction_world))
-            if push > completion.threshold_n:
-                return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach")
-            travel = float((snap.position - self.start_position).dot(completion.direction_world))
-            if travel >= completion.max_travel_m - 1e-3:
-                return Outcome(
-                    Verdict.FAILED, f"found no contact within {completion.max_travel_m * 1e3:.0f} mm"
-                )
-            return None
+            return self._touch(snap, completion)
         if isinstance(completion, ForceSettled):
-            return self._force_settled(snap, completion, elapsed)
+            return self._force_settled(snap, completion, snap.t_s - self.start_s)
         if isinstance(completion, DepthReached):
             return self._depth(snap, completion)
         if isinstance(completion, Elapsed):
-            return Outcome(Verdict.DONE, "") if elapsed >= completion.duration_s else None
+            return Outcome(Verdict.DONE, "") if snap.t_s - self.start_s >= completion.duration_s else None
+        return None
+
+    def _touch(self, snap: Snapshot, completion: ContactTouch) -> Outcome | None:
+        dx, dy, dz = self._direction
+        fx, fy, fz = snap.wrench[:3].tolist()
+        push = fx * dx + fy * dy + fz * dz
+        if push > completion.threshold_n:
+            return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach")
+        x, y, z = snap.position.tolist()
+        x0, y0, z0 = self._start_xyz
+        travel = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
+        if travel >= completion.max_travel_m - 1e-3:
+            return Outcome(Verdict.FAILED, f"found no contact within {completion.max_travel_m * 1e3:.0f} mm")
         return None
 
     def _goal_reached(self, snap: Snapshot, goal: GoalReached) -> Outcome | None:
@@ -224,7 +243,8 @@ class SegmentMonitor:
         if timed is not None and snap.t_s < timed:
             return None
         self._ticks += 1
-        if _norm3(snap.velocity[:3]) > goal.speed_tolerance_mps and self._ticks % JUDGE_MOVING_EVERY:
+        speed = _norm3(snap.velocity[:3])
+        if speed > goal.speed_tolerance_mps and self._ticks % JUDGE_MOVING_EVERY:
             return None  # on its way: the error is judged now and then (stall, overrun)
         error = goal_error(snap.position, snap.rotation, self.goal_position, self.goal_rotation)
         r_t = self._rotation_t
@@ -232,7 +252,7 @@ class SegmentMonitor:
         rotation_error = r_t.dot(error.rotation_rad)[self._motion[3:]]
         # The error's length on the motion axes: "1 mm and 1 deg" as the reason reports them.
         arrived = (
-            _norm3(snap.velocity[:3]) <= goal.speed_tolerance_mps
+            speed <= goal.speed_tolerance_mps
             and float(np.linalg.norm(position_error)) <= goal.position_tolerance_m
             and float(np.linalg.norm(rotation_error)) <= goal.orientation_tolerance_rad
         )
@@ -280,10 +300,9 @@ class SegmentMonitor:
         )
 
     def _force_settled(self, snap: Snapshot, settled: ForceSettled, elapsed: float) -> Outcome | None:
-        r_t = self._rotation_t
-        wrench_task = np.concatenate((r_t.dot(snap.wrench[:3]), r_t.dot(snap.wrench[3:])))
-        error = (wrench_task - self.segment.force_setpoint)[self._force_axes]
-        if error.size == 0 or float(np.max(np.abs(error))) <= settled.tolerance_n:
+        error = self._force_rows.dot(snap.wrench) - self._force_goal
+        worst = max(map(abs, error.tolist()), default=0.0)
+        if worst <= settled.tolerance_n:
             if self._settled_since is None:
                 self._settled_since = snap.t_s
             if snap.t_s - self._settled_since >= settled.settle_time_s:
@@ -293,7 +312,6 @@ class SegmentMonitor:
         if elapsed >= settled.max_time_s:
             # Still pressing, but not steadily (a peg sliding down a chamfer, say): the
             # contact is held, so the statement succeeds and says so; lost, it fails.
-            worst = float(np.max(np.abs(error))) if error.size else 0.0
             setpoint = float(np.max(np.abs(self.segment.force_setpoint[self._force_axes])))
             if worst <= 0.5 * setpoint:
                 return Outcome(
@@ -305,7 +323,10 @@ class SegmentMonitor:
         return None
 
     def _depth(self, snap: Snapshot, depth: DepthReached) -> Outcome | None:
-        travelled = float((snap.position - self.start_position).dot(depth.direction_world))
+        dx, dy, dz = self._direction
+        x, y, z = snap.position.tolist()
+        x0, y0, z0 = self._start_xyz
+        travelled = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
         if travelled >= depth.depth_m:
             return Outcome(Verdict.DONE, f"depth {travelled * 1e3:.1f} mm reached")
         jam = self.segment.jam_check
