@@ -40,13 +40,14 @@ import mujoco
 import numpy as np
 
 from cosmos.errors import CosmosError
+from cosmos.lang.check.limits import MAX_OBSTACLES
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.plan import ObstacleShape
 from cosmos.plant import Plant
 from cosmos.workcell import SCENE_XML
 
-CAPACITY = 64
-"""Obstacles the workcell can hold at once."""
+CAPACITY = MAX_OBSTACLES
+"""Obstacles the workcell can hold at once (the checker refuses a program that adds more)."""
 DEFAULT_SLOTS = CAPACITY
 """The slots :func:`obstacle_scene_xml` makes unless told otherwise."""
 SWEEP_S = 0.1

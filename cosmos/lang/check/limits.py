@@ -36,6 +36,9 @@ MIN_SPEED_MPS = 1e-4
 """Slowest tool speed a program may ask [m/s] (0.1 mm/s)."""
 MAX_OBSTACLE_SPEED_MPS = 5.0
 """Fastest MOVING obstacle [m/s]."""
+MAX_OBSTACLES = 64
+"""Obstacles a program's scene may hold at once: the workcell's obstacle slots
+(:data:`cosmos.obstacles.scene.CAPACITY` is this number)."""
 MAX_ANGLE_RAD = 4.0 * math.pi
 """Largest angle a program may write [rad] (two turns)."""
 MAX_COUNT = 10_000

@@ -10,6 +10,7 @@ import numpy as np
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
+from cosmos.lang.check.limits import MAX_OBSTACLES
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.settings import _positive
 from cosmos.lang.compile.state import CompileState, frozen_map
@@ -27,6 +28,12 @@ def compile_obstacle(run: CompileContext, statement: ast.Obstacle, state: Compil
             f"an obstacle named '{statement.name.name}' is already in the scene "
             f"(line {first.line}); OBSTACLE REMOVE {statement.name.name} first",
             statement.name.span,
+        )
+    if len(state.obstacles) >= MAX_OBSTACLES:
+        raise ProgramError(
+            f"the workcell holds at most {MAX_OBSTACLES} obstacles at once, and "
+            f"{len(state.obstacles)} are in the scene here; OBSTACLE REMOVE one first",
+            statement.span,
         )
     clauses = {c.kind: c.value for c in statement.clauses if isinstance(c, ast.ValueClause)}
     at = evaluator.expect_position(clauses[ast.ClauseKind.AT], "AT")
