@@ -44,15 +44,10 @@ SUMMARY_WARNINGS = 20
 
 
 def load_fixtures() -> Mapping[str, FrameLike]:
-    """The workcell's fixture frames, or none if the workcell cannot be loaded."""
-    try:
-        from cosmos.workcell import fixture_frames
-    except ImportError:
-        return {}
-    frames = fixture_frames()
-    if isinstance(frames, Mapping):
-        return frames
-    return {frame.name: frame for frame in frames}
+    """The workcell's fixture frames (kept in the user cache: no simulator is loaded to check)."""
+    from cosmos.commands.fixture_cache import fixture_frames
+
+    return fixture_frames()
 
 
 def error_json(error: CosmosError) -> dict[str, Any]:

@@ -39,12 +39,10 @@ import numba
 from numba.core import config
 from numba.core.caching import CompileResultCacheImpl, FunctionCache, _CacheLocator
 from numba.core.runtime import nrt
-from numba.misc.appdirs import AppDirs
 
 from cosmos import __version__
-
-CACHE_ENV = "COSMOS_CACHE_DIR"
-"""Environment variable naming the directory kernels are cached in (instead of the user cache)."""
+from cosmos.user_cache import CACHE_ENV as CACHE_ENV
+from cosmos.user_cache import user_cache_root as user_cache_root
 
 KERNEL_IMPORT = "from cosmos.jit import kernel"
 """The line that makes a module a kernel module (its hash includes its imports' hashes)."""
@@ -67,14 +65,6 @@ def cache_key() -> str:
     """The part of the cache's path that a compiled kernel depends on besides its source."""
     python = f"py{sys.version_info[0]}{sys.version_info[1]}"
     return f"cosmos-{__version__}-numba-{numba.__version__}-{python}-{cpu_name()}".replace(os.sep, "_")
-
-
-def user_cache_root() -> Path:
-    """``$COSMOS_CACHE_DIR``, else the platform's user cache directory for cosmos."""
-    chosen = os.environ.get(CACHE_ENV)
-    if chosen:
-        return Path(chosen).expanduser()
-    return Path(AppDirs("cosmos", appauthor=False).user_cache_dir)
 
 
 def fallback_root() -> Path:
