@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import io
 import os
+import threading
 import weakref
 from pathlib import Path
 from typing import Any, BinaryIO
@@ -40,6 +41,7 @@ class LogSink(io.RawIOBase):
         self.reported = False  # whether check() has raised the error
         self._position = 0  # where the writer believes it is: the file's, until an error
         self._end = 0
+        self._syncing: threading.Thread | None = None
 
     def writable(self) -> bool:
         """Yes."""
@@ -83,12 +85,29 @@ class LogSink(io.RawIOBase):
         """Nothing to do: the file is unbuffered (:meth:`sync` puts it on disk)."""
 
     def sync(self) -> None:
-        """Ask the OS to put the written data on disk."""
+        """Ask the OS to put the data written so far on disk, beside the caller.
+
+        The ``fsync`` runs in a thread (it waits for the disk: milliseconds, which the
+        servo loop need not wait for); a sync still running is waited for first, and
+        :meth:`close` waits for the last. Its error is kept like a write error.
+        """
+        self.wait()
         if self.error is None:
-            try:
-                os.fsync(self._stream.fileno())
-            except OSError as error:
-                self.error = error
+            self._syncing = threading.Thread(target=self._fsync, name="cosmos-log-fsync", daemon=True)
+            self._syncing.start()
+
+    def _fsync(self) -> None:
+        try:
+            os.fsync(self._stream.fileno())
+        except (OSError, ValueError) as error:  # ValueError: closed under it (cannot happen: close waits)
+            if self.error is None:
+                self.error = error if isinstance(error, OSError) else OSError(str(error))
+
+    def wait(self) -> None:
+        """Wait until the last :meth:`sync` has put the data on disk."""
+        syncing, self._syncing = self._syncing, None
+        if syncing is not None:
+            syncing.join()
 
     def check(self) -> None:
         """Raise the first write error, if there was one.
@@ -103,6 +122,7 @@ class LogSink(io.RawIOBase):
     def close(self) -> None:
         """Close the file; an error closing it is kept like a write error."""
         if not self.closed:
+            self.wait()
             try:
                 self._stream.close()
             except OSError as error:

@@ -7,7 +7,8 @@ run, ``round(t * 1e9)``; ``t`` in a message is the same time in seconds.
 Durability: every :data:`FLUSH_EVERY_S` of simulated time (checked at each
 state sample) the chunk in progress is closed and handed to the operating
 system, so a run killed with SIGKILL loses at most that much; :meth:`RunLog.flush`
-(called by the executor at statement boundaries) does the same and also fsyncs.
+(called by the executor at statement boundaries) does the same and also fsyncs
+(in a thread beside the run: :meth:`cosmos.runlog.sink.LogSink.sync`).
 A run killed after a flush leaves a file that :func:`cosmos.runlog.read_log`
 reads up to that flush and :func:`cosmos.runlog.recover` completes.
 :meth:`RunLog.close` writes the summary and footer; leaving the ``with`` block
