@@ -12,6 +12,7 @@ while obstacles act on the arm is reported as a local minimum.
 from __future__ import annotations
 
 import mujoco
+import numpy as np
 
 from cosmos.errors import TaskFailure
 from cosmos.obstacles import (
@@ -61,7 +62,8 @@ class ObstacleWorld:
         self.log = log
         self.scene = ObstacleScene(runtime.plant)
         self.field = ObstacleField(runtime.robot)
-        runtime.fields.append(self.field)
+        # The field joins the runtime's parameter level with the first obstacle and leaves it
+        # with the last: a tick without obstacles costs what a bare tick costs.
         self.detector = LocalMinimumDetector()
         self._touching: set[tuple[str, str]] = set()
         self._ticks = 0
@@ -85,13 +87,25 @@ class ObstacleWorld:
                     step.span,
                 )
             self.field.add(obstacle)
+            self._attach_field()
             if self.log is not None:
                 self.log.scene(t_s, add=[primitive(obstacle, t_s)])
         else:
             self.scene.remove(step.name)
             self.field.remove(step.name)
+            self._attach_field()
             if self.log is not None:
                 self.log.scene(t_s, remove=[step.name])
+
+    def _attach_field(self) -> None:
+        """The field in the runtime's parameter level while any obstacle is in the scene."""
+        fields = self.runtime.fields
+        attached = any(field is self.field for field in fields)
+        if self.active and not attached:
+            fields.append(self.field)
+        elif not self.active and attached:
+            fields.remove(self.field)
+            self.runtime.servo.field_torque = np.zeros(6)  # nothing pushes any more
 
     def _overlap(self, name: str) -> str:
         """The arm's bodies the obstacle ``name`` overlaps where the arm is now ("" if none)."""
