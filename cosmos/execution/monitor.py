@@ -17,21 +17,16 @@ from enum import Enum
 import numpy as np
 
 from cosmos.execution.arrival import GoalError, goal_error
+from cosmos.execution.conditions import condition_text, measured_text
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.lang.check.limits import MAX_DURATION_S
 from cosmos.osc.orientation import unwrap_rotation_vector
 from cosmos.plan import (
-    AllOf,
-    AnyOf,
-    Comparison,
-    Condition,
     ContactTouch,
     DepthReached,
     Elapsed,
     ForceSettled,
     GoalReached,
-    LastOutcome,
-    Quantity,
     Segment,
     SegmentKind,
     UntilOnly,
@@ -170,6 +165,10 @@ class SegmentMonitor:
         self._force_goal = np.asarray(segment.force_setpoint, dtype=float)[self._force_axes]
         # An axis made a spring by COMPLY ... STIFFNESS settles where its spring and the
         # world balance, which need not be the goal: there a stall is an arrival.
+        # The goal point and the task frame's motion-controlled translation axes (rows of R^T), as
+        # floats: a slow tool off its goal point is told apart every tick at the cost of a few products.
+        self._goal_xyz: tuple[float, ...] = tuple(np.asarray(self.goal_position, dtype=float).tolist())
+        self._position_rows = [tuple(row) for row in self._rotation_t[self._motion[:3]].tolist()]
         direction = getattr(segment.completion, "direction_world", None)  # a touch's or a depth's
         self._direction: tuple[float, ...] = (0.0,) * 3 if direction is None else tuple(direction.tolist())
         self._start_xyz: tuple[float, ...] = tuple(np.asarray(start_position, dtype=float).tolist())
@@ -191,7 +190,7 @@ class SegmentMonitor:
             force = snap.wrench[:3]
             distance = _norm3(snap.position - self.statement_start_position)
             if condition_holds(seg.until, force, snap.wrench[3:], distance):
-                measured = _measured(seg.until, force, snap.wrench[3:], distance)
+                measured = measured_text(seg.until, force, snap.wrench[3:], distance)
                 return Outcome(
                     Verdict.STOPPED, f"UNTIL {condition_text(seg.until)}: {measured} at {snap.t_s:.2f} s"
                 )
@@ -244,8 +243,13 @@ class SegmentMonitor:
             return None
         self._ticks += 1
         speed = _norm3(snap.velocity[:3])
-        if speed > goal.speed_tolerance_mps and self._ticks % JUDGE_MOVING_EVERY:
-            return None  # on its way: the error is judged now and then (stall, overrun)
+        if self._ticks % JUDGE_MOVING_EVERY and (
+            speed > goal.speed_tolerance_mps or self._off_position(snap.position, goal.position_tolerance_m)
+        ):
+            # On its way, or slow but still off its goal point: not arrived (no settling starts);
+            # the whole error (orientation, stall, overrun) is judged now and then.
+            self._settled_since = None
+            return None
         error = goal_error(snap.position, snap.rotation, self.goal_position, self.goal_rotation)
         r_t = self._rotation_t
         position_error = r_t.dot(error.position_m)[self._motion[:3]]
@@ -279,6 +283,17 @@ class SegmentMonitor:
         self._turn = left
         progress = float(np.linalg.norm(position_error)) + STALL_ANGLE_SCALE_M * float(np.linalg.norm(left))
         return self._stalled(snap, progress, error)
+
+    def _off_position(self, position: FloatArray, tolerance_m: float) -> bool:
+        """Whether the tool point is beyond ``tolerance_m`` of its goal on the motion axes (as floats)."""
+        x, y, z = position.tolist()
+        gx, gy, gz = self._goal_xyz
+        ex, ey, ez = x - gx, y - gy, z - gz
+        total = 0.0
+        for ax, ay, az in self._position_rows:
+            component = ax * ex + ay * ey + az * ez
+            total += component * component
+        return total > tolerance_m * tolerance_m
 
     def _stalled(self, snap: Snapshot, distance_m: float, error: GoalError) -> Outcome | None:
         """A goal the arm stopped getting closer to: the measured error and the real cause.
@@ -344,51 +359,3 @@ class SegmentMonitor:
                     f"{jam.stall_time_s:g} s while pushing {push:.1f} N",
                 )
         return None
-
-
-_UNITS = {
-    Quantity.FORCE: (1.0, "N", 1),
-    Quantity.FORCE_ALONG: (1.0, "N", 1),
-    Quantity.TORQUE: (1.0, "N m", 2),
-    Quantity.TORQUE_ABOUT: (1.0, "N m", 2),
-    Quantity.DISTANCE: (1e3, "mm", 1),
-}
-
-
-def condition_text(condition: Condition) -> str:
-    """The condition as written: a comparison's own text, AND and OR in parentheses."""
-    if isinstance(condition, Comparison | LastOutcome):
-        return condition.text
-    joiner = " AND " if isinstance(condition, AllOf) else " OR "
-    return "(" + joiner.join(condition_text(term) for term in condition.terms) + ")"
-
-
-def _value(comparison: Comparison, force: FloatArray, torque: FloatArray, distance_m: float) -> float:
-    quantity = comparison.quantity
-    if quantity is Quantity.FORCE:
-        return _norm3(force)
-    if quantity is Quantity.TORQUE:
-        return _norm3(torque)
-    if quantity is Quantity.FORCE_ALONG:
-        return float(np.dot(force, comparison.direction_world))  # type: ignore[arg-type]
-    if quantity is Quantity.TORQUE_ABOUT:
-        return float(np.dot(torque, comparison.direction_world))  # type: ignore[arg-type]
-    return distance_m
-
-
-def _measured(condition: Condition, force: FloatArray, torque: FloatArray, distance_m: float) -> str:
-    """What each term of a condition measured: ``4.6 N``, or ``DISTANCE 20.3 mm, FORCE 0.4 N``."""
-    terms = _terms(condition)
-    parts = []
-    for term in terms:
-        scale, unit, digits = _UNITS[term.quantity]
-        value = f"{_value(term, force, torque, distance_m) * scale:.{digits}f} {unit}"
-        parts.append(value if len(terms) == 1 else f"{term.text.partition(term.op.value)[0].strip()} {value}")
-    return ", ".join(parts)
-
-
-def _terms(condition: Condition) -> list[Comparison]:
-    if isinstance(condition, Comparison):
-        return [condition]
-    assert isinstance(condition, AllOf | AnyOf)
-    return [leaf for term in condition.terms for leaf in _terms(term)]
