@@ -92,11 +92,14 @@ def run(
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
     from cosmos.commands.run import Pace, run_program
-    from cosmos.commands.sweep import variation_for_run
     from cosmos.runtime.rates import Rates
 
     rates = Rates.chosen(servo_hz or None, param_hz or None)
-    variation = variation_for_run(program, vary, sample, seed)
+    variation = None
+    if vary or sample is not None:  # the sweep's modules only when a run is varied
+        from cosmos.commands.sweep import variation_for_run
+
+        variation = variation_for_run(program, vary, sample, seed)
     paced = live or realtime or rate is not None
     pace = Pace(rate or 1.0, port if live else None) if paced else None
     _finish(run_program(program, log_path, rates, seed, force, variation, ros2=ros2, pace=pace))

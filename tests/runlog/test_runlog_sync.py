@@ -44,7 +44,7 @@ def test_a_sync_after_a_sync_waits_for_the_first(tmp_path: Path) -> None:
 def test_a_run_imports_neither_the_reader_nor_the_plotting() -> None:
     """Catches `cosmos run` importing what only replay and the REPL use (start-up time, issue 20)."""
     code = (
-        "import sys, cosmos.commands.run, cosmos.execution.session; "
+        "import sys, cosmos.cli, cosmos.commands.run, cosmos.execution.session; "
         "print(sorted(m for m in ('cosmos.runlog.reader', 'cosmos.runlog.recover', 'mcap.reader', "
         "'matplotlib', 'prompt_toolkit', 'pandas') if m in sys.modules))"
     )
