@@ -54,6 +54,18 @@ def test_executor_run_counts_the_servo_ticks_of_the_program(tmp_path: Path) -> N
     assert run.real_time_factor == run.simulated_s / run.wall_s
 
 
+def test_executor_share_is_measured_inside_the_same_run(tmp_path: Path) -> None:
+    """Catches the executor's own share measured against a tick that never ran in it (runtime time 0,
+    or more than the loop's whole time): the runtime's ticks are timed inside the executor's loop."""
+    program = tmp_path / "move.cos"
+    program.write_text("MOVE BY (0, 0, 10 mm) SPEED 0.1 m/s\n")
+    run = executor_run(program)
+    assert run.ok
+    assert 0.0 < run.runtime_s < run.wall_s
+    assert run.to_runtime_tick == run.wall_s / run.runtime_s > 1.0
+    assert run.runtime_tick_us == run.runtime_s / run.ticks * 1e6
+
+
 def test_obstacle_bench_compares_against_a_bare_tick() -> None:
     """The ratios are to the bare controller (no slots, no field), and the ten obstacles really act on
     the arm (some within the influence distance) while none is near with no obstacle."""
