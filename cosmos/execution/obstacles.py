@@ -105,7 +105,8 @@ class ObstacleWorld:
             fields.append(self.field)
         elif not self.active and attached:
             fields.remove(self.field)
-            self.runtime.servo.field_torque = np.zeros(6)  # nothing pushes any more
+            servo = self.runtime.servo
+            servo.field_torque = np.zeros_like(servo.field_torque)  # nothing pushes any more
 
     def _overlap(self, name: str) -> str:
         """The arm's bodies the obstacle ``name`` overlaps where the arm is now ("" if none)."""

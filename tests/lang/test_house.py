@@ -19,7 +19,8 @@ PACKAGE = Path(__file__).parents[2] / "cosmos"
 
 LAYERS: list[tuple[str, ...]] = [
     # bottom first: a module may import from its own layer and the layers below it
-    ("cosmos.errors", "cosmos.osc", "cosmos.jit"),  # jit: the numba decorator every kernel uses
+    # jit: the numba decorator every kernel uses; user_cache: where it and cosmos check keep files
+    ("cosmos.errors", "cosmos.osc", "cosmos.jit", "cosmos.user_cache"),
     ("cosmos.rotations", "cosmos.capabilities"),
     ("cosmos.plan",),  # the contract between the language and the executor
     # the language, stage by stage (its vocabulary first, its facade last)
