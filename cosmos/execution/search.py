@@ -16,6 +16,7 @@ the INSERT goes on. A pattern run to its end, and :data:`SETTLE_S` beyond, fails
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -53,6 +54,10 @@ class SearchPhase:
         self.start_s = start_s
         self.start_position = np.array(position)
         self._farthest_m = 0.0
+        # As floats: :meth:`check` runs every servo tick.
+        self._start_xyz = tuple(self.start_position.tolist())
+        self._direction_xyz = tuple(np.asarray(self._direction, dtype=float).tolist())
+        self._lateral_columns = [tuple(column) for column in lateral.T.tolist()]
 
     def setpoint(self, base: ServoSetpoint) -> ServoSetpoint:
         """The INSERT's setpoint with its lateral translations tracking the pattern."""
@@ -69,9 +74,12 @@ class SearchPhase:
 
     def check(self, t_s: float, position: FloatArray) -> Outcome | str | None:
         """``None`` while searching; the found message once found; a failure at the pattern's end."""
-        moved = position - self.start_position
-        depth = float(moved.dot(self._direction))
-        across = float(np.linalg.norm(moved.dot(self._lateral)))
+        x, y, z = position.tolist()
+        x0, y0, z0 = self._start_xyz
+        mx, my, mz = x - x0, y - y0, z - z0
+        dx, dy, dz = self._direction_xyz
+        depth = mx * dx + my * dy + mz * dz
+        across = math.sqrt(sum((ax * mx + ay * my + az * mz) ** 2 for ax, ay, az in self._lateral_columns))
         self._farthest_m = max(self._farthest_m, across)
         elapsed = t_s - self.start_s
         if depth >= self.search.found_depth_m:
