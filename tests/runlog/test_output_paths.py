@@ -186,7 +186,8 @@ def test_a_write_that_fails_during_the_run_is_one_line_and_no_panic(tmp_path: Pa
 
 def test_sigterm_during_shutdown_still_ends_with_a_complete_log_and_exit_143(tmp_path: Path) -> None:
     """Catches signals restored to their default as soon as the run stops: a SIGTERM landing while
-    the log was being closed ended the process with -15 and a log without its footer."""
+    the log was being closed ended the process with -15, a log without its footer and no "log:"
+    line."""
     import signal
     import threading
     import time
@@ -225,9 +226,12 @@ def test_sigterm_during_shutdown_still_ends_with_a_complete_log_and_exit_143(tmp
     reader.join(timeout=10)
     assert child.stderr is not None
     stderr = child.stderr.read()
-    assert child.returncode == 128 + signal.SIGTERM, (child.returncode, sent, stderr)  # 143, not -15
+    assert lines == [f"log: {log}\n"]  # the log was closed and named before any exit
+    # 143 from the run's own status; -15 only from a signal sent after "log:" was printed and the
+    # handlers restored (the reader thread notices the line a little late), which a shell also
+    # reports as 143 and which can no longer cut the log.
+    assert child.returncode in (128 + signal.SIGTERM, -signal.SIGTERM), (child.returncode, sent, stderr)
     assert "interrupted" in stderr and "Traceback" not in stderr
-    assert lines == [f"log: {log}\n"]
     record = read_log(log)
     assert not record.truncated
     last = record.events[-1]
