@@ -399,6 +399,25 @@ class Search:
     found_depth_m: float
 
 
+NAMED_POSTURES = ("home",)
+"""Joint configurations a POSTURE may name; the executor takes them from the arm (``home``: its keyframe)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Posture:
+    """The joint configuration the null space returns the arm to (POSTURE; seed section 4).
+
+    Attributes:
+        joints_rad: The joint angles written [rad], or None for a named pose.
+        name: The named pose (one of :data:`NAMED_POSTURES`), or None.
+        span: The POSTURE statement (the executor names it when the arm cannot take the pose).
+    """
+
+    joints_rad: tuple[float, ...] | None
+    name: str | None
+    span: Span
+
+
 @dataclass(frozen=True, eq=False)
 class Segment:
     """One control law held until completion, a stop condition, a timeout or a failure.
@@ -441,6 +460,9 @@ class Segment:
         force_limit_n: The protective stop's force limit in free motion set by the last
             ``LIMIT FORCE`` [N]; None for the executor's default.
         search: INSERT only: the search for the hole before inserting, or None.
+        orientation_free: MOVE and WAIT under ORIENTATION FREE: the task controls the
+            tool point only, the orientation is left to the null space (seed section 4).
+        posture: The POSTURE in force (the null space returns the arm to it), or None.
     """
 
     index: int
@@ -467,6 +489,8 @@ class Segment:
     jam_check: JamCheck | None
     force_limit_n: float | None = None
     search: Search | None = None
+    orientation_free: bool = False
+    posture: Posture | None = None
 
     @property
     def force_axes(self) -> BoolArray:
@@ -773,6 +797,13 @@ def segment_to_json(segment: Segment) -> dict[str, Any]:
             "lateral_axes": list(segment.search.lateral_axes),
             "speed": segment.search.speed_mps,
             "found_depth": segment.search.found_depth_m,
+        },
+        "orientation_free": segment.orientation_free,
+        "posture": None
+        if segment.posture is None
+        else {
+            "name": segment.posture.name,
+            "joints": None if segment.posture.joints_rad is None else list(segment.posture.joints_rad),
         },
     }
 

@@ -23,6 +23,7 @@ import numpy as np
 from cosmos.errors import TaskFailure
 from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, singularity, stall_cause
 from cosmos.execution.expected import FREE_MOTION_FORCE_N
+from cosmos.execution.field_on_tool import FieldOnToolWatch
 from cosmos.execution.monitor import (
     Outcome,
     SegmentMonitor,
@@ -33,7 +34,7 @@ from cosmos.execution.monitor import (
 )
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
-from cosmos.execution.resolve import effective_masses, goal_pose, setpoint_for
+from cosmos.execution.resolve import effective_masses, goal_pose, posture_joints, setpoint_for
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
 from cosmos.execution.walker import PlanWalker, Senses
@@ -52,6 +53,7 @@ from cosmos.plan import (
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+from cosmos.workcell import HOME_Q
 
 HOLD_AFTER_FAILURE_S = 0.3
 """After a failure the arm holds its pose this long before the run ends [s]."""
@@ -195,6 +197,12 @@ class Executor:
         start_position, start_rotation = meter.position.copy(), meter.rotation.copy()
         goals = [goal_pose(via, start_position, start_rotation) for via in segment.via]
         goals.append(goal_pose(segment.target, start_position, start_rotation))
+        if segment.orientation_free:  # the orientation is the null space's (seed section 4)
+            goals = [(position, start_rotation.copy()) for position, _ in goals]
+        robot = rt.robot
+        posture, problem = posture_joints(segment.posture, HOME_Q, robot.q_lower_rad, robot.q_upper_rad)
+        if problem:
+            return Outcome(Verdict.FAILED, problem)
         if isinstance(segment.target, AbsoluteTarget):
             beyond = out_of_reach(*goals[-1])
             if beyond is not None:
@@ -205,7 +213,7 @@ class Executor:
             if infeasible is not None:
                 return Outcome(Verdict.FAILED, infeasible)
         goal_index = 0
-        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s)
+        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture)
         search = search_phase(segment, start_s, start_position, start_rotation)  # INSERT ... SEARCH
         if search is not None:
             setpoint = search.setpoint(setpoint)
@@ -213,7 +221,6 @@ class Executor:
         self._log_segment(segment, setpoint)
         trajectory = setpoint.trajectory
         timed_until = None if trajectory is None or search else start_s + trajectory.duration_s
-        robot = rt.robot
 
         def cause() -> str:
             final_position, final_rotation = goals[-1]
@@ -251,6 +258,11 @@ class Executor:
         snapshot = Snapshot(data.time, position, meter.rotation, rt.servo.last_velocity, wrench)
         last_goal = len(goals) - 1
         progress, progress_every = self.progress, self.progress_every
+        field_watch = FieldOnToolWatch()
+
+        def deviation() -> float:
+            return supervisor.path_deviation_m(position)
+
         while True:
             if obstacles is not None:
                 obstacles.before_tick()
@@ -261,6 +273,9 @@ class Executor:
                 for reason in obstacles.after_tick():
                     self._event("collision", segment, reason)
                 supervisor.field_acting = bool(obstacles.field.influences)
+                reason = field_watch.update(rt.servo.null_space, rt.servo.link_field, deviation)
+                if reason:
+                    self._event("field_on_tool", segment, reason)
             if self.stop_requested:
                 self.stop_requested = False
                 self.hold()
@@ -281,7 +296,7 @@ class Executor:
                     goal_index += 1
                     supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
                     rt.set_setpoint(
-                        setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s)
+                        setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s, posture)
                     )
                 outcome = judge(snapshot, completion=False)
                 if outcome is not None:
@@ -299,7 +314,7 @@ class Executor:
                 if found is not None:  # the lateral axes return to the INSERT's compliance
                     self._event("found", segment, found)
                     here = (position.copy(), meter.rotation.copy())
-                    rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now))
+                    rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture))
                     monitor.searching = search = None
             outcome = judge(snapshot)
             if outcome is not None:

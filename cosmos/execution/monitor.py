@@ -149,7 +149,9 @@ class SegmentMonitor:
         """An INSERT's search still under way (cosmos.execution.search): no jam check meanwhile."""
         rotation = segment.frame_rotation
         self._rotation_t = np.array(rotation).T
-        self._motion = np.asarray(segment.motion_axes, dtype=bool)
+        self._motion = np.array(segment.motion_axes, dtype=bool)
+        if segment.orientation_free:  # ORIENTATION FREE: the orientation is not the goal's
+            self._motion[3:] = False
         self._force_axes = ~self._motion
         # The TIMEOUT in force: a CONTACT's bounds the search for the surface (language.md);
         # once it touched, settling the force has its own bound (ForceSettled.max_time_s).
@@ -275,7 +277,7 @@ class SegmentMonitor:
             )
         # Turning the long way round (cosmos.runtime.rotation_plan) the shortest angle first
         # grows: progress counts the rotation left the way the arm turns (kept continuous).
-        left = error.rotation_rad
+        left = error.rotation_rad if self._motion[3:].any() else np.zeros(3)
         if self._turn is not None:
             left = unwrap_rotation_vector(left, self._turn)
         elif self.turn_long_way and float(np.linalg.norm(left)) > 1e-3:

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from cosmos.osc.motion import PoseTrajectory
-from cosmos.plan import RelativeTarget, Segment, SegmentKind, Target
+from cosmos.plan import Posture, RelativeTarget, Segment, SegmentKind, Target
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.setpoint import (
     DEFAULT_KP,
@@ -43,6 +43,39 @@ def goal_pose(
         return position + target.offset_world, rotation.copy()
     goal_rotation = rotation.copy() if target.rotation_world is None else target.rotation_world
     return np.array(target.position_world), np.array(goal_rotation)
+
+
+def posture_joints(
+    posture: Posture | None, home_q: FloatArray, q_lower: FloatArray, q_upper: FloatArray
+) -> tuple[FloatArray | None, str]:
+    """A POSTURE's joint angles for this arm, or the reason the arm cannot take it.
+
+    Args:
+        posture: The segment's POSTURE, or None.
+        home_q: The arm's ``home`` configuration, in [rad]. # (n,)
+        q_lower: Lower joint limits, in [rad]. # (n,)
+        q_upper: Upper joint limits, in [rad]. # (n,)
+
+    Returns:
+        ``(angles, "")``; ``(None, "")`` without a posture; ``(None, reason)`` when the
+        arm cannot take it (the number of joints, a joint beyond its limit).
+    """
+    if posture is None:
+        return None, ""
+    q = np.array(home_q if posture.joints_rad is None else posture.joints_rad, dtype=float)
+    if q.shape != home_q.shape:
+        return (
+            None,
+            f"the POSTURE of line {posture.span.line} gives {q.size} joint angles; the arm has {home_q.size}",
+        )
+    for j in range(q.size):
+        if not q_lower[j] <= q[j] <= q_upper[j]:
+            return None, (
+                f"the POSTURE of line {posture.span.line} puts joint {j + 1} at "
+                f"{math.degrees(q[j]):.1f} deg, beyond its range "
+                f"{math.degrees(q_lower[j]):.0f}..{math.degrees(q_upper[j]):.0f} deg"
+            )
+    return q, ""
 
 
 def effective_masses(evaluation: Evaluation, rotation_task_to_world: FloatArray) -> FloatArray:
@@ -86,8 +119,9 @@ def setpoint_for(
     evaluation: Evaluation,
     wrench_world: FloatArray,
     start_s: float,
+    posture_rad: FloatArray | None = None,
 ) -> ServoSetpoint:
-    """The servo setpoint that executes ``segment`` toward the given goal pose."""
+    """The servo setpoint that executes ``segment`` toward the given goal pose (and POSTURE, if any)."""
     kp, kv = axis_gains(segment, evaluation)
     trajectory = None
     duration_s = segment.duration_s
@@ -126,4 +160,6 @@ def setpoint_for(
         kv_task=kv,
         trajectory=trajectory,
         limit_push_speed=segment.kind is SegmentKind.INSERT,
+        orientation_free=segment.orientation_free,
+        posture_rad=posture_rad,
     )

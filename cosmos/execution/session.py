@@ -16,8 +16,9 @@ from cosmos.plant import Plant, SensorNoise
 from cosmos.robot_model import build_robot_model
 from cosmos.runlog.arm_scene import arm_entities
 from cosmos.runlog.writer import RunLog
-from cosmos.runtime.loop import Runtime
+from cosmos.runtime.loop import DEFAULT_GAINS, Runtime
 from cosmos.runtime.rates import Rates
+from cosmos.runtime.servo import ServoGains
 from cosmos.workcell import JOINT_NAMES, SCENE_XML
 
 MODEL_NAME = "PUMA 560 (Corke & Armstrong-Helouvry 1994) in the cosmos workcell"
@@ -44,6 +45,7 @@ class Session:
         variation: A sweep's changes to the real workcell (the program's frames stay nominal);
             its noise seed replaces ``seed``; recorded in the log's metadata.
         ros2: Also log the ROS 2 channels (joint states, wrench, transforms).
+        gains: The servo's gains (tests: the null-space damping off).
     """
 
     def __init__(
@@ -56,6 +58,7 @@ class Session:
         progress: ProgressCallback | None = None,
         variation: Variation | None = None,
         ros2: bool = False,
+        gains: ServoGains = DEFAULT_GAINS,
     ):
         noise, edit, varied = SensorNoise(seed), None, {}
         if variation is not None:
@@ -63,7 +66,7 @@ class Session:
             seed = noise.seed
             varied = {"variation": variation.arguments()}
         self.plant = Plant(obstacle_scene_xml(), noise, edit)
-        self.runtime = Runtime(self.plant, build_robot_model(), rates)
+        self.runtime = Runtime(self.plant, build_robot_model(), rates, gains)
         self.log = RunLog(
             log_path,
             program=program,

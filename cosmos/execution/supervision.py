@@ -221,6 +221,10 @@ class Supervisor:
             float(line @ line),
         )
 
+    def path_deviation_m(self, position: FloatArray) -> float:
+        """The tool point's distance from the segment's commanded line (as the PATH stop measures it) [m]."""
+        return off_line(position.tolist(), *self._line, self._path_axes)
+
     # ------------------------------------------------------------------ ticks
 
     def check(

@@ -1,10 +1,9 @@
 """The syntax tree of a COSMOS program: frozen dataclasses, each with its source span.
 
-The tree stays close to the text: numbers keep the unit as written, names keep
-their spelling (lookups fold case), and clauses keep their order. Meaning
-(units, frames, selection axes) is given by the compiler. This module holds the
-statements and their clauses; the parts they are made of (expressions, names,
-directions, conditions) are in :mod:`cosmos.lang.expressions` and are named here too.
+The tree stays close to the text: numbers keep the unit as written, names keep their spelling
+(lookups fold case), clauses keep their order; the compiler gives meaning (units, frames, axes).
+The parts of statements (expressions, names, directions, conditions) are in
+:mod:`cosmos.lang.expressions`, the null-space statements in :mod:`cosmos.lang.ast_null_space`.
 """
 
 from __future__ import annotations
@@ -13,6 +12,7 @@ import enum
 from dataclasses import dataclass
 
 from cosmos.errors import Span
+from cosmos.lang.ast_null_space import SetOrientation, SetPosture
 from cosmos.lang.expressions import (
     AllOf,
     AnyOf,
@@ -72,6 +72,8 @@ __all__ = [  # the statements and clauses here, and the parts of cosmos.lang.exp
     "Retry",
     "Sensed",
     "SetLimit",
+    "SetOrientation",
+    "SetPosture",
     "SetSpeed",
     "Shape",
     "Slide",
@@ -323,11 +325,7 @@ class Call:
 
 @dataclass(frozen=True)
 class IfBlock:
-    """``IF condition [IN frame]`` ... [``ELSE`` ...] ``END``; ``span`` covers the header line.
-
-    Attributes:
-        else_span: The ELSE keyword, None without an ELSE.
-    """
+    """``IF c [IN frame]`` ... [``ELSE`` ...] ``END``; ``span``: the header, ``else_span``: ELSE or None."""
 
     condition: Condition
     clauses: tuple[Clause, ...]
@@ -380,6 +378,8 @@ Statement = (
     | FrameDef
     | SetSpeed
     | SetLimit
+    | SetOrientation
+    | SetPosture
     | Wait
     | ProcDef
     | Repeat

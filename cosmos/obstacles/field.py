@@ -36,6 +36,7 @@ the readable reference. docs/obstacles.md has the figures.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -127,6 +128,8 @@ class ObstacleField:
         self._speed_bound = 0.0
         self._evaluated_s = -np.inf
         self._torque = np.zeros(6)
+        self._link_torque = np.zeros(6)
+        self._nearest = np.full(fk.NEAREST, np.inf)
         self._acting = np.zeros((0, fk.ACTING))  # per obstacle at the last evaluation (ACTING_*)
         self._influences: tuple[Influence, ...] | None = ()
 
@@ -155,6 +158,19 @@ class ObstacleField:
                 if flag
             )
         return self._influences
+
+    @property
+    def link_torque(self) -> FloatArray:
+        """The part of the last :meth:`torque` from every link but the tool's, in [N m]. # (6,)."""
+        return self._link_torque
+
+    @property
+    def nearest_link(self) -> tuple[float, str, str]:
+        """Of the links but the tool's, the nearest to an obstacle: distance [m] (inf: none), link, name."""
+        distance, link, obstacle = self._nearest.tolist()
+        if not math.isfinite(distance) or self._geometry is None:
+            return math.inf, "", ""
+        return distance, LINK_BODIES[int(link)], self._geometry.obstacles[int(obstacle)].name
 
     @property
     def obstacles(self) -> tuple[Obstacle, ...]:
@@ -191,6 +207,8 @@ class ObstacleField:
             return self._torque
         self._evaluated_s = t_s
         torque = self._torque = np.zeros(6)
+        link_torque = self._link_torque = np.zeros(6)
+        self._nearest[:] = np.inf
         geometry = self._geometry
         if geometry is None:
             if not self._obstacles:
@@ -209,7 +227,7 @@ class ObstacleField:
         self._influences = None
         if not measuring:  # one compiled call: kinematics, estimate, torques
             speed = geometry.estimated_torque(
-                torque, self._acting, self._chain, q, qd, frames, parameters, t_s
+                torque, link_torque, self._nearest, self._acting, self._chain, q, qd, frames, parameters, t_s
             )
             self._speed_bound = max(self._speed_bound, speed + self._obstacle_speed)
             return torque
@@ -218,7 +236,15 @@ class ObstacleField:
         count = geometry.measure(frames, t_s, max(self._speed_bound, speed))
         self._speed_bound = speed
         fk.field_torque_into(
-            torque, self._acting, geometry.approaches, count, frames, geometry.table, parameters
+            torque,
+            link_torque,
+            self._nearest,
+            self._acting,
+            geometry.approaches,
+            count,
+            frames,
+            geometry.table,
+            parameters,
         )
         return torque
 

@@ -177,6 +177,8 @@ class ProximityModel:
     def estimated_torque(
         self,
         torque: FloatArray,
+        link_torque: FloatArray,
+        nearest: FloatArray,
         acting: FloatArray,
         chain: FloatArray,
         q: FloatArray,
@@ -189,6 +191,8 @@ class ProximityModel:
 
         Args:
             torque: Written: the field's joint torques, in [N m]. # (6,)
+            link_torque: Written: their part from every link but the tool's, in [N m]. # (6,)
+            nearest: Written: those links' nearest approach (``NEAREST_*``). # (NEAREST,)
             acting: Written: per obstacle, whether and how it acted (``ACTING_*``). # (k, ACTING)
             chain: The arm's chain (``CHAIN_*`` of :mod:`cosmos.obstacles.kernels.field`). # (6, CHAIN)
             q: Joint angles, in [rad]. # (6,)
@@ -203,6 +207,8 @@ class ProximityModel:
         return float(
             gk.estimated_torque_into(
                 torque,
+                link_torque,
+                nearest,
                 acting,
                 frames,
                 chain,

@@ -70,6 +70,8 @@ class EventKind(StrEnum):
     """A RETRY runs its TRY block again."""
     FOUND = "found"
     """An INSERT's SEARCH found the hole: where, when, and the INSERT goes on."""
+    FIELD_ON_TOOL = "field_on_tool"
+    """A link's obstacle field reaches the tool although the task leaves a null space (and ends)."""
 
 
 OUTCOME_KINDS: Final = frozenset(("done", "stopped", "failed", "interrupted"))

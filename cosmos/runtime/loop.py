@@ -14,14 +14,17 @@ sensed on its own.
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Protocol
 
 import numpy as np
 
+from cosmos.obstacles import ObstacleField
 from cosmos.plant import Plant
 from cosmos.robot_model import GRAVITY, RobotModel
 from cosmos.runtime.kernels.commands import environment_wrench_into
+from cosmos.runtime.null_space import LinkField
 from cosmos.runtime.parameters import ParameterLevel
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.rotation_plan import RotationPlan, plan_rotation
@@ -150,13 +153,19 @@ class Runtime:
         return self.servo.wrench
 
     def _evaluate_fields(self, now: float) -> None:
+        """The fields' torques, the obstacle field's split by link (the servo projects the links')."""
         if not self.fields:
             return
         torque = np.zeros(6)
+        links = np.zeros(6)
+        nearest: tuple[float, str, str] = (math.inf, "", "")
         live = self._live
         for field in self.fields:
             torque += field.torque(live.positions, live.velocities, now)
-        self.servo.field_torque = torque
+            if isinstance(field, ObstacleField):
+                links += field.link_torque
+                nearest = min(nearest, field.nearest_link)
+        self.servo.link_field = LinkField(torque - links, links, *nearest)
 
     @property
     def time_s(self) -> float:

@@ -7,12 +7,11 @@ F*_m (eq. 19 or 20-21) on the motion-controlled axes and the active force
 command on the force-controlled ones (setpoint fed forward, PI on the force
 error, velocity damping; on force-controlled moment axes, once in contact,
 admittance control: the moment error sets a rotation speed that a velocity
-servo tracks), and maps them to joint torques with the folded
-matrices of eq. 29, adding the null-space damping of eq. 34, the joint-limit
-potential of section 6 and friction compensation, saturated to the drives.
-
-The arithmetic is compiled (:mod:`cosmos.runtime.kernels.servo`,
-:mod:`cosmos.runtime.kernels.parameter`); this class keeps the buffers it works in.
+servo tracks), and maps them to joint torques with the folded matrices of eq. 29,
+adding the null-space damping of eq. 34, the potentials of section 6 and the posture
+(through the task's null space where it has one: :mod:`cosmos.runtime.null_space`) and
+friction compensation, saturated to the drives. The arithmetic is compiled
+(:mod:`cosmos.runtime.kernels.servo`, :mod:`cosmos.runtime.kernels.parameter`).
 """
 
 from __future__ import annotations
@@ -23,11 +22,14 @@ import numpy as np
 
 from cosmos.osc.dynamics import DEFAULT_POLICY, SingularityPolicy
 from cosmos.osc.force import Selection, selection
+from cosmos.osc.null_space import DEFAULT_ABSORPTION, AbsorptionPolicy
 from cosmos.osc.orientation import pose_error
 from cosmos.osc.unified import ForceGains
 from cosmos.plant import LiveSignals
 from cosmos.runtime.kernels import servo as kernel
+from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
 from cosmos.runtime.kernels.parameter import refold
+from cosmos.runtime.null_space import LinkField, NullSpaceTerms
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -67,6 +69,8 @@ class ServoGains:
             ``kp kv`` (16,000 at the defaults), the third-order loop's stability bound.
         motion_integral_limit_ms: Anti-windup bound on that integral, per axis, in [m s]
             (``motion_ki`` times it, 8 m/s^2, is the most it adds to F*).
+        posture_kp: Unit-mass joint stiffness of the POSTURE task in the null space, in
+            [1/s^2]: ``xi_q^2 / 4``, critically damped by the null-space damping.
     """
 
     force: ForceGains = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
@@ -85,6 +89,7 @@ class ServoGains:
     push_speed_aim: float = 0.93
     motion_ki: float = 2000.0
     motion_integral_limit_ms: float = 0.004
+    posture_kp: float = 100.0
 
 
 LIMIT_PROJECTION_MARGIN_RAD = 0.30
@@ -110,6 +115,7 @@ class ServoLevel:
         tool_weight_z_n: float,
         policy: SingularityPolicy = DEFAULT_POLICY,
         joint_limits: tuple[FloatArray, FloatArray] | None = None,
+        absorption: AbsorptionPolicy = DEFAULT_ABSORPTION,
     ):
         """Set up the buffers.
 
@@ -124,6 +130,7 @@ class ServoLevel:
             joint_limits: Lower and upper joint limits, in [rad]: a joint within
                 LIMIT_PROJECTION_MARGIN_RAD of one that the goal drives it into gives up
                 the rotation that needs it (cosmos.osc.limits.joint_limit_task_projection).
+            absorption: When the potentials act through the task's null space only.
         """
         self.gains = gains
         self._fold_constants = np.array(
@@ -179,7 +186,9 @@ class ServoLevel:
         self._evaluation: Evaluation | None = None
         self._selection: Selection | None = None  # as the plan says
         self._servo_selection: Selection | None = None  # moment axes counted as motion (admittance)
-        self._field_torque = np.zeros(6)
+        self._field = LinkField(np.zeros(len(torque_limits)), np.zeros(len(torque_limits)))
+        self._null_space = NullSpaceTerms(gains.posture_kp, absorption)
+        self._held_applied = self._field.tool  # the held torque inside the stacked column 18
         # (6, 25): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
         self._stacked = workspace[kernel.W_STACKED : kernel.W_STATE].reshape((6, 25))
@@ -221,13 +230,44 @@ class ServoLevel:
 
     @property
     def field_torque(self) -> FloatArray:
-        """Joint torques of the potential fields (obstacles), held between evaluations."""
-        return self._field_torque
+        """Joint torques of the potential fields (obstacles), held between evaluations, as computed."""
+        return self._field.tool + self._field.links
 
     @field_torque.setter
     def field_torque(self, torque: FloatArray) -> None:
-        self._stacked[:, 18] += torque - self._field_torque
-        self._field_torque = torque
+        self.link_field = LinkField(torque, np.zeros_like(torque))
+
+    @property
+    def link_field(self) -> LinkField:
+        """The obstacle field split into the tool's link and the others (cosmos.runtime.null_space)."""
+        return self._field
+
+    @link_field.setter
+    def link_field(self, field: LinkField) -> None:
+        self._field = field
+        self._replace_held()
+
+    @property
+    def null_space(self) -> NullSpaceTerms:
+        """The null space's dimension and the links' share reaching the tool, at the last evaluation."""
+        return self._null_space
+
+    @property
+    def null_space_t(self) -> FloatArray:
+        """``N^T = I - J^T Jbar^T`` of the task at the last evaluation (eq. 28, 34). # (n, n)."""
+        return self._matrices[kernel.NULL_SPACE_T]
+
+    def _replace_held(self) -> None:
+        """Put the potentials (and the posture) into the held column, through the null space if any."""
+        ev, sp, field = self._evaluation, self._setpoint, self._field
+        held = field.tool + field.links + (0.0 if ev is None else ev.joint_limit_torque)
+        if ev is not None and sp is not None:
+            limits, margin = ev.joint_limit_torque, float(ev.values[LIMIT_MARGIN])
+            nst, posture = self.null_space_t, sp.posture_rad
+            shaped = self._null_space.held_torque(nst, ev.inertia, ev.q, limits, margin, field, posture)
+            held = held if shaped is None else shaped
+        self._stacked[:, 18] += held - self._held_applied
+        self._held_applied = held
 
     @property
     def selection(self) -> Selection | None:
@@ -247,6 +287,7 @@ class ServoLevel:
         state = self._state
         if previous is None or (
             previous.motion_axes != setpoint.motion_axes
+            or previous.orientation_free != setpoint.orientation_free
             or not np.array_equal(previous.rotation_task_to_world, setpoint.rotation_task_to_world)
         ):
             state[kernel.INTEGRAL] = 0.0
@@ -255,6 +296,7 @@ class ServoLevel:
             # motion axes whose speed the moment error sets (kernels.servo.servo_tick).
             axes = tuple(setpoint.motion_axes[:3]) + (True, True, True)
             self._servo_selection = selection(axes, setpoint.rotation_task_to_world)
+            self._servo_selection.omega[3:, 3:] *= not setpoint.orientation_free  # FREE: Lambda_r
             self._matrices[kernel.OMEGA_ADMITTANCE] = (
                 self._selection.omega_bar - self._servo_selection.omega_bar
             )
@@ -307,9 +349,10 @@ class ServoLevel:
         ev, sp, sel = self._evaluation, self._setpoint, self._servo_selection
         if ev is None or sp is None or sel is None:
             return
+        held = ev.joint_limit_torque + self._field.tool + self._field.links
         refold(
             ev.values,
-            ev.joint_limit_torque + self._field_torque,
+            held,
             sel.omega,
             sel.omega_bar,
             sp.position,
@@ -320,6 +363,8 @@ class ServoLevel:
             self._vectors,
             self._matrices,
         )
+        self._held_applied = held
+        self._replace_held()
 
     def command(self, t_s: float, live: LiveSignals, noise_row: int) -> None:
         """Compute the tick's joint torques from the plant's live signals; write them to its drives.

@@ -55,6 +55,10 @@ class ServoSetpoint:
         trajectory: The timed trajectory in TRAJECTORY mode (an INSERT's search pattern too).
         limit_push_speed: Hold the force-controlled push to ``max_speed`` (INSERT: the
             insertion axis's speed limit; :func:`cosmos.osc.unified.speed_limited_push`).
+        orientation_free: The task controls the tool point only (ORIENTATION FREE): the
+            rotation axes are left to the null space (seed section 4).
+        posture_rad: The joint configuration the null space returns the arm to
+            (POSTURE), in [rad], or None for none. # (n,)
     """
 
     mode: MotionMode
@@ -72,6 +76,8 @@ class ServoSetpoint:
     kv_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KV))
     trajectory: PoseTrajectory | SearchTrajectory | None = None
     limit_push_speed: bool = False
+    orientation_free: bool = False
+    posture_rad: FloatArray | None = None
 
     force_world: FloatArray = field(init=False)
     """The force setpoint in world axes (derived from force_task). # (6,)."""

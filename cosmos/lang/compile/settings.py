@@ -1,7 +1,8 @@
-"""SPEED, LET, FRAME and COMPLY: the statements that change the compile state only.
+"""SPEED, LET, FRAME, COMPLY, ORIENTATION and POSTURE: the statements that change the compile state only.
 
 They emit no steps: SPEED sets the default speed, LET and FRAME bind a name,
-COMPLY sets (or, without axes, clears) the compliance of task axes.
+COMPLY sets (or, without axes, clears) the compliance of task axes, ORIENTATION
+FREE / HELD and POSTURE set what the null space does (seed section 4).
 """
 
 from __future__ import annotations
@@ -9,11 +10,12 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.state import NO_COMPLIANCE, AxisCompliance, CompileState
-from cosmos.lang.evaluate.values import Binding, BindingKind
+from cosmos.lang.evaluate.values import Binding, BindingKind, Vec
 
 _LET = BindingKind.LET
 _FRAME = BindingKind.FRAME
@@ -89,6 +91,42 @@ def compile_comply(run: CompileContext, statement: ast.Comply, state: CompileSta
     return replace(state, compliance=tuple(compliance))
 
 
+def compile_orientation(
+    run: CompileContext, statement: ast.SetOrientation, state: CompileState
+) -> CompileState:
+    """ORIENTATION FREE / HELD: whether the MOVE and WAIT that follow control the tool's orientation."""
+    return replace(state, orientation_free=statement.free)
+
+
+def compile_posture(run: CompileContext, statement: ast.SetPosture, state: CompileState) -> CompileState:
+    """POSTURE q | name | NONE: the joint configuration the null space returns the arm to."""
+    value = statement.value
+    if value is None:
+        return replace(state, posture=None)
+    if type(value) is ast.Name and value.name.casefold() not in state.names:
+        key = value.name.casefold()
+        if key not in plan.NAMED_POSTURES:
+            known = ", ".join(plan.NAMED_POSTURES)
+            raise ProgramError(
+                f"POSTURE names no known pose '{value.name}' (known: {known}; or joint angles "
+                "like (0 deg, -45 deg, 180 deg, 0 deg, 45 deg, 0 deg))",
+                value.span,
+            )
+        return replace(state, posture=plan.Posture(None, key, statement.span))
+    evaluator = run.evaluator_for(state)
+    angles = evaluator.evaluate(value)
+    if not isinstance(angles, Vec) or angles.dim != units.ANGLE:
+        raise ProgramError(
+            "POSTURE needs one angle per joint with its unit, like (0 deg, -45 deg, 180 deg, 0 deg, "
+            f"45 deg, 0 deg), or a named pose ({', '.join(plan.NAMED_POSTURES)}) or NONE; "
+            f"{run.text_of(value.span)} is not that",
+            value.span,
+        )
+    if not all(math.isfinite(a) for a in angles.values):
+        raise ProgramError("POSTURE's angles must be finite numbers", value.span)
+    return replace(state, posture=plan.Posture(tuple(angles.values), None, statement.span))
+
+
 def _positive(value: float, span: Span, what: str) -> None:
     if not value > 0 or not math.isfinite(value):
         raise ProgramError(f"{what} must be a positive number, not {value:g}", span)
@@ -105,5 +143,7 @@ HANDLERS: dict[type, Handler] = {
     ast.Let: compile_definition,
     ast.FrameDef: compile_definition,
     ast.Comply: compile_comply,
+    ast.SetOrientation: compile_orientation,
+    ast.SetPosture: compile_posture,
 }
 """The handler of each statement type of this module (merged into the compiler's one table)."""

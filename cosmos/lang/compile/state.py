@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Protocol, TypeVar
 
+from cosmos import plan
 from cosmos.errors import Span
 from cosmos.lang import ast
 from cosmos.lang.evaluate.values import Binding
@@ -154,6 +155,9 @@ class CompileState:
         statement_count: Motion statements compiled so far (next statement_index).
         segment_count: Segments emitted so far (next segment index).
         force_limit_n: Free-motion force limit set by the last LIMIT FORCE [N], or None.
+        orientation_free: ORIENTATION FREE in force: MOVE and WAIT leave the tool's
+            orientation to the null space.
+        posture: The POSTURE in force, or None.
     """
 
     default_speed_mps: float
@@ -167,6 +171,8 @@ class CompileState:
     statement_count: int = 0
     segment_count: int = 0
     force_limit_n: float | None = None
+    orientation_free: bool = False
+    posture: plan.Posture | None = None
 
     def bind(self, key: str, binding: Binding) -> CompileState:
         """A state with ``key`` bound."""

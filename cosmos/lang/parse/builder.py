@@ -96,6 +96,14 @@ class _Builder(Transformer):
     def limit(self, children: list[Any]) -> ast.SetLimit:
         return ast.SetLimit(children[-1], span_of(children))
 
+    def orientation(self, children: list[Any]) -> ast.SetOrientation:
+        return ast.SetOrientation(children[1].type == "FREE", span_of(children))
+
+    def posture(self, children: list[Any]) -> ast.SetPosture:
+        value = children[1]
+        none = isinstance(value, Token) and value.type == "NONE"
+        return ast.SetPosture(None if none else value, span_of(children))
+
     def comply(self, children: list[Any]) -> ast.Comply:
         return ast.Comply(children[1], tuple(children[2:]), span_of(children))
 

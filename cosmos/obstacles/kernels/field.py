@@ -51,6 +51,11 @@ PARAMETERS = 4
 ACTING_FLAG, ACTING_DISTANCE, ACTING_LINK, ACTING_FORCE = 0, 1, 2, 3
 ACTING = 4
 
+# ``nearest`` (NEAREST,): of the approaches of every link but the tool's (the last), the nearest's
+# surface distance [m] (inf: none), its link and its obstacle.
+NEAREST_DISTANCE, NEAREST_LINK, NEAREST_OBSTACLE = 0, 1, 2
+NEAREST = 3
+
 
 @kernel
 def chain_kinematics_into(frames: FloatArray, chain: FloatArray, q: FloatArray, qd: FloatArray) -> float:
@@ -137,6 +142,8 @@ def repulsion_magnitude(
 @kernel
 def field_torque_into(
     torque: FloatArray,
+    link_torque: FloatArray,
+    nearest: FloatArray,
     acting: FloatArray,
     approaches: FloatArray,
     count: int,
@@ -152,8 +159,13 @@ def field_torque_into(
     wrench about the world origin summed per link, and joint j carries the
     links beyond it: ``Gamma_j = J_j . sum_{k >= j} W_k``. ``acting`` records,
     per obstacle, the nearest link and the strongest force (also when the field
-    is disabled, when ``torque`` is left at zero).
+    is disabled, when ``torque`` is left at zero). ``link_torque`` receives the part
+    of ``torque`` from every link but the tool's (the last: it carries the tool),
+    which the servo may project into the task's null space
+    (:mod:`cosmos.runtime.null_space`), and ``nearest`` those links' nearest approach.
     """
+    tool_link = frames.shape[0] - 1
+    nearest[NEAREST_DISTANCE], nearest[NEAREST_LINK], nearest[NEAREST_OBSTACLE] = math.inf, -1.0, -1.0
     eta, damping = parameters[PARAMETER_ETA], parameters[PARAMETER_DAMPING]
     cap = parameters[PARAMETER_CAP]
     wrenches = np.zeros((6, 6))  # row k: wrench about the origin on link k
@@ -186,6 +198,8 @@ def field_torque_into(
         w[3] += py * fz - pz * fy
         w[4] += pz * fx - px * fz
         w[5] += px * fy - py * fx
+        if k < tool_link and distance < nearest[NEAREST_DISTANCE]:
+            nearest[NEAREST_DISTANCE], nearest[NEAREST_LINK], nearest[NEAREST_OBSTACLE] = distance, k, j
         seen = acting[j]
         if seen[ACTING_FLAG] == 0.0:
             seen[ACTING_FLAG] = 1.0
@@ -197,9 +211,15 @@ def field_torque_into(
     if parameters[PARAMETER_ENABLED] == 0.0:
         return
     carried = np.zeros(6)
+    carried_links = np.zeros(6)  # without the tool's link
     for j in range(5, -1, -1):
         total = 0.0
+        links = 0.0
         for i in range(6):
             carried[i] += wrenches[j, i]
+            if j < tool_link:
+                carried_links[i] += wrenches[j, i]
             total += frames[j, FRAME_COLUMN + i] * carried[i]
+            links += frames[j, FRAME_COLUMN + i] * carried_links[i]
         torque[j] = total
+        link_torque[j] = links

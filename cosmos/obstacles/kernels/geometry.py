@@ -261,6 +261,8 @@ def estimate_into(
 @kernel
 def estimated_torque_into(
     torque: FloatArray,
+    link_torque: FloatArray,
+    nearest: FloatArray,
     acting: FloatArray,
     frames: FloatArray,
     chain: FloatArray,
@@ -280,5 +282,7 @@ def estimated_torque_into(
     """
     speed = chain_kinematics_into(frames, chain, q, qd)
     estimated = estimate_into(approaches, held, count, frames, obstacles, t_s)
-    field_torque_into(torque, acting, approaches, estimated, frames, obstacles, parameters)
+    field_torque_into(
+        torque, link_torque, nearest, acting, approaches, estimated, frames, obstacles, parameters
+    )
     return speed

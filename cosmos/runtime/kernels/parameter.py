@@ -4,8 +4,8 @@ From the joint-space model at one configuration it forms the operational
 dynamics of eq. 27-28 (with section 5's blended inverse near singular
 directions) and folds them with the selection (Figure 2) and the gains into the
 matrices the servo multiplies every tick (eq. 29 and 34). The readable
-reference is :func:`cosmos.osc.dynamics.operational_dynamics`,
-:func:`cosmos.osc.unified.servo_matrices` and
+reference is :func:`cosmos.osc.dynamics.operational_dynamics` (on the controlled rows:
+:func:`cosmos.osc.null_space.task_lambda_inverse`), :func:`cosmos.osc.unified.servo_matrices` and
 :func:`cosmos.osc.dynamics.null_space_damping`;
 ``tests/runtime/test_parameter_kernel.py`` checks this against them.
 """
@@ -18,6 +18,7 @@ import numpy as np
 
 from cosmos.jit import kernel
 from cosmos.osc.dynamics import SINGULAR_GIVE_UP_RATE, TRANSLATION_GIVE_UP
+from cosmos.osc.null_space import FREE_AXIS_INVERSE_MASS
 from cosmos.osc.orientation import NEAR_PI_SIN, SMALL_ANGLE_RAD
 from cosmos.runtime.kernels import evaluation as ek
 from cosmos.runtime.kernels import servo as sk
@@ -126,8 +127,14 @@ def fold_servo(
     jbar_lookahead: FloatArray,
     projection: FloatArray,
     limit_projection: FloatArray,
+    null_space_t: FloatArray,
 ) -> None:
-    """Eq. 27-29 and 34 folded for the servo; results written into the last three arrays.
+    """Eq. 27-29 and 34 folded for the servo; results written into the ``Out`` arrays.
+
+    The task controls the axes ``C = Omega + Omega_bar`` (world): all six, or, under
+    ORIENTATION FREE, only the translations; Lambda is then eq. 27's Lambda_r of the
+    controlled rows (:func:`cosmos.osc.null_space.task_lambda_inverse`), which leaves
+    the null space ``N^T`` (eq. 28, 34) its dimensions.
 
     Args:
         inertia: A(q). # (6, 6)
@@ -154,15 +161,29 @@ def fold_servo(
             (motion commands enter as ``J^T Lambda P Omega``). # (6, 6)
         limit_projection: The joint limits' task projection
             (:func:`cosmos.osc.limits.joint_limit_task_projection`). # (6, 6)
+        null_space_t: Out: ``N^T = I - J^T Jbar^T`` of the task. # (6, 6)
     """
     j_t = jacobian.T.copy()
     a_inv_jt = matmul(inertia_inv, j_t)
     lambda_inv = matmul(jacobian, a_inv_jt)  # eq. 27
+    controlled = omega + omega_bar
+    free = 6.0 - np.trace(controlled) > 0.5  # ORIENTATION FREE: Lambda_r of the controlled rows
+    lambda_task = lambda_inv
+    if free:
+        lambda_task = matmul(matmul(controlled, lambda_inv), controlled)
+        for i in range(6):
+            for k in range(6):
+                lambda_task[i, k] += FREE_AXIS_INVERSE_MASS * ((1.0 if i == k else 0.0) - controlled[i, k])
     lambda_ = lambda_and_projection(
-        lambda_inv, max_effective_mass_kg, blend_width, length_scale_m, projection
+        lambda_task, max_effective_mass_kg, blend_width, length_scale_m, projection
     )
+    if free:
+        lambda_ = matmul(matmul(controlled, lambda_), controlled)
     projection[:, :] = matmul(projection, limit_projection)
     jbar = matmul(a_inv_jt, lambda_)  # eq. 28
+    null_space_t[:, :] = -matmul(j_t, jbar.T)
+    for i in range(6):
+        null_space_t[i, i] += 1.0
     force_to_torque = matmul(j_t, omega_bar)
     jt_lambda = matmul(j_t, lambda_)
     stacked[:, 0:6] = matmul(matmul(jt_lambda, projection), omega)
@@ -272,6 +293,7 @@ def refold(
         matrices[sk.JBAR_LOOKAHEAD],
         matrices[sk.SINGULAR_PROJECTION],
         limit_projection,
+        matrices[sk.NULL_SPACE_T],
     )
     matrices[sk.JACOBIAN] = jacobian
     matrices[sk.OMEGA_BAR] = omega_bar

@@ -70,8 +70,8 @@ VECTORS = 12
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3).
 JACOBIAN, FORCE_TO_ACCELERATION, JBAR_LOOKAHEAD, OMEGA_BAR, ROTATION_TASK, ROTATION_SENSOR = range(6)
 OMEGA_ADMITTANCE = 6  # the moment axes under admittance control (world), see servo_tick
-SINGULAR_PROJECTION = 7  # section 5's task projection P of the last evaluation (kernels.parameter)
-MATRICES = 8
+SINGULAR_PROJECTION, NULL_SPACE_T = 7, 8  # section 5's P and the task's N^T, of the last evaluation
+MATRICES = 9
 
 # Rows of the servo's state and outputs (``state``, (STATE_ROWS, 6)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)

@@ -19,6 +19,9 @@ from cosmos.lang.compile.motion.clauses import completions_of
 from cosmos.lang.compile.state import CompileState, Defaults, HeldContact, TaskFrame
 from cosmos.lang.evaluate.evaluator import Evaluator
 
+_ORIENTATION_FREE_KINDS = (plan.SegmentKind.MOVE, plan.SegmentKind.WAIT)
+"""ORIENTATION FREE frees these, when every axis is motion-controlled (no contact held)."""
+
 ContactChange = tuple[HeldContact | None, Span | None]
 """What MOVE and CONTACT change in the state: the held contact, and what released the last."""
 
@@ -115,5 +118,9 @@ class MotionBuilderBase:
             jam_check=jam_check,
             force_limit_n=self.state.force_limit_n,
             search=search,
+            orientation_free=self.state.orientation_free
+            and kind in _ORIENTATION_FREE_KINDS
+            and all(axes.motion),
+            posture=self.state.posture,
         )
         self._segments.append(segment)

@@ -1,0 +1,108 @@
+"""The servo's held null-space torques: posture, joint-limit potential and the links' field (section 4).
+
+At each parameter evaluation the servo folds the task (kernels.parameter) and
+obtains its ``N^T``; where a null space exists (a position-only task on the
+PUMA, any task on a redundant arm) the torques held until the next evaluation
+are then shaped by :mod:`cosmos.osc.null_space`: the posture spring in the null
+space, and the joint-limit potential and the obstacle field on the links
+through ``N^T`` unless a joint or a link is dangerously close. The field on the
+tool's own link is the end effector's obstacle avoidance and acts whole. With
+no null space (a full task on the six-joint arm away from singularities) and no
+posture this costs one trace per evaluation and changes nothing.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from cosmos.osc.null_space import (
+    AbsorptionPolicy,
+    absorbed_weight,
+    null_space_dimension,
+    posture_torque,
+    through_null_space,
+)
+
+FloatArray = np.ndarray
+
+
+@dataclass(frozen=True)
+class LinkField:
+    """The obstacle field's joint torques split by where they act, and the nearest link.
+
+    Attributes:
+        tool: Torques of the forces on the tool's link (it carries the tool), [N m]. # (n,)
+        links: Torques of the forces on every other link, [N m]. # (n,)
+        clearance_m: Surface distance of the nearest other link to an obstacle, [m] (inf: none).
+        link: That link's name ("" when none).
+        obstacle: That obstacle's name ("" when none).
+    """
+
+    tool: FloatArray
+    links: FloatArray
+    clearance_m: float = math.inf
+    link: str = ""
+    obstacle: str = ""
+
+
+class NullSpaceTerms:
+    """What the null space adds to the servo's held torque at one evaluation.
+
+    Args:
+        posture_kp: Unit-mass stiffness of the posture task, in [1/s^2].
+        policy: When a field acts through the null space only.
+    """
+
+    def __init__(self, posture_kp: float, policy: AbsorptionPolicy):
+        self.posture_kp = posture_kp
+        self.policy = policy
+        self.dimension = 0.0
+        """``trace(N^T)`` of the last evaluation: the null space's dimension."""
+        self.link_share_to_tool = 0.0
+        """Share (0..1) of the links' field that reaches the tool although a null space exists."""
+
+    def held_torque(
+        self,
+        null_space_t: FloatArray,
+        inertia: FloatArray,
+        q: FloatArray,
+        limit_torque: FloatArray,
+        limit_margin_rad: float,
+        field: LinkField,
+        posture_rad: FloatArray | None,
+    ) -> FloatArray | None:
+        """The potentials and posture to hold, or None when there is no null space to use.
+
+        Args:
+            null_space_t: N^T of the task at this evaluation. # (n, n)
+            inertia: A(q). # (n, n)
+            q: Joint positions at the evaluation, in [rad]. # (n,)
+            limit_torque: Section 6's joint-limit potential, in [N m]. # (n,)
+            limit_margin_rad: The smallest distance of a joint to its limit, in [rad].
+            field: The obstacle field, split.
+            posture_rad: The posture the arm returns to, or None. # (n,)
+
+        Returns:
+            Joint torques in [N m], or None: then the potentials act whole. # (n,)
+        """
+        policy = self.policy
+        self.dimension = dimension = null_space_dimension(null_space_t)
+        self.link_share_to_tool = 0.0
+        if dimension < policy.min_dimension:
+            return None
+        torque = field.tool.copy()
+        if field.links.any():
+            weight = absorbed_weight(field.clearance_m, policy.link_full_below_m, policy.link_absorbed_from_m)
+            torque += through_null_space(field.links, null_space_t, weight)
+            self.link_share_to_tool = 1.0 - weight
+        if limit_torque.any():
+            weight = absorbed_weight(
+                limit_margin_rad, policy.joint_full_below_rad, policy.joint_absorbed_from_rad
+            )
+            torque += through_null_space(limit_torque, null_space_t, weight)
+        if posture_rad is not None:
+            torque += posture_torque(null_space_t, inertia, q, posture_rad, self.posture_kp)
+        return torque
