@@ -105,7 +105,9 @@ def test_torque_is_the_sum_of_point_jacobians_transposed_times_the_forces() -> N
     Catches a force applied on the wrong joints (a link's wrench carried by
     joints beyond it), a wrong moment arm, the approach speed taken with the
     wrong sign or without the obstacle's velocity, the gain factor or rho_0 of
-    the wrong obstacle, and the acting table's nearest link or strongest force.
+    the wrong obstacle, and the acting table's nearest link or strongest force; and
+    the links' part (every link but the tool's, which the servo projects into the
+    null space) with the tool's forces in it, or the nearest of those links wrong.
     """
     par = FieldParameters()
     chain, frames = _chain(), np.zeros((6, fk.FRAMES))
@@ -131,8 +133,12 @@ def test_torque_is_the_sum_of_point_jacobians_transposed_times_the_forces() -> N
         approaches[:count, fk.APPROACH_DISTANCE] = rng.uniform(0.005, 0.1, count)
         approaches[count:] = 99.0  # rows past the count are not read
         torque, acting = np.zeros(6), np.full((3, fk.ACTING), 7.0)
-        fk.field_torque_into(torque, acting, approaches, count, frames, obstacles, parameters)
-        expected = np.zeros(6)
+        link_torque, nearest = np.zeros(6), np.zeros(fk.NEAREST)
+        fk.field_torque_into(
+            torque, link_torque, nearest, acting, approaches, count, frames, obstacles, parameters
+        )
+        expected, expected_links = np.zeros(6), np.zeros(6)
+        nearest_expected = [np.inf, -1.0, -1.0]
         strongest: dict[int, list[float]] = {}
         for link, j, distance, *rest in approaches[:count].tolist():
             k, o = int(link), int(j)
@@ -151,11 +157,17 @@ def test_torque_is_the_sum_of_point_jacobians_transposed_times_the_forces() -> N
                 float(closing),
             )
             expected += jacobian.T.dot(magnitude * normal)
+            if k < 5:  # every link but the tool's
+                expected_links += jacobian.T.dot(magnitude * normal)
+                if distance < nearest_expected[0]:
+                    nearest_expected = [distance, k, o]
             seen = strongest.setdefault(o, [distance, k, magnitude])
             if distance < seen[0]:
                 seen[:2] = [distance, k]
             seen[2] = max(seen[2], magnitude)
         np.testing.assert_allclose(torque, expected, rtol=1e-6, atol=1e-6 * np.abs(expected).max())
+        np.testing.assert_allclose(link_torque, expected_links, atol=1e-6 * np.abs(expected).max())
+        np.testing.assert_array_equal(nearest, nearest_expected)
         for o in range(3):
             if o in strongest:
                 np.testing.assert_allclose(acting[o, 1:], strongest[o], rtol=1e-6)
@@ -164,7 +176,9 @@ def test_torque_is_the_sum_of_point_jacobians_transposed_times_the_forces() -> N
                 assert acting[o, fk.ACTING_FLAG] == 0.0
         parameters[fk.PARAMETER_ENABLED] = 0.0
         off = np.zeros(6)
-        fk.field_torque_into(off, acting, approaches, count, frames, obstacles, parameters)
+        fk.field_torque_into(
+            off, np.zeros(6), nearest, acting, approaches, count, frames, obstacles, parameters
+        )
         parameters[fk.PARAMETER_ENABLED] = 1.0
         assert not np.any(off)
         assert acting[:, fk.ACTING_FLAG].sum() == len(strongest)

@@ -216,16 +216,23 @@ def test_the_fused_estimate_evaluation_is_its_three_steps() -> None:
     for _ in range(5):
         q, qd = HOME_Q + rng.normal(scale=0.03, size=6), rng.normal(size=6)
         torque, acting = np.zeros(6), np.zeros((len(obstacles), fk.ACTING))
-        speed = model.estimated_torque(torque, acting, _chain(), q, qd, frames, kernel_parameters, 0.008)
+        links, nearest = np.zeros(6), np.zeros(fk.NEAREST)
+        speed = model.estimated_torque(
+            torque, links, nearest, acting, _chain(), q, qd, frames, kernel_parameters, 0.008
+        )
         expected_speed = fk.chain_kinematics_into(apart, _chain(), q, qd)
         count = model.estimate(apart, 0.008)
         expected, expected_acting = np.zeros(6), np.zeros((len(obstacles), fk.ACTING))
+        expected_links, expected_nearest = np.zeros(6), np.zeros(fk.NEAREST)
         fk.field_torque_into(
-            expected, expected_acting, model.approaches, count, apart, model.table, kernel_parameters
-        )
+            expected, expected_links, expected_nearest, expected_acting,
+            model.approaches, count, apart, model.table, kernel_parameters,
+        )  # fmt: skip
         assert speed == expected_speed
         np.testing.assert_array_equal(torque, expected)
         np.testing.assert_array_equal(acting, expected_acting)
+        np.testing.assert_array_equal(links, expected_links)
+        np.testing.assert_array_equal(nearest, expected_nearest)
         assert np.any(torque)
 
 

@@ -32,7 +32,7 @@ def _tick(
         eye, eye, eye, zero, zero, zero, zero, servo.omega, servo.omega_bar,
         0.0, 0.0, zero, 0.02, 2000.0, 1.0, 0.5,
         stacked, matrices[sk.FORCE_TO_ACCELERATION], matrices[sk.JBAR_LOOKAHEAD],
-        matrices[sk.SINGULAR_PROJECTION], eye,
+        matrices[sk.SINGULAR_PROJECTION], eye, matrices[sk.NULL_SPACE_T],
     )  # fmt: skip
     matrices[sk.JACOBIAN] = eye
     matrices[sk.OMEGA_BAR] = servo.omega_bar

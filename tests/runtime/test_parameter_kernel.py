@@ -265,6 +265,7 @@ def _expected_fold(inputs: FoldInputs) -> dict[str, np.ndarray]:
         "lookahead Jbar": LOOKAHEAD_S * dyn.jbar @ dyn.task_projection,
         "blend": dyn.blend,
         "projection": dyn.task_projection,
+        "N^T": dyn.null_space_t,
     }
 
 
@@ -304,6 +305,7 @@ def test_fold_servo_matches_eq_27_29_34(name: str) -> None:
     force_to_acceleration = np.full((6, 6), np.nan)
     jbar_lookahead = np.full((6, 6), np.nan)
     projection = np.full((6, 6), np.nan)
+    null_space_t = np.full((6, 6), np.nan)
     pk.fold_servo(
         inputs.inertia,
         inputs.inertia_inv,
@@ -326,9 +328,12 @@ def test_fold_servo_matches_eq_27_29_34(name: str) -> None:
         jbar_lookahead,
         projection,
         np.eye(6),
+        null_space_t,
     )
     _assert_fold(stacked, force_to_acceleration, jbar_lookahead, inputs)
     assert_close(projection, _expected_fold(inputs)["projection"])
+    # N^T is dimensionless and zero for a full task away from singularities: absolute tolerance.
+    np.testing.assert_allclose(null_space_t, _expected_fold(inputs)["N^T"], atol=1e-8)
 
 
 def test_refold_packs_the_servo_blocks() -> None:
@@ -513,3 +518,29 @@ def test_rotation_log_matches_so3_log(angle: float) -> None:
     else:
         assert_close(got, expected, rtol=1e-9 if angle > 1e-3 else 1e-7)
         assert_close(so3_exp(got), rotation)
+
+
+@pytest.mark.parametrize("q", [np.array((0.0, 0.8, -3.0, 0.2, -0.7, 3.0)), wrist_configuration(1.0 * DEG)])
+def test_fold_servo_orientation_free_is_the_position_task_of_eq_27_28(q: np.ndarray) -> None:
+    """ORIENTATION FREE (rotation rows neither motion nor force) folds Lambda_r, Jbar and N^T of
+    the 3-row position task, computed apart by operational_dynamics on J[:3] (eq. 27-28). Catches
+    the free rows left in Lambda (an empty null space: eq. 34 inert), Lambda_r taken as the
+    position block of the 6-row Lambda (not dynamically consistent: N^T moves the tool), and N^T
+    not written."""
+    inertia, inertia_inv, jacobian = puma_arrays(q)
+    zero = np.zeros(6)
+    omega = np.diag((1.0, 1.0, 1.0, 0.0, 0.0, 0.0))
+    stacked, null_space_t = np.zeros((6, 25)), np.full((6, 6), np.nan)
+    out = [np.zeros((6, 6)) for _ in range(3)]
+    pk.fold_servo(
+        inertia, inertia_inv, jacobian, zero, zero, zero, zero, omega, np.zeros((6, 6)),
+        K_VF, XI_Q, zero, LOOKAHEAD_S, POLICY.max_effective_mass_kg, POLICY.blend_width,
+        POLICY.length_scale_m, stacked, *out, np.eye(6), null_space_t,
+    )  # fmt: skip
+    position = operational_dynamics(inertia, jacobian[:3], zero, zero, zero[:3], inertia_inv=inertia_inv)
+    np.testing.assert_allclose(null_space_t, position.null_space_t, atol=1e-8)
+    assert_close(stacked[:, 0:3], jacobian[:3].T @ position.lambda_)
+    assert_close(stacked[:, 3:6], np.zeros((6, 3)))
+    damping = np.column_stack([null_space_damping(position, inertia, e, XI_Q) for e in np.eye(6)])
+    assert_close(stacked[:, 19:25], damping)
+    assert np.trace(null_space_t) == pytest.approx(3.0, abs=1e-9)
