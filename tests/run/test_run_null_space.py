@@ -28,6 +28,7 @@ from cosmos.runtime.rates import Rates
 from cosmos.runtime.servo import ServoGains
 
 ROBOT = build_robot_model()
+DEFAULT_GAINS = ServoGains()
 KICK_RAD_S = (0.8, -0.6, 0.8)  # joint-space disturbance on the wrist joints, [rad/s]
 KICK_S = 0.4
 
@@ -35,7 +36,7 @@ KICK_S = 0.4
 def run(
     tmp_path: Path,
     program: str,
-    gains: ServoGains = ServoGains(),
+    gains: ServoGains = DEFAULT_GAINS,
     progress: Callable[[Session, Progress], None] | None = None,
     project_links: bool = True,
 ) -> RunRecord:
