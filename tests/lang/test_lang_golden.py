@@ -9,6 +9,7 @@ example of the reference page is missing here.
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 from typing import Any
@@ -732,3 +733,39 @@ def test_every_contract_example_is_covered() -> None:
     assert not missing, missing
     assert len(statements) > 20
     assert set(FIXTURES) >= {"table", "hole", "slope"}
+
+
+# ------------------------------------------------------ ORIENTATION and POSTURE
+
+
+def test_orientation_free_frees_move_and_wait_but_not_contact() -> None:
+    """The docs' example: MOVE and WAIT under ORIENTATION FREE leave the orientation to the null
+    space, a CONTACT (and the WAIT holding its contact) keeps it, HELD ends it; POSTURE's angles
+    in radians, ``home`` by name, NONE. Catches the flag on a force statement (its moments would
+    lose their controller), HELD ignored, degrees kept as degrees, and a posture not carried."""
+    program = (
+        "ORIENTATION FREE\nPOSTURE (0 deg, 45 deg, -180 deg, 30 deg, -45 deg, 150 deg)\nWAIT 2 s\n"
+        "MOVE BY (0, 50 mm, 0)\nPOSTURE home\nCONTACT DOWN FORCE 8 N\nWAIT 1 s\n"
+        "ORIENTATION HELD\nPOSTURE NONE\nMOVE BY (0, 0, 50 mm)\n"
+    )
+    segments = compile_text(program).segments
+    kinds = [s.kind for s in segments]
+    assert kinds == [
+        plan.SegmentKind.WAIT, plan.SegmentKind.MOVE, plan.SegmentKind.CONTACT_APPROACH,
+        plan.SegmentKind.CONTACT_HOLD, plan.SegmentKind.WAIT, plan.SegmentKind.MOVE,
+    ]  # fmt: skip
+    assert [s.orientation_free for s in segments] == [True, True, False, False, False, False]
+    wait, move, approach, _, held_wait, last = segments
+    assert wait.posture is not None and wait.posture.name is None
+    deg = math.pi / 180.0
+    assert wait.posture.joints_rad == pytest.approx(
+        (0.0, 45 * deg, -180 * deg, 30 * deg, -45 * deg, 150 * deg)
+    )
+    assert move.posture is wait.posture
+    assert (
+        approach.posture is not None
+        and approach.posture.name == "home"
+        and approach.posture.joints_rad is None
+    )
+    assert held_wait.posture is approach.posture
+    assert last.posture is None

@@ -109,7 +109,7 @@ def compile_posture(run: CompileContext, statement: ast.SetPosture, state: Compi
             known = ", ".join(plan.NAMED_POSTURES)
             raise ProgramError(
                 f"POSTURE names no known pose '{value.name}' (known: {known}; or joint angles "
-                "like (0 deg, -45 deg, 180 deg, 0 deg, 45 deg, 0 deg))",
+                "like (0 deg, 45 deg, -180 deg, 0 deg, -45 deg, 180 deg))",
                 value.span,
             )
         return replace(state, posture=plan.Posture(None, key, statement.span))
@@ -117,8 +117,8 @@ def compile_posture(run: CompileContext, statement: ast.SetPosture, state: Compi
     angles = evaluator.evaluate(value)
     if not isinstance(angles, Vec) or angles.dim != units.ANGLE:
         raise ProgramError(
-            "POSTURE needs one angle per joint with its unit, like (0 deg, -45 deg, 180 deg, 0 deg, "
-            f"45 deg, 0 deg), or a named pose ({', '.join(plan.NAMED_POSTURES)}) or NONE; "
+            "POSTURE needs one angle per joint with its unit, like (0 deg, 45 deg, -180 deg, 0 deg, "
+            f"-45 deg, 180 deg), or a named pose ({', '.join(plan.NAMED_POSTURES)}) or NONE; "
             f"{run.text_of(value.span)} is not that",
             value.span,
         )
