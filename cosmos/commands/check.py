@@ -239,6 +239,8 @@ def plan_table(compiled: plan.Plan) -> Table:
 
 def _segment_row(segment: plan.Segment) -> tuple[str, ...]:
     motion = " ".join(a for a, m in zip(_AXES, segment.motion_axes, strict=True) if m) or "-"
+    if segment.orientation_free:  # the rotations are the null space's (ORIENTATION FREE)
+        motion = motion.replace("RX RY RZ", "(RX RY RZ free)")
     force = " ".join(a for a, m in zip(_AXES, segment.motion_axes, strict=True) if not m) or "-"
     setpoints = []
     for axis, value, moving, stiffness in zip(
