@@ -25,6 +25,7 @@ from cosmos.osc.null_space import (
     posture_torque,
     through_null_space,
 )
+from cosmos.runtime.parameters import Evaluation
 
 FloatArray = np.ndarray
 
@@ -64,35 +65,34 @@ class NullSpaceTerms:
         self.link_share_to_tool = 0.0
         """Share (0..1) of the links' field that reaches the tool although a null space exists."""
 
-    def held_torque(
+    def correction(
         self,
         null_space_t: FloatArray,
-        inertia: FloatArray,
-        q: FloatArray,
-        limit_torque: FloatArray,
+        evaluation: Evaluation,
         limit_margin_rad: float,
         field: LinkField,
+        field_torque: FloatArray,
         posture_rad: FloatArray | None,
-    ) -> FloatArray | None:
-        """The potentials and posture to hold, or None when there is no null space to use.
+    ) -> FloatArray:
+        """What to add to the raw potentials (joint limits + field) held until the next evaluation.
 
         Args:
             null_space_t: N^T of the task at this evaluation. # (n, n)
-            inertia: A(q). # (n, n)
-            q: Joint positions at the evaluation, in [rad]. # (n,)
-            limit_torque: Section 6's joint-limit potential, in [N m]. # (n,)
+            evaluation: The evaluation (A(q), q and the joint-limit potential).
             limit_margin_rad: The smallest distance of a joint to its limit, in [rad].
             field: The obstacle field, split.
+            field_torque: Its total, ``field.tool + field.links``, in [N m]. # (n,)
             posture_rad: The posture the arm returns to, or None. # (n,)
 
         Returns:
-            Joint torques in [N m], or None: then the potentials act whole. # (n,)
+            Joint torques in [N m]; zero where there is no null space to use. # (n,)
         """
         policy = self.policy
+        limit_torque = evaluation.joint_limit_torque
         self.dimension = dimension = null_space_dimension(null_space_t)
         self.link_share_to_tool = 0.0
         if dimension < policy.min_dimension:
-            return None
+            return np.zeros(null_space_t.shape[0])
         torque = field.tool.copy()
         if field.links.any():
             weight = absorbed_weight(field.clearance_m, policy.link_full_below_m, policy.link_absorbed_from_m)
@@ -104,5 +104,6 @@ class NullSpaceTerms:
             )
             torque += through_null_space(limit_torque, null_space_t, weight)
         if posture_rad is not None:
+            q, inertia = evaluation.q, evaluation.inertia
             torque += posture_torque(null_space_t, inertia, q, posture_rad, self.posture_kp)
-        return torque
+        return torque - limit_torque - field_torque

@@ -186,9 +186,11 @@ class ServoLevel:
         self._evaluation: Evaluation | None = None
         self._selection: Selection | None = None  # as the plan says
         self._servo_selection: Selection | None = None  # moment axes counted as motion (admittance)
-        self._field = LinkField(np.zeros(len(torque_limits)), np.zeros(len(torque_limits)))
-        self._null_space = NullSpaceTerms(gains.posture_kp, absorption)
-        self._held_applied = self._field.tool  # the held torque inside the stacked column 18
+        self._field_torque = np.zeros(len(torque_limits))
+        self._field = LinkField(self._field_torque, self._field_torque)
+        self.null_space = NullSpaceTerms(gains.posture_kp, absorption)  # its dimension, the links' share
+        self._joints = len(torque_limits)
+        self._correction = np.zeros(self._joints)  # column 18: the raw potentials plus the null space's
         # (6, 25): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
         self._stacked = workspace[kernel.W_STACKED : kernel.W_STATE].reshape((6, 25))
@@ -231,11 +233,7 @@ class ServoLevel:
     @property
     def field_torque(self) -> FloatArray:
         """Joint torques of the potential fields (obstacles), held between evaluations, as computed."""
-        return self._field.tool + self._field.links
-
-    @field_torque.setter
-    def field_torque(self, torque: FloatArray) -> None:
-        self.link_field = LinkField(torque, np.zeros_like(torque))
+        return self._field_torque
 
     @property
     def link_field(self) -> LinkField:
@@ -244,30 +242,31 @@ class ServoLevel:
 
     @link_field.setter
     def link_field(self, field: LinkField) -> None:
-        self._field = field
-        self._replace_held()
-
-    @property
-    def null_space(self) -> NullSpaceTerms:
-        """The null space's dimension and the links' share reaching the tool, at the last evaluation."""
-        return self._null_space
+        torque = field.tool + field.links
+        self._stacked[:, 18] += torque - self._field_torque
+        self._field, self._field_torque = field, torque
+        if self._correction.any() or self._redundant():
+            self._reshape()
 
     @property
     def null_space_t(self) -> FloatArray:
         """``N^T = I - J^T Jbar^T`` of the task at the last evaluation (eq. 28, 34). # (n, n)."""
         return self._matrices[kernel.NULL_SPACE_T]
 
-    def _replace_held(self) -> None:
-        """Put the potentials (and the posture) into the held column, through the null space if any."""
-        ev, sp, field = self._evaluation, self._setpoint, self._field
-        held = field.tool + field.links + (0.0 if ev is None else ev.joint_limit_torque)
-        if ev is not None and sp is not None:
-            limits, margin = ev.joint_limit_torque, float(ev.values[LIMIT_MARGIN])
-            nst, posture = self.null_space_t, sp.posture_rad
-            shaped = self._null_space.held_torque(nst, ev.inertia, ev.q, limits, margin, field, posture)
-            held = held if shaped is None else shaped
-        self._stacked[:, 18] += held - self._held_applied
-        self._held_applied = held
+    def _redundant(self) -> bool:  # the task may leave a null space: ORIENTATION FREE, or n > 6
+        return self._joints > 6 or (self._setpoint is not None and self._setpoint.orientation_free)
+
+    def _reshape(self) -> None:
+        """Shape the held potentials (and add the posture) through the null space, if there is one."""
+        ev, sp = self._evaluation, self._setpoint
+        if ev is None or sp is None:
+            return
+        margin = float(ev.values[LIMIT_MARGIN])
+        correction = self.null_space.correction(
+            self.null_space_t, ev, margin, self._field, self._field_torque, sp.posture_rad
+        )
+        self._stacked[:, 18] += correction - self._correction
+        self._correction = correction
 
     @property
     def selection(self) -> Selection | None:
@@ -349,10 +348,9 @@ class ServoLevel:
         ev, sp, sel = self._evaluation, self._setpoint, self._servo_selection
         if ev is None or sp is None or sel is None:
             return
-        held = ev.joint_limit_torque + self._field.tool + self._field.links
         refold(
             ev.values,
-            held,
+            ev.joint_limit_torque + self._field_torque,
             sel.omega,
             sel.omega_bar,
             sp.position,
@@ -363,8 +361,10 @@ class ServoLevel:
             self._vectors,
             self._matrices,
         )
-        self._held_applied = held
-        self._replace_held()
+        self._correction[:] = 0.0  # the column holds the raw potentials again
+        self.null_space.link_share_to_tool = 0.0
+        if self._redundant():
+            self._reshape()
 
     def command(self, t_s: float, live: LiveSignals, noise_row: int) -> None:
         """Compute the tick's joint torques from the plant's live signals; write them to its drives.
