@@ -266,7 +266,10 @@ class SegmentMonitor:
             if self._settled_since is None:
                 self._settled_since = snap.t_s
             if snap.t_s - self._settled_since >= SETTLE_S - 1e-9:
-                return Outcome(Verdict.DONE, f"arrived: {error.text()}")
+                free = f"{error.distance_m * 1e3:.1f} mm from its goal, orientation free"
+                return Outcome(
+                    Verdict.DONE, f"arrived: {free if self.segment.orientation_free else error.text()}"
+                )
             return None
         self._settled_since = None
         if timed is not None and snap.t_s >= timed + TIMED_SETTLE_S:

@@ -182,7 +182,7 @@ def fold_servo(
     projection[:, :] = matmul(projection, limit_projection)
     jbar = matmul(a_inv_jt, lambda_)  # eq. 28
     null_space_t[:, :] = -matmul(j_t, jbar.T)
-    for i in range(6):
+    for i in range(null_space_t.shape[0]):  # n joints
         null_space_t[i, i] += 1.0
     force_to_torque = matmul(j_t, omega_bar)
     jt_lambda = matmul(j_t, lambda_)
