@@ -235,6 +235,10 @@ class ServoLevel:
         """Joint torques of the potential fields (obstacles), held between evaluations, as computed."""
         return self._field_torque
 
+    @field_torque.setter
+    def field_torque(self, torque: FloatArray) -> None:  # all on the tool's link: acts whole
+        self.link_field = LinkField(torque, np.zeros_like(torque))
+
     @property
     def link_field(self) -> LinkField:
         """The obstacle field split into the tool's link and the others (cosmos.runtime.null_space)."""
@@ -245,25 +249,21 @@ class ServoLevel:
         torque = field.tool + field.links
         self._stacked[:, 18] += torque - self._field_torque
         self._field, self._field_torque = field, torque
-        if self._correction.any() or self._redundant():
-            self._reshape()
+        self._reshape()
 
     @property
     def null_space_t(self) -> FloatArray:
         """``N^T = I - J^T Jbar^T`` of the task at the last evaluation (eq. 28, 34). # (n, n)."""
         return self._matrices[kernel.NULL_SPACE_T]
 
-    def _redundant(self) -> bool:  # the task may leave a null space: ORIENTATION FREE, or n > 6
-        return self._joints > 6 or (self._setpoint is not None and self._setpoint.orientation_free)
-
     def _reshape(self) -> None:
         """Shape the held potentials (and add the posture) through the null space, if there is one."""
-        ev, sp = self._evaluation, self._setpoint
-        if ev is None or sp is None:
-            return
-        margin = float(ev.values[LIMIT_MARGIN])
+        ev, sp, used = self._evaluation, self._setpoint, self._correction.any()
+        if ev is None or sp is None or not (sp.orientation_free or self._joints > 6 or used):
+            return  # no null space to use: it takes ORIENTATION FREE or more than six joints
+        limit_margin, nst, field = float(ev.values[LIMIT_MARGIN]), self.null_space_t, self._field
         correction = self.null_space.correction(
-            self.null_space_t, ev, margin, self._field, self._field_torque, sp.posture_rad
+            nst, ev, limit_margin, field, self._field_torque, sp.posture_rad
         )
         self._stacked[:, 18] += correction - self._correction
         self._correction = correction
@@ -363,8 +363,7 @@ class ServoLevel:
         )
         self._correction[:] = 0.0  # the column holds the raw potentials again
         self.null_space.link_share_to_tool = 0.0
-        if self._redundant():
-            self._reshape()
+        self._reshape()
 
     def command(self, t_s: float, live: LiveSignals, noise_row: int) -> None:
         """Compute the tick's joint torques from the plant's live signals; write them to its drives.
