@@ -4,6 +4,14 @@ The controller talks to the plant only through what a real arm offers: joint
 torques in (:meth:`Plant.step`), encoders and the wrist force/torque sensor out
 (:meth:`Plant.read_encoders`, :meth:`Plant.read_wrench_sensor`); the servo loop
 takes the same signals as live buffers (:meth:`Plant.live_signals`, no copy per tick).
+
+Two plants. The **realistic** one (``realism``, :class:`cosmos.realism.PlantRealism`,
+the default of ``cosmos run``) is the published arm changed by a drawn model error
+(link masses and inertias, rotor inertia, friction with the published asymmetry), read
+through quantised encoders, a velocity observer instead of ``qvel``, and a wrist sensor
+with a 200 Hz bandwidth and a bias (:mod:`cosmos.realism`). The **ideal** one
+(``realism=None``, ``--ideal``) is the controller's own model read exactly: ``qpos``,
+``qvel`` and the sensor's wrench plus its noise.
 :meth:`Plant.contacts` reports contacts for collision events, and
 :attr:`Plant.model` / :attr:`Plant.data` exist for rendering and logging only.
 
@@ -28,6 +36,8 @@ import mujoco
 import numpy as np
 
 from cosmos.errors import CosmosError
+from cosmos.realism.plant_realism import PlantRealism
+from cosmos.realism.sensing import Sensing
 from cosmos.workcell import FORCE_SENSOR, HOME_KEY, JOINT_NAMES, SCENE_XML, TORQUE_SENSOR
 
 
@@ -86,15 +96,16 @@ _NOISE_BLOCK = 1024
 class LiveSignals:
     """The plant's encoders, wrist sensor and drives as live buffers, for the servo loop.
 
-    Views into the simulation's own arrays: they change with every step, and
-    writing ``ctrl`` commands the drives. A reading of the sensor is
-    ``wrench_raw + noise[row]`` with ``row`` from :meth:`Plant.next_noise_row`.
+    Views into the simulation's own arrays (ideal plant) or its sensing's (realistic
+    plant): they change with every step, and writing ``ctrl`` commands the drives. A
+    reading of the sensor is ``wrench_raw + noise[row]`` with ``row`` from
+    :meth:`Plant.next_noise_row`.
 
     Attributes:
-        positions: Joint angles [rad], read-only. # (6,)
-        velocities: Joint velocities [rad/s], read-only. # (6,)
-        wrench_raw: The wrist sensor's noiseless reading (see :meth:`Plant.read_wrench_sensor`),
-            read-only. # (6,)
+        positions: Joint angles [rad] (realistic: the encoders' counts), read-only. # (6,)
+        velocities: Joint velocities [rad/s] (realistic: the observer's estimate), read-only. # (6,)
+        wrench_raw: The wrist sensor's noiseless reading (realistic: low-passed; see
+            :meth:`Plant.read_wrench_sensor`), read-only. # (6,)
         noise: The sensor noise samples [N, N m], redrawn in place; one zero row without
             noise, read-only. # (n, 6)
         ctrl: Motor torques [N m], applied from the next step on. # (6,)
@@ -119,6 +130,8 @@ class Plant:
         sensor_noise: Noise (and bias) of the wrist sensor; None: exact readings.
         edit_spec: Changes the scene before it is compiled (a sweep's varied workcell,
             ``cosmos.sweep.variation``).
+        realism: The realistic plant's arm error and sensing (its bias adds to the noise's);
+            None: the ideal plant (module docstring).
 
     Raises:
         CosmosError: If the scene does not have the joints and motors above.
@@ -129,10 +142,13 @@ class Plant:
         scene_xml: Path | str = SCENE_XML,
         sensor_noise: SensorNoise | None = None,
         edit_spec: Callable[[mujoco.MjSpec], None] | None = None,
+        realism: PlantRealism | None = None,
     ) -> None:
         spec = mujoco.MjSpec.from_file(str(scene_xml))
         if edit_spec is not None:
             edit_spec(spec)
+        if realism is not None:
+            realism.arm.apply_to_spec(spec)
         model = spec.compile()
         _check_arm(model, scene_xml)
         home = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
@@ -151,11 +167,17 @@ class Plant:
         self._sensordata = self._data.sensordata
         self._noise_std = None if sensor_noise is None else sensor_noise.std
         self._noise_bias = np.zeros(6) if sensor_noise is None else np.array(sensor_noise.bias, dtype=float)
+        if realism is not None:
+            self._noise_bias += realism.wrist_bias
         self._rng = np.random.default_rng(None if sensor_noise is None else sensor_noise.seed)
         # Drawn in blocks (one draw per reading costs microseconds), in place: live_signals()
-        # hands out this array. Without noise, one row of zeros that every reading takes.
+        # hands out this array. Without noise, one row (the bias) that every reading takes.
         self._noise = np.zeros((1 if sensor_noise is None else _NOISE_BLOCK, 6))
+        if sensor_noise is None:
+            self._noise[0] = self._noise_bias
         self._noise_next = _NOISE_BLOCK  # the first reading draws the first block
+        self._realism = realism
+        self._sensing = None if realism is None else Sensing(realism, model, self._wrench_index)
         self.reset()
 
     @property
@@ -167,6 +189,11 @@ class Plant:
     def data(self) -> mujoco.MjData:
         """The MuJoCo state, for rendering and logging only: the controller must not read it."""
         return self._data
+
+    @property
+    def realism(self) -> PlantRealism | None:
+        """The realistic plant's arm error and sensing; None for the ideal plant."""
+        return self._realism
 
     @property
     def geom_owners(self) -> tuple[str, ...]:
@@ -195,6 +222,8 @@ class Plant:
         self._qvel[:] = 0.0
         self._ctrl[:] = 0.0
         mujoco.mj_forward(self._model, self._data)
+        if self._sensing is not None:
+            self._sensing.reset(self._data)
 
     def step(self, tau: np.ndarray) -> float:
         """Apply joint torques for one time step and advance the simulation.
@@ -216,8 +245,12 @@ class Plant:
         Returns:
             The simulated time after the step, [s] (:attr:`time_s`).
         """
-        mujoco.mj_step(self._model, self._data)
-        return float(self._data.time)
+        data = self._data
+        mujoco.mj_step(self._model, data)
+        sensing = self._sensing
+        if sensing is not None:
+            sensing.sense(data)
+        return float(data.time)
 
     def live_signals(self) -> LiveSignals:
         """The encoders, the wrist sensor and the drives as live buffers (no copies).
@@ -232,9 +265,13 @@ class Plant:
                 f"the servo loop needs the wrist sensor's force '{FORCE_SENSOR}' directly "
                 f"followed by its torque '{TORQUE_SENSOR}'"
             )
-        positions, velocities, wrench_raw, noise = (
-            array.view() for array in (self._qpos, self._qvel, self._sensordata[index], self._noise)
+        sensing = self._sensing
+        sources = (
+            (self._qpos, self._qvel, self._sensordata[index])
+            if sensing is None
+            else (sensing.sensed_q, sensing.estimate[1], sensing.wrench_filtered)
         )
+        positions, velocities, wrench_raw, noise = (array.view() for array in (*sources, self._noise))
         for array in (positions, velocities, wrench_raw, noise):
             array.flags.writeable = False
         return LiveSignals(positions, velocities, wrench_raw, noise, self._ctrl)
@@ -254,14 +291,22 @@ class Plant:
         return i
 
     def read_encoders(self) -> tuple[np.ndarray, np.ndarray]:
-        """Joint angles [rad] and velocities [rad/s], each ``(6,)``, copies."""
+        """Joint angles [rad] and velocities [rad/s], each ``(6,)``, copies.
+
+        The realistic plant's are the encoders' counts and the observer's estimate; the
+        ideal plant's MuJoCo's ``qpos`` and ``qvel``.
+        """
+        sensing = self._sensing
+        if sensing is not None:
+            return sensing.sensed_q.copy(), sensing.estimate[1].copy()
         return self._qpos.copy(), self._qvel.copy()
 
     def read_wrench_sensor(self) -> np.ndarray:
         """The wrist force/torque sensor: ``(fx, fy, fz, tx, ty, tz)`` [N, N m], ``(6,)``.
 
         Raw, in the sensor's own frame: the wrench that link 6 exerts on the tool,
-        the torque about the sensor origin (sign convention in the module docstring).
+        the torque about the sensor origin (sign convention in the module docstring);
+        on the realistic plant through the sensor's low-pass, plus its bias.
 
         Raises:
             CosmosError: If the scene has no wrist sensor.
@@ -271,9 +316,8 @@ class Plant:
             raise CosmosError(
                 f"the scene has no wrist sensor (force '{FORCE_SENSOR}', torque '{TORQUE_SENSOR}')"
             )
-        if self._noise_std is None:
-            return self._sensordata[index].copy()
-        return self._sensordata[index] + self._noise[self.next_noise_row()]
+        wrench = self._sensordata[index] if self._sensing is None else self._sensing.wrench_filtered
+        return wrench + self._noise[self.next_noise_row()]
 
     def contacts(self) -> list[Contact]:
         """The contacts MuJoCo found at the current state, with geom and body names.
