@@ -125,18 +125,22 @@ def run(
     param_hz: float | None = None,
     name: str | None = None,
     progress: Callable[[Progress], None] | None = None,
+    ideal: bool = False,
 ) -> Run:
     """Run a program on the simulated arm, as ``cosmos run`` does, and return what the log records.
 
     Args:
         program: A ``.cos`` file, or the program's text.
         log: The MCAP log to write (``--log``); default ``logs/<program>-<UTC time>.mcap``.
-        seed: Seed of the wrist sensor's noise (``--seed``).
+        seed: Seed of the wrist sensor's noise and of the realistic plant's drawn model
+            error and sensor bias (``--seed``).
         servo_hz: Servo rate [Hz] (``--servo-hz``; default 1000).
         param_hz: Parameter-evaluation rate [Hz] (``--param-hz``; default 125, at most
             the servo rate).
         name: The file name that errors and the log carry (default: the path, or ``<program>``).
         progress: Called every 200 servo ticks with the statement running and the time.
+        ideal: Run the ideal plant (``--ideal``: the controller's own model, exact encoders
+            and velocities) instead of the realistic one (``cosmos.realism``).
 
     Returns:
         The run, read from its log. A statement that failed on the arm does not raise:
@@ -154,6 +158,8 @@ def run(
 
     if isinstance(seed, bool) or not isinstance(seed, int):
         raise UsageError(f"seed must be an integer; got {seed!r}")
+    if not isinstance(ideal, bool):
+        raise UsageError(f"ideal must be True or False; got {ideal!r}")
     rates = Rates.chosen(
         None if servo_hz is None else _rate(servo_hz, "servo_hz"),
         None if param_hz is None else _rate(param_hz, "param_hz"),
@@ -165,7 +171,7 @@ def run(
     log_path = Path(log) if log is not None else default_log_path(stem, datetime.now(UTC))
     failure: TaskFailure | None = None
     try:
-        session = Session(plan.file, plan.source, log_path, rates, seed, progress)
+        session = Session(plan.file, plan.source, log_path, rates, seed, progress, ideal=ideal)
     except OSError as error:  # the log cannot be created there
         raise UsageError(f"{log_path}: cannot write the log: {error.strerror or error}") from None
     with session:

@@ -60,6 +60,9 @@ def cli() -> None:
 @click.option("--vary", multiple=True, metavar="NAME=VALUE", help="Vary the real workcell (docs/sweep.md).")
 @click.option("--sample", metavar="FILE:N", help="Run in the workcell of run N of a sweep's results file.")
 @click.option(
+    "--ideal", is_flag=True, help="The ideal plant: the controller's model, exact encoders (docs/plant.md)."
+)
+@click.option(
     "--ros2",
     is_flag=True,
     help="Also log ROS 2 channels (JointState, WrenchStamped, TFMessage; CDR) for ros2 bag play.",
@@ -84,6 +87,7 @@ def run(
     force: bool,
     vary: tuple[str, ...],
     sample: str | None,
+    ideal: bool,
     ros2: bool,
     live: bool,
     port: int,
@@ -99,10 +103,10 @@ def run(
     if vary or sample is not None:  # the sweep's modules only when a run is varied
         from cosmos.commands.sweep import variation_for_run
 
-        variation = variation_for_run(program, vary, sample, seed)
+        variation = variation_for_run(program, vary, sample, seed, ideal)
     paced = live or realtime or rate is not None
     pace = Pace(rate or 1.0, port if live else None) if paced else None
-    _finish(run_program(program, log_path, rates, seed, force, variation, ros2=ros2, pace=pace))
+    _finish(run_program(program, log_path, rates, seed, force, variation, ros2=ros2, pace=pace, ideal=ideal))
 
 
 @cli.command()
@@ -216,6 +220,7 @@ def replay(
 )
 @click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), help="Success per parameter (PNG).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.option("--ideal", is_flag=True, help="Every run on the ideal plant (docs/plant.md).")
 def sweep(
     program: Path,
     runs: int,
@@ -227,6 +232,7 @@ def sweep(
     keep: str,
     plot: Path | None,
     as_json: bool,
+    ideal: bool,
 ) -> None:
     """Run PROGRAM many times in varied workcells; report its success rate (docs/sweep.md)."""
     from cosmos.commands.sweep import SweepOptions, run_sweep
@@ -234,7 +240,7 @@ def sweep(
 
     if workers is not None and cluster is not None:
         raise UsageError("--workers and --cluster: the cluster's workers are its own")
-    options = SweepOptions(program, runs, seed, vary, workers, cluster, out, Keep(keep), plot, as_json)
+    options = SweepOptions(program, runs, seed, vary, workers, cluster, out, Keep(keep), plot, as_json, ideal)
     _finish(run_sweep(options))
 
 

@@ -72,6 +72,7 @@ def run_program(
     *,
     ros2: bool = False,
     pace: Pace | None = None,
+    ideal: bool = False,
 ) -> int:
     """Run a program (in a varied workcell: ``cosmos run --vary/--sample``); print the log's path.
 
@@ -80,7 +81,8 @@ def run_program(
     Ctrl-C and SIGTERM stop the arm; from before the log is opened until it is
     closed they never end the process; the status is then 128 + the signal (130:
     Ctrl-C, 143: SIGTERM). ``ros2``: also log the ROS 2 channels. ``pace``: hold
-    the run to real time, and serve a live view.
+    the run to real time, and serve a live view. ``ideal``: the ideal plant (``--ideal``:
+    the controller's own model, exact encoders) instead of the realistic one.
 
     Raises:
         UsageError: If the log cannot be written (it exists and not ``force``, is not
@@ -95,7 +97,7 @@ def run_program(
     signals = _StopAndRemember()
     with signals:
         with Session(
-            str(path), plan.source, log_path, rates, seed, progress, variation, ros2=ros2
+            str(path), plan.source, log_path, rates, seed, progress, variation, ros2=ros2, ideal=ideal
         ) as session:
             signals.attach(session.executor)
             server = None if pace is None else session.log.pace(pace.rate, pace.live_port)

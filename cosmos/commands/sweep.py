@@ -15,6 +15,7 @@ from typing import Any
 import click
 
 from cosmos.errors import UsageError
+from cosmos.realism.plant_realism import IDEAL
 from cosmos.sweep.parameters import SEED, Kind, parse_varies
 from cosmos.sweep.results import RESULTS_NAME, Keep, ResultsFile, SweepSpec, log_name, results_list, sample
 from cosmos.sweep.variation import WorkcellVariation
@@ -37,6 +38,7 @@ class SweepOptions:
     keep: Keep
     plot: Path | None
     as_json: bool
+    ideal: bool = False
 
 
 def default_out(program: Path, seed: int) -> Path:
@@ -55,7 +57,7 @@ def run_sweep(options: SweepOptions) -> int:
     for warning in plan.warnings:
         click.echo(warning.render(plan.source), err=True)
     varies = parse_varies(options.vary)
-    spec = SweepSpec(str(options.program), plan.source, options.seed, varies)
+    spec = SweepSpec(str(options.program), plan.source, options.seed, varies, options.ideal)
     out = options.out or default_out(options.program, options.seed)
     results = ResultsFile(out / RESULTS_NAME, spec)
     todo = [spec.task(i, options.keep) for i in range(options.runs) if i not in results.done]
@@ -148,9 +150,11 @@ class _Progress:
 
 
 def variation_for_run(
-    program: Path, vary: Sequence[str], sample_text: str | None, seed: int
+    program: Path, vary: Sequence[str], sample_text: str | None, seed: int, ideal: bool = False
 ) -> WorkcellVariation | None:
     """``cosmos run``'s varied workcell: ``--sample FILE:N`` (a sweep's run) or ``--vary`` constants.
+
+    A sweep's run made on the ideal plant (its results' header says so) is made again on it.
 
     Raises:
         UsageError: Both given, a ``--vary`` that is a distribution, or a bad ``--sample``.
@@ -167,7 +171,7 @@ def variation_for_run(
             click.echo(
                 f"{path}: the sweep ran another text of the program; running {program} as it is", err=True
             )
-        return WorkcellVariation.from_values(values)
+        return WorkcellVariation.from_values(values, ideal=ideal or header.get("plant") == IDEAL)
     if not vary:
         return None
     varies = parse_varies(vary)
@@ -176,4 +180,4 @@ def variation_for_run(
         raise UsageError(f"--vary {distributions[0]}: cosmos run takes one value, not a distribution")
     values = {v.name: v.a for v in varies}
     values.setdefault(SEED, float(seed))
-    return WorkcellVariation.from_values(values)
+    return WorkcellVariation.from_values(values, ideal=ideal)

@@ -13,6 +13,7 @@ from cosmos.execution.fixtures import fixture_primitives
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant, SensorNoise
+from cosmos.realism.plant_realism import PlantRealism, ideal_metadata
 from cosmos.robot_model import build_robot_model
 from cosmos.runlog.arm_scene import arm_entities
 from cosmos.runlog.writer import RunLog
@@ -27,6 +28,9 @@ MODEL_NAME = "PUMA 560 (Corke & Armstrong-Helouvry 1994) in the cosmos workcell"
 class Variation(Protocol):
     """How the real workcell differs from the program's (``cosmos.sweep.variation.WorkcellVariation``)."""
 
+    model_error: float | None
+    ideal: bool
+
     def sensor_noise(self) -> SensorNoise: ...  # noqa: D102
     def apply_to_spec(self, spec: mujoco.MjSpec) -> None: ...  # noqa: D102
     def arguments(self) -> str: ...  # noqa: D102
@@ -40,12 +44,17 @@ class Session:
         source: Its text, stored in the log as an attachment (None: none yet).
         log_path: Where the MCAP log goes.
         rates: Servo, parameter and state rates.
-        seed: Seed of the wrist sensor's noise; recorded in the log's metadata.
+        seed: Seed of the wrist sensor's noise and of the realistic plant's drawn arm and
+            sensor bias (:mod:`cosmos.realism`); recorded in the log's metadata.
         progress: Called now and then with the statement running.
         variation: A sweep's changes to the real workcell (the program's frames stay nominal);
             its noise seed replaces ``seed``; recorded in the log's metadata.
         ros2: Also log the ROS 2 channels (joint states, wrench, transforms).
         gains: The servo's gains (tests: the null-space damping off).
+        ideal: Run the ideal plant (the controller's own model, exact encoders) instead of
+            the realistic one; recorded in the log's metadata (``plant``).
+        model_error: The realistic plant's model-error scale (None: the variation's, else
+            the default 0.05, :mod:`cosmos.realism.arm_error`).
     """
 
     def __init__(
@@ -59,13 +68,26 @@ class Session:
         variation: Variation | None = None,
         ros2: bool = False,
         gains: ServoGains = DEFAULT_GAINS,
+        ideal: bool = False,
+        model_error: float | None = None,
     ):
         noise, edit, varied = SensorNoise(seed), None, {}
         if variation is not None:
             noise, edit = variation.sensor_noise(), variation.apply_to_spec
             seed = noise.seed
             varied = {"variation": variation.arguments()}
-        self.plant = Plant(obstacle_scene_xml(), noise, edit)
+            ideal = ideal or variation.ideal
+            if model_error is None:
+                model_error = variation.model_error
+        realism = None
+        if not ideal:
+            realism = (
+                PlantRealism.drawn(seed, JOINT_NAMES)
+                if model_error is None
+                else PlantRealism.drawn(seed, JOINT_NAMES, model_error)
+            )
+        plant_metadata = ideal_metadata() if realism is None else realism.metadata()
+        self.plant = Plant(obstacle_scene_xml(), noise, edit, realism)
         self.runtime = Runtime(self.plant, build_robot_model(), rates, gains)
         self.log = RunLog(
             log_path,
@@ -76,7 +98,7 @@ class Session:
             state_hz=rates.state_hz,
             model=MODEL_NAME,
             seed=seed,
-            metadata={"scene": SCENE_XML.name, "cosmos_version": __version__} | varied,
+            metadata={"scene": SCENE_XML.name, "cosmos_version": __version__} | plant_metadata | varied,
             ros2_joints=JOINT_NAMES if ros2 else None,
         )
         arm = arm_entities(self.plant.model, self.plant.geom_owners)

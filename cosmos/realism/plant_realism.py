@@ -11,7 +11,7 @@ values are in the metadata too (``plant_realism``), for people.
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -92,16 +92,3 @@ def ideal_metadata() -> dict[str, str]:
     """The log's metadata of the ideal plant (``--ideal``)."""
     return {"plant": IDEAL}
 
-
-def realism_from_metadata(meta: Mapping[str, str], seed: int, joints: Sequence[str]) -> PlantRealism | None:
-    """The plant a log's metadata records; None for the ideal one (and for logs from before it).
-
-    Raises:
-        ValueError: If ``plant`` or ``model_error`` is malformed.
-    """
-    plant = meta.get("plant", IDEAL)
-    if plant == IDEAL:
-        return None
-    if plant != REALISTIC:
-        raise ValueError(f"plant = {plant!r} is neither {IDEAL!r} nor {REALISTIC!r}")
-    return PlantRealism.drawn(seed, joints, float(meta.get("model_error", repr(DEFAULT_SCALE))))

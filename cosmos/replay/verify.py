@@ -84,10 +84,16 @@ class RunSettings:
     source: str
     rates: Rates
     seed: int
+    ideal: bool = True
+    model_error: float | None = None
 
 
 def settings_from_log(record: RunRecord) -> RunSettings:
-    """The program, source, rates and seed a logged run was started with.
+    """The program, source, rates, seed and plant a logged run was started with.
+
+    The plant is the metadata's ``plant`` (``realistic`` with its ``model_error``, drawn
+    again from the seed; ``ideal``); a log from before the realistic plant has none and
+    was made on the ideal one.
 
     Raises:
         CosmosError: If the log has no program source or lacks a setting.
@@ -107,13 +113,31 @@ def settings_from_log(record: RunRecord) -> RunSettings:
         if not 0 <= seed < 2**63:
             raise ValueError("seed is outside 0 .. 2**63 - 1")
         rates = Rates(servo_hz, param_hz, state_hz)
+        ideal, model_error = _plant_settings(meta)
     except KeyError as missing:
         raise CosmosError(f"{record.path}: the metadata has no {missing}: cannot re-run alike") from None
     except (ValueError, UsageError) as error:
         message = error.message if isinstance(error, UsageError) else str(error)
         raise CosmosError(f"{record.path}: a setting in the metadata is malformed: {message}") from None
     program = meta.get("program") or record.source_name or "<log>"
-    return RunSettings(program=program, source=record.source, rates=rates, seed=seed)
+    return RunSettings(
+        program=program, source=record.source, rates=rates, seed=seed, ideal=ideal, model_error=model_error
+    )
+
+
+def _plant_settings(meta: Mapping[str, str]) -> tuple[bool, float | None]:
+    """``(ideal, model_error)`` from the metadata (module docstring of :mod:`cosmos.realism`)."""
+    from cosmos.realism.plant_realism import IDEAL, REALISTIC
+
+    plant = meta.get("plant", IDEAL)
+    if plant not in (IDEAL, REALISTIC):
+        raise ValueError(f"plant = {plant!r} is neither {IDEAL!r} nor {REALISTIC!r}")
+    if plant == IDEAL:
+        return True, None
+    model_error = float(meta["model_error"])
+    if not (math.isfinite(model_error) and model_error >= 0.0):
+        raise ValueError(f"model_error = {model_error!r} is not a finite number >= 0")
+    return False, model_error
 
 
 def _setting(meta: Mapping[str, str], name: str, low: float, high: float) -> float:
@@ -148,7 +172,16 @@ def rerun(settings: RunSettings, log_path: Path, limit_s: float = math.inf) -> f
     progress = TerminalProgress() if sys.stderr.isatty() else None
     rates, seed = settings.rates, settings.seed
     with StopOnSignals() as signals:
-        with Session(settings.program, plan.source, log_path, rates, seed, progress) as session:
+        with Session(
+            settings.program,
+            plan.source,
+            log_path,
+            rates,
+            seed,
+            progress,
+            ideal=settings.ideal,
+            model_error=settings.model_error,
+        ) as session:
             signals.attach(session.executor)
             recorder = session.runtime.recorder
             assert recorder is not None  # the session logs

@@ -37,6 +37,7 @@ FIXTURES = ("hole", "table", "slope")
 POSE_AXES = ("x", "y", "z", "rx", "ry", "rz")
 BIAS_AXES = ("fx", "fy", "fz", "tx", "ty", "tz")
 SEED = "seed"
+MODEL_ERROR = "model_error"
 
 
 @dataclass(frozen=True)
@@ -93,6 +94,15 @@ def _parameters() -> dict[str, Parameter]:
             1.0,
             f"wrist sensor bias, {axis[1]} {'force' if force else 'torque'} (sensor axes)",
         )
+    table[MODEL_ERROR] = Parameter(
+        MODEL_ERROR,
+        NUMBER,
+        "",
+        "",
+        1.0,
+        "the realistic plant's model error: link masses, inertias within it, friction within twice it (0.05)",
+        0.0,
+    )
     table[SEED] = Parameter(SEED, NUMBER, "", "", 1.0, "the wrist sensor's noise seed (a constant)")
     return table
 

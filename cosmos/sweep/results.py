@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from cosmos.errors import CosmosError, UsageError
+from cosmos.realism.plant_realism import IDEAL, REALISTIC
 from cosmos.sweep.parameters import Vary, draw, parse_varies
 from cosmos.sweep.worker import RunTask
 
@@ -44,12 +45,14 @@ class SweepSpec:
         source: Its text.
         seed: The sweep's seed.
         varies: The ``--vary`` distributions.
+        ideal: Every run on the ideal plant (``--ideal``) instead of the realistic one.
     """
 
     program: str
     source: str
     seed: int
     varies: tuple[Vary, ...]
+    ideal: bool = False
 
     def header(self) -> dict[str, Any]:
         """The results file's first line."""
@@ -59,6 +62,7 @@ class SweepSpec:
             "source_sha256": hashlib.sha256(self.source.encode()).hexdigest(),
             "seed": self.seed,
             "vary": [vary.text() for vary in self.varies],
+            "plant": IDEAL if self.ideal else REALISTIC,
         }
 
     def task(self, index: int, keep: Keep = Keep.FAILED) -> RunTask:
@@ -70,6 +74,7 @@ class SweepSpec:
             values=draw(self.varies, self.seed, index),
             keep_log=keep == Keep.ALL,
             keep_failed_log=keep == Keep.FAILED,
+            ideal=self.ideal,
         )
 
 
@@ -123,7 +128,7 @@ class ResultsFile:
             found, self.done, complete = read_results(path)
             if {k: found.get(k) for k in header} != header:
                 raise UsageError(
-                    f"{path}: holds another sweep (program text, seed or --vary differ); "
+                    f"{path}: holds another sweep (program text, seed, --vary or --ideal differ); "
                     "give another --out or delete it"
                 )
             with path.open("r+b") as stream:

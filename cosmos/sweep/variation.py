@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 from cosmos.plant import SensorNoise
-from cosmos.sweep.parameters import BIAS_AXES, FIXTURES, PARAMETERS, POSE_AXES, SEED, Kind, Vary
+from cosmos.sweep.parameters import BIAS_AXES, FIXTURES, MODEL_ERROR, PARAMETERS, POSE_AXES, SEED, Kind, Vary
 from cosmos.workcell import TOOL, TOOL_BODY, fixture_frames
 
 FIXTURE_FRAMES = {"hole": "hole_fixture", "table": "table", "slope": "slope_fixture"}
@@ -42,7 +42,10 @@ class WorkcellVariation:
         friction: Sliding friction coefficient of every tool and fixture geom (None: the scene's).
         payload_kg: Mass added to the tool at its centre of mass [kg].
         sensor_bias: Constant offset of the wrist sensor's readings, sensor axes [N, N m].
-        noise_seed: Seed of the wrist sensor's noise.
+        noise_seed: Seed of the wrist sensor's noise, and of the realistic plant's drawn arm.
+        model_error: The realistic plant's model-error scale (None: its default,
+            :mod:`cosmos.realism.arm_error`).
+        ideal: The run is on the ideal plant (``--ideal``: no model error, exact sensing).
     """
 
     fixtures: tuple[tuple[str, Pose], ...] = ()
@@ -50,10 +53,15 @@ class WorkcellVariation:
     payload_kg: float = 0.0
     sensor_bias: tuple[float, float, float, float, float, float] = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     noise_seed: int = 0
+    model_error: float | None = None
+    ideal: bool = False
 
     @classmethod
-    def from_values(cls, values: Mapping[str, float]) -> WorkcellVariation:
-        """The variation of a run's drawn values (:func:`cosmos.sweep.parameters.draw`), SI."""
+    def from_values(cls, values: Mapping[str, float], ideal: bool = False) -> WorkcellVariation:
+        """The variation of a run's drawn values (:func:`cosmos.sweep.parameters.draw`), SI.
+
+        ``ideal``: the run is on the ideal plant.
+        """
         unknown = sorted(set(values) - set(PARAMETERS))
         if unknown:
             raise ValueError(f"unknown parameters: {', '.join(unknown)}")
@@ -63,12 +71,15 @@ class WorkcellVariation:
             if any(pose):
                 fixtures.append((fixture, pose))
         friction = values.get("friction")
+        model_error = values.get(MODEL_ERROR)
         return cls(
             fixtures=tuple(fixtures),  # type: ignore[arg-type]
             friction=None if friction is None else float(friction),
             payload_kg=float(values.get("payload", 0.0)),
             sensor_bias=tuple(float(values.get(f"bias.{axis}", 0.0)) for axis in BIAS_AXES),  # type: ignore[arg-type]
             noise_seed=int(values.get(SEED, 0)),
+            model_error=None if model_error is None else float(model_error),
+            ideal=ideal,
         )
 
     def sensor_noise(self) -> SensorNoise:
@@ -103,7 +114,8 @@ class WorkcellVariation:
 
     def arguments(self) -> str:
         """The ``cosmos run`` options that reproduce this variation (exact SI values)."""
-        return " ".join(f"--vary '{vary.text()}'" for vary in self.varies())
+        varies = " ".join(f"--vary '{vary.text()}'" for vary in self.varies())
+        return f"--ideal {varies}" if self.ideal else varies
 
     def varies(self) -> tuple[Vary, ...]:
         """The variation as constants, one per parameter that differs from nominal, and the seed."""
@@ -122,6 +134,8 @@ class WorkcellVariation:
             for axis, value in zip(BIAS_AXES, self.sensor_bias, strict=True)
             if value
         ]
+        if self.model_error is not None:
+            out.append(Vary(MODEL_ERROR, Kind.CONSTANT, self.model_error))
         out.append(Vary(SEED, Kind.CONSTANT, float(self.noise_seed)))
         return tuple(out)
 

@@ -37,6 +37,7 @@ class RunTask:
         source: The program's text.
         values: The run's drawn values, SI, the noise ``seed`` included.
         keep_log: Return the log's bytes: always, or only if the run failed.
+        ideal: Run on the ideal plant (``cosmos sweep --ideal``).
     """
 
     index: int
@@ -45,6 +46,7 @@ class RunTask:
     values: dict[str, float]
     keep_log: bool = False
     keep_failed_log: bool = False
+    ideal: bool = False
 
 
 _plans: dict[tuple[str, str], Plan] = {}
@@ -85,7 +87,7 @@ def run_task(task: RunTask) -> dict[str, Any]:
 
     started, cpu_started = time.perf_counter(), time.process_time()
     plan = _plan(task.program, task.source)
-    variation = WorkcellVariation.from_values(task.values)
+    variation = WorkcellVariation.from_values(task.values, ideal=task.ideal)
     handle, name = tempfile.mkstemp(prefix=f"cosmos-sweep-{task.index}-", suffix=".mcap")
     os.close(handle)
     log_path = Path(name)
