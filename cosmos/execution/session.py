@@ -28,9 +28,10 @@ MODEL_NAME = "PUMA 560 (Corke & Armstrong-Helouvry 1994) in the cosmos workcell"
 class Variation(Protocol):
     """How the real workcell differs from the program's (``cosmos.sweep.variation.WorkcellVariation``)."""
 
-    model_error: float | None
-    ideal: bool
-
+    @property
+    def model_error(self) -> float | None: ...  # noqa: D102
+    @property
+    def ideal(self) -> bool: ...  # noqa: D102
     def sensor_noise(self) -> SensorNoise: ...  # noqa: D102
     def apply_to_spec(self, spec: mujoco.MjSpec) -> None: ...  # noqa: D102
     def arguments(self) -> str: ...  # noqa: D102
