@@ -177,7 +177,7 @@ class Plant:
             self._noise[0] = self._noise_bias
         self._noise_next = _NOISE_BLOCK  # the first reading draws the first block
         self._realism = realism
-        self._sensing = None if realism is None else Sensing(realism, model, self._wrench_index)
+        self._sensing = None if realism is None else Sensing(realism, model, self._data, self._wrench_index)
         self.reset()
 
     @property
@@ -223,7 +223,7 @@ class Plant:
         self._ctrl[:] = 0.0
         mujoco.mj_forward(self._model, self._data)
         if self._sensing is not None:
-            self._sensing.reset(self._data)
+            self._sensing.reset()
 
     def step(self, tau: np.ndarray) -> float:
         """Apply joint torques for one time step and advance the simulation.
@@ -249,7 +249,7 @@ class Plant:
         mujoco.mj_step(self._model, data)
         sensing = self._sensing
         if sensing is not None:
-            sensing.sense(data)
+            sensing.sense()
         return float(data.time)
 
     def live_signals(self) -> LiveSignals:
@@ -269,7 +269,7 @@ class Plant:
         sources = (
             (self._qpos, self._qvel, self._sensordata[index])
             if sensing is None
-            else (sensing.sensed_q, sensing.estimate[1], sensing.wrench_filtered)
+            else (sensing.sensed_q, sensing.velocity, sensing.wrench_filtered)
         )
         positions, velocities, wrench_raw, noise = (array.view() for array in (*sources, self._noise))
         for array in (positions, velocities, wrench_raw, noise):
@@ -298,7 +298,7 @@ class Plant:
         """
         sensing = self._sensing
         if sensing is not None:
-            return sensing.sensed_q.copy(), sensing.estimate[1].copy()
+            return sensing.sensed_q.copy(), sensing.velocity.copy()
         return self._qpos.copy(), self._qvel.copy()
 
     def read_wrench_sensor(self) -> np.ndarray:

@@ -91,4 +91,3 @@ class PlantRealism:
 def ideal_metadata() -> dict[str, str]:
     """The log's metadata of the ideal plant (``--ideal``)."""
     return {"plant": IDEAL}
-
