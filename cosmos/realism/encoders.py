@@ -33,7 +33,9 @@ Its error has two parts, each bounded by the L1 norm of an impulse response
   ``2 / omega``: ``|v_hat - v| <= 2 max |qdd| / omega``, the lag of a ``2 / omega`` delay
   (8 ms at the default 40 Hz) (:func:`delay_bound`).
 
-At 40 Hz the first is 9.2e-3 rad/s at joint 1 and 1.5e-2 rad/s at joint 6.
+At 40 Hz the first is 9.2e-3 rad/s at joint 1 and 1.5e-2 rad/s at joint 6. These are the
+continuous observer's; stepped at 1 kHz (``omega dt = 0.25``) the rounding's L1 norm is
+6.5 % larger (98.5 against 92.5 per rad of rounding at 40 Hz).
 """
 
 from __future__ import annotations
