@@ -1,21 +1,38 @@
-"""Shared set-up for the runtime tests: an arm at a configuration, driven by setpoints."""
+"""Shared set-up for the runtime tests: an arm at a configuration, driven by setpoints.
+
+The arm is the realistic plant (cosmos.realism: drawn model error, quantised encoders, the
+velocity observer, the wrist sensor's bandwidth, bias and noise) of seed 0 unless a test asks
+for the ideal one.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-from cosmos.plant import Plant
+from cosmos.plant import Plant, SensorNoise
+from cosmos.realism import PlantRealism
 from cosmos.robot_model import build_robot_model
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+from cosmos.workcell import JOINT_NAMES
 
 ROBOT = build_robot_model()
 
 
-def runtime_at(q: np.ndarray | None = None, rates: Rates | None = None) -> Runtime:
-    """A runtime on a fresh plant, the arm at rest at ``q`` (home if None), holding its pose."""
-    plant = Plant()
+def plant_for_tests(ideal: bool = False, seed: int = 0) -> Plant:
+    """The realistic plant of ``seed`` (as ``cosmos run --seed``), or the ideal one, noiseless."""
+    if ideal:
+        return Plant()
+    return Plant(sensor_noise=SensorNoise(seed), realism=PlantRealism.drawn(seed, JOINT_NAMES))
+
+
+def runtime_at(
+    q: np.ndarray | None = None, rates: Rates | None = None, ideal: bool = False, seed: int = 0
+) -> Runtime:
+    """A runtime on a fresh plant (:func:`plant_for_tests`), the arm at rest at ``q`` (home if None),
+    holding its pose."""
+    plant = plant_for_tests(ideal, seed)
     plant.reset(q)
     runtime = Runtime(plant, ROBOT, rates or Rates())
     hold(runtime)

@@ -4,6 +4,13 @@ z is force-controlled at 10 N against the table, x, y and the orientation are
 motion-controlled. The wrench used by the loop is the sensor's, compensated for
 the tool's weight; the reference here is MuJoCo's own contact force between
 the peg and the table, which the controller never sees.
+
+On the realistic plant the sensor reads through a 200 Hz low-pass, with white noise
+(0.05 N per component, :class:`cosmos.plant.SensorNoise`) and a drawn bias. Every one of
+the last 500 readings may then stray by 4.5 noise standard deviations beyond the ideal
+plant's 3 % (a chance of 3e-3 that one of 500 normal samples does), and the table's true
+push by the sensor's bias as well (the loop holds the biased reading on its setpoint) and
+the noise the loop passes on.
 """
 
 from __future__ import annotations
@@ -11,6 +18,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from cosmos.plant import SensorNoise
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 from cosmos.workcell import fixture_frames
 from tests.runtime.runtime_helpers import run_for, runtime_at
@@ -36,6 +44,8 @@ def contact_force_on_tool_z(plant) -> float:  # type: ignore[no-untyped-def]
 
 
 def test_force_axis_settles_on_its_setpoint() -> None:
+    """Catches a force loop that does not hold its setpoint, or one fooled by its sensor (the
+    table's real push elsewhere), beyond the sensor's noise and bias."""
     runtime = runtime_at()
     table = fixture_frames()["table"]
     ev = runtime.evaluation
@@ -69,10 +79,15 @@ def test_force_axis_settles_on_its_setpoint() -> None:
         true.append(contact_force_on_tool_z(runtime.plant))
     last = slice(-500, None)  # the last 0.5 s
     sensed_last, true_last = np.array(sensed[last]), np.array(true[last])
-    assert np.all(np.abs(sensed_last - SETPOINT_N) < 0.03 * SETPOINT_N), (
-        f"sensed {sensed_last.min():.3f}..{sensed_last.max():.3f} N"
+    realism = runtime.plant.realism
+    noise_n = 0.0 if realism is None else 4.5 * SensorNoise(0).force_std_n
+    bias_n = 0.0 if realism is None else float(np.linalg.norm(realism.wrist_bias[:3]))
+    sensed_limit = 0.03 * SETPOINT_N + noise_n
+    assert np.all(np.abs(sensed_last - SETPOINT_N) < sensed_limit), (
+        f"sensed {sensed_last.min():.3f}..{sensed_last.max():.3f} N (+-{sensed_limit:.3f} N)"
     )
     # The table really pushes back with the setpoint (the sensor is not fooling the loop).
-    assert np.all(np.abs(true_last - SETPOINT_N) < 0.03 * SETPOINT_N), (
-        f"contact {true_last.min():.3f}..{true_last.max():.3f} N"
+    true_limit = sensed_limit + bias_n
+    assert np.all(np.abs(true_last - SETPOINT_N) < true_limit), (
+        f"contact {true_last.min():.3f}..{true_last.max():.3f} N (+-{true_limit:.3f} N)"
     )

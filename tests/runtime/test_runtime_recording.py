@@ -2,7 +2,9 @@
 
 At a 1 kHz servo every sample falls at a tick's start and is what the tick sensed and
 commanded; at the seed's 225 Hz servo most fall inside a zero-order hold and are
-sensed on their own. Either way the samples lie on one grid and match the plant.
+sensed on their own. Either way the samples lie on one grid and match the plant: its
+sensors' readings at that time (on the realistic plant the encoders' counts, within half a
+count of MuJoCo's angle, and the velocity observer's estimate, not ``qvel``).
 """
 
 from __future__ import annotations
@@ -27,13 +29,17 @@ class PlantWitness:
     def record(self, t_s, q, qd, tau, wrench, twist) -> None:
         data = self.plant.data
         assert t_s == pytest.approx(data.time, abs=1e-12)
-        np.testing.assert_array_equal(q, data.qpos)
-        np.testing.assert_array_equal(qd, data.qvel)
+        sensed_q, sensed_qd = self.plant.read_encoders()
+        np.testing.assert_array_equal(q, sensed_q)
+        np.testing.assert_array_equal(qd, sensed_qd)
+        realism = self.plant.realism
+        half_count = 0.0 if realism is None else 0.5 * np.array(realism.encoder_resolution_rad)
+        assert np.all(np.abs(q - data.qpos) <= half_count + 1e-15)
         assert np.all(np.abs(tau) < 200.0)  # the torque applied from t_s on, within the drives
         assert np.all(np.isfinite(wrench)) and abs(wrench[2]) < 5.0  # free air: noise and model error
         # J of the last evaluation times this sample's qd (not another tick's), NumPy's product
         np.testing.assert_allclose(
-            twist, self.runtime.evaluation.jacobian @ data.qvel, rtol=1e-12, atol=1e-15
+            twist, self.runtime.evaluation.jacobian @ sensed_qd, rtol=1e-12, atol=1e-15
         )
         self.times.append(t_s)
         self.peak_speed = max(self.peak_speed, float(np.linalg.norm(twist[:3])))
