@@ -33,6 +33,7 @@ LAYERS: list[tuple[str, ...]] = [
     # the arm: the workcell, the plant and the controller's model, the run log the
     # executor writes, obstacles, the servo loop, plan execution
     ("cosmos.workcell",),
+    ("cosmos.realism",),  # how the realistic plant differs from the model, and its sensing
     ("cosmos.plant", "cosmos.robot_model"),
     ("cosmos.runlog",),
     ("cosmos.obstacles",),
