@@ -9,10 +9,13 @@ filter as the converter's noise is).
   selectable output filters of small industrial F/T sensors' electronics (tens to hundreds
   of hertz); its delay ``1 / (2 pi f_c)`` is 0.8 ms. Discretised exactly for a signal held
   over the step: ``y += (1 - exp(-2 pi f_c dt)) (x - y)`` (:func:`low_pass_gain`).
-* **Bias**: what is left of a tare after the sensor's temperature drift over a task,
-  drawn per run from the seed: normal, :data:`BIAS_FORCE_STD_N` per force component and
-  :data:`BIAS_TORQUE_STD_NM` per torque component (a few times the noise). A sweep's
-  ``bias.*`` adds to it.
+* **Bias**: a real cell tares the sensor (its "bias" command) with the arm still in free
+  air, averaging :data:`TARE_READINGS` readings; the offset left is that average's error,
+  the noise over ``sqrt(256)``: drawn per run from the seed, normal, :data:`BIAS_FORCE_STD_N`
+  per force component and :data:`BIAS_TORQUE_STD_NM` per torque component. Drift after the
+  tare (temperature) is not modelled over a run's seconds; a sweep's ``bias.*`` adds an
+  offset on top, to measure a program's sensitivity to it (``COMPLY RX RY`` is sensitive:
+  README, "Measured").
 """
 
 from __future__ import annotations
@@ -24,11 +27,17 @@ import numpy as np
 CUTOFF_HZ = 200.0
 """Cut-off of the sensor's first-order low-pass [Hz]."""
 
-BIAS_FORCE_STD_N = 0.1
-"""Standard deviation of each force component's bias [N]."""
+TARE_READINGS = 256
+"""Readings a tare averages."""
 
-BIAS_TORQUE_STD_NM = 0.005
-"""Standard deviation of each torque component's bias [N m]."""
+FORCE_NOISE_STD_N, TORQUE_NOISE_STD_NM = 0.05, 0.002
+"""The sensor's white noise per component (:class:`cosmos.plant.SensorNoise`'s defaults)."""
+
+BIAS_FORCE_STD_N = FORCE_NOISE_STD_N / math.sqrt(TARE_READINGS)
+"""Standard deviation of each force component's bias after the tare [N]: 3.1 mN."""
+
+BIAS_TORQUE_STD_NM = TORQUE_NOISE_STD_NM / math.sqrt(TARE_READINGS)
+"""Standard deviation of each torque component's bias after the tare [N m]: 0.125 mN m."""
 
 
 def low_pass_gain(cutoff_hz: float, dt_s: float) -> float:
