@@ -21,8 +21,10 @@ import sys
 import threading
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+import pytest
 
 from cosmos.runlog import read_log
 from cosmos.runlog.reader import EventRecord, RunRecord, SegmentRecord
@@ -119,14 +121,17 @@ def run_cli(program: Path, log_path: Path) -> ProgramRun:
     return read_run(program, log_path, done.returncode, done.stdout, done.stderr)
 
 
-def run_in_process(program: Path, log_path: Path) -> ProgramRun:
-    """Run a program through :func:`cosmos.commands.run.run_program` in this process."""
+def run_in_process(program: Path, log_path: Path, ideal: bool = False) -> ProgramRun:
+    """Run a program through :func:`cosmos.commands.run.run_program` in this process.
+
+    On the realistic plant (the default) or the ideal one (``--ideal``).
+    """
     from cosmos.commands.run import run_program
     from cosmos.runtime.rates import Rates
 
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        returncode = run_program(program, log_path, Rates(), 0)
+        returncode = run_program(program, log_path, Rates(), 0, ideal=ideal)
     return read_run(program, log_path, returncode, out.getvalue(), err.getvalue())
 
 
@@ -228,3 +233,23 @@ def angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a = np.atleast_2d(a)
     cos = a.dot(b) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b))
     return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+FRICTION_ASYMMETRY = (
+    "measured on the realistic plant (docs/plant.md): the controller compensates the mean of "
+    "the published asymmetric Coulomb friction, so while the joints move the half-difference "
+    "(up to 3.1 N m, joint 2) acts uncompensated, and a goal motion (eq. 21) resists it across "
+    "its line only with kv V_max / D (D: the distance to its goal): "
+)
+"""The cause shared by the realistic plant's known shortfalls; each adds what it measured."""
+
+
+def on_both_plants(shortfall: str) -> list[Any]:
+    """``ideal`` parameters: the realistic plant as a strict xfail with its measured ``shortfall``,
+    then the ideal plant (the test's logic, as before the realistic plant)."""
+    return [
+        pytest.param(
+            False, id="realistic", marks=pytest.mark.xfail(strict=True, reason=FRICTION_ASYMMETRY + shortfall)
+        ),
+        pytest.param(True, id="ideal"),
+    ]

@@ -48,8 +48,8 @@ def program(dx_mm: float, dy_mm: float, search: str) -> str:
     )
 
 
-def run_seeded(directory: Path, name: str, source: str, seed: int) -> ProgramRun:
-    """Run ``source`` in this process with the sensor noise of ``seed``."""
+def run_seeded(directory: Path, name: str, source: str, seed: int, ideal: bool = False) -> ProgramRun:
+    """Run ``source`` in this process with the sensor noise (and realistic plant) of ``seed``."""
     from cosmos.commands.run import run_program
     from cosmos.runtime.rates import Rates
 
@@ -57,7 +57,7 @@ def run_seeded(directory: Path, name: str, source: str, seed: int) -> ProgramRun
     log = directory / f"{name}.mcap"
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = run_program(path, log, Rates(), seed, force=True)
+        code = run_program(path, log, Rates(), seed, force=True, ideal=ideal)
     return read_run(path, log, code, out.getvalue(), err.getvalue())
 
 

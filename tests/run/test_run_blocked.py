@@ -6,7 +6,8 @@ import re
 from pathlib import Path
 
 import numpy as np
-from run_support import run_in_process, write_program
+import pytest
+from run_support import on_both_plants, run_in_process, write_program
 
 from cosmos.runlog.reader import read_log
 
@@ -25,9 +26,11 @@ def test_a_move_into_the_table_is_a_protective_stop_at_the_touch(tmp_path: Path)
     record = read_log(tmp_path / "blocked.mcap")
     kinds = [e.kind for e in record.events]
     assert kinds[-3:] == ["collision", "protective_stop", "failed"], kinds
-    # 2.57 s to cover the 257 mm to the table top at 0.1 m/s: stopped at the touch.
-    failed = record.events[-1]
-    assert 2.4 < failed.t < 2.8, failed.t
+    # Stopped at the touch (the collision), not 2 s into the table: 257 mm to the table top at
+    # 0.1 m/s is 2.57 s (2.36 s on the realistic plant, whose uncompensated friction error
+    # runs the move 9 % fast: docs/plant.md).
+    collision, failed = record.events[-3], record.events[-1]
+    assert failed.t - collision.t < 0.05 and failed.t < 2.8, (collision.t, failed.t)
     # Held: the tool stays where it stopped, on the table top, not 43 mm into it.
     after = record.state.t >= failed.t
     z = record.state.x[after, 2]
@@ -41,10 +44,17 @@ def test_a_pose_out_of_reach_fails_saying_so(tmp_path: Path) -> None:
     assert "out of the arm's reach" in run.stderr
 
 
-def test_a_move_on_a_compliant_spring_settles_short_of_a_blocked_goal(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    "ideal",
+    on_both_plants(
+        "along the 100 N/m axis the tool falls onto the table at 91 mm/s (33 mm/s on the ideal "
+        "plant) and the wrist reads 33.1 N, over the MOVE's 30 N protective limit"
+    ),
+)
+def test_a_move_on_a_compliant_spring_settles_short_of_a_blocked_goal(tmp_path: Path, ideal: bool) -> None:
     # Z is a 100 N/m spring: pressed on the table it rests where the spring balances.
     program = "MOVE TO table + (0, 0, 20 mm)\nCOMPLY Z STIFFNESS 100 N/m\nMOVE BY (0, 0, -40 mm)\n"
-    run = run_in_process(write_program(tmp_path, "spring", program), tmp_path / "spring.mcap")
+    run = run_in_process(write_program(tmp_path, "spring", program), tmp_path / "spring.mcap", ideal)
     assert run.returncode == 0, run.describe()
     done = [e for e in read_log(tmp_path / "spring.mcap").events if e.kind == "done" and e.line == 3]
     assert done and done[0].reason.startswith("settled on its COMPLY spring")

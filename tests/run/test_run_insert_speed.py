@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import run_in_process, samples_of, write_program
+from run_support import on_both_plants, run_in_process, samples_of, write_program
 
 PROGRAM = """\
 FRAME above = hole + (2 mm, 0, 80 mm)
@@ -26,14 +26,19 @@ DEFAULT_INSERT_SPEED_MPS = 0.020
 """docs/language.md: the insertion axis "is limited to 20 mm/s unless SPEED says otherwise"."""
 
 
+@pytest.mark.parametrize(
+    "ideal", on_both_plants("the INSERT's push peaks at 23.8 mm/s at its 20 mm/s, 19 % over")
+)
 @pytest.mark.parametrize("speed_mmps", [None, 30.0])
-def test_insert_peaks_within_ten_percent_of_its_speed(tmp_path: Path, speed_mmps: float | None) -> None:
+def test_insert_peaks_within_ten_percent_of_its_speed(
+    tmp_path: Path, speed_mmps: float | None, ideal: bool
+) -> None:
     """The peak downward speed of the INSERT segment within 10 % of the limit, and the depth reached.
     Catches the push left uncapped on its force axis (55.6 mm/s at SPEED 10 mm/s, 80 mm/s in
     peg_in_hole.cos), and a cap so tight or so stuck in joint friction that the peg jams."""
     clause = "" if speed_mmps is None else f" SPEED {speed_mmps:g} mm/s"
     program = write_program(tmp_path, "insert_speed", PROGRAM.format(speed=clause))
-    run = run_in_process(program, tmp_path / "insert_speed.mcap")
+    run = run_in_process(program, tmp_path / "insert_speed.mcap", ideal)
     assert run.returncode == 0, run.describe()
     limit = DEFAULT_INSERT_SPEED_MPS if speed_mmps is None else speed_mmps * 1e-3
     inserts = run.segments("insert")
