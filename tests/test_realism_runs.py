@@ -67,3 +67,19 @@ def test_sweep_model_error_and_ideal_reach_the_run_and_its_log(tmp_path: Path) -
     log.write_bytes(ideal_result["log_bytes"])
     assert read_log(log).metadata["plant"] == "ideal"
     assert WorkcellVariation(ideal=True).arguments().startswith("--ideal ")
+
+
+def test_cosmos_run_ideal_flag_reaches_the_plant(tmp_path: Path) -> None:
+    """Catches ``cosmos run --ideal`` parsed but not passed on (the run on the realistic plant)."""
+    from click.testing import CliRunner
+
+    from cosmos.cli import cli
+
+    program = tmp_path / "p.cos"
+    program.write_text(PROGRAM, encoding="utf-8")
+    for flag, plant in (("--ideal", "ideal"), (None, "realistic")):
+        log = tmp_path / f"{plant}.mcap"
+        args = ["run", str(program), "--log", str(log), *([flag] if flag else [])]
+        result = CliRunner().invoke(cli, args)
+        assert result.exit_code == 0, result.output
+        assert read_log(log).metadata["plant"] == plant
