@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import on_both_plants, run_in_process, samples_of, write_program
+from run_support import NOT_TRACED, run_in_process, samples_of, write_program
 
 PROGRAM = """\
 FRAME above = hole + (2 mm, 0, 80 mm)
@@ -26,10 +26,26 @@ DEFAULT_INSERT_SPEED_MPS = 0.020
 """docs/language.md: the insertion axis "is limited to 20 mm/s unless SPEED says otherwise"."""
 
 
-@pytest.mark.parametrize(
-    "ideal", on_both_plants("the INSERT's push peaks at 23.8 mm/s at its 20 mm/s, 19 % over")
+PEAK_OVER = (
+    "the INSERT's push peaks at 23.8 mm/s at its 20 mm/s, 19 % over (at SPEED 30 within 10 %), "
+    "also without the friction asymmetry in the plant"
 )
-@pytest.mark.parametrize("speed_mmps", [None, 30.0])
+
+
+@pytest.mark.parametrize(
+    ("speed_mmps", "ideal"),
+    [
+        pytest.param(
+            None,
+            False,
+            id="default-realistic",
+            marks=pytest.mark.xfail(strict=True, reason=NOT_TRACED + PEAK_OVER),
+        ),
+        pytest.param(None, True, id="default-ideal"),
+        pytest.param(30.0, False, id="30-realistic"),
+        pytest.param(30.0, True, id="30-ideal"),
+    ],
+)
 def test_insert_peaks_within_ten_percent_of_its_speed(
     tmp_path: Path, speed_mmps: float | None, ideal: bool
 ) -> None:
