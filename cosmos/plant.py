@@ -38,7 +38,7 @@ import numpy as np
 from cosmos.errors import CosmosError
 from cosmos.realism.plant_realism import PlantRealism
 from cosmos.realism.sensing import Sensing
-from cosmos.workcell import FORCE_SENSOR, HOME_KEY, JOINT_NAMES, SCENE_XML, TORQUE_SENSOR
+from cosmos.workcell import FORCE_SENSOR, HOME_KEY, SCENE_XML, TORQUE_SENSOR
 
 
 @dataclass(frozen=True)
@@ -102,13 +102,13 @@ class LiveSignals:
     :meth:`Plant.next_noise_row`.
 
     Attributes:
-        positions: Joint angles [rad] (realistic: the encoders' counts), read-only. # (6,)
-        velocities: Joint velocities [rad/s] (realistic: the observer's estimate), read-only. # (6,)
+        positions: Joint angles [rad] (realistic: the encoders' counts), read-only. # (n,)
+        velocities: Joint velocities [rad/s] (realistic: the observer's estimate), read-only. # (n,)
         wrench_raw: The wrist sensor's noiseless reading (realistic: low-passed; see
             :meth:`Plant.read_wrench_sensor`), read-only. # (6,)
         noise: The sensor noise samples [N, N m], redrawn in place; one zero row without
             noise, read-only. # (n, 6)
-        ctrl: Motor torques [N m], applied from the next step on. # (6,)
+        ctrl: Motor torques [N m], applied from the next step on. # (n,)
     """
 
     positions: np.ndarray
@@ -123,7 +123,7 @@ class Plant:
 
     Args:
         scene_xml: MJCF file of the scene. It must have the hinge joints and
-            motors ``joint1`` .. ``joint6`` as its only degrees of freedom and
+            motors ``joint1`` .. ``joint<n>`` as its only degrees of freedom and
             actuators, in that order, and a keyframe ``home``. The wrist sensor
             (``ft_force``, ``ft_torque``) is optional: without it
             :meth:`read_wrench_sensor` raises.
@@ -161,9 +161,9 @@ class Plant:
         self._geom_names = tuple(model.geom(i).name for i in range(model.ngeom))
         self._geom_owners = _geom_owners(spec, model)
         # Views into MjData's buffers, taken once: the hot loop does not rebuild them.
-        self._qpos = self._data.qpos  # (6,)
-        self._qvel = self._data.qvel  # (6,)
-        self._ctrl = self._data.ctrl  # (6,)
+        self._qpos = self._data.qpos  # (n,)
+        self._qvel = self._data.qvel  # (n,)
+        self._ctrl = self._data.ctrl  # (n,)
         self._sensordata = self._data.sensordata
         self._noise_std = None if sensor_noise is None else sensor_noise.std
         self._noise_bias = np.zeros(6) if sensor_noise is None else np.array(sensor_noise.bias, dtype=float)
@@ -214,7 +214,7 @@ class Plant:
         """Put the arm at rest, at ``q`` or at the home keyframe; zero time and torques.
 
         Args:
-            q: Joint angles [rad], ``(6,)``; ``None`` for the ``home`` keyframe.
+            q: Joint angles [rad], ``(n,)``; ``None`` for the ``home`` keyframe.
         """
         mujoco.mj_resetDataKeyframe(self._model, self._data, self._home_key)
         if q is not None:
@@ -229,7 +229,7 @@ class Plant:
         """Apply joint torques for one time step and advance the simulation.
 
         Args:
-            tau: Motor torques [N m], ``(6,)``, joint order; each is clipped to its
+            tau: Motor torques [N m], ``(n,)``, joint order; each is clipped to its
                 drive's limit (the actuator's ``ctrlrange``). Must be finite: MuJoCo
                 zeroes non-finite controls and records a warning.
 
@@ -291,7 +291,7 @@ class Plant:
         return i
 
     def read_encoders(self) -> tuple[np.ndarray, np.ndarray]:
-        """Joint angles [rad] and velocities [rad/s], each ``(6,)``, copies.
+        """Joint angles [rad] and velocities [rad/s], each ``(n,)``, copies.
 
         The realistic plant's are the encoders' counts and the observer's estimate; the
         ideal plant's MuJoCo's ``qpos`` and ``qvel``.
@@ -343,19 +343,20 @@ class Plant:
 
 
 def _check_arm(model: mujoco.MjModel, scene_xml: Path | str) -> None:
-    """Raise unless the model's DOFs and actuators are the six joints, in order."""
+    """Raise unless the DOFs and actuators are the n joints ``joint1`` .. ``joint<n>``, in order."""
     joints = tuple(model.joint(i).name for i in range(model.njnt))
+    names = tuple(f"joint{k}" for k in range(1, max(model.njnt, 1) + 1))
     hinges = all(t == mujoco.mjtJoint.mjJNT_HINGE for t in model.jnt_type)
-    if joints != JOINT_NAMES or not hinges or model.nq != len(JOINT_NAMES):
+    if joints != names or not hinges or model.nq != len(names):
         raise CosmosError(
-            f"{scene_xml}: expected exactly the hinge joints {', '.join(JOINT_NAMES)}, "
+            f"{scene_xml}: expected exactly the hinge joints {', '.join(names)}, "
             f"found: {', '.join(joints) or 'none'}"
         )
     targets = tuple(model.joint(int(j)).name for j in model.actuator_trnid[:, 0])
     motors = tuple(model.actuator(i).name for i in range(model.nu))
-    if motors != JOINT_NAMES or targets != JOINT_NAMES:
+    if motors != names or targets != names:
         raise CosmosError(
-            f"{scene_xml}: expected the motors {', '.join(JOINT_NAMES)} on the joints of the "
+            f"{scene_xml}: expected the motors {', '.join(names)} on the joints of the "
             f"same names, found: {', '.join(motors) or 'none'}"
         )
     if not model.actuator_ctrllimited.all():

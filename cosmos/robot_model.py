@@ -1,8 +1,9 @@
 """The controller's dynamic model of the arm: Pinocchio, built from the bare arm's MJCF.
 
 The controller does not see the simulator's model. It knows the published arm
-(``puma560.xml``, parsed by Pinocchio) and the tool's datasheet
-(:data:`cosmos.workcell.TOOL`), which is added to link 6 here.
+(:attr:`cosmos.robots.Robot.arm_xml`: ``puma560.xml`` or ``panda.xml``, parsed by
+Pinocchio) and the tool's datasheet (:func:`cosmos.workcell.tool_spec`), which is
+added to the last link here.
 
 Rotor inertia: the MJCF joint ``armature`` (G^2 Jm) is parsed into
 ``model.armature``, and Pinocchio (>= 3; checked for 4.1 in
@@ -21,15 +22,8 @@ import numpy as np
 import pinocchio as pin
 
 from cosmos.errors import CosmosError
-from cosmos.workcell import (
-    ARM_XML,
-    FLANGE_SITE,
-    JOINT_NAMES,
-    SENSOR_SITE,
-    TOOL,
-    TOOL_SITE,
-    read_only,
-)
+from cosmos.robots import DEFAULT_ROBOT, Robot
+from cosmos.workcell import FLANGE_SITE, SENSOR_SITE, TOOL_SITE, ToolSpec, read_only, tool_spec
 
 GRAVITY = read_only(np.array([0.0, 0.0, -9.81]))
 """Gravity in the world (base) frame [m/s^2]."""
@@ -39,11 +33,13 @@ GRAVITY = read_only(np.array([0.0, 0.0, -9.81]))
 class RobotModel:
     """The arm with its tool as the controller knows it.
 
-    ``model`` and ``data`` are Pinocchio's; the arrays are read-only, ``(6,)``,
+    ``model`` and ``data`` are Pinocchio's; the arrays are read-only, ``(n,)``,
     in joint order. The frames ``flange``, ``ft_sensor`` (wrist sensor's
-    measuring frame) and ``tool`` (tool point, z along the peg) are on joint 6.
+    measuring frame) and ``tool`` (tool point, z along the peg) are on the last joint.
 
     Attributes:
+        description: The arm this models (its files, joints, capabilities).
+        tool: The tool's datasheet, as added to the last link.
         model: Pinocchio model: arm plus tool mass, gravity (0, 0, -9.81) m/s^2.
         data: Pinocchio workspace for ``model``.
         flange_frame: Frame id of the flange (DH frame 6).
@@ -59,6 +55,8 @@ class RobotModel:
         coulomb_nm: Coulomb friction (symmetric) [N m].
     """
 
+    description: Robot
+    tool: ToolSpec
     model: pin.Model
     data: pin.Data
     flange_frame: int
@@ -73,46 +71,48 @@ class RobotModel:
     coulomb_nm: np.ndarray
 
 
-def _drive_torque_limits() -> tuple[np.ndarray, np.ndarray]:
+def _drive_torque_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper torque limits [N m] from the arm's motor ``ctrlrange``, joint order."""
-    arm = mujoco.MjModel.from_xml_path(str(ARM_XML))
-    lower, upper = np.full(len(JOINT_NAMES), -np.inf), np.full(len(JOINT_NAMES), np.inf)
+    arm = mujoco.MjModel.from_xml_path(str(robot.arm_xml))
+    names = robot.joint_names
+    lower, upper = np.full(len(names), -np.inf), np.full(len(names), np.inf)
     for i in range(arm.nu):
         joint = arm.joint(int(arm.actuator_trnid[i, 0])).name
         gear = float(arm.actuator_gear[i, 0])
-        lower[JOINT_NAMES.index(joint)], upper[JOINT_NAMES.index(joint)] = sorted(
-            gear * arm.actuator_ctrlrange[i]
-        )
+        lower[names.index(joint)], upper[names.index(joint)] = sorted(gear * arm.actuator_ctrlrange[i])
     return lower, upper
 
 
-def build_robot_model() -> RobotModel:
-    """Build the controller's model: the bare arm from its MJCF plus the tool from ``TOOL``."""
-    model = pin.buildModelFromMJCF(str(ARM_XML))
+def build_robot_model(robot: Robot = DEFAULT_ROBOT) -> RobotModel:
+    """Build the controller's model: the bare arm from its MJCF plus its tool (:func:`tool_spec`)."""
+    model = pin.buildModelFromMJCF(str(robot.arm_xml))
     model.gravity = pin.Motion(GRAVITY, np.zeros(3))
     names = tuple(model.names[1:])
-    if names != JOINT_NAMES:  # pragma: no cover - guards the shipped model file
-        raise CosmosError(f"{ARM_XML}: joints {names}, expected {JOINT_NAMES}")
+    if names != robot.joint_names:  # pragma: no cover - guards the shipped model file
+        raise CosmosError(f"{robot.arm_xml}: joints {names}, expected {robot.joint_names}")
     flange = model.getFrameId(FLANGE_SITE)
-    joint6 = model.frames[flange].parentJoint
+    last_joint = model.frames[flange].parentJoint
     flange_in_joint = model.frames[flange].placement
 
-    tool_inertia = pin.Inertia(TOOL.mass_kg, TOOL.com_in_flange, TOOL.inertia_in_flange)
-    model.appendBodyToJoint(joint6, tool_inertia, flange_in_joint)
-    sensor_in_flange = pin.SE3(TOOL.sensor_rotation_in_flange, TOOL.sensor_position_in_flange)
-    tool_in_flange = pin.SE3(TOOL.tool_rotation_in_flange, TOOL.tool_position_in_flange)
+    spec = tool_spec(robot)
+    tool_inertia = pin.Inertia(spec.mass_kg, spec.com_in_flange, spec.inertia_in_flange)
+    model.appendBodyToJoint(last_joint, tool_inertia, flange_in_joint)
+    sensor_in_flange = pin.SE3(spec.sensor_rotation_in_flange, spec.sensor_position_in_flange)
+    tool_in_flange = pin.SE3(spec.tool_rotation_in_flange, spec.tool_position_in_flange)
     sensor = model.addFrame(
-        pin.Frame(SENSOR_SITE, joint6, flange, flange_in_joint * sensor_in_flange, pin.OP_FRAME),
+        pin.Frame(SENSOR_SITE, last_joint, flange, flange_in_joint * sensor_in_flange, pin.OP_FRAME),
         False,
     )
     tool = model.addFrame(
-        pin.Frame(TOOL_SITE, joint6, flange, flange_in_joint * tool_in_flange, pin.OP_FRAME),
+        pin.Frame(TOOL_SITE, last_joint, flange, flange_in_joint * tool_in_flange, pin.OP_FRAME),
         False,
     )
 
-    tau_lower, tau_upper = _drive_torque_limits()
+    tau_lower, tau_upper = _drive_torque_limits(robot)
     model.effortLimit = np.maximum(-tau_lower, tau_upper)
     return RobotModel(
+        description=robot,
+        tool=spec,
         model=model,
         data=model.createData(),
         flange_frame=flange,

@@ -1,7 +1,9 @@
 """The workcell: model files, home configuration, fixture frames and the tool.
 
-Everything here is read from the scene file (``cosmos/models/puma560/scene.xml``)
-once, so the XML stays the one place where the workcell is defined:
+Everything here is read from an arm's scene file (:attr:`cosmos.robots.Robot.scene_xml`,
+``cosmos/models/<arm>/scene.xml``) once, so the XML stays the one place where the
+workcell is defined. The functions take the arm (the PUMA 560 by default); the
+module's constants are the PUMA's:
 
 - :data:`HOME_Q`: the ``home`` keyframe, where every program starts;
 - :func:`fixture_frames`: the predefined frames ``table``, ``hole``, ``slope``
@@ -12,7 +14,8 @@ once, so the XML stays the one place where the workcell is defined:
   the arm can do at the tool (declared in :mod:`cosmos.capabilities`, below the
   language, which checks programs against them).
 
-World frame = PUMA base frame: z up, origin on the floor on the joint-1 axis.
+World frame = PUMA base frame: z up, origin on the floor on the joint-1 axis; the
+Panda stands on its pedestal at the same origin.
 """
 
 from __future__ import annotations
@@ -27,15 +30,16 @@ import numpy as np
 from cosmos.capabilities import ARM_CAPABILITY as ARM_CAPABILITY
 from cosmos.capabilities import WRIST_SENSOR as WRIST_SENSOR
 from cosmos.errors import CosmosError
+from cosmos.robots import DEFAULT_ROBOT, PUMA560, Robot
 
-MODEL_DIR = Path(__file__).resolve().parent / "models" / "puma560"
-ARM_XML = MODEL_DIR / "puma560.xml"
+MODEL_DIR: Path = PUMA560.model_dir
+ARM_XML: Path = PUMA560.arm_xml
 """The bare PUMA 560 (no tool): the controller's model is built from it."""
-SCENE_XML = MODEL_DIR / "scene.xml"
+SCENE_XML: Path = PUMA560.scene_xml
 """The workcell: arm with wrist sensor and peg, table, hole fixture, tilted plate."""
 
-JOINT_NAMES = ("joint1", "joint2", "joint3", "joint4", "joint5", "joint6")
-"""Hinge joints (and their motors, same names) in the order of q."""
+JOINT_NAMES = PUMA560.joint_names
+"""The PUMA's hinge joints (and their motors, same names) in the order of q."""
 FIXTURE_NAMES = ("table", "hole", "slope")
 """Sites of the scene that are predefined frames of the task language."""
 FLANGE_SITE = "flange"
@@ -77,7 +81,8 @@ class ToolSpec:
 
     The tool is everything beyond the wrist force/torque sensor's measuring
     plane: sensor housing (tool side), collar and peg. It is rigidly mounted on
-    link 6; the flange frame is DH frame 6.
+    the last link (the PUMA's link 6: the flange frame is DH frame 6; the Panda's link 7: the
+    URDF's panda_link8).
 
     Attributes:
         mass_kg: Mass [kg].
@@ -109,9 +114,9 @@ def _object_id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
 
 
 @functools.cache
-def _scene_at_home() -> tuple[mujoco.MjModel, mujoco.MjData]:
+def _scene_at_home(scene_xml: Path = SCENE_XML) -> tuple[mujoco.MjModel, mujoco.MjData]:
     """The compiled scene with the kinematics evaluated at the home keyframe."""
-    model = mujoco.MjModel.from_xml_path(str(SCENE_XML))
+    model = mujoco.MjModel.from_xml_path(str(scene_xml))
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY))
     mujoco.mj_kinematics(model, data)
@@ -119,13 +124,15 @@ def _scene_at_home() -> tuple[mujoco.MjModel, mujoco.MjData]:
 
 
 def _read_home_tool() -> tuple[np.ndarray, np.ndarray]:
-    model, data = _scene_at_home()
+    model, data = _scene_at_home(SCENE_XML)
     site = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)
     return read_only(data.site_xpos[site]), read_only(data.site_xmat[site].reshape(3, 3))
 
 
-def _read_home_q() -> np.ndarray:
-    model, _ = _scene_at_home()
+@functools.cache
+def home_q(robot: Robot = DEFAULT_ROBOT) -> np.ndarray:
+    """The arm's home configuration [rad], ``(n,)``, read-only: its scene's ``home`` keyframe."""
+    model, _ = _scene_at_home(robot.scene_xml)
     key = _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
     return read_only(model.key_qpos[key])
 
@@ -137,8 +144,10 @@ def _rotation(quat: np.ndarray) -> np.ndarray:
     return matrix.reshape(3, 3)
 
 
-def _read_tool() -> ToolSpec:
-    model, _ = _scene_at_home()
+@functools.cache
+def tool_spec(robot: Robot = DEFAULT_ROBOT) -> ToolSpec:
+    """The tool mounted on the arm's flange in its scene, as the controller is allowed to know it."""
+    model, _ = _scene_at_home(robot.scene_xml)
     flange = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, FLANGE_SITE)
     body = _object_id(model, mujoco.mjtObj.mjOBJ_BODY, TOOL_BODY)
     sensor = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, SENSOR_SITE)
@@ -173,8 +182,8 @@ def _read_tool() -> ToolSpec:
 
 
 @functools.cache
-def _read_fixture_frames() -> tuple[FixtureFrame, ...]:
-    model, data = _scene_at_home()
+def _read_fixture_frames(scene_xml: Path) -> tuple[FixtureFrame, ...]:
+    model, data = _scene_at_home(scene_xml)
     frames = []
     for name in FIXTURE_NAMES:
         site = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, name)
@@ -188,24 +197,26 @@ def _read_fixture_frames() -> tuple[FixtureFrame, ...]:
     return tuple(frames)
 
 
-def fixture_frames() -> dict[str, FixtureFrame]:
+def fixture_frames(robot: Robot = DEFAULT_ROBOT) -> dict[str, FixtureFrame]:
     """The workcell's predefined frames by name: ``table``, ``hole``, ``slope``.
 
-    Read from the scene's sites of the same names (once; the arrays are read-only).
+    Read from the sites of the same names in the arm's scene (once; the arrays are read-only).
+    Both arms' scenes hold the same fixtures (``tests/test_panda_model.py``).
 
     Returns:
         A new dict on each call, so callers may add their own entries to it.
     """
-    return {frame.name: frame for frame in _read_fixture_frames()}
+    return {frame.name: frame for frame in _read_fixture_frames(robot.scene_xml)}
 
 
-HOME_Q: np.ndarray = _read_home_q()
-"""Home configuration [rad], ``(6,)``, read-only: the scene's ``home`` keyframe."""
+HOME_Q: np.ndarray = home_q(PUMA560)
+"""The PUMA's home configuration [rad], ``(6,)``, read-only: the scene's ``home`` keyframe."""
 
 HOME_TOOL_POSITION, HOME_TOOL_ROTATION = _read_home_tool()
 """Where the tool point is at home, world [m] (3,), and its orientation, tool to world (3, 3),
 read from the scene (:data:`cosmos.capabilities.HOME_TOOL` states the same numbers for the
 language, which may not import this module; tests/run/test_supervision_units.py compares)."""
 
-TOOL: ToolSpec = _read_tool()
-"""The tool mounted in the scene, as the controller is allowed to know it."""
+TOOL: ToolSpec = tool_spec(PUMA560)
+"""The tool mounted in the PUMA's scene, as the controller is allowed to know it (the Panda
+carries the same one: ``tests/test_panda_model.py``)."""

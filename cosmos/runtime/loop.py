@@ -30,7 +30,6 @@ from cosmos.runtime.rates import Rates
 from cosmos.runtime.rotation_plan import RotationPlan, plan_rotation
 from cosmos.runtime.servo import ServoGains, ServoLevel
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
-from cosmos.workcell import TOOL
 
 FloatArray = np.ndarray
 
@@ -55,9 +54,9 @@ class Recorder(Protocol):
 
         Args:
             t_s: Simulated time since start, in [s].
-            q: Joint positions, in [rad]. # (6,)
-            qd: Joint velocities, in [rad/s]. # (6,)
-            tau: Joint torques being applied, in [N m]. # (6,)
+            q: Joint positions, in [rad]. # (n,)
+            qd: Joint velocities, in [rad/s]. # (n,)
+            tau: Joint torques being applied, in [N m]. # (n,)
             wrench: Wrench the tool applies to the environment, [N, N m]. # (6,)
             twist: Tool twist ``J qd`` (J of the model's last evaluation), linear then
                 angular, [m/s, rad/s]. # (6,)
@@ -69,7 +68,7 @@ class PotentialField(Protocol):
     """An artificial potential field (seed section 6) acting on the arm through joint torques."""
 
     def torque(self, q: FloatArray, qd: FloatArray, t_s: float) -> FloatArray:
-        """Joint torques of the field at this state, in [N m]. # (6,)."""
+        """Joint torques of the field at this state, in [N m]. # (n,)."""
         ...
 
 
@@ -96,7 +95,7 @@ class Runtime:
     ):
         self.plant = plant
         self.robot = robot
-        self._tool_weight_z_n = float(GRAVITY[2]) * TOOL.mass_kg
+        self._tool_weight_z_n = float(GRAVITY[2]) * robot.tool.mass_kg
         self.rates = rates
         self.parameters = ParameterLevel(robot)
         self.servo = ServoLevel(
@@ -134,17 +133,17 @@ class Runtime:
 
     @property
     def q(self) -> FloatArray:
-        """Joint positions as the last tick sensed them, in [rad]; rewritten every tick. # (6,)."""
+        """Joint positions as the last tick sensed them, in [rad]; rewritten every tick. # (n,)."""
         return self.servo.sensed_q
 
     @property
     def qd(self) -> FloatArray:
-        """Joint velocities as the last tick sensed them, in [rad/s]; rewritten every tick. # (6,)."""
+        """Joint velocities as the last tick sensed them, in [rad/s]; rewritten every tick. # (n,)."""
         return self.servo.sensed_qd
 
     @property
     def tau(self) -> FloatArray:
-        """Joint torques the last tick commanded, in [N m]; rewritten every tick. # (6,)."""
+        """Joint torques the last tick commanded, in [N m]; rewritten every tick. # (n,)."""
         return self.servo.torque
 
     @property
@@ -156,8 +155,8 @@ class Runtime:
         """The fields' torques, the obstacle field's split by link (the servo projects the links')."""
         if not self.fields:
             return
-        torque = np.zeros(6)
-        links = np.zeros(6)
+        torque = np.zeros(self.robot.model.nv)
+        links = np.zeros(self.robot.model.nv)
         nearest: tuple[float, str, str] = (math.inf, "", "")
         live = self._live
         for field in self.fields:

@@ -10,6 +10,7 @@ current selection and gains into the few matrices the servo level multiplies
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -20,13 +21,8 @@ from cosmos.osc.dynamics import OperationalDynamics, operational_dynamics
 from cosmos.osc.limits import joint_limit_torque
 from cosmos.robot_model import RobotModel
 from cosmos.runtime.kernels import evaluation as ek
-from cosmos.workcell import TOOL
 
 FloatArray = np.ndarray
-
-
-_NO_TORQUE = np.zeros(6)
-_NO_TORQUE.setflags(write=False)
 
 
 @dataclass(frozen=True)
@@ -39,15 +35,23 @@ class JointLimitField:
 
 
 class _Slot:
-    """A read-only view of an evaluation's packed values: ``shape`` values from ``offset``."""
+    """A read-only view of an evaluation's packed values: ``shape(n)`` values from ``offset(n)``.
 
-    def __init__(self, offset: int, shape: tuple[int, ...]):
-        self.offset = offset
+    ``n`` is the arm's number of joints (:attr:`Evaluation.dof`).
+    """
+
+    def __init__(self, offset: Callable[[int], int] | int, shape: Callable[[int], tuple[int, ...]]):
+        self.offset = offset if callable(offset) else (lambda n, at=offset: at)
         self.shape = shape
-        self.stop = offset + int(np.prod(shape))
 
     def __get__(self, evaluation: Evaluation, owner: type | None = None) -> FloatArray:
-        return evaluation.values[self.offset : self.stop].reshape(self.shape)
+        n = evaluation.dof
+        start, shape = self.offset(n), self.shape(n)
+        return evaluation.values[start : start + int(np.prod(shape))].reshape(shape)
+
+
+def _fixed(*shape: int) -> Callable[[int], tuple[int, ...]]:
+    return lambda n: shape
 
 
 @dataclass(frozen=True)
@@ -56,36 +60,38 @@ class Evaluation:
 
     Attributes:
         values: Everything below, packed (layout: :mod:`cosmos.runtime.kernels.evaluation`).
-        joint_limit_torque: Section 6's joint-limit repulsion, in [N m]. # (6,)
-        q: Joint positions at the evaluation, in [rad]. # (6,)
+        joint_limit_torque: Section 6's joint-limit repulsion, in [N m]. # (n,)
+        dof: The arm's number of joints n.
+        q: Joint positions at the evaluation, in [rad]. # (n,)
         position: Tool point in world, in [m]. # (3,)
         rotation_tool_to_world: Tool orientation. # (3, 3)
         rotation_sensor_to_world: Orientation of the wrist sensor. # (3, 3)
         sensor_to_tool_m: Tool point minus sensor origin, world axes, in [m]. # (3,)
         sensor_to_com_m: Tool centre of mass minus sensor origin, world axes, in [m]. # (3,)
-        jacobian: Tool-point Jacobian, rows ``[linear; angular]``, world axes. # (6, 6)
-        inertia: Joint-space kinetic energy matrix A(q) with rotor inertia. # (6, 6)
-        inertia_inv: Its inverse. # (6, 6)
-        gravity: g(q), in [N m]. # (6,)
-        bias: b(q, qd), Coriolis and centrifugal, in [N m]. # (6,)
+        jacobian: Tool-point Jacobian, rows ``[linear; angular]``, world axes. # (6, n)
+        inertia: Joint-space kinetic energy matrix A(q) with rotor inertia. # (n, n)
+        inertia_inv: Its inverse. # (n, n)
+        gravity: g(q), in [N m]. # (n,)
+        bias: b(q, qd), Coriolis and centrifugal, in [N m]. # (n,)
         jdot_qdot: h = Jdot qd of eq. 14. # (6,)
     """
 
     values: FloatArray
     joint_limit_torque: FloatArray
+    dof: int
 
-    q = _Slot(ek.Q, (6,))
-    position = _Slot(ek.POSITION, (3,))
-    rotation_tool_to_world = _Slot(ek.ROTATION_TOOL, (3, 3))
-    rotation_sensor_to_world = _Slot(ek.ROTATION_SENSOR, (3, 3))
-    sensor_to_tool_m = _Slot(ek.SENSOR_TO_TOOL, (3,))
-    sensor_to_com_m = _Slot(ek.SENSOR_TO_COM, (3,))
-    jacobian = _Slot(ek.JACOBIAN, (6, 6))
-    inertia = _Slot(ek.INERTIA, (6, 6))
-    inertia_inv = _Slot(ek.INERTIA_INV, (6, 6))
-    gravity = _Slot(ek.GRAVITY, (6,))
-    bias = _Slot(ek.BIAS, (6,))
-    jdot_qdot = _Slot(ek.JDOT_QDOT, (6,))
+    q = _Slot(ek.Q, lambda n: (n,))
+    position = _Slot(ek.POSITION, _fixed(3))
+    rotation_tool_to_world = _Slot(ek.ROTATION_TOOL, _fixed(3, 3))
+    rotation_sensor_to_world = _Slot(ek.ROTATION_SENSOR, _fixed(3, 3))
+    sensor_to_tool_m = _Slot(ek.SENSOR_TO_TOOL, _fixed(3))
+    sensor_to_com_m = _Slot(ek.SENSOR_TO_COM, _fixed(3))
+    jacobian = _Slot(ek.jacobian_at, lambda n: (6, n))
+    inertia = _Slot(ek.inertia_at, lambda n: (n, n))
+    inertia_inv = _Slot(ek.inertia_inv_at, lambda n: (n, n))
+    gravity = _Slot(ek.gravity_at, lambda n: (n,))
+    bias = _Slot(ek.bias_at, lambda n: (n,))
+    jdot_qdot = _Slot(ek.JDOT_QDOT, _fixed(6))
 
     @cached_property
     def dynamics(self) -> OperationalDynamics:
@@ -103,15 +109,18 @@ class ParameterLevel:
         self._model = robot.model
         data = self._data = robot.model.createData()
         self._limit_field = limit_field
-        # The sensor, the flange and the tool point are fixed on link 6: their offsets are
+        # The sensor, the flange and the tool point are fixed on the last link: their offsets are
         # constant in tool axes.
         frames = robot.model.frames
         tool = frames[robot.tool_frame]
         tool_in_joint = tool.placement
         sensor_in_tool = tool_in_joint.actInv(frames[robot.sensor_frame].placement)
         flange_in_tool = tool_in_joint.actInv(frames[robot.flange_frame].placement)
-        com_from_sensor_in_flange = TOOL.com_in_flange - TOOL.sensor_position_in_flange
-        constants = np.empty(ek.C_SIZE)
+        com_from_sensor_in_flange = robot.tool.com_in_flange - robot.tool.sensor_position_in_flange
+        n = self._dof = robot.model.nv
+        self._no_torque = np.zeros(n)
+        self._no_torque.setflags(write=False)
+        constants = np.empty(ek.C_Q_LOWER + 2 * n)
         constants[ek.C_ROTATION_TOOL_IN_JOINT : ek.C_TOOL_IN_JOINT] = tool_in_joint.rotation.ravel()
         constants[ek.C_TOOL_IN_JOINT : ek.C_ROTATION_SENSOR_TO_TOOL] = tool_in_joint.translation
         constants[ek.C_ROTATION_SENSOR_TO_TOOL : ek.C_TOOL_FROM_SENSOR] = sensor_in_tool.rotation.ravel()
@@ -120,8 +129,8 @@ class ParameterLevel:
         constants[ek.C_WEIGHT : ek.C_Q_LOWER] = -sum(inertia.mass for inertia in robot.model.inertias) * (
             robot.model.gravity.linear
         )
-        constants[ek.C_Q_LOWER : ek.C_Q_UPPER] = robot.q_lower_rad
-        constants[ek.C_Q_UPPER : ek.C_SIZE] = robot.q_upper_rad
+        constants[ek.C_Q_LOWER : ek.C_Q_LOWER + n] = robot.q_lower_rad
+        constants[ek.C_Q_LOWER + n :] = robot.q_upper_rad
         self._constants = constants
         # computeAllTerms writes into these arrays in place: held as views, not fetched per call.
         joint = data.oMi[tool.parentJoint]
@@ -131,7 +140,7 @@ class ParameterLevel:
         """Section 6's joint-limit repulsion; zero (and cheap) when every joint is far from its limits."""
         field = self._limit_field
         if margin_rad >= field.rho_0_rad:
-            return _NO_TORQUE
+            return self._no_torque
         robot = self._robot
         return joint_limit_torque(
             q, robot.q_lower_rad, robot.q_upper_rad, field.rho_0_rad, field.eta, field.torque_cap_nm
@@ -142,4 +151,4 @@ class ParameterLevel:
         pin.computeAllTerms(self._model, self._data, q, qd)  # A (upper), nle, J, dJ, Jcom, placements
         values = ek.evaluation_values(q, qd, *self._views, self._constants)
         values.flags.writeable = False
-        return Evaluation(values, self._joint_limit_torque(q, values[ek.LIMIT_MARGIN]))
+        return Evaluation(values, self._joint_limit_torque(q, values[ek.LIMIT_MARGIN]), self._dof)

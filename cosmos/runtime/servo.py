@@ -121,9 +121,9 @@ class ServoLevel:
 
         Args:
             gains: Gains that hold for every segment.
-            torque_limits: Drive limits, symmetric, in [N m]. # (6,)
-            viscous: Viscous friction per joint, in [N m s/rad]. # (6,)
-            coulomb: Coulomb friction per joint, in [N m]. # (6,)
+            torque_limits: Drive limits, symmetric, in [N m]. # (n,)
+            viscous: Viscous friction per joint, in [N m s/rad]. # (n,)
+            coulomb: Coulomb friction per joint, in [N m]. # (n,)
             servo_dt_s: Servo period, in [s].
             tool_weight_z_n: World z component of the weight below the wrist sensor, in [N].
             policy: Section 5's singularity thresholds.
@@ -153,9 +153,11 @@ class ServoLevel:
                 )
             )
         self._viscous = np.array(viscous, dtype=float)
+        n = self._dof = len(self._viscous)
         # One flat workspace holds every block the kernel reads and writes (servo_tick_live).
-        workspace = self._workspace = np.zeros(kernel.WORKSPACE)
-        scalars = workspace[kernel.W_SCALARS : kernel.W_VECTORS]
+        vectors, matrices, jacobian, jbar, stacked, state, sensed, end, w = kernel.workspace_layout(n)
+        workspace = self._workspace = np.zeros(end)
+        scalars = workspace[:vectors]
         scalars[kernel.K_F] = gains.force.k_f
         scalars[kernel.K_I] = gains.force.k_i
         scalars[kernel.INTEGRAL_LIMIT] = gains.force.integral_limit
@@ -176,59 +178,63 @@ class ServoLevel:
         scalars[kernel.MOTION_INTEGRAL_LIMIT] = gains.motion_integral_limit_ms
         scalars[kernel.FORCE_SPEED_INTEGRAL_LIMIT] = gains.force_speed_integral_limit_m
         self._scalars = scalars
-        self._vectors = workspace[kernel.W_VECTORS : kernel.W_MATRICES].reshape((kernel.VECTORS, 6))
-        self._vectors[kernel.COULOMB_NM] = coulomb
-        self._vectors[kernel.TORQUE_MAX] = torque_limits
-        self._matrices = workspace[kernel.W_MATRICES : kernel.W_STACKED].reshape((kernel.MATRICES, 6, 6))
-        self._state = workspace[kernel.W_STATE : kernel.W_SENSED].reshape((kernel.STATE_ROWS, 6))
-        self._sensed = workspace[kernel.W_SENSED : kernel.WORKSPACE].reshape((kernel.SENSED_ROWS, 6))
+        # Rows of w = max(6, n): task-space rows use six entries, joint-space rows n (kernels.servo).
+        self._vectors = workspace[vectors:matrices].reshape((kernel.VECTORS, w))
+        self._vectors[kernel.COULOMB_NM, :n] = coulomb
+        self._vectors[kernel.TORQUE_MAX, :n] = torque_limits
+        self._matrices = workspace[matrices:jacobian].reshape((kernel.MATRICES, 6, 6))
+        self._jacobian = workspace[jacobian:jbar].reshape((6, n))
+        self._jbar_lookahead = workspace[jbar:stacked].reshape((n, 6))
+        self._null_space_t = np.zeros((n, n))  # N^T of the task, read by the null space's terms
+        self._state = workspace[state:sensed].reshape((kernel.STATE_ROWS, w))
+        self._sensed = workspace[sensed:end].reshape((kernel.SENSED_ROWS, w))
         self._setpoint: ServoSetpoint | None = None
         self._evaluation: Evaluation | None = None
         self._selection: Selection | None = None  # as the plan says
         self._servo_selection: Selection | None = None  # moment axes counted as motion (admittance)
-        self._field_torque = np.zeros(len(torque_limits))
+        self._field_torque = np.zeros(n)
         self._field = LinkField(self._field_torque, self._field_torque)
         self.null_space = NullSpaceTerms(gains.posture_kp, absorption)  # its dimension, the links' share
-        self._joints = len(torque_limits)
-        self._correction = np.zeros(self._joints)  # column 18: the raw potentials plus the null space's
-        # (6, 25): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
+        self._joints = n
+        self._correction = np.zeros(n)  # column 18: the raw potentials plus the null space's
+        # (n, 19 + n): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
-        self._stacked = workspace[kernel.W_STACKED : kernel.W_STATE].reshape((6, 25))
+        self._stacked = workspace[stacked:state].reshape((n, kernel.STACKED_COLUMNS + n))
 
     @property
     def torque(self) -> FloatArray:
-        """Joint torques of the last tick, within the drive limits, in [N m]. # (6,)."""
-        return self._state[kernel.TORQUE]
+        """Joint torques of the last tick, within the drive limits, in [N m]. # (n,)."""
+        return self._state[kernel.TORQUE, : self._dof]
 
     @property
     def sensed_q(self) -> FloatArray:
-        """Joint positions the last :meth:`command` sensed, in [rad]. # (6,)."""
-        return self._sensed[kernel.SENSED_Q]
+        """Joint positions the last :meth:`command` sensed, in [rad]. # (n,)."""
+        return self._sensed[kernel.SENSED_Q, : self._dof]
 
     @property
     def sensed_qd(self) -> FloatArray:
-        """Joint velocities the last :meth:`command` sensed, in [rad/s]. # (6,)."""
-        return self._sensed[kernel.SENSED_QD]
+        """Joint velocities the last :meth:`command` sensed, in [rad/s]. # (n,)."""
+        return self._sensed[kernel.SENSED_QD, : self._dof]
 
     @property
     def wrench(self) -> FloatArray:
         """The wrench the tool applied to the environment at the last tick, world [N, N m]. # (6,)."""
-        return self._state[kernel.WRENCH]
+        return self._state[kernel.WRENCH, :6]
 
     @property
     def last_error(self) -> FloatArray:
         """``x - x_d`` of the last tick, world, [m, rad]. # (6,)."""
-        return self._state[kernel.ERROR]
+        return self._state[kernel.ERROR, :6]
 
     @property
     def last_velocity(self) -> FloatArray:
         """``J qd`` of the last tick, world, [m/s, rad/s]. # (6,)."""
-        return self._state[kernel.VELOCITY]
+        return self._state[kernel.VELOCITY, :6]
 
     @property
     def last_displacement(self) -> FloatArray:
         """``J (q - q_e)``: the motion since the evaluation, world, [m, rad]. # (6,)."""
-        return self._state[kernel.DISPLACEMENT]
+        return self._state[kernel.DISPLACEMENT, :6]
 
     @property
     def field_torque(self) -> FloatArray:
@@ -254,7 +260,7 @@ class ServoLevel:
     @property
     def null_space_t(self) -> FloatArray:
         """``N^T = I - J^T Jbar^T`` of the task at the last evaluation (eq. 28, 34). # (n, n)."""
-        return self._matrices[kernel.NULL_SPACE_T]
+        return self._null_space_t
 
     def _reshape(self) -> None:
         """Shape the held potentials (and add the posture) through the null space, if there is one."""
@@ -299,7 +305,7 @@ class ServoLevel:
             self._matrices[kernel.OMEGA_ADMITTANCE] = (
                 self._selection.omega_bar - self._servo_selection.omega_bar
             )
-        state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]
+        state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]  # both task rows: w long, six used
         state[kernel.FLAGS, kernel.TOUCHING] = 0.0  # latched by the first push felt on a force axis
         state[kernel.FLAGS, kernel.ADMITTING] = 0.0  # latched by the first contact force
         state[kernel.FLAGS, kernel.PUSH_SPEED_INTEGRAL] = 0.0
@@ -323,13 +329,13 @@ class ServoLevel:
             setpoint.trajectory.duration_s if setpoint.trajectory is not None else 0.0
         )
         scalars[kernel.RAMP_S] = setpoint.ramp_s
-        vectors[kernel.KP] = setpoint.kp_task
-        vectors[kernel.KV] = setpoint.kv_task
-        vectors[kernel.FORCE_WORLD] = setpoint.force_world
-        vectors[kernel.FORCE_START] = setpoint.force_start_world
+        vectors[kernel.KP, :6] = setpoint.kp_task
+        vectors[kernel.KV, :6] = setpoint.kv_task
+        vectors[kernel.FORCE_WORLD, :6] = setpoint.force_world
+        vectors[kernel.FORCE_START, :6] = setpoint.force_start_world
         vectors[kernel.REFERENCE_VELOCITY : kernel.REFERENCE_ACCELERATION + 1] = 0.0
         # refold unwraps the orientation error against the row's content: the way round to start.
-        vectors[kernel.REFERENCE_ERROR, 3:] = 0.0 if rotation_error is None else rotation_error
+        vectors[kernel.REFERENCE_ERROR, 3:6] = 0.0 if rotation_error is None else rotation_error
         self._matrices[kernel.ROTATION_TASK, :3, :3] = setpoint.rotation_task_to_world
         self._setpoint = setpoint
         self._refold()
@@ -360,6 +366,9 @@ class ServoLevel:
             self._stacked,
             self._vectors,
             self._matrices,
+            self._jacobian,
+            self._jbar_lookahead,
+            self._null_space_t,
         )
         self._correction[:] = 0.0  # the column holds the raw potentials again
         self.null_space.link_share_to_tool = 0.0
@@ -382,11 +391,11 @@ class ServoLevel:
         if sp.trajectory is not None and sp.mode is MotionMode.TRAJECTORY:
             sample = sp.trajectory.sample(t_s - sp.start_s)
             vectors = self._vectors
-            vectors[kernel.REFERENCE_ERROR] = pose_error(
+            vectors[kernel.REFERENCE_ERROR, :6] = pose_error(
                 ev.position, ev.rotation_tool_to_world, sample.position, sample.rotation_to_world
             )
-            vectors[kernel.REFERENCE_VELOCITY] = sample.velocity
-            vectors[kernel.REFERENCE_ACCELERATION] = sample.acceleration
+            vectors[kernel.REFERENCE_VELOCITY, :6] = sample.velocity
+            vectors[kernel.REFERENCE_ACCELERATION, :6] = sample.acceleration
         kernel.servo_tick_live(
             t_s,
             live.positions,

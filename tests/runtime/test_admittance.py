@@ -28,13 +28,13 @@ def _tick(
     servo = selection((True,) * 6, np.eye(3))
     stacked = np.zeros((6, 25))
     matrices = np.zeros((sk.MATRICES, 6, 6))
+    jbar_lookahead, null_space_t = np.zeros((6, 6)), np.zeros((6, 6))
     fold_servo(
         eye, eye, eye, zero, zero, zero, zero, servo.omega, servo.omega_bar,
         0.0, 0.0, zero, 0.02, 2000.0, 1.0, 0.5,
-        stacked, matrices[sk.FORCE_TO_ACCELERATION], matrices[sk.JBAR_LOOKAHEAD],
-        matrices[sk.SINGULAR_PROJECTION], eye, matrices[sk.NULL_SPACE_T],
+        stacked, matrices[sk.FORCE_TO_ACCELERATION], jbar_lookahead,
+        matrices[sk.SINGULAR_PROJECTION], eye, null_space_t,
     )  # fmt: skip
-    matrices[sk.JACOBIAN] = eye
     matrices[sk.OMEGA_BAR] = servo.omega_bar
     matrices[sk.OMEGA_ADMITTANCE] = plan.omega_bar - servo.omega_bar
     matrices[sk.ROTATION_SENSOR, :3, :3] = np.eye(3)
@@ -56,7 +56,7 @@ def _tick(
     vectors[sk.TORQUE_MAX] = 1e9
     sensed = np.concatenate(((0.0, 0.0, push_n), -moment_error[3:]))  # M_d = 0: error = -M_s
     state = np.zeros((sk.STATE_ROWS, 6))
-    sk.servo_tick(0.0, zero, zero, sensed, scalars, vectors, matrices, stacked, state)
+    sk.servo_tick(0.0, zero, zero, sensed, scalars, vectors, matrices, eye, jbar_lookahead, stacked, state)
     return state[sk.TORQUE].copy()
 
 

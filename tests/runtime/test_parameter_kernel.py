@@ -356,7 +356,8 @@ def test_refold_packs_the_servo_blocks() -> None:
     stacked = np.full((6, 25), np.nan)
     vectors = np.full((sk.VECTORS, 6), sentinel)
     matrices = np.full((sk.MATRICES, 6, 6), sentinel)
-    values = np.full(ek.SIZE, np.nan)
+    jacobian, jbar_lookahead = np.full((6, 6), sentinel), np.full((6, 6), sentinel)
+    values = np.full(ek.size(6), np.nan)
     for offset, array in (
         (ek.Q, evaluation_q),
         (ek.POSITION, position),
@@ -364,11 +365,11 @@ def test_refold_packs_the_servo_blocks() -> None:
         (ek.ROTATION_SENSOR, rotation_sensor),
         (ek.SENSOR_TO_TOOL, to_tool),
         (ek.SENSOR_TO_COM, to_com),
-        (ek.JACOBIAN, inputs.jacobian),
-        (ek.INERTIA, inputs.inertia),
-        (ek.INERTIA_INV, inputs.inertia_inv),
-        (ek.GRAVITY, inputs.gravity),
-        (ek.BIAS, inputs.bias),
+        (ek.jacobian_at(6), inputs.jacobian),
+        (ek.inertia_at(6), inputs.inertia),
+        (ek.inertia_inv_at(6), inputs.inertia_inv),
+        (ek.gravity_at(6), inputs.gravity),
+        (ek.bias_at(6), inputs.bias),
         (ek.JDOT_QDOT, inputs.jdot_qdot),
     ):
         values[offset : offset + array.size] = array.ravel()
@@ -384,9 +385,12 @@ def test_refold_packs_the_servo_blocks() -> None:
         stacked,
         vectors,
         matrices,
+        jacobian,
+        jbar_lookahead,
+        np.full((6, 6), sentinel),
     )
-    _assert_fold(stacked, matrices[sk.FORCE_TO_ACCELERATION], matrices[sk.JBAR_LOOKAHEAD], inputs)
-    assert np.array_equal(matrices[sk.JACOBIAN], inputs.jacobian)
+    _assert_fold(stacked, matrices[sk.FORCE_TO_ACCELERATION], jbar_lookahead, inputs)
+    assert np.array_equal(jacobian, inputs.jacobian)
     assert np.array_equal(matrices[sk.OMEGA_BAR], sel.omega_bar)
     assert np.array_equal(matrices[sk.ROTATION_SENSOR, :3, :3], rotation_sensor)
     assert np.array_equal(vectors[sk.EVALUATION_Q], evaluation_q)

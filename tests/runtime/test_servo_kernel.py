@@ -304,6 +304,8 @@ class TickInputs:
     scalars: np.ndarray
     vectors: np.ndarray
     matrices: np.ndarray
+    jacobian: np.ndarray
+    jbar_lookahead: np.ndarray
     stacked: np.ndarray
     state: np.ndarray
     inertia: np.ndarray
@@ -395,9 +397,8 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     vectors[sk.TORQUE_MAX] = 1e6  # replaced below when the case saturates
 
     matrices = np.zeros((sk.MATRICES, 6, 6))
-    matrices[sk.JACOBIAN] = jacobian
     matrices[sk.FORCE_TO_ACCELERATION] = dynamics.lambda_inv @ sel.omega_bar
-    matrices[sk.JBAR_LOOKAHEAD] = LOOKAHEAD_S * dynamics.jbar
+    jbar_lookahead = LOOKAHEAD_S * dynamics.jbar
     matrices[sk.OMEGA_BAR] = sel.omega_bar
     matrices[sk.ROTATION_TASK] = padded(rotation_task)
     matrices[sk.ROTATION_SENSOR] = padded(rotation_sensor)
@@ -424,7 +425,22 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     q = q_e + rng.normal(0.0, 0.01, 6)
     qd = rng.normal(0.0, 2e-3, 6)
     inputs = TickInputs(
-        t_s, q, qd, sensor, scalars, vectors, matrices, stacked, state, inertia, dynamics, sel, held, viscous
+        t_s,
+        q,
+        qd,
+        sensor,
+        scalars,
+        vectors,
+        matrices,
+        jacobian,
+        jbar_lookahead,
+        stacked,
+        state,
+        inertia,
+        dynamics,
+        sel,
+        held,
+        viscous,
     )
     if case.saturate:
         unsaturated = _reference_tick(inputs).torque_unsaturated
@@ -629,6 +645,8 @@ def _run_kernel(inputs: TickInputs) -> np.ndarray:
         inputs.scalars,
         inputs.vectors,
         inputs.matrices,
+        inputs.jacobian,
+        inputs.jbar_lookahead,
         inputs.stacked,
         state,
     )

@@ -100,16 +100,16 @@ def coulomb_compensation_into(
     """One tick of the low-passed Coulomb compensation, into ``coulomb`` and added to ``torque``.
 
     Args:
-        torque: Gamma, in [N m]; the compensation is added. # (6,)
-        coulomb: Gamma_f of the previous tick in, this tick's out, in [N m]. # (6,)
-        qd: Joint velocities, in [rad/s]. # (6,)
-        jbar_lookahead: ``L Jbar``. # (6, 6)
+        torque: Gamma, in [N m]; the compensation is added. # (n,)
+        coulomb: Gamma_f of the previous tick in, this tick's out, in [N m]. # (n,)
+        qd: Joint velocities, in [rad/s]. # (n,)
+        jbar_lookahead: ``L Jbar``. # (n, 6)
         acceleration: ``a + xd_c / L``, world. # (6,)
-        coulomb_nm: Gamma_c, in [N m]. # (6,)
+        coulomb_nm: Gamma_c, in [N m]. # (n,)
         intent_scale: ``1 / v_c``, in [s/rad].
         blend: beta, in [0, 1].
     """
-    for i in range(6):
+    for i in range(torque.shape[0]):
         acc = 0.0
         for k in range(6):
             acc += jbar_lookahead[i, k] * acceleration[k]

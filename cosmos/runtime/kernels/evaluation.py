@@ -33,32 +33,62 @@ from cosmos.runtime.kernels.linear import matmul, matvec
 
 FloatArray = np.ndarray
 
-# Offsets in an evaluation's values (one flat array).
-Q = 0  # (6,) joint positions
-POSITION = 6  # (3,) tool point, world
-ROTATION_TOOL = 9  # (3, 3) tool axes in world
-ROTATION_SENSOR = 18  # (3, 3) sensor axes in world
-SENSOR_TO_TOOL = 27  # (3,) tool point minus sensor origin, world
-SENSOR_TO_COM = 30  # (3,) tool centre of mass minus sensor origin, world
-JACOBIAN = 33  # (6, 6) tool-point Jacobian, rows [linear; angular], world axes
-INERTIA = 69  # (6, 6) A
-INERTIA_INV = 105  # (6, 6) A^-1
-GRAVITY = 141  # (6,) g
-BIAS = 147  # (6,) b
-JDOT_QDOT = 153  # (6,) h
-LIMIT_MARGIN = 159  # () smallest distance of a joint to a limit, [rad]
-SIZE = 160
+# Offsets in an evaluation's values (one flat array): the task-space entries first, at fixed
+# offsets, then those whose size is the arm's number of joints n (offsets from the functions below).
+POSITION = 0  # (3,) tool point, world
+ROTATION_TOOL = 3  # (3, 3) tool axes in world
+ROTATION_SENSOR = 12  # (3, 3) sensor axes in world
+SENSOR_TO_TOOL = 21  # (3,) tool point minus sensor origin, world
+SENSOR_TO_COM = 24  # (3,) tool centre of mass minus sensor origin, world
+JDOT_QDOT = 27  # (6,) h
+LIMIT_MARGIN = 33  # () smallest distance of a joint to a limit, [rad]
+Q = 34  # (n,) joint positions
+
+
+@kernel
+def jacobian_at(n: int) -> int:
+    """Offset of the (6, n) tool-point Jacobian, rows [linear; angular], world axes."""
+    return Q + n
+
+
+@kernel
+def inertia_at(n: int) -> int:
+    """Offset of A, (n, n)."""
+    return Q + 7 * n
+
+
+@kernel
+def inertia_inv_at(n: int) -> int:
+    """Offset of A^-1, (n, n)."""
+    return Q + 7 * n + n * n
+
+
+@kernel
+def gravity_at(n: int) -> int:
+    """Offset of g, (n,)."""
+    return Q + 7 * n + 2 * n * n
+
+
+@kernel
+def bias_at(n: int) -> int:
+    """Offset of b, (n,)."""
+    return Q + 8 * n + 2 * n * n
+
+
+@kernel
+def size(n: int) -> int:
+    """Length of an evaluation's values for an arm of n joints."""
+    return Q + 9 * n + 2 * n * n
+
 
 # Offsets in the constants (one flat array, fixed for a robot and tool).
-C_ROTATION_TOOL_IN_JOINT = 0  # (3, 3) tool frame in joint 6's frame
+C_ROTATION_TOOL_IN_JOINT = 0  # (3, 3) tool frame in the last joint's frame
 C_TOOL_IN_JOINT = 9  # (3,)
 C_ROTATION_SENSOR_TO_TOOL = 12  # (3, 3)
 C_TOOL_FROM_SENSOR = 21  # (3,) tool axes
 C_COM_FROM_SENSOR = 24  # (3,) tool axes
 C_WEIGHT = 27  # (3,) -m g_vec: the whole arm's weight, reversed, [N]
-C_Q_LOWER = 30  # (6,)
-C_Q_UPPER = 36  # (6,)
-C_SIZE = 42
+C_Q_LOWER = 30  # (n,), then the upper limits (n,): 30 + 2 n constants in all
 
 
 @kernel
@@ -128,22 +158,23 @@ def evaluation_values(
     joint_translation: FloatArray,
     constants: FloatArray,
 ) -> FloatArray:
-    """An evaluation's values (offsets in this module) from ``computeAllTerms``' outputs. # (SIZE,).
+    """An evaluation's values (offsets in this module) from ``computeAllTerms``' outputs. # (size(n),).
 
     Args:
-        q: Joint positions, in [rad]. # (6,)
-        qd: Joint velocities, in [rad/s]. # (6,)
-        inertia_upper: ``data.M``, A with its upper triangle filled. # (6, 6)
-        nle: ``data.nle``: b + g, in [N m]. # (6,)
-        joint_jacobian: ``data.J``: the joints' motion at the world origin, world axes. # (6, 6)
-        joint_jacobian_dot: ``data.dJ``, its time variation. # (6, 6)
-        com_jacobian: ``data.Jcom``. # (3, 6)
-        joint_rotation: Joint 6's orientation in world (``data.oMi[6]``). # (3, 3)
-        joint_translation: Joint 6's origin in world, in [m]. # (3,)
-        constants: The robot's and tool's constants (``C_*`` offsets). # (C_SIZE,)
+        q: Joint positions, in [rad]. # (n,)
+        qd: Joint velocities, in [rad/s]. # (n,)
+        inertia_upper: ``data.M``, A with its upper triangle filled. # (n, n)
+        nle: ``data.nle``: b + g, in [N m]. # (n,)
+        joint_jacobian: ``data.J``: the joints' motion at the world origin, world axes. # (6, n)
+        joint_jacobian_dot: ``data.dJ``, its time variation. # (6, n)
+        com_jacobian: ``data.Jcom``. # (3, n)
+        joint_rotation: The last joint's orientation in world (``data.oMi[n]``). # (3, 3)
+        joint_translation: The last joint's origin in world, in [m]. # (3,)
+        constants: The robot's and tool's constants (``C_*`` offsets). # (30 + 2 n,)
     """
-    values = np.empty(SIZE)
-    values[Q : Q + 6] = q
+    n = q.shape[0]
+    values = np.empty(size(n))
+    values[Q : Q + n] = q
     tool_rotation = matmul(
         joint_rotation, constants[C_ROTATION_TOOL_IN_JOINT : C_ROTATION_TOOL_IN_JOINT + 9].reshape((3, 3))
     )
@@ -161,10 +192,11 @@ def evaluation_values(
         tool_rotation, constants[C_COM_FROM_SENSOR : C_COM_FROM_SENSOR + 3]
     )
 
-    jacobian = values[JACOBIAN : JACOBIAN + 36].reshape((6, 6))
+    jacobian_start = jacobian_at(n)
+    jacobian = values[jacobian_start : jacobian_start + 6 * n].reshape((6, n))
     v_origin = np.zeros(6)  # J qd at the world origin: (v_o, w)
     a_origin = np.zeros(6)  # Jdot qd there: (a_o, alpha)
-    for k in range(6):
+    for k in range(n):
         angular = joint_jacobian[3:, k]
         linear = joint_jacobian[:3, k] + _cross(angular, p)
         for i in range(3):
@@ -178,16 +210,18 @@ def evaluation_values(
     values[JDOT_QDOT : JDOT_QDOT + 3] = a_origin[:3] + _cross(alpha, p) + _cross(w, v_point)
     values[JDOT_QDOT + 3 : JDOT_QDOT + 6] = alpha
 
-    inertia = values[INERTIA : INERTIA + 36].reshape((6, 6))
+    inertia_start, inverse_start = inertia_at(n), inertia_inv_at(n)
+    inertia = values[inertia_start : inertia_start + n * n].reshape((n, n))
     inertia[:, :] = symmetric_from_upper(inertia_upper)
-    if not spd_inverse_into(values[INERTIA_INV : INERTIA_INV + 36].reshape((6, 6)), inertia):
-        values[INERTIA_INV : INERTIA_INV + 36] = np.nan  # only for a non-finite q
+    if not spd_inverse_into(values[inverse_start : inverse_start + n * n].reshape((n, n)), inertia):
+        values[inverse_start : inverse_start + n * n] = np.nan  # only for a non-finite q
     weight = constants[C_WEIGHT : C_WEIGHT + 3]
     margin = math.inf
-    for k in range(6):
+    gravity, bias = gravity_at(n), bias_at(n)
+    for k in range(n):
         g = com_jacobian[0, k] * weight[0] + com_jacobian[1, k] * weight[1] + com_jacobian[2, k] * weight[2]
-        values[GRAVITY + k] = g
-        values[BIAS + k] = nle[k] - g
-        margin = min(margin, q[k] - constants[C_Q_LOWER + k], constants[C_Q_UPPER + k] - q[k])
+        values[gravity + k] = g
+        values[bias + k] = nle[k] - g
+        margin = min(margin, q[k] - constants[C_Q_LOWER + k], constants[C_Q_LOWER + n + k] - q[k])
     values[LIMIT_MARGIN] = margin
     return values

@@ -137,31 +137,32 @@ def fold_servo(
     the null space ``N^T`` (eq. 28, 34) its dimensions.
 
     Args:
-        inertia: A(q). # (6, 6)
-        inertia_inv: A^-1. # (6, 6)
-        jacobian: J(q), world axes. # (6, 6)
-        bias: b(q, qd), in [N m]. # (6,)
-        gravity: g(q), in [N m]. # (6,)
+        inertia: A(q). # (n, n)
+        inertia_inv: A^-1. # (n, n)
+        jacobian: J(q), world axes. # (6, n)
+        bias: b(q, qd), in [N m]. # (n,)
+        gravity: g(q), in [N m]. # (n,)
         jdot_qdot: h = Jdot qd (eq. 14). # (6,)
-        held_torque: Joint torques held until the next evaluation (potentials), [N m]. # (6,)
+        held_torque: Joint torques held until the next evaluation (potentials), [N m]. # (n,)
         omega: Motion-controlled projector, world. # (6, 6)
         omega_bar: Force-controlled projector, world. # (6, 6)
         k_vf: Velocity damping of the force-controlled axes, in [1/s].
         xi_q: Null-space damping of eq. 34, in [1/s].
-        viscous: Viscous friction per joint, compensated, in [N m s/rad]. # (6,)
+        viscous: Viscous friction per joint, compensated, in [N m s/rad]. # (n,)
         lookahead_s: Look-ahead of the Coulomb compensation, in [s].
         max_effective_mass_kg: Section 5's threshold (SingularityPolicy).
         blend_width: Section 5's blend width (SingularityPolicy).
         length_scale_m: Section 5's length scale (SingularityPolicy).
         stacked: Out: ``[J^T Lambda P Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda
-            Omega_bar | b + g - J^T Lambda h + held | -xi_q (A - J^T Lambda J) + diag(viscous)]``. # (6, 25)
+            Omega_bar | b + g - J^T Lambda h + held | -xi_q (A - J^T Lambda J) + diag(viscous)]``.
+            # (n, 19 + n)
         force_to_acceleration: Out: ``Lambda^-1 Omega_bar``. # (6, 6)
-        jbar_lookahead: Out: ``lookahead_s Jbar P``: joint motion a command asks for. # (6, 6)
+        jbar_lookahead: Out: ``lookahead_s Jbar P``: joint motion a command asks for. # (n, 6)
         projection: Out: the task projection P, section 5's times ``limit_projection``
             (motion commands enter as ``J^T Lambda P Omega``). # (6, 6)
         limit_projection: The joint limits' task projection
             (:func:`cosmos.osc.limits.joint_limit_task_projection`). # (6, 6)
-        null_space_t: Out: ``N^T = I - J^T Jbar^T`` of the task. # (6, 6)
+        null_space_t: Out: ``N^T = I - J^T Jbar^T`` of the task. # (n, n)
     """
     j_t = jacobian.T.copy()
     a_inv_jt = matmul(inertia_inv, j_t)
@@ -190,8 +191,9 @@ def fold_servo(
     stacked[:, 6:12] = force_to_torque
     stacked[:, 12:18] = -k_vf * matmul(matmul(force_to_torque, lambda_), omega_bar)
     stacked[:, 18] = bias + gravity - matvec(jt_lambda, jdot_qdot) + held_torque
-    stacked[:, 19:25] = -xi_q * (inertia - matmul(jt_lambda, jacobian))
-    for i in range(6):
+    n = inertia.shape[0]
+    stacked[:, 19 : 19 + n] = -xi_q * (inertia - matmul(jt_lambda, jacobian))
+    for i in range(n):
         stacked[i, 19 + i] += viscous[i]
     force_to_acceleration[:, :] = matmul(lambda_inv, omega_bar)
     jbar_lookahead[:, :] = lookahead_s * matmul(jbar, projection)
@@ -239,6 +241,9 @@ def refold(
     stacked: FloatArray,
     vectors: FloatArray,
     matrices: FloatArray,
+    jacobian_out: FloatArray,
+    jbar_lookahead: FloatArray,
+    null_space_t: FloatArray,
 ) -> None:
     """Everything the servo kernel needs from one evaluation and the segment's selection and goal.
 
@@ -249,12 +254,15 @@ def refold(
     against the previous one (the row's old content): a goal motion keeps turning
     the way it started, through 180 deg and beyond. ``constants`` holds k_vf,
     xi_q, the Coulomb look-ahead and section 5's three policy values, in that order.
-    Block layouts: :mod:`cosmos.runtime.kernels.servo`.
+    Block layouts: :mod:`cosmos.runtime.kernels.servo`; the arm's n joints are ``stacked``'s rows.
+    The task's ``N^T`` (n, n) goes to ``null_space_t``.
     """
-    jacobian = evaluation[ek.JACOBIAN : ek.JACOBIAN + 36].reshape((6, 6))
-    gravity = evaluation[ek.GRAVITY : ek.GRAVITY + 6]
+    n = stacked.shape[0]
+    jacobian_at, gravity_at = ek.jacobian_at(n), ek.gravity_at(n)
+    jacobian = evaluation[jacobian_at : jacobian_at + 6 * n].reshape((6, n))
+    gravity = evaluation[gravity_at : gravity_at + n]
     rotation_tool = evaluation[ek.ROTATION_TOOL : ek.ROTATION_TOOL + 9].reshape((3, 3))
-    error = vectors[sk.REFERENCE_ERROR]
+    error = vectors[sk.REFERENCE_ERROR, :6]
     error[:3] = evaluation[ek.POSITION : ek.POSITION + 3] - goal_position
     error[3:] = unwrapped_rotation_error(
         rotation_log(matmul(rotation_tool, goal_rotation_to_world.T)), error[3:]
@@ -264,18 +272,19 @@ def refold(
         joint_limit_projection_into(
             limit_projection,
             jacobian,
-            evaluation[ek.Q : ek.Q + 6],
-            constants[LIMITS_OFFSET : LIMITS_OFFSET + 6],
-            constants[LIMITS_OFFSET + 6 : LIMITS_OFFSET + 12],
+            evaluation[ek.Q : ek.Q + n],
+            constants[LIMITS_OFFSET : LIMITS_OFFSET + n],
+            constants[LIMITS_OFFSET + n : LIMITS_OFFSET + 2 * n],
             -error,
-            constants[LIMITS_OFFSET + 12],
-            constants[LIMITS_OFFSET + 13],
+            constants[LIMITS_OFFSET + 2 * n],
+            constants[LIMITS_OFFSET + 2 * n + 1],
         )
+    inertia_at, inverse_at, bias_at = ek.inertia_at(n), ek.inertia_inv_at(n), ek.bias_at(n)
     fold_servo(
-        evaluation[ek.INERTIA : ek.INERTIA + 36].reshape((6, 6)),
-        evaluation[ek.INERTIA_INV : ek.INERTIA_INV + 36].reshape((6, 6)),
+        evaluation[inertia_at : inertia_at + n * n].reshape((n, n)),
+        evaluation[inverse_at : inverse_at + n * n].reshape((n, n)),
         jacobian,
-        evaluation[ek.BIAS : ek.BIAS + 6],
+        evaluation[bias_at : bias_at + n],
         gravity,
         evaluation[ek.JDOT_QDOT : ek.JDOT_QDOT + 6],
         held_torque,
@@ -290,23 +299,23 @@ def refold(
         constants[5],
         stacked,
         matrices[sk.FORCE_TO_ACCELERATION],
-        matrices[sk.JBAR_LOOKAHEAD],
+        jbar_lookahead,
         matrices[sk.SINGULAR_PROJECTION],
         limit_projection,
-        matrices[sk.NULL_SPACE_T],
+        null_space_t,
     )
-    matrices[sk.JACOBIAN] = jacobian
+    jacobian_out[:, :] = jacobian
     matrices[sk.OMEGA_BAR] = omega_bar
     rotation_sensor = evaluation[ek.ROTATION_SENSOR : ek.ROTATION_SENSOR + 9].reshape((3, 3))
     matrices[sk.ROTATION_SENSOR, :3, :3] = rotation_sensor
-    vectors[sk.EVALUATION_Q] = evaluation[ek.Q : ek.Q + 6]
-    vectors[sk.GRAVITY] = gravity
-    vectors[sk.SENSOR_OFFSETS] = evaluation[ek.SENSOR_TO_TOOL : ek.SENSOR_TO_COM + 3]
+    vectors[sk.EVALUATION_Q, :n] = evaluation[ek.Q : ek.Q + n]
+    vectors[sk.GRAVITY, :n] = gravity
+    vectors[sk.SENSOR_OFFSETS, :6] = evaluation[ek.SENSOR_TO_TOOL : ek.SENSOR_TO_COM + 3]
 
 
 LIMITS_OFFSET = 6
 """refold's constants: k_vf, xi_q, look-ahead, section 5's three; then (optional) the joints'
-lower and upper limits and the joint-limit projection's margins (ServoLevel)."""
+lower and upper limits (n each) and the joint-limit projection's two margins (ServoLevel)."""
 
 
 @kernel
@@ -320,16 +329,29 @@ def joint_limit_projection_into(
     margin_rad: float,
     whole_rad: float,
 ) -> None:
-    """:func:`cosmos.osc.limits.joint_limit_task_projection` into ``out`` (the identity there). # (6, 6)."""
+    """:func:`cosmos.osc.limits.joint_limit_task_projection` into ``out`` (the identity there). # (6, 6).
+
+    For a redundant arm (J of 6 x n, n > 6) the inverse is the pseudo-inverse: the rows of J^+ are
+    the task wrenches whose work is one joint's motion along the least-norm joint rates.
+    """
+    n = q.shape[0]
     near = False
-    for i in range(6):
+    for i in range(n):
         if q[i] - q_lower[i] < margin_rad or q_upper[i] - q[i] < margin_rad:
             near = True
-    if not near or abs(np.linalg.det(jacobian)) < 1e-12:
+    if not near:
         return
-    inverse = np.linalg.inv(jacobian)
+    if n == 6:
+        if abs(np.linalg.det(jacobian)) < 1e-12:
+            return
+        inverse = np.linalg.inv(jacobian)
+    else:
+        jjt = matmul(jacobian, jacobian.T.copy())
+        if abs(np.linalg.det(jjt)) < 1e-24:
+            return
+        inverse = matmul(jacobian.T.copy(), np.linalg.inv(jjt))
     rates = matvec(inverse, goal_direction)
-    for i in range(6):
+    for i in range(n):
         distance = q[i] - q_lower[i] if rates[i] < 0.0 else q_upper[i] - q[i]
         if rates[i] == 0.0 or distance >= margin_rad:
             continue

@@ -60,20 +60,25 @@ MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S = range(26, 29)
 SCALARS = 29
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
-# ``vectors``, rows of six. REFERENCE_*: ``x_e - x_d`` at the evaluation (tracking: at this
+# Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
+# task-space rows (wrenches, twists, gains) use their first six entries, the joint-space rows
+# (EVALUATION_Q, GRAVITY, COULOMB_NM, TORQUE_MAX; COULOMB, TORQUE) their first n.
+
+# ``vectors``. REFERENCE_*: ``x_e - x_d`` at the evaluation (tracking: at this
 # tick's trajectory sample), ``xd_d`` and ``xdd_d``. SENSOR_OFFSETS: tool point then tool
 # centre of mass, minus the sensor origin, world, [m].
 KP, KV, FORCE_WORLD, FORCE_START, REFERENCE_ERROR, REFERENCE_VELOCITY, REFERENCE_ACCELERATION = range(7)
 EVALUATION_Q, GRAVITY, SENSOR_OFFSETS, COULOMB_NM, TORQUE_MAX = range(7, 12)
 VECTORS = 12
 
-# ``matrices``, (6, 6) each; rotations in the top-left (3, 3).
-JACOBIAN, FORCE_TO_ACCELERATION, JBAR_LOOKAHEAD, OMEGA_BAR, ROTATION_TASK, ROTATION_SENSOR = range(6)
-OMEGA_ADMITTANCE = 6  # the moment axes under admittance control (world), see servo_tick
-SINGULAR_PROJECTION, NULL_SPACE_T = 7, 8  # section 5's P and the task's N^T, of the last evaluation
-MATRICES = 9
+# ``matrices``, (6, 6) each; rotations in the top-left (3, 3). The Jacobian J (6, n), the
+# look-ahead ``L Jbar P`` (n, 6) and the task's null space ``N^T`` (n, n) are blocks of their own.
+FORCE_TO_ACCELERATION, OMEGA_BAR, ROTATION_TASK, ROTATION_SENSOR = range(4)
+OMEGA_ADMITTANCE = 4  # the moment axes under admittance control (world), see servo_tick
+SINGULAR_PROJECTION = 5  # section 5's task projection P of the last evaluation (kernels.parameter)
+MATRICES = 6
 
-# Rows of the servo's state and outputs (``state``, (STATE_ROWS, 6)).
+# Rows of the servo's state and outputs (``state``, (STATE_ROWS, w)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
 MOTION_INTEGRAL = 9  # integral of the motion axes' position error in contact (translation), [m s]
 STATE_ROWS = 10
@@ -87,17 +92,30 @@ MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
 SCRATCH_ROWS = 5
 
 # The servo level's buffers live in one flat ``workspace``, so that a tick is a call with few
-# arguments (:func:`servo_tick_live`): the blocks above, then what the tick sensed (rows of six:
-# joint positions, joint velocities, the wrist sensor's reading).
+# arguments (:func:`servo_tick_live`): the blocks above, then what the tick sensed (rows of w:
+# joint positions, joint velocities, the wrist sensor's reading). Offsets: :func:`workspace_layout`.
 SENSED_Q, SENSED_QD, SENSED_WRENCH = range(3)
 SENSED_ROWS = 3
-W_SCALARS = 0
-W_VECTORS = W_SCALARS + SCALARS
-W_MATRICES = W_VECTORS + VECTORS * 6
-W_STACKED = W_MATRICES + MATRICES * 36
-W_STATE = W_STACKED + 6 * 25
-W_SENSED = W_STATE + STATE_ROWS * 6
-WORKSPACE = W_SENSED + SENSED_ROWS * 6
+STACKED_COLUMNS = 19  # plus n: stacked is (n, 19 + n)
+
+
+@kernel
+def workspace_layout(n: int) -> tuple[int, int, int, int, int, int, int, int, int]:
+    """Offsets of the workspace's blocks for an arm of n joints, and its length.
+
+    Returns:
+        ``(vectors, matrices, jacobian, jbar_lookahead, stacked, state, sensed, end, w)``: the
+        scalars start at 0; ``w = max(6, n)`` is the length of a row of vectors, state and sensed.
+    """
+    w = max(6, n)
+    vectors = SCALARS
+    matrices = vectors + VECTORS * w
+    jacobian = matrices + MATRICES * 36
+    jbar_lookahead = jacobian + 6 * n
+    stacked = jbar_lookahead + 6 * n
+    state = stacked + n * (STACKED_COLUMNS + n)
+    sensed = state + STATE_ROWS * w
+    return vectors, matrices, jacobian, jbar_lookahead, stacked, state, sensed, sensed + SENSED_ROWS * w, w
 
 
 @kernel
@@ -109,6 +127,8 @@ def servo_tick(
     scalars: FloatArray,
     vectors: FloatArray,
     matrices: FloatArray,
+    jacobian: FloatArray,
+    jbar_lookahead: FloatArray,
     stacked: FloatArray,
     state: FloatArray,
 ) -> None:
@@ -116,45 +136,48 @@ def servo_tick(
 
     Args:
         t_s: Simulated time, in [s].
-        q: Joint positions from the encoders, in [rad]. # (6,)
-        qd: Joint velocities, in [rad/s]. # (6,)
+        q: Joint positions from the encoders, in [rad]. # (n,)
+        qd: Joint velocities, in [rad/s]. # (n,)
         sensor: Raw wrist sensor reading (sensor frame), [N, N m]. # (6,)
         scalars: Segment and constant scalars at MODE ... LOOKAHEAD_S. # (SCALARS,)
-        vectors: Gains, setpoints, reference and the evaluation's vectors at KP ... # (VECTORS, 6)
-        matrices: J, Lambda^-1 Omega_bar, look-ahead Jbar, Omega_bar and rotations. # (MATRICES, 6, 6)
-        stacked: Eq. 29 folded: ``Gamma = stacked @ (F*_m, F_fb, xd, 1, qd)``. # (6, 25)
+        vectors: Gains, setpoints, reference and the evaluation's vectors at KP ... # (VECTORS, w)
+        matrices: Lambda^-1 Omega_bar, Omega_bar, projections and rotations. # (MATRICES, 6, 6)
+        jacobian: J at the evaluation, world. # (6, n)
+        jbar_lookahead: The look-ahead ``L Jbar P``. # (n, 6)
+        stacked: Eq. 29 folded: ``Gamma = stacked @ (F*_m, F_fb, xd, 1, qd)``. # (n, 19 + n)
         state: Integral, friction and moment filters and flags in; this tick's wrench,
-            error, velocity, displacement and torque out (rows WRENCH ...). # (STATE_ROWS, 6)
+            error, velocity, displacement and torque out (rows WRENCH ...). # (STATE_ROWS, w)
     """
-    wrench = state[WRENCH]
-    offsets = vectors[SENSOR_OFFSETS]
+    n = stacked.shape[0]
+    wrench = state[WRENCH, :6]
+    offsets = vectors[SENSOR_OFFSETS, :6]
     environment_wrench_into(
         wrench, sensor, matrices[ROTATION_SENSOR], offsets[:3], offsets[3:], scalars[TOOL_WEIGHT_Z_N]
     )
     # Work rows of this tick (one allocation; the arithmetic below writes in place).
     work = np.empty((SCRATCH_ROWS, 6))
-    jacobian = matrices[JACOBIAN]
-    velocity, displacement, error = state[VELOCITY], state[DISPLACEMENT], state[ERROR]
-    evaluation_q, reference_error = vectors[EVALUATION_Q], vectors[REFERENCE_ERROR]
+    velocity, displacement, error = state[VELOCITY, :6], state[DISPLACEMENT, :6], state[ERROR, :6]
+    evaluation_q, reference_error = vectors[EVALUATION_Q, :n], vectors[REFERENCE_ERROR, :6]
     for i in range(6):
         v = 0.0
         d = 0.0
-        for k in range(6):
+        for k in range(n):
             v += jacobian[i, k] * qd[k]
             d += jacobian[i, k] * (q[k] - evaluation_q[k])
         velocity[i] = v
         displacement[i] = d
         error[i] = reference_error[i] + d  # x - x_d with x = x_e + J (q - q_e)
 
-    mode, kp, kv = scalars[MODE], vectors[KP], vectors[KV]
-    velocity_desired, acceleration_desired = vectors[REFERENCE_VELOCITY], vectors[REFERENCE_ACCELERATION]
+    mode, kp, kv = scalars[MODE], vectors[KP, :6], vectors[KV, :6]
+    velocity_desired = vectors[REFERENCE_VELOCITY, :6]
+    acceleration_desired = vectors[REFERENCE_ACCELERATION, :6]
     max_speed, max_angular_speed = scalars[MAX_SPEED], scalars[MAX_ANGULAR_SPEED]
     admittance = False
     if scalars[ADMITTANCE] != 0.0:
         # Compliant moment axes give way to contact moments: from the first contact force
         # on (latched for the segment) they run admittance control; in free space, where
         # there is nothing to comply with, they hold the segment's orientation.
-        low_pass_into(state[MOMENT_FILTERED], wrench, scalars[MOMENT_BLEND])
+        low_pass_into(state[MOMENT_FILTERED, :6], wrench, scalars[MOMENT_BLEND])
         flags = state[FLAGS]
         if contact_latched(flags[ADMITTING] != 0.0, wrench, scalars[CONTACT_THRESHOLD_N]):
             flags[ADMITTING] = 1.0
@@ -206,7 +229,7 @@ def servo_tick(
     elapsed = t_s - scalars[START_S]
     ramp = scalars[RAMP_S]
     fraction = 1.0 if elapsed >= ramp else elapsed / ramp
-    start, goal = vectors[FORCE_START], vectors[FORCE_WORLD]
+    start, goal = vectors[FORCE_START, :6], vectors[FORCE_WORLD, :6]
     setpoint = work[SETPOINT]
     for i in range(6):
         setpoint[i] = start[i] + fraction * (goal[i] - start[i])
@@ -219,7 +242,7 @@ def servo_tick(
         speed = admittance_speed(
             omega_admittance,
             setpoint,
-            state[MOMENT_FILTERED],
+            state[MOMENT_FILTERED, :6],
             scalars[ADMITTANCE_GAIN],
             scalars[ADMITTANCE_MAX_SPEED],
         )
@@ -251,7 +274,7 @@ def servo_tick(
             # (cosmos.osc.motion.integrate_motion_error). Along the way the tracking lag pushes
             # through the surface's friction (0.3 x 30 N) at the reference's speed; at the end
             # static friction would hold the tool f / (Lambda kp), millimetres, short of its goal.
-            motion_integral, bound = state[MOTION_INTEGRAL], scalars[MOTION_INTEGRAL_LIMIT]
+            motion_integral, bound = state[MOTION_INTEGRAL, :6], scalars[MOTION_INTEGRAL_LIMIT]
             ki, dt = scalars[MOTION_KI], scalars[DT_S]
             for i in range(3):
                 along = error[i]
@@ -260,7 +283,7 @@ def servo_tick(
                 motion_integral[i] = min(max(motion_integral[i] + along * dt, -bound), bound)
                 motion[i] -= ki * motion_integral[i]
                 acceleration[i] -= ki * motion_integral[i]
-        integral = state[INTEGRAL]
+        integral = state[INTEGRAL, :6]
         previous_integral = integral.copy()
         # ... and once the push has reached most of its goal: while a soft contact builds up
         # after the touch the error would wind the integral into an overshoot.
@@ -320,16 +343,14 @@ def servo_tick(
                     acc += force_to_acceleration[i, k] * feedback[k]
                 acceleration[i] += acc
 
-    torque = state[TORQUE]
-    for i in range(6):
+    torque = state[TORQUE, :n]
+    for i in range(n):
         acc = stacked[i, 18]
         for k in range(6):
-            acc += (
-                stacked[i, k] * motion[k]
-                + stacked[i, 6 + k] * feedback[k]
-                + stacked[i, 12 + k] * velocity[k]
-                + stacked[i, 19 + k] * qd[k]
-            )
+            acc += stacked[i, k] * motion[k] + stacked[i, 6 + k] * feedback[k]
+            acc += stacked[i, 12 + k] * velocity[k]
+        for k in range(n):
+            acc += stacked[i, 19 + k] * qd[k]
         torque[i] = acc
     # Coulomb friction is compensated in the direction the joint is moving or, from rest,
     # is being told to move (qd plus Jbar times the commanded acceleration over a short
@@ -340,15 +361,15 @@ def servo_tick(
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
     coulomb_compensation_into(
         torque,
-        state[COULOMB],
+        state[COULOMB, :n],
         qd,
-        matrices[JBAR_LOOKAHEAD],
+        jbar_lookahead,
         acceleration,
-        vectors[COULOMB_NM],
+        vectors[COULOMB_NM, :n],
         scalars[INTENT_SCALE],
         scalars[COULOMB_BLEND],
     )
-    saturate_about(torque, vectors[TORQUE_MAX], vectors[GRAVITY])
+    saturate_about(torque, vectors[TORQUE_MAX, :n], vectors[GRAVITY, :n])
 
 
 @kernel
@@ -370,31 +391,36 @@ def servo_tick_live(
 
     Args:
         t_s: Simulated time, in [s].
-        positions: The joint encoders, in [rad]. # (6,)
-        velocities: The joint velocities, in [rad/s]. # (6,)
+        positions: The joint encoders, in [rad]. # (n,)
+        velocities: The joint velocities, in [rad/s]. # (n,)
         wrench_raw: The wrist sensor's noiseless reading, sensor frame, [N, N m]. # (6,)
-        noise: The sensor's noise samples, [N, N m]. # (n, 6)
+        noise: The sensor's noise samples, [N, N m]. # (rows, 6)
         noise_row: The row of ``noise`` this reading takes.
-        ctrl: The drives' torque commands, in [N m]. # (6,)
-        workspace: The blocks at W_SCALARS ... W_SENSED. # (WORKSPACE,)
+        ctrl: The drives' torque commands, in [N m]. # (n,)
+        workspace: The blocks at :func:`workspace_layout`'s offsets. # (end,)
     """
-    sensed = workspace[W_SENSED:WORKSPACE].reshape((SENSED_ROWS, 6))
-    q, qd, sensor = sensed[SENSED_Q], sensed[SENSED_QD], sensed[SENSED_WRENCH]
-    for i in range(6):
+    n = positions.shape[0]
+    vectors, matrices, jacobian, jbar, stacked, state_at, sensed_at, end, w = workspace_layout(n)
+    sensed = workspace[sensed_at:end].reshape((SENSED_ROWS, w))
+    q, qd, sensor = sensed[SENSED_Q, :n], sensed[SENSED_QD, :n], sensed[SENSED_WRENCH, :6]
+    for i in range(n):
         q[i] = positions[i]
         qd[i] = velocities[i]
+    for i in range(6):
         sensor[i] = wrench_raw[i] + noise[noise_row, i]
-    state = workspace[W_STATE:W_SENSED].reshape((STATE_ROWS, 6))
+    state = workspace[state_at:sensed_at].reshape((STATE_ROWS, w))
     servo_tick(
         t_s,
         q,
         qd,
         sensor,
-        workspace[W_SCALARS:W_VECTORS],
-        workspace[W_VECTORS:W_MATRICES].reshape((VECTORS, 6)),
-        workspace[W_MATRICES:W_STACKED].reshape((MATRICES, 6, 6)),
-        workspace[W_STACKED:W_STATE].reshape((6, 25)),
+        workspace[:vectors],
+        workspace[vectors:matrices].reshape((VECTORS, w)),
+        workspace[matrices:jacobian].reshape((MATRICES, 6, 6)),
+        workspace[jacobian:jbar].reshape((6, n)),
+        workspace[jbar:stacked].reshape((n, 6)),
+        workspace[stacked:state_at].reshape((n, STACKED_COLUMNS + n)),
         state,
     )
-    for i in range(6):
+    for i in range(n):
         ctrl[i] = state[TORQUE, i]
