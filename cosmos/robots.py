@@ -65,6 +65,11 @@ class Robot:
         """Bodies of the arm's links in the scene, ``link1`` .. ``link<n>``."""
         return tuple(f"link{k}" for k in range(1, self.dof + 1))
 
+    @property
+    def frames(self) -> tuple[str, ...]:
+        """The bodies whose poses the run log publishes on ``/tf``: the links, then the tool."""
+        return (*self.link_bodies, "tool")
+
 
 PUMA560 = Robot(
     name="puma560",

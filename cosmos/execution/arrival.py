@@ -25,18 +25,17 @@ import numpy as np
 
 from cosmos.osc.orientation import so3_log
 from cosmos.plant import Plant
+from cosmos.robots import DEFAULT_ROBOT, Robot
 from cosmos.runtime.rotation_plan import JointAtLimit
-from cosmos.workcell import ARM_CAPABILITY, TOOL, TOOL_SITE
+from cosmos.workcell import TOOL_SITE, tool_spec
 
 FloatArray = np.ndarray
 
-SHOULDER_M = np.array([0.0, 0.0, 0.67183])
-"""Joint 2's axis on joint 1's (DH d1), world [m]: where the arm's reach is measured from."""
 JOINT_LIMIT_MARGIN_RAD = 0.15
 """A joint this close to a limit counts as at it: where section 6's joint-limit field
 (rho_0 = 0.15 rad, :class:`cosmos.runtime.parameters.JointLimitField`) pushes it back."""
 WRIST_SINGULAR_RAD = math.radians(3.0)
-"""|q5| below this: the wrist singularity (axes 4 and 6 aligned)."""
+"""|q5| below this: the PUMA's wrist singularity (axes 4 and 6 aligned; :attr:`Robot.wrist_joint`)."""
 SINGULAR_CONDITION = 0.02
 """Smallest over largest singular value of the (scaled) Jacobian below which the arm is singular."""
 LENGTH_SCALE_M = 0.3
@@ -94,21 +93,25 @@ def goal_error(
     return GoalError(position - goal_position, so3_log(rotation @ goal_rotation.T))
 
 
-def wrist_centre(position: FloatArray, rotation: FloatArray) -> FloatArray:
-    """Where the wrist centre (the flange origin, DH frame 6) is for a tool pose, world [m]."""
-    rotation_flange = rotation @ TOOL.tool_rotation_in_flange.T
-    return position - rotation_flange @ TOOL.tool_position_in_flange
+def wrist_centre(position: FloatArray, rotation: FloatArray, arm: Robot = DEFAULT_ROBOT) -> FloatArray:
+    """Where the flange origin (the PUMA's wrist centre, DH frame 6) is for a tool pose, world [m]."""
+    tool = tool_spec(arm)
+    rotation_flange = rotation @ tool.tool_rotation_in_flange.T
+    return position - rotation_flange @ tool.tool_position_in_flange
 
 
-def out_of_reach(goal_position: FloatArray, goal_rotation: FloatArray) -> str | None:
-    """Why a goal pose is out of the arm's reach, or None if its wrist centre is within reach."""
-    reach = float(np.linalg.norm(wrist_centre(goal_position, goal_rotation) - SHOULDER_M))
-    if reach <= ARM_CAPABILITY.reach_m:
+def out_of_reach(
+    goal_position: FloatArray, goal_rotation: FloatArray, arm: Robot = DEFAULT_ROBOT
+) -> str | None:
+    """Why a goal pose is out of the arm's reach, or None if its flange is within reach of the shoulder."""
+    reach_m = arm.capability.reach_m
+    reach = float(np.linalg.norm(wrist_centre(goal_position, goal_rotation, arm) - np.array(arm.shoulder_m)))
+    if reach <= reach_m:
         return None
-    beyond = (reach - ARM_CAPABILITY.reach_m) * 1e3
+    beyond = (reach - reach_m) * 1e3
     return (
         f"the pose is out of the arm's reach: its wrist centre would be {beyond:.0f} mm beyond "
-        f"the arm's {ARM_CAPABILITY.reach_m * 1e3:.0f} mm"
+        f"the arm's {reach_m * 1e3:.0f} mm"
     )
 
 
@@ -120,21 +123,23 @@ def stall_cause(
     push_n: float,
     goal_position: FloatArray,
     goal_rotation: FloatArray,
+    arm: Robot = DEFAULT_ROBOT,
 ) -> str:
     """Why a goal motion stopped short, from what is measured now.
 
     Args:
-        q: Measured joint angles [rad]. # (6,)
-        q_lower: Lower joint limits [rad]. # (6,)
-        q_upper: Upper joint limits [rad]. # (6,)
-        jacobian: Tool Jacobian at q, rows linear then angular, world. # (6, 6)
+        q: Measured joint angles [rad]. # (n,)
+        q_lower: Lower joint limits [rad]. # (n,)
+        q_upper: Upper joint limits [rad]. # (n,)
+        jacobian: Tool Jacobian at q, rows linear then angular, world. # (6, n)
         push_n: Magnitude of the force the tool applies [N].
         goal_position: The goal tool point, world [m]. # (3,)
         goal_rotation: The goal orientation, tool to world. # (3, 3)
+        arm: The arm (its reach and wrist).
     """
     if push_n > BLOCKED_N:
         return f"is blocked, pushing {push_n:.1f} N against something in the way"
-    beyond = out_of_reach(goal_position, goal_rotation)
+    beyond = out_of_reach(goal_position, goal_rotation, arm)
     if beyond is not None:
         return beyond
     near = [
@@ -146,22 +151,27 @@ def stall_cause(
     if near:
         _, joint, limit = min(near)
         return JointAtLimit(joint + 1, float(limit)).message
-    singular = singularity(q, jacobian)
+    singular = singularity(q, jacobian, arm)
     if singular is not None:
         return f"{singular}, which prevents progress"
     return "the controller made no progress (nothing in the way, no joint at a limit, no singularity)"
 
 
-def singularity(q: FloatArray, jacobian: FloatArray) -> str | None:
+def singularity(q: FloatArray, jacobian: FloatArray, arm: Robot = DEFAULT_ROBOT) -> str | None:
     """The singularity the arm is at, in words, or None (seed section 5).
 
     Args:
-        q: Measured joint angles [rad]. # (6,)
-        jacobian: Tool Jacobian at q, rows linear then angular, world. # (6, 6)
+        q: Measured joint angles [rad]. # (n,)
+        jacobian: Tool Jacobian at q, rows linear then angular, world. # (6, n)
+        arm: The arm (whether its wrist is spherical: :attr:`Robot.wrist_joint`).
     """
-    if abs(math.sin(q[4])) < math.sin(WRIST_SINGULAR_RAD):
-        q5_deg = math.degrees(q[4])
-        return f"the wrist is at its singularity (joint 5 at {q5_deg:.1f} deg: joints 4 and 6 aligned)"
+    wrist = arm.wrist_joint
+    if wrist is not None and abs(math.sin(q[wrist])) < math.sin(WRIST_SINGULAR_RAD):
+        angle_deg = math.degrees(q[wrist])
+        return (
+            f"the wrist is at its singularity (joint {wrist + 1} at {angle_deg:.1f} deg: "
+            f"joints {wrist} and {wrist + 2} aligned)"
+        )
     scaled = jacobian.copy()
     scaled[3:] *= LENGTH_SCALE_M
     values = np.linalg.svd(scaled, compute_uv=False)

@@ -93,7 +93,7 @@ class Executor:
         self.stop_requested = False
         self.recorder: LogRecorder | None = None
         if log is not None:
-            self.recorder = LogRecorder(log, runtime.plant)
+            self.recorder = LogRecorder(log, runtime.plant, runtime.robot.description.frames)
             runtime.recorder = self.recorder
         self.obstacles = obstacles
         self.segment_count = 0
@@ -204,7 +204,7 @@ class Executor:
         if problem:
             return Outcome(Verdict.FAILED, problem)
         if isinstance(segment.target, AbsoluteTarget):
-            beyond = out_of_reach(*goals[-1])
+            beyond = out_of_reach(*goals[-1], rt.robot.description)
             if beyond is not None:
                 return Outcome(Verdict.FAILED, f"cannot reach its goal: {beyond}")
         if segment.duration_s is not None:
@@ -226,7 +226,7 @@ class Executor:
             final_position, final_rotation = goals[-1]
             return stall_cause(
                 rt.q, robot.q_lower_rad, robot.q_upper_rad, rt.evaluation.jacobian,
-                float(np.linalg.norm(rt.wrench[:3])), final_position, final_rotation,
+                float(np.linalg.norm(rt.wrench[:3])), final_position, final_rotation, robot.description,
             )  # fmt: skip
 
         monitor = SegmentMonitor(
@@ -286,7 +286,7 @@ class Executor:
             stop = check(now, wrench, torque, position)
             if stop is not None:
                 if stop.kind is StopKind.PATH:  # off its line: say if a singularity is why
-                    singular = singularity(rt.q, rt.evaluation.jacobian)
+                    singular = singularity(rt.q, rt.evaluation.jacobian, rt.robot.description)
                     if singular is not None:
                         stop = replace(stop, message=f"{stop.message}; {singular}")
                 return Outcome(Verdict.FAILED, stop.message, stop)

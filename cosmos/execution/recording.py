@@ -7,6 +7,8 @@ torques applied and the wrench as the wrist sensor reported it.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import mujoco
 import numpy as np
 
@@ -29,14 +31,14 @@ class LogRecorder:
         line: Source line of its statement.
     """
 
-    def __init__(self, log: RunLog, plant: Plant):
+    def __init__(self, log: RunLog, plant: Plant, frames: Sequence[str] = ARM_FRAMES):
         self.log = log
         self.segment = 0
         self.line = 0
         model, data = plant.model, plant.data
         self._site_xpos = data.site_xpos[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)]
         self._site_xmat = data.site_xmat[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)]
-        bodies = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name) for name in ARM_FRAMES]
+        bodies = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name) for name in frames]
         self._bodies = np.array(bodies, dtype=np.int64)  # (frames,) rows of xpos, xquat
         self._xpos = data.xpos  # (nbody, 3) world [m], a view: read at each /tf sample
         self._xquat = data.xquat  # (nbody, 4) world, w x y z

@@ -15,14 +15,15 @@ from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant, SensorNoise
 from cosmos.realism.plant_realism import PlantRealism, ideal_metadata
 from cosmos.robot_model import build_robot_model
+from cosmos.robots import DEFAULT_ROBOT, PUMA560, Robot
 from cosmos.runlog.arm_scene import arm_entities
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import DEFAULT_GAINS, Runtime
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.servo import ServoGains
-from cosmos.workcell import JOINT_NAMES, SCENE_XML
 
-MODEL_NAME = "PUMA 560 (Corke & Armstrong-Helouvry 1994) in the cosmos workcell"
+MODEL_NAME = DEFAULT_ROBOT.source
+"""The default arm's model, as the log's metadata names it."""
 
 
 class Variation(Protocol):
@@ -56,6 +57,9 @@ class Session:
             the realistic one; recorded in the log's metadata (``plant``).
         model_error: The realistic plant's model-error scale (None: the variation's, else
             the default 0.05, :mod:`cosmos.realism.arm_error`).
+        robot: The arm (the program's ``ROBOT``; the PUMA 560 by default); recorded in the
+            log's metadata (``robot``, ``joints``, ``model``, ``scene``). The realistic plant
+            is the PUMA's (its published friction and encoders): the Panda runs the ideal one.
     """
 
     def __init__(
@@ -71,6 +75,7 @@ class Session:
         gains: ServoGains = DEFAULT_GAINS,
         ideal: bool = False,
         model_error: float | None = None,
+        robot: Robot = DEFAULT_ROBOT,
     ):
         noise, edit, varied = SensorNoise(seed), None, {}
         if variation is not None:
@@ -81,15 +86,16 @@ class Session:
             if model_error is None:
                 model_error = variation.model_error
         realism = None
-        if not ideal:
+        if not ideal and robot is PUMA560:
             realism = (
-                PlantRealism.drawn(seed, JOINT_NAMES)
+                PlantRealism.drawn(seed, robot.joint_names)
                 if model_error is None
-                else PlantRealism.drawn(seed, JOINT_NAMES, model_error)
+                else PlantRealism.drawn(seed, robot.joint_names, model_error)
             )
         plant_metadata = ideal_metadata() if realism is None else realism.metadata()
-        self.plant = Plant(obstacle_scene_xml(), noise, edit, realism)
-        self.runtime = Runtime(self.plant, build_robot_model(), rates, gains)
+        self.robot = robot
+        self.plant = Plant(obstacle_scene_xml(scene_xml=robot.scene_xml), noise, edit, realism)
+        self.runtime = Runtime(self.plant, build_robot_model(robot), rates, gains)
         self.log = RunLog(
             log_path,
             program=program,
@@ -97,12 +103,16 @@ class Session:
             servo_hz=rates.servo_hz,
             param_hz=rates.param_hz,
             state_hz=rates.state_hz,
-            model=MODEL_NAME,
+            model=robot.source,
             seed=seed,
-            metadata={"scene": SCENE_XML.name, "cosmos_version": __version__} | plant_metadata | varied,
-            ros2_joints=JOINT_NAMES if ros2 else None,
+            metadata={"scene": robot.scene_xml.name, "robot": robot.name, "cosmos_version": __version__}
+            | plant_metadata
+            | varied,
+            frames=robot.frames,
+            ros2_joints=robot.joint_names if ros2 else None,
+            joints=robot.dof,
         )
-        arm = arm_entities(self.plant.model, self.plant.geom_owners)
+        arm = arm_entities(self.plant.model, self.plant.geom_owners, robot.frames)
         self.log.scene(0.0, add=[*fixture_primitives(self.plant), *arm])
         self.obstacles = ObstacleWorld(self.runtime, self.log)
         self.executor = Executor(self.runtime, self.log, progress, obstacles=self.obstacles)

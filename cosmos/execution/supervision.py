@@ -48,7 +48,7 @@ from cosmos.execution.expected import (
     off_line,
 )
 from cosmos.execution.fixtures import FIXTURES
-from cosmos.obstacles.capsules import LINK_BODIES
+from cosmos.obstacles.capsules import is_link
 from cosmos.obstacles.scene import SLOT_PREFIX
 from cosmos.plan import Segment
 from cosmos.plant import Plant
@@ -133,7 +133,7 @@ def _roles(plant: Plant) -> np.ndarray:
     for geom, owner in enumerate(plant.geom_owners):
         if model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0:
             continue
-        if owner in LINK_BODIES:
+        if is_link(owner):
             roles[geom] = Role.LINK
         elif owner == TOOL_BODY:
             roles[geom] = Role.TOOL

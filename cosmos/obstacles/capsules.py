@@ -2,13 +2,13 @@
 
 Seed section 6 controls each link's point closest to an obstacle. Each link is
 modelled by capsules (a segment swollen by a radius), the collision geoms of
-the workcell's arm and tool (``scene.xml``, bodies ``link1`` .. ``link6`` and
+the workcell's arm and tool (the arm's ``scene.xml``, bodies ``link1`` .. ``link<n>`` and
 ``tool``): a capsule geom is taken as it is, a cylinder as the capsule of its
 axis and radius (which contains it). The segment ends are expressed in the
 frame of the Pinocchio joint that carries the body, so the controller places
 them from its own kinematics: ``a_world = oMi[joint] * a_joint``.
 
-A *link* here is everything rigidly attached to one joint: link 6 includes the
+A *link* here is everything rigidly attached to one joint: the last link includes the
 flange and the tool (sensor housing, collar, peg). A geom that lies inside
 another geom of the same link (the peg's collar inside the sensor housing's
 capsule) can never be that link's closest point and is left out.
@@ -17,7 +17,9 @@ capsule) can never be that link's closest point and is left out.
 from __future__ import annotations
 
 import functools
+import re
 from dataclasses import dataclass
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -30,9 +32,21 @@ from cosmos.workcell import SCENE_XML, TOOL_BODY
 FloatArray = np.ndarray
 
 LINK_BODIES = ("link1", "link2", "link3", "link4", "link5", "link6")
-"""Bodies of the arm, link ``k`` turned by joint ``k``."""
+"""Bodies of the PUMA's links, link ``k`` turned by joint ``k`` (any arm's: :func:`is_link`)."""
 ARM_BODIES = (*LINK_BODIES, TOOL_BODY)
-"""Every body of the arm in the simulation, the tool included."""
+"""Every body of the PUMA in the simulation, the tool included (any arm's: :func:`is_arm_body`)."""
+
+_LINK_NAME = re.compile(r"link[1-9][0-9]*")
+
+
+def is_link(body: str) -> bool:
+    """Whether ``body`` is one of an arm's links ``link1`` .. ``link<n>`` (link k turned by joint k)."""
+    return _LINK_NAME.fullmatch(body) is not None
+
+
+def is_arm_body(body: str) -> bool:
+    """Whether ``body`` is part of the arm in the simulation: a link or the tool."""
+    return body == TOOL_BODY or is_link(body)
 
 
 @dataclass(frozen=True)
@@ -72,7 +86,7 @@ def _segment_in_body(model: mujoco.MjModel, geom: int) -> tuple[FloatArray, Floa
     """The segment ends (in the geom's body frame) and radius of a capsule or cylinder geom."""
     kind = int(model.geom_type[geom])
     if kind not in (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER)):
-        raise CosmosError(f"{SCENE_XML}: arm geom '{model.geom(geom).name}' must be a capsule or a cylinder")
+        raise CosmosError(f"arm geom '{model.geom(geom).name}' must be a capsule or a cylinder")
     axis = np.empty(9)
     mujoco.mju_quat2Mat(axis, model.geom_quat[geom])
     half = float(model.geom_size[geom, 1]) * axis.reshape(3, 3)[:, 2]
@@ -83,31 +97,33 @@ def _segment_in_body(model: mujoco.MjModel, geom: int) -> tuple[FloatArray, Floa
 def _body_in_link(model: mujoco.MjModel, body: int) -> pin.SE3:
     """Pose of ``body`` in its nearest ancestor among the links (identity for a link)."""
     pose = pin.SE3.Identity()
-    while model.body(body).name not in LINK_BODIES:
+    while not is_link(model.body(body).name):
         rotation = np.empty(9)
         mujoco.mju_quat2Mat(rotation, model.body_quat[body])
         if model.body_jntnum[body] != 0:
-            raise CosmosError(f"{SCENE_XML}: body '{model.body(body).name}' must be welded to a link")
+            raise CosmosError(f"body '{model.body(body).name}' must be welded to a link")
         pose = pin.SE3(rotation.reshape(3, 3), model.body_pos[body].copy()) * pose
         body = int(model.body_parentid[body])
     return pose
 
 
 @functools.cache
-def _scene_capsules() -> tuple[tuple[str, str, FloatArray, FloatArray, float], ...]:
+def _scene_capsules(
+    scene_xml: Path = SCENE_XML,
+) -> tuple[tuple[str, str, FloatArray, FloatArray, float], ...]:
     """(geom, link, a, b, radius) of every collision geom of the arm, ends in the link's body frame."""
-    model = mujoco.MjModel.from_xml_path(str(SCENE_XML))
+    model = mujoco.MjModel.from_xml_path(str(scene_xml))
     out = []
     for geom in range(model.ngeom):
         body = int(model.geom_bodyid[geom])
-        if model.body(body).name not in ARM_BODIES:
+        if not is_arm_body(model.body(body).name):
             continue
         if model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0:
             continue  # visual only
         a, b, radius = _segment_in_body(model, geom)
         to_link = _body_in_link(model, body)
         link = body
-        while model.body(link).name not in LINK_BODIES:
+        while not is_link(model.body(link).name):
             link = int(model.body_parentid[link])
         out.append((model.geom(geom).name, model.body(link).name, to_link.act(a), to_link.act(b), radius))
     return tuple(
@@ -139,14 +155,14 @@ def arm_capsules(robot: RobotModel) -> LinkCapsules:
     """The arm's and the tool's capsules in the frames of ``robot``'s joints.
 
     Args:
-        robot: The controller's model; its body frames ``link1`` .. ``link6``
-            place the scene's link bodies on the joints.
+        robot: The controller's model; its body frames ``link1`` .. ``link<n>``
+            place the scene's link bodies (of its arm's scene) on the joints.
 
     Returns:
         The capsules, in scene order.
     """
     names, links, joints, starts, ends, radii = [], [], [], [], [], []
-    for geom, link, a, b, radius in _scene_capsules():
+    for geom, link, a, b, radius in _scene_capsules(robot.description.scene_xml):
         frame = robot.model.frames[robot.model.getFrameId(link, pin.BODY)]
         names.append(geom)
         links.append(link)
@@ -177,13 +193,14 @@ def joint_reach_m(robot: RobotModel, capsules: LinkCapsules) -> FloatArray:
     is a fixed distance from joint m-1's (a serial chain), and joint j+1's
     origin a fixed distance from joint j's axis; by the triangle inequality the
     bound holds in every configuration, and ``sum_j |qd_j| reach_j`` bounds the
-    speed of every point of the arm. # (6,)
+    speed of every point of the arm. # (n,)
     """
     model, data = robot.model, robot.model.createData()
+    n = model.nv
     pin.computeJointJacobians(model, data, pin.neutral(model))
     # Joint j's axis in its own frame (Pinocchio joint j + 1): the angular part of its Jacobian column.
-    axes = [data.oMi[j + 1].rotation.T.dot(data.J[3:, j]) for j in range(6)]
-    hops = [float(np.linalg.norm(model.jointPlacements[j + 1].translation)) for j in range(6)]
+    axes = [data.oMi[j + 1].rotation.T.dot(data.J[3:, j]) for j in range(n)]
+    hops = [float(np.linalg.norm(model.jointPlacements[j + 1].translation)) for j in range(n)]
 
     def to_axis(j: int, point: FloatArray) -> float:
         return float(np.linalg.norm(np.cross(axes[j], point)))
@@ -191,7 +208,7 @@ def joint_reach_m(robot: RobotModel, capsules: LinkCapsules) -> FloatArray:
     ends = np.maximum(
         np.linalg.norm(capsules.a_in_joint, axis=1), np.linalg.norm(capsules.b_in_joint, axis=1)
     )
-    reach = np.zeros(6)
+    reach = np.zeros(n)
     for i, k in enumerate(capsules.joint.tolist()):
         radius = float(capsules.radius_m[i])
         for j in range(k + 1):

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from cosmos.obstacles.capsules import ARM_BODIES
+from cosmos.obstacles.capsules import is_arm_body
 from cosmos.plant import Plant
 from cosmos.workcell import TOOL_BODY
 
@@ -21,7 +21,7 @@ class Collision:
     """One unintended contact.
 
     Attributes:
-        arm_body: The arm's body in contact (``link1`` .. ``link6`` or ``tool``).
+        arm_body: The arm's body in contact (``link1`` .. ``link<n>`` or ``tool``).
         other: The obstacle's name, or the body it touched (``world`` for the floor).
         is_obstacle: True when ``other`` is an obstacle.
         depth_m: Penetration depth (>= 0), in [m].
@@ -47,9 +47,9 @@ def collisions(plant: Plant, obstacle_geoms: Mapping[str, str]) -> list[Collisio
     """
     found: dict[tuple[str, str], Collision] = {}
     for contact in plant.contacts():
-        if contact.body1 in ARM_BODIES and contact.body2 not in ARM_BODIES:
+        if is_arm_body(contact.body1) and not is_arm_body(contact.body2):
             arm, other, other_geom = contact.body1, contact.body2, contact.geom2
-        elif contact.body2 in ARM_BODIES and contact.body1 not in ARM_BODIES:
+        elif is_arm_body(contact.body2) and not is_arm_body(contact.body1):
             arm, other, other_geom = contact.body2, contact.body1, contact.geom1
         else:
             continue

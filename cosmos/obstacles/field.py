@@ -44,7 +44,7 @@ import numpy as np
 import pinocchio as pin
 
 from cosmos.errors import CosmosError
-from cosmos.obstacles.capsules import LINK_BODIES, arm_capsules, joint_reach_m
+from cosmos.obstacles.capsules import arm_capsules, joint_reach_m
 from cosmos.obstacles.geometry import ProximityModel
 from cosmos.obstacles.kernels import field as fk
 from cosmos.obstacles.obstacle import Obstacle
@@ -120,15 +120,15 @@ class ObstacleField:
         """When False, :meth:`torque` is zero (the obstacles are still tracked)."""
         self._capsules = arm_capsules(robot)
         self._chain = chain_table(robot, joint_reach_m(robot, self._capsules))
-        self._frames = np.zeros((6, fk.FRAMES))
+        self._frames = np.zeros((robot.model.nv, fk.FRAMES))
         self._obstacles: dict[str, Obstacle] = {}
         self._geometry: ProximityModel | None = None
         self._obstacle_speed = 0.0
         self._evaluations = 0
         self._speed_bound = 0.0
         self._evaluated_s = -np.inf
-        self._torque = np.zeros(6)
-        self._link_torque = np.zeros(6)
+        self._torque = np.zeros(robot.model.nv)
+        self._link_torque = np.zeros(robot.model.nv)
         self._nearest = np.full(fk.NEAREST, np.inf)
         self._acting = np.zeros((0, fk.ACTING))  # per obstacle at the last evaluation (ACTING_*)
         self._influences: tuple[Influence, ...] | None = ()
@@ -153,7 +153,7 @@ class ObstacleField:
         if self._influences is None:
             obstacles = self._geometry.obstacles if self._geometry is not None else ()
             self._influences = tuple(
-                Influence(obstacles[j].name, LINK_BODIES[int(link)], distance, force)
+                Influence(obstacles[j].name, f"link{int(link) + 1}", distance, force)
                 for j, (flag, distance, link, force) in enumerate(self._acting.tolist())
                 if flag
             )
@@ -170,7 +170,7 @@ class ObstacleField:
         distance, link, obstacle = self._nearest.tolist()
         if not math.isfinite(distance) or self._geometry is None:
             return math.inf, "", ""
-        return distance, LINK_BODIES[int(link)], self._geometry.obstacles[int(obstacle)].name
+        return distance, f"link{int(link) + 1}", self._geometry.obstacles[int(obstacle)].name
 
     @property
     def obstacles(self) -> tuple[Obstacle, ...]:
@@ -202,12 +202,12 @@ class ObstacleField:
         self._evaluated_s = -np.inf
 
     def torque(self, q: FloatArray, qd: FloatArray, t_s: float) -> FloatArray:
-        """Joint torques of the field at ``(q, qd)`` and simulated time ``t_s``, in [N m]. # (6,)."""
+        """Joint torques of the field at ``(q, qd)`` and simulated time ``t_s``, in [N m]. # (n,)."""
         if t_s - self._evaluated_s < self._parameters.period_s - 1e-9:
             return self._torque
         self._evaluated_s = t_s
-        torque = self._torque = np.zeros(6)
-        link_torque = self._link_torque = np.zeros(6)
+        torque = self._torque = np.zeros(len(q))
+        link_torque = self._link_torque = np.zeros(len(q))
         self._nearest[:] = np.inf
         geometry = self._geometry
         if geometry is None:
@@ -273,22 +273,24 @@ def chain_table(robot: RobotModel, reach_m: FloatArray) -> FloatArray:
     """The arm's kinematic chain for :func:`cosmos.obstacles.kernels.field.chain_kinematics_into`.
 
     Args:
-        robot: The controller's model: six revolute joints in a serial chain.
-        reach_m: Per joint, the bound of :func:`cosmos.obstacles.capsules.joint_reach_m`, in [m]. # (6,)
+        robot: The controller's model: n revolute joints in a serial chain.
+        reach_m: Per joint, the bound of :func:`cosmos.obstacles.capsules.joint_reach_m`, in [m]. # (n,)
 
     Returns:
-        Per joint its placement in its parent's frame, its axis in its own frame and its reach. # (6, CHAIN)
+        Per joint its placement in its parent's frame, its axis in its own frame and its reach. # (n, CHAIN)
 
     Raises:
-        CosmosError: If the model is not a serial chain of six one-degree-of-freedom joints.
+        CosmosError: If the model is not a serial chain of one-degree-of-freedom joints.
     """
     model = robot.model
-    if model.njoints != 7 or list(model.parents) != [0, 0, 1, 2, 3, 4, 5] or model.nq != 6 or model.nv != 6:
-        raise CosmosError("the obstacle field needs a serial chain of six revolute joints")
+    n = model.nv
+    serial = list(model.parents) == [0, *range(n)]
+    if model.njoints != n + 1 or not serial or model.nq != n:
+        raise CosmosError("the obstacle field needs a serial chain of revolute joints")
     data = model.createData()
     pin.computeJointJacobians(model, data, pin.neutral(model))
-    chain = np.zeros((6, fk.CHAIN))
-    for k in range(6):
+    chain = np.zeros((n, fk.CHAIN))
+    for k in range(n):
         placement = model.jointPlacements[k + 1]
         chain[k, fk.CHAIN_ROTATION : fk.CHAIN_ROTATION + 9] = placement.rotation.reshape(9)
         chain[k, fk.CHAIN_TRANSLATION : fk.CHAIN_TRANSLATION + 3] = placement.translation

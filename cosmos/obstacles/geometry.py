@@ -144,11 +144,12 @@ class ProximityModel:
         self._travel_m = 0.0
         self._last_s: float | None = None
         self._capsules = capsules
-        links = 6 * len(obstacles)  # at most one approach per (link, obstacle)
+        joints = int(capsules.joint.max()) + 1 if len(capsules) else 0  # the links that carry capsules
+        links = joints * len(obstacles)  # at most one approach per (link, obstacle)
         self._held = np.zeros((links, gk.HELD))
         self._held_count = 0
         self.approaches = np.zeros((links, fk.APPROACH))
-        """One row per (link, obstacle) within rho_0, the first ``count`` rows valid. # (6 k, APPROACH)"""
+        """One row per (link, obstacle) within rho_0, the first ``count`` rows valid. # (n k, APPROACH)"""
 
     def centers(self, t_s: float) -> FloatArray:
         """The obstacles' centres at simulated time ``t_s``, world, in [m]. # (k, 3)."""
@@ -166,7 +167,7 @@ class ProximityModel:
 
         Args:
             frames: The arm's joint frames and link twists now (``FRAME_*`` of
-                :mod:`cosmos.obstacles.kernels.field`). # (6, FRAMES)
+                :mod:`cosmos.obstacles.kernels.field`). # (n, FRAMES)
             t_s: Simulated time, in [s].
 
         Returns:
@@ -190,14 +191,14 @@ class ProximityModel:
         """:meth:`estimate` and the field's torques from it, with the kinematics, in one compiled call.
 
         Args:
-            torque: Written: the field's joint torques, in [N m]. # (6,)
-            link_torque: Written: their part from every link but the tool's, in [N m]. # (6,)
+            torque: Written: the field's joint torques, in [N m]. # (n,)
+            link_torque: Written: their part from every link but the tool's, in [N m]. # (n,)
             nearest: Written: those links' nearest approach (``NEAREST_*``). # (NEAREST,)
             acting: Written: per obstacle, whether and how it acted (``ACTING_*``). # (k, ACTING)
-            chain: The arm's chain (``CHAIN_*`` of :mod:`cosmos.obstacles.kernels.field`). # (6, CHAIN)
-            q: Joint angles, in [rad]. # (6,)
-            qd: Joint velocities, in [rad/s]. # (6,)
-            frames: Written: the joint frames and link twists (``FRAME_*``). # (6, FRAMES)
+            chain: The arm's chain (``CHAIN_*`` of :mod:`cosmos.obstacles.kernels.field`). # (n, CHAIN)
+            q: Joint angles, in [rad]. # (n,)
+            qd: Joint velocities, in [rad/s]. # (n,)
+            frames: Written: the joint frames and link twists (``FRAME_*``). # (n, FRAMES)
             parameters: eta, c, the cap and whether the field is enabled (``PARAMETER_*``). # (PARAMETERS,)
             t_s: Simulated time, in [s].
 
@@ -237,7 +238,7 @@ class ProximityModel:
         closest one's point counts.
 
         Args:
-            frames: The arm's joint frames (``FRAME_*``, :mod:`cosmos.obstacles.kernels.field`). # (6, FRAMES)
+            frames: The arm's joint frames (``FRAME_*``, :mod:`cosmos.obstacles.kernels.field`). # (n, FRAMES)
             t_s: Simulated time, in [s].
             speed_mps: Bound on the relative speed of arm and obstacles since the last call, in [m/s].
 

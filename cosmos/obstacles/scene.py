@@ -98,19 +98,19 @@ def _scene_dir() -> tempfile.TemporaryDirectory[str]:
 
 
 @functools.cache
-def obstacle_scene_xml(slots: int = DEFAULT_SLOTS) -> Path:
-    """The workcell (``scene.xml``) with ``slots`` obstacle slots, as an MJCF file for :class:`Plant`.
+def obstacle_scene_xml(slots: int = DEFAULT_SLOTS, scene_xml: Path = SCENE_XML) -> Path:
+    """An arm's workcell (``scene.xml``) with ``slots`` obstacle slots, an MJCF file for :class:`Plant`.
 
     The slots are appended to the scene's text, so every number of the workcell
     is kept as written; the file is written once per process into a temporary
     directory (the workcell has no file assets, so the copy compiles anywhere).
     """
-    tree = ElementTree.parse(SCENE_XML)
+    tree = ElementTree.parse(scene_xml)
     worldbody = tree.getroot().find("worldbody")
     if worldbody is None:  # pragma: no cover - guards the shipped model file
-        raise CosmosError(f"{SCENE_XML}: no worldbody")
+        raise CosmosError(f"{scene_xml}: no worldbody")
     add_obstacle_slots(worldbody, slots)
-    path = Path(_scene_dir().name) / f"scene_with_{slots}_obstacle_slots.xml"
+    path = Path(_scene_dir().name) / f"{scene_xml.parent.name}_scene_with_{slots}_obstacle_slots.xml"
     tree.write(path, encoding="unicode")
     return path
 

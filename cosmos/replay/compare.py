@@ -21,7 +21,7 @@ from enum import StrEnum
 import numpy as np
 
 from cosmos.runlog.reader import EventRecord, RunRecord, SegmentRecord, StateSeries
-from cosmos.runlog.schemas import STATE_VECTORS
+from cosmos.runlog.schemas import state_vectors
 
 LOG_RESOLUTION = 1e-6
 """State vectors are logged rounded to 1e-6 of their unit (docs/log-format.md)."""
@@ -31,14 +31,11 @@ TIME_TOLERANCE_S = 1e-9
 """Times of samples, events and segments must agree this closely [s]."""
 
 _FIRST_REPORTED = ("q", "x", "wrench", "tau")
-_REPORT_ORDER = _FIRST_REPORTED + tuple(n for n, _ in STATE_VECTORS if n not in _FIRST_REPORTED)
+_REPORT_ORDER = _FIRST_REPORTED + tuple(n for n, _ in state_vectors() if n not in _FIRST_REPORTED)
 """State vectors in the order their differences are reported."""
 _REPORTED = 3  # differing quantities named at the first departing sample
 _UNITS = {"q": "rad", "qd": "rad/s", "tau": "N m", "x": "m", "quat": "", "v": "", "wrench": ""}
 _COMPONENTS = {
-    "q": [f"joint {i}" for i in range(1, 7)],
-    "qd": [f"joint {i}" for i in range(1, 7)],
-    "tau": [f"joint {i}" for i in range(1, 7)],
     "x": ["x", "y", "z"],
     "quat": ["w", "x", "y", "z"],
     "v": ["vx [m/s]", "vy [m/s]", "vz [m/s]", "wx [rad/s]", "wy [rad/s]", "wz [rad/s]"],
@@ -218,7 +215,8 @@ def _describe(name: str, old: np.ndarray, new: np.ndarray) -> str:
     k = int(np.nanargmax(np.where(np.isnan(delta), np.inf, delta)))
     size = "NaN" if np.isnan(delta[k]) else f"{delta[k]:.3g}"
     unit = f" {_UNITS[name]}" if _UNITS[name] else ""
-    return f"{name} differs by {size}{unit} ({_COMPONENTS[name][k]}: log {old[k]:.6f}, now {new[k]:.6f})"
+    component = _COMPONENTS[name][k] if name in _COMPONENTS else f"joint {k + 1}"  # q, qd, tau
+    return f"{name} differs by {size}{unit} ({component}: log {old[k]:.6f}, now {new[k]:.6f})"
 
 
 def _event_text(event: EventRecord) -> str:

@@ -15,11 +15,12 @@ from cosmos.runlog.messages import LOG_FORMAT
 from cosmos.runlog.printable import printable
 from cosmos.runlog.scan import McapContents, load_mcap
 from cosmos.runlog.schemas import (
+    DEFAULT_JOINTS,
     EVENT_TOPIC,
     METADATA_NAME,
     SEGMENT_TOPIC,
     STATE_TOPIC,
-    STATE_VECTORS,
+    state_vectors,
 )
 
 R = TypeVar("R")
@@ -71,9 +72,9 @@ class StateSeries:
     """
 
     t: np.ndarray  # (n,) [s]
-    q: np.ndarray  # (n, 6) [rad]
-    qd: np.ndarray  # (n, 6) [rad/s]
-    tau: np.ndarray  # (n, 6) [N m]
+    q: np.ndarray  # (n, joints) [rad]
+    qd: np.ndarray  # (n, joints) [rad/s]
+    tau: np.ndarray  # (n, joints) [N m]
     x: np.ndarray  # (n, 3) world [m]
     quat: np.ndarray  # (n, 4) world, w x y z
     v: np.ndarray  # (n, 6) world, linear [m/s] then angular [rad/s]
@@ -212,7 +213,7 @@ def run_record(path: Path, contents: McapContents) -> RunRecord:
         source_name=source_name,
         segments=tuple(sorted(segments, key=lambda s: s.t)),
         events=tuple(sorted(events, key=lambda e: e.t)),
-        state=_state(path, by_topic.get(STATE_TOPIC, [])),
+        state=_state(path, by_topic.get(STATE_TOPIC, []), _joints(path, metadata)),
         message_counts={topic: len(data) for topic, data in by_topic.items()},
         truncated=not contents.complete,
         readable_bytes=contents.readable_bytes,
@@ -332,13 +333,27 @@ def _read_only(array: np.ndarray) -> np.ndarray:
     return array
 
 
-def _state(path: Path, data: Sequence[bytes]) -> StateSeries:
+MAX_JOINTS = 12
+"""The most joints a log's arm may have (metadata ``joints``)."""
+
+
+def _joints(path: Path, metadata: Mapping[str, str]) -> int:
+    """The arm's number of joints from the metadata (six if it does not say: logs before the Panda)."""
+    text = metadata.get("joints", str(DEFAULT_JOINTS))
+    if not (text.isdigit() and 1 <= int(text) <= MAX_JOINTS):
+        raise CosmosError(
+            f"{path}: metadata '{METADATA_NAME}': joints is {text[:20]!r}, not a count from 1 to {MAX_JOINTS}"
+        )
+    return int(text)
+
+
+def _state(path: Path, data: Sequence[bytes], joints: int) -> StateSeries:
     if len(data) > limits.MAX_MESSAGES:
         raise CosmosError(f"{path}: more than {limits.MAX_MESSAGES:,} {STATE_TOPIC} messages")
-    t, rows, labels = validate.state_arrays(_where(path, STATE_TOPIC), data)
+    t, rows, labels = validate.state_arrays(_where(path, STATE_TOPIC), data, joints)
     order = np.argsort(t, kind="stable")
     columns, start = {}, 0
-    for name, n in STATE_VECTORS:
+    for name, n in state_vectors(joints):
         columns[name] = _read_only(np.ascontiguousarray(rows[order, start : start + n]))
         start += n
     return StateSeries(

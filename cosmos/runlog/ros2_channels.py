@@ -3,23 +3,24 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Final
 
 import numpy as np
 from foxglove import Channel, Context, Schema
 
 from cosmos.runlog import ros2
 from cosmos.runlog.foxglove import WORLD_FRAME
-from cosmos.runlog.schemas import STATE_VECTORS
+from cosmos.runlog.schemas import state_vectors
 
-_OFFSETS: Final = dict(
-    zip(
-        (name for name, _ in STATE_VECTORS),
-        np.cumsum([0] + [n for _, n in STATE_VECTORS]).tolist(),
-        strict=False,
+
+def _slices(joints: int) -> tuple[slice, slice, slice, slice]:
+    """Where q, qd, tau and the wrench are in a state row of an arm of ``joints`` joints."""
+    vectors = state_vectors(joints)
+    starts = dict(
+        zip((name for name, _ in vectors), np.cumsum([0] + [n for _, n in vectors]).tolist(), strict=False)
     )
-)
-_Q, _QD, _TAU, _WRENCH = (slice(_OFFSETS[k], _OFFSETS[k] + 6) for k in ("q", "qd", "tau", "wrench"))
+    sizes = dict(vectors)
+    q, qd, tau, wrench = (slice(starts[k], starts[k] + sizes[k]) for k in ("q", "qd", "tau", "wrench"))
+    return q, qd, tau, wrench
 
 
 def _channel(context: Context, topic: str, type_name: str) -> Channel:
@@ -37,15 +38,16 @@ class Ros2Channels:
 
     def __init__(self, context: Context, joint_names: Sequence[str]):
         self._names = tuple(joint_names)
+        self._q, self._qd, self._tau, self._wrench_at = _slices(len(self._names))
         self._joints = _channel(context, ros2.JOINT_STATE_TOPIC, "sensor_msgs/msg/JointState")
         self._wrench = _channel(context, ros2.WRENCH_TOPIC, "geometry_msgs/msg/WrenchStamped")
         self._tf = _channel(context, ros2.TF_TOPIC, "tf2_msgs/msg/TFMessage")
 
     def state(self, t_ns: int, row: np.ndarray) -> None:
         """Joint state and wrench of one state row (the vectors of ``cosmos.State`` in order)."""
-        message = ros2.joint_state(t_ns, self._names, row[_Q], row[_QD], row[_TAU])
+        message = ros2.joint_state(t_ns, self._names, row[self._q], row[self._qd], row[self._tau])
         self._joints.log(message, log_time=t_ns)
-        self._wrench.log(ros2.wrench_stamped(t_ns, WORLD_FRAME, row[_WRENCH]), log_time=t_ns)
+        self._wrench.log(ros2.wrench_stamped(t_ns, WORLD_FRAME, row[self._wrench_at]), log_time=t_ns)
 
     def transforms(self, t_ns: int, frames: Sequence[str], poses: np.ndarray) -> None:
         """The frames' poses in ``world``: translation [m], rotation x y z w. ``poses``: (frames, 7)."""

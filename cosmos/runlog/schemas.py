@@ -33,18 +33,35 @@ EVENT_SCHEMA_NAME: Final = "cosmos.Event"
 METADATA_NAME: Final = "cosmos"
 """Name of the metadata record that identifies a cosmos run log."""
 
-STATE_VECTORS: Final[tuple[tuple[str, int], ...]] = (
-    ("q", 6),
-    ("qd", 6),
-    ("tau", 6),
-    ("x", 3),
-    ("quat", 4),
-    ("v", 6),
-    ("wrench", 6),
-)
-"""The vector fields of a state message, in message order, with their lengths."""
+DEFAULT_JOINTS: Final = 6
+"""The arm's number of joints in a log that does not say (the PUMA 560's: logs before the Panda)."""
 
-STATE_WIDTH: Final = sum(n for _, n in STATE_VECTORS)  # 37 numbers besides t
+
+def state_vectors(joints: int = DEFAULT_JOINTS) -> tuple[tuple[str, int], ...]:
+    """The vector fields of a state message, in message order, with their lengths.
+
+    ``q``, ``qd`` and ``tau`` have one entry per joint of the arm (metadata ``joints``).
+    """
+    return (
+        ("q", joints),
+        ("qd", joints),
+        ("tau", joints),
+        ("x", 3),
+        ("quat", 4),
+        ("v", 6),
+        ("wrench", 6),
+    )
+
+
+def state_width(joints: int = DEFAULT_JOINTS) -> int:
+    """Numbers in a state message besides t: 3 joints + 19 (37 for six joints)."""
+    return sum(n for _, n in state_vectors(joints))
+
+
+STATE_VECTORS: Final = state_vectors()
+"""The vector fields of a six-joint arm's state message (:func:`state_vectors`)."""
+
+STATE_WIDTH: Final = state_width()  # 37 numbers besides t
 
 STATE_DECIMALS: Final = 6
 """Vector fields of a state message are rounded to 1e-6 of their SI unit."""
@@ -131,9 +148,9 @@ def _object(
 
 
 _STATE_DESCRIPTIONS: Final = {
-    "q": "joint positions 1..6 [rad]",
-    "qd": "joint velocities 1..6 [rad/s]",
-    "tau": "joint torques 1..6 commanded to the plant [N m]",
+    "q": "joint positions 1..n [rad] (n: metadata joints)",
+    "qd": "joint velocities 1..n [rad/s]",
+    "tau": "joint torques 1..n commanded to the plant [N m]",
     "x": "tool point position in the world frame [m]",
     "quat": "tool orientation in the world frame, quaternion w x y z",
     "v": "tool twist in world axes at the tool point: vx vy vz [m/s] then wx wy wz [rad/s]",
@@ -143,17 +160,23 @@ _STATE_DESCRIPTIONS: Final = {
     ),
 }
 
-STATE_SCHEMA: Final = _object(
-    STATE_SCHEMA_NAME,
-    "Arm and tool state sampled at the state rate (metadata state_hz). A value that is "
-    "not finite (the controller diverged) is written as null.",
-    {
-        "t": _number("simulated time since the start of the run [s]"),
-        **{name: _vector(n, _STATE_DESCRIPTIONS[name]) for name, n in STATE_VECTORS},
-        "segment": _integer("index of the segment being executed (see /cosmos/segment)"),
-        "line": _integer("source line of the statement being executed (0: none)"),
-    },
-)
+
+def state_schema(joints: int = DEFAULT_JOINTS) -> dict[str, Any]:
+    """The state message's schema for an arm of ``joints`` joints."""
+    return _object(
+        STATE_SCHEMA_NAME,
+        "Arm and tool state sampled at the state rate (metadata state_hz). A value that is "
+        "not finite (the controller diverged) is written as null.",
+        {
+            "t": _number("simulated time since the start of the run [s]"),
+            **{name: _vector(n, _STATE_DESCRIPTIONS[name]) for name, n in state_vectors(joints)},
+            "segment": _integer("index of the segment being executed (see /cosmos/segment)"),
+            "line": _integer("source line of the statement being executed (0: none)"),
+        },
+    )
+
+
+STATE_SCHEMA: Final = state_schema()
 
 SEGMENT_SCHEMA: Final = _object(
     SEGMENT_SCHEMA_NAME,

@@ -13,6 +13,7 @@ call with no indirection.
 
 from __future__ import annotations
 
+import functools
 import json
 from collections.abc import Sequence
 from pathlib import Path
@@ -27,7 +28,7 @@ from cosmos.runlog import foxglove
 from cosmos.runlog.live import Pacer
 from cosmos.runlog.messages import log_time_ns
 from cosmos.runlog.ros2_channels import Ros2Channels
-from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
+from cosmos.runlog.schemas import DEFAULT_JOINTS, state_vectors, state_width
 from cosmos.runlog.text_template import STATE_NOT_EXACT, STATE_WRITTEN, Template
 
 _BATCH: Final = 64  # state samples encoded together
@@ -37,16 +38,25 @@ FLUSH_EVERY_S: Final = 0.24
 one state period (0.244 s at the default 250 Hz, 0.25 s at the slowest state rate, 100 Hz), even
 when it lands during a flush. As long as that allows: each flush closes a chunk, about 100 us."""
 
-# JSON text of a state message. Vector components are written as integers with
-# a fixed exponent (125730e-6 is 0.125730): plain JSON, and much cheaper to
-# format than floats. The compiled kernels write it (cosmos.runlog.text_kernel);
-# this format string is its definition.
-_STATE_TEMPLATE: Final = (
-    '{"t":%.9f,'
-    + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in STATE_VECTORS)
-    + ',"segment":%d,"line":%d}'
-)
-_STATE_TEXT: Final = Template.from_format(_STATE_TEMPLATE.replace("%.9f", "%d"))  # t: first hole
+
+@functools.cache
+def state_template(joints: int) -> str:
+    """JSON text of a state message, as a format string: its definition.
+
+    Vector components are written as integers with a fixed exponent (125730e-6 is
+    0.125730): plain JSON, and much cheaper to format than floats. The compiled
+    kernels write it (cosmos.runlog.text_kernel).
+    """
+    return (
+        '{"t":%.9f,'
+        + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in state_vectors(joints))
+        + ',"segment":%d,"line":%d}'
+    )
+
+
+@functools.cache
+def _state_text(joints: int) -> Template:
+    return Template.from_format(state_template(joints).replace("%.9f", "%d"))  # t: first hole
 
 
 class StateBatches:
@@ -65,14 +75,24 @@ class StateBatches:
     def _flush_states(self) -> None:
         raise NotImplementedError
 
-    def _open_batches(self, state: Channel, tf: FrameTransformsChannel, frames: Sequence[str]) -> None:
+    def _open_batches(
+        self,
+        state: Channel,
+        tf: FrameTransformsChannel,
+        frames: Sequence[str],
+        joints: int = DEFAULT_JOINTS,
+    ) -> None:
         """Set up the kernels and staging arrays.
 
         Args:
             state: The ``/cosmos/state`` channel.
             tf: The ``/tf`` channel (protobuf ``foxglove.FrameTransforms``).
             frames: Child frames of :meth:`transforms`, in the order poses are given.
+            joints: The arm's number of joints (entries of q, qd and tau).
         """
+        self._joints = joints
+        self._state_template = state_template(joints)
+        self._state_text = _state_text(joints)
         # Rust-side log calls of the channels (the Python wrapper re-checks the type per message).
         self._log_state = state.base.log
         self._log_tf = tf.log
@@ -87,7 +107,7 @@ class StateBatches:
         self._render_states = text_kernel.render_states
 
         # State samples wait here and are encoded _BATCH at a time.
-        self._rows = np.empty((_BATCH, STATE_WIDTH))  # (batch, 37)
+        self._rows = np.empty((_BATCH, state_width(joints)))  # (batch, 3 joints + 19)
         self._times = np.empty(_BATCH)  # (batch,) s
         self._labels = np.empty((_BATCH, 2), dtype=np.int64)  # (batch, 2): segment, line
         self._pending = 0
@@ -123,9 +143,9 @@ class StateBatches:
 
         Args:
             t: Simulated time since the start [s], >= 0.
-            q: Joint positions [rad]. # (6,)
-            qd: Joint velocities [rad/s]. # (6,)
-            tau: Joint torques [N m]. # (6,)
+            q: Joint positions [rad]. # (joints,)
+            qd: Joint velocities [rad/s]. # (joints,)
+            tau: Joint torques [N m]. # (joints,)
             x: Tool point position, world frame [m]. # (3,)
             quat: Tool orientation, world frame, w x y z. # (4,)
             v: Tool twist, world axes: linear [m/s] then angular [rad/s]. # (6,)
@@ -160,10 +180,11 @@ class StateBatches:
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
         self._pending = self._pending_tf = 0
-        size = n * _STATE_TEXT.max_bytes
+        state_text = self._state_text
+        size = n * state_text.max_bytes
         if len(self._text) < size:
             self._text = np.empty(2 * size, dtype=np.uint8)
-        text, state_text = self._text, _STATE_TEXT
+        text = self._text
         end = self._render_states(
             text,
             self._rows,
@@ -214,15 +235,14 @@ class StateBatches:
         if status == STATE_NOT_EXACT:
             return self._state_json(t, row, segment, line).encode()
         micro = np.rint(row * 1e6).astype(np.int64).tolist()
-        return (_STATE_TEMPLATE % (t, *micro, segment, line)).encode()
+        return (self._state_template % (t, *micro, segment, line)).encode()
 
-    @staticmethod
-    def _state_json(t: float, row: np.ndarray, segment: int, line: int) -> str:
+    def _state_json(self, t: float, row: np.ndarray, segment: int, line: int) -> str:
         """A state message with a non-finite or huge value: slow path, nulls for non-finite."""
         values = [round(v, 6) if np.isfinite(v) else None for v in row.tolist()]
         message: dict[str, Any] = {"t": t}
         start = 0
-        for name, n in STATE_VECTORS:
+        for name, n in state_vectors(self._joints):
             message[name] = values[start : start + n]
             start += n
         message["segment"] = segment

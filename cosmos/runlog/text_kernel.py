@@ -206,21 +206,25 @@ def stage_state(
     Raises:
         ValueError: If a vector has the wrong length (nothing is copied).
     """
-    if len(q) != 6 or len(qd) != 6 or len(tau) != 6 or len(v) != 6 or len(wrench) != 6:
-        raise ValueError("q, qd, tau, v and wrench must have 6 components each")
+    n = (rows.shape[1] - 19) // 3  # the arm's joints: rows are q qd tau (n each), x quat v wrench
+    if len(q) != n or len(qd) != n or len(tau) != n:
+        raise ValueError("q, qd and tau must have one component per joint of the log's arm")
+    if len(v) != 6 or len(wrench) != 6:
+        raise ValueError("v and wrench must have 6 components each")
     if len(x) != 3 or len(quat) != 4:
         raise ValueError("x must have 3 components and quat 4")
     row = rows[i]
-    for k in range(6):
+    for k in range(n):
         row[k] = q[k]
-        row[6 + k] = qd[k]
-        row[12 + k] = tau[k]
-        row[25 + k] = v[k]
-        row[31 + k] = wrench[k]
+        row[n + k] = qd[k]
+        row[2 * n + k] = tau[k]
+    for k in range(6):
+        row[3 * n + 7 + k] = v[k]
+        row[3 * n + 13 + k] = wrench[k]
     for k in range(3):
-        row[18 + k] = x[k]
+        row[3 * n + k] = x[k]
     for k in range(4):
-        row[21 + k] = quat[k]
+        row[3 * n + 3 + k] = quat[k]
     times[i] = t
     labels[i, 0] = segment
     labels[i, 1] = line

@@ -25,7 +25,7 @@ import numpy as np
 from cosmos.errors import CosmosError
 from cosmos.runlog import limits
 from cosmos.runlog.printable import printable
-from cosmos.runlog.schemas import STATE_VECTORS, STATE_WIDTH
+from cosmos.runlog.schemas import DEFAULT_JOINTS, state_vectors, state_width
 
 Json = dict[str, Any]
 
@@ -177,35 +177,36 @@ def records(
     return out
 
 
-def state_row(m: Json) -> tuple[float, list[float], int, int]:
-    """Time, the 37 vector components (null as NaN), segment and line of one state message."""
+def state_row(m: Json, joints: int = DEFAULT_JOINTS) -> tuple[float, list[float], int, int]:
+    """Time, the 3 joints + 19 vector components (null as NaN), segment and line of one state message."""
     t = time(m)
     row: list[float] = []
-    for name, n in STATE_VECTORS:
+    for name, n in state_vectors(joints):
         row += vector(m, name, (n,), nulls=True)
     return t, row, count(m, "segment", limits.MAX_SEGMENT), count(m, "line", limits.MAX_LINE)
 
 
-StateArrays = tuple[np.ndarray, np.ndarray, np.ndarray]  # t (n,), rows (n, 37), labels (n, 2)
+StateArrays = tuple[np.ndarray, np.ndarray, np.ndarray]  # t (n,), rows (n, 3 joints + 19), labels (n, 2)
 
 
-def _bulk(messages: list[Any]) -> StateArrays | None:
+def _bulk(messages: list[Any], joints: int) -> StateArrays | None:
     """The arrays of a batch of decoded state messages if all pass the bulk check, else None."""
     n = len(messages)
+    vectors = state_vectors(joints)
     if not all(type(m) is dict for m in messages):
         return None
     try:
         t = np.array([m["t"] for m in messages])
-        columns = [np.array([m[name] for m in messages]) for name, _ in STATE_VECTORS]
+        columns = [np.array([m[name] for m in messages]) for name, _ in vectors]
         labels = np.array([[m["segment"], m["line"]] for m in messages])
     except (KeyError, ValueError, TypeError, OverflowError):
         return None
     if t.shape != (n,) or t.dtype.kind not in "fi" or labels.shape != (n, 2) or labels.dtype.kind != "i":
         return None
-    for column, (_, size) in zip(columns, STATE_VECTORS, strict=True):
+    for column, (_, size) in zip(columns, vectors, strict=True):
         if column.shape != (n, size) or column.dtype.kind not in "fi":
             return None
-    rows = np.concatenate(columns, axis=1).astype(float) if n else np.empty((0, STATE_WIDTH))
+    rows = np.concatenate(columns, axis=1).astype(float) if n else np.empty((0, state_width(joints)))
     t = t.astype(float)
     if not (np.isfinite(rows).all() and np.isfinite(t).all()):
         return None
@@ -220,20 +221,24 @@ def _bulk(messages: list[Any]) -> StateArrays | None:
     return t, rows, labels.astype(np.int64)
 
 
-def _one_by_one(where: Callable[[int], str], first: int, data: Sequence[bytes]) -> StateArrays:
+def _one_by_one(where: Callable[[int], str], first: int, data: Sequence[bytes], joints: int) -> StateArrays:
     n = len(data)
-    t, rows, labels = np.empty(n), np.empty((n, STATE_WIDTH)), np.empty((n, 2), dtype=np.int64)
+    t, rows, labels = np.empty(n), np.empty((n, state_width(joints))), np.empty((n, 2), dtype=np.int64)
     for k, item in enumerate(data):
         try:
-            t[k], rows[k], *label = state_row(decode(item))
+            t[k], rows[k], *label = state_row(decode(item), joints)
         except Invalid as error:
             raise CosmosError(f"{where(first + k)}: {error}") from None
         labels[k] = label
     return t, rows, labels
 
 
-def state_arrays(where: Callable[[int], str], data: Sequence[bytes]) -> StateArrays:
+def state_arrays(
+    where: Callable[[int], str], data: Sequence[bytes], joints: int = DEFAULT_JOINTS
+) -> StateArrays:
     """Times [s], vector rows and (segment, line) labels of every state message, in file order.
+
+    ``joints`` is the arm's number of joints (the log's metadata ``joints``).
 
     Raises:
         CosmosError: Naming the first message that fails, and why.
@@ -246,13 +251,13 @@ def state_arrays(where: Callable[[int], str], data: Sequence[bytes]) -> StateArr
             blob = b"[" + b",".join(batch) + b"]"
             if not any(word in blob for word in _NON_JSON):
                 try:
-                    arrays = _bulk(json.loads(blob))
+                    arrays = _bulk(json.loads(blob), joints)
                 except (ValueError, RecursionError):
                     arrays = None
                 if arrays is not None and len(arrays[0]) != len(batch):
                     arrays = None  # a message held more than one value (``1],[2``)
-        parts.append(arrays if arrays is not None else _one_by_one(where, first + 1, batch))
+        parts.append(arrays if arrays is not None else _one_by_one(where, first + 1, batch, joints))
     if not parts:
-        return np.empty(0), np.empty((0, STATE_WIDTH)), np.empty((0, 2), dtype=np.int64)
+        return np.empty(0), np.empty((0, state_width(joints))), np.empty((0, 2), dtype=np.int64)
     t_parts, row_parts, label_parts = zip(*parts, strict=True)
     return np.concatenate(t_parts), np.concatenate(row_parts), np.concatenate(label_parts)

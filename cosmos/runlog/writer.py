@@ -51,6 +51,7 @@ from cosmos.runlog.output import unused_log_path as unused_log_path  # re-export
 from cosmos.runlog.ros2_channels import Ros2Channels
 from cosmos.runlog.scene import Primitive, entity
 from cosmos.runlog.schemas import (
+    DEFAULT_JOINTS,
     EVENT_SCHEMA,
     EVENT_SCHEMA_NAME,
     EVENT_TOPIC,
@@ -58,10 +59,10 @@ from cosmos.runlog.schemas import (
     SEGMENT_SCHEMA,
     SEGMENT_SCHEMA_NAME,
     SEGMENT_TOPIC,
-    STATE_SCHEMA,
     STATE_SCHEMA_NAME,
     STATE_TOPIC,
     schema_bytes,
+    state_schema,
 )
 from cosmos.runlog.sink import LogSink, close_at_exit
 from cosmos.runlog.state_batch import FLUSH_EVERY_S, StateBatches
@@ -97,6 +98,8 @@ class RunLog(StateBatches):
         make_parents: Create missing parent directories.
         ros2_joints: The arm's joint names, to also write the ROS 2 channels
             (:mod:`cosmos.runlog.ros2`); None: not written.
+        joints: The arm's number of joints: entries of q, qd and tau in ``/cosmos/state``,
+            recorded in the metadata (``joints``).
 
     Raises:
         UsageError: If the file cannot be created, naming it and the reason.
@@ -120,6 +123,7 @@ class RunLog(StateBatches):
         overwrite: bool = True,
         make_parents: bool = True,
         ros2_joints: Sequence[str] | None = None,
+        joints: int = DEFAULT_JOINTS,
     ):
         self.path = Path(path)
         self.program = program
@@ -147,7 +151,7 @@ class RunLog(StateBatches):
         self._flush_due = flush_every_s
 
         channel = self._json_channel
-        self._state = channel(STATE_TOPIC, STATE_SCHEMA_NAME, STATE_SCHEMA)
+        self._state = channel(STATE_TOPIC, STATE_SCHEMA_NAME, state_schema(joints))
         self._segment = channel(SEGMENT_TOPIC, SEGMENT_SCHEMA_NAME, SEGMENT_SCHEMA)
         self._event = channel(EVENT_TOPIC, EVENT_SCHEMA_NAME, EVENT_SCHEMA)
         # Foxglove's well-known messages: the SDK's typed channels encode protobuf (official schemas).
@@ -156,7 +160,7 @@ class RunLog(StateBatches):
         self._scene = SceneUpdateChannel(foxglove.SCENE_TOPIC, context=context)
         self._log = LogChannel(foxglove.LOG_TOPIC, context=context)
         self._typed_channels = (self._tf, self._scene, self._log)
-        self._open_batches(self._state, self._tf, frames)
+        self._open_batches(self._state, self._tf, frames, joints)
         if ros2_joints is not None:
             self._ros2 = Ros2Channels(context, ros2_joints)
         self._shown: dict[str, Any] = {}  # the scene's entities by id (a live view repeats them)
@@ -170,7 +174,7 @@ class RunLog(StateBatches):
             state_hz=state_hz,
             model=model,
             seed=seed,
-            metadata=metadata,
+            metadata={"joints": str(joints), **(metadata or {})},
         )
         self._writer.write_metadata(METADATA_NAME, record)
         if source is not None:

@@ -26,6 +26,7 @@ from cosmos.osc.null_space import DEFAULT_ABSORPTION, AbsorptionPolicy
 from cosmos.osc.orientation import pose_error
 from cosmos.osc.unified import ForceGains
 from cosmos.plant import LiveSignals
+from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
 from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
 from cosmos.runtime.kernels.parameter import refold
@@ -155,7 +156,7 @@ class ServoLevel:
         self._viscous = np.array(viscous, dtype=float)
         n = self._dof = len(self._viscous)
         # One flat workspace holds every block the kernel reads and writes (servo_tick_live).
-        vectors, matrices, jacobian, jbar, stacked, state, sensed, end, w = kernel.workspace_layout(n)
+        vectors, matrices, jacobian, jbar, stacked, state, sensed, end, w = live_kernel.workspace_layout(n)
         workspace = self._workspace = np.zeros(end)
         scalars = workspace[:vectors]
         scalars[kernel.K_F] = gains.force.k_f
@@ -187,7 +188,7 @@ class ServoLevel:
         self._jbar_lookahead = workspace[jbar:stacked].reshape((n, 6))
         self._null_space_t = np.zeros((n, n))  # N^T of the task, read by the null space's terms
         self._state = workspace[state:sensed].reshape((kernel.STATE_ROWS, w))
-        self._sensed = workspace[sensed:end].reshape((kernel.SENSED_ROWS, w))
+        self._sensed = workspace[sensed:end].reshape((live_kernel.SENSED_ROWS, w))
         self._setpoint: ServoSetpoint | None = None
         self._evaluation: Evaluation | None = None
         self._selection: Selection | None = None  # as the plan says
@@ -199,7 +200,7 @@ class ServoLevel:
         self._correction = np.zeros(n)  # column 18: the raw potentials plus the null space's
         # (n, 19 + n): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
-        self._stacked = workspace[stacked:state].reshape((n, kernel.STACKED_COLUMNS + n))
+        self._stacked = workspace[stacked:state].reshape((n, live_kernel.STACKED_COLUMNS + n))
 
     @property
     def torque(self) -> FloatArray:
@@ -209,12 +210,12 @@ class ServoLevel:
     @property
     def sensed_q(self) -> FloatArray:
         """Joint positions the last :meth:`command` sensed, in [rad]. # (n,)."""
-        return self._sensed[kernel.SENSED_Q, : self._dof]
+        return self._sensed[live_kernel.SENSED_Q, : self._dof]
 
     @property
     def sensed_qd(self) -> FloatArray:
         """Joint velocities the last :meth:`command` sensed, in [rad/s]. # (n,)."""
-        return self._sensed[kernel.SENSED_QD, : self._dof]
+        return self._sensed[live_kernel.SENSED_QD, : self._dof]
 
     @property
     def wrench(self) -> FloatArray:
@@ -396,7 +397,7 @@ class ServoLevel:
             )
             vectors[kernel.REFERENCE_VELOCITY, :6] = sample.velocity
             vectors[kernel.REFERENCE_ACCELERATION, :6] = sample.acceleration
-        kernel.servo_tick_live(
+        live_kernel.servo_tick_live(
             t_s,
             live.positions,
             live.velocities,

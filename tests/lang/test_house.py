@@ -21,7 +21,7 @@ LAYERS: list[tuple[str, ...]] = [
     # bottom first: a module may import from its own layer and the layers below it
     # jit: the numba decorator every kernel uses; user_cache: where it and cosmos check keep files
     ("cosmos.errors", "cosmos.osc", "cosmos.jit", "cosmos.user_cache"),
-    ("cosmos.rotations", "cosmos.capabilities"),
+    ("cosmos.rotations", "cosmos.capabilities", "cosmos.robots"),  # robots: the arms, described
     ("cosmos.plan",),  # the contract between the language and the executor
     # the language, stage by stage (its vocabulary first, its facade last)
     ("cosmos.lang.expressions", "cosmos.lang.ast", "cosmos.lang.ast_null_space", "cosmos.lang.units"),

@@ -21,12 +21,13 @@ from cosmos.jit import kernel
 
 FloatArray = np.ndarray
 
-# ``chain`` (6, CHAIN): per joint k, its fixed placement in joint k-1's frame (rotation row-major,
-# translation), its unit axis in its own frame, and ``reach_k`` (cosmos.obstacles.capsules.joint_reach_m).
+# ``chain`` (n, CHAIN): per joint k of the arm's n, its fixed placement in joint k-1's frame
+# (rotation row-major, translation), its unit axis in its own frame, and ``reach_k``
+# (cosmos.obstacles.capsules.joint_reach_m).
 CHAIN_ROTATION, CHAIN_TRANSLATION, CHAIN_AXIS, CHAIN_REACH = 0, 9, 12, 15
 CHAIN = 16
 
-# ``frames`` (6, FRAMES): per joint k, world rotation of its frame (row-major), its origin [m], its
+# ``frames`` (n, FRAMES): per joint k, world rotation of its frame (row-major), its origin [m], its
 # Jacobian column (spatial velocity at the world origin per rad/s, linear then angular, as
 # Pinocchio's ``data.J`` in WORLD) and the twist of link k (``sum_{j <= k} J_j qd_j``) [m/s, rad/s].
 FRAME_ROTATION, FRAME_ORIGIN, FRAME_COLUMN, FRAME_TWIST = 0, 9, 12, 18
@@ -65,7 +66,7 @@ def chain_kinematics_into(frames: FloatArray, chain: FloatArray, q: FloatArray, 
     Jacobian column of joint k is ``(p_k x w_k, w_k)`` with ``w_k = R_k axis_k``
     (its spatial velocity at the world origin), and the twist of link k is
     ``sum_{j <= k} J_j qd_j``: what Pinocchio's ``computeJointJacobians`` and
-    ``J qd`` give, written into ``frames``. # (6, FRAMES)
+    ``J qd`` give, written into ``frames``. # (n, FRAMES)
 
     Returns:
         ``sum_j |qd_j| reach_j``, in [m/s]: a bound on the speed of every point of the arm.
@@ -75,7 +76,7 @@ def chain_kinematics_into(frames: FloatArray, chain: FloatArray, q: FloatArray, 
     px, py, pz = 0.0, 0.0, 0.0
     tw = np.zeros(6)
     speed = 0.0
-    for k in range(6):
+    for k in range(chain.shape[0]):
         c = chain[k]
         # Origin: p_k = R_{k-1} t_k + p_{k-1}.
         tx, ty, tz = c[CHAIN_TRANSLATION], c[CHAIN_TRANSLATION + 1], c[CHAIN_TRANSLATION + 2]
@@ -151,7 +152,7 @@ def field_torque_into(
     obstacles: FloatArray,
     parameters: FloatArray,
 ) -> None:
-    """The field's joint torques from the approaches (seed section 6), into ``torque`` (6,).
+    """The field's joint torques from the approaches (seed section 6), into ``torque`` (n,).
 
     Each of the first ``count`` approaches is pushed along its normal by
     :func:`repulsion_magnitude` (the approach speed is the point's velocity
@@ -168,7 +169,8 @@ def field_torque_into(
     nearest[NEAREST_DISTANCE], nearest[NEAREST_LINK], nearest[NEAREST_OBSTACLE] = math.inf, -1.0, -1.0
     eta, damping = parameters[PARAMETER_ETA], parameters[PARAMETER_DAMPING]
     cap = parameters[PARAMETER_CAP]
-    wrenches = np.zeros((6, 6))  # row k: wrench about the origin on link k
+    n = frames.shape[0]
+    wrenches = np.zeros((n, 6))  # row k: wrench about the origin on link k
     acting[:, ACTING_FLAG] = 0.0
     for a in range(count):
         row = approaches[a]
@@ -212,7 +214,7 @@ def field_torque_into(
         return
     carried = np.zeros(6)
     carried_links = np.zeros(6)  # without the tool's link
-    for j in range(5, -1, -1):
+    for j in range(n - 1, -1, -1):
         total = 0.0
         links = 0.0
         for i in range(6):

@@ -159,7 +159,10 @@ def nearest_into(
         How many approaches (and held rows) were written, and how many of them
         are that close (touching).
     """
-    slots = np.full((6, obstacles.shape[0]), -1)
+    links = 0  # the arm's joints that carry capsules: slots per (link, obstacle)
+    for i in range(capsules.shape[0]):
+        links = max(links, int(capsules[i, dk.CAPSULE_JOINT]) + 1)
+    slots = np.full((links, obstacles.shape[0]), -1)
     best = np.empty(queued, dtype=np.int64)
     count, touching = 0, 0
     for q in range(queued):

@@ -91,32 +91,6 @@ REACHED = 3  # column of FLAGS: 1.0 once the push felt along the goal reached RE
 MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
 SCRATCH_ROWS = 5
 
-# The servo level's buffers live in one flat ``workspace``, so that a tick is a call with few
-# arguments (:func:`servo_tick_live`): the blocks above, then what the tick sensed (rows of w:
-# joint positions, joint velocities, the wrist sensor's reading). Offsets: :func:`workspace_layout`.
-SENSED_Q, SENSED_QD, SENSED_WRENCH = range(3)
-SENSED_ROWS = 3
-STACKED_COLUMNS = 19  # plus n: stacked is (n, 19 + n)
-
-
-@kernel
-def workspace_layout(n: int) -> tuple[int, int, int, int, int, int, int, int, int]:
-    """Offsets of the workspace's blocks for an arm of n joints, and its length.
-
-    Returns:
-        ``(vectors, matrices, jacobian, jbar_lookahead, stacked, state, sensed, end, w)``: the
-        scalars start at 0; ``w = max(6, n)`` is the length of a row of vectors, state and sensed.
-    """
-    w = max(6, n)
-    vectors = SCALARS
-    matrices = vectors + VECTORS * w
-    jacobian = matrices + MATRICES * 36
-    jbar_lookahead = jacobian + 6 * n
-    stacked = jbar_lookahead + 6 * n
-    state = stacked + n * (STACKED_COLUMNS + n)
-    sensed = state + STATE_ROWS * w
-    return vectors, matrices, jacobian, jbar_lookahead, stacked, state, sensed, sensed + SENSED_ROWS * w, w
-
 
 @kernel
 def servo_tick(
@@ -370,57 +344,3 @@ def servo_tick(
         scalars[COULOMB_BLEND],
     )
     saturate_about(torque, vectors[TORQUE_MAX, :n], vectors[GRAVITY, :n])
-
-
-@kernel
-def servo_tick_live(
-    t_s: float,
-    positions: FloatArray,
-    velocities: FloatArray,
-    wrench_raw: FloatArray,
-    noise: FloatArray,
-    noise_row: int,
-    ctrl: FloatArray,
-    workspace: FloatArray,
-) -> None:
-    """:func:`servo_tick` on the plant's live signals: sense, command, drive, in one call.
-
-    The encoders and the wrist sensor (its noiseless signal plus row ``noise_row`` of
-    ``noise``) are copied into the workspace's sensed rows, :func:`servo_tick` runs on
-    them, and its torque goes to the drives (``ctrl``) as well as to the TORQUE row.
-
-    Args:
-        t_s: Simulated time, in [s].
-        positions: The joint encoders, in [rad]. # (n,)
-        velocities: The joint velocities, in [rad/s]. # (n,)
-        wrench_raw: The wrist sensor's noiseless reading, sensor frame, [N, N m]. # (6,)
-        noise: The sensor's noise samples, [N, N m]. # (rows, 6)
-        noise_row: The row of ``noise`` this reading takes.
-        ctrl: The drives' torque commands, in [N m]. # (n,)
-        workspace: The blocks at :func:`workspace_layout`'s offsets. # (end,)
-    """
-    n = positions.shape[0]
-    vectors, matrices, jacobian, jbar, stacked, state_at, sensed_at, end, w = workspace_layout(n)
-    sensed = workspace[sensed_at:end].reshape((SENSED_ROWS, w))
-    q, qd, sensor = sensed[SENSED_Q, :n], sensed[SENSED_QD, :n], sensed[SENSED_WRENCH, :6]
-    for i in range(n):
-        q[i] = positions[i]
-        qd[i] = velocities[i]
-    for i in range(6):
-        sensor[i] = wrench_raw[i] + noise[noise_row, i]
-    state = workspace[state_at:sensed_at].reshape((STATE_ROWS, w))
-    servo_tick(
-        t_s,
-        q,
-        qd,
-        sensor,
-        workspace[:vectors],
-        workspace[vectors:matrices].reshape((VECTORS, w)),
-        workspace[matrices:jacobian].reshape((MATRICES, 6, 6)),
-        workspace[jacobian:jbar].reshape((6, n)),
-        workspace[jbar:stacked].reshape((n, 6)),
-        workspace[stacked:state_at].reshape((n, STACKED_COLUMNS + n)),
-        state,
-    )
-    for i in range(n):
-        ctrl[i] = state[TORQUE, i]
