@@ -79,12 +79,13 @@ def _rate(value: object, name: str) -> float:
     return float(value)
 
 
-def check(program: ProgramArg, *, name: str | None = None) -> Plan:
+def check(program: ProgramArg, *, name: str | None = None, robot: str | None = None) -> Plan:
     """Parse, check and compile a program (a path or its text) as ``cosmos check`` does.
 
     Args:
         program: A ``.cos`` file, or the program's text.
         name: The file name that errors carry (default: the path, or ``<program>``).
+        robot: The arm to check for (``--robot``); a program's ROBOT must agree.
 
     Returns:
         The plan: its ``steps`` (segments and scene changes) and ``warnings``.
@@ -99,7 +100,7 @@ def check(program: ProgramArg, *, name: str | None = None) -> Plan:
 
     source, file = read_program(program, name)
     try:
-        return compile_program(source, file, fixture_frames())
+        return compile_program(source, file, fixture_frames(), robot=robot)
     except CosmosError as error:
         raise error.with_source(source) from None
 
@@ -126,6 +127,7 @@ def run(
     name: str | None = None,
     progress: Callable[[Progress], None] | None = None,
     ideal: bool = False,
+    robot: str | None = None,
 ) -> Run:
     """Run a program on the simulated arm, as ``cosmos run`` does, and return what the log records.
 
@@ -141,6 +143,8 @@ def run(
         progress: Called every 200 servo ticks with the statement running and the time.
         ideal: Run the ideal plant (``--ideal``: the controller's own model, exact encoders
             and velocities) instead of the realistic one (``cosmos.realism``).
+        robot: The arm (``--robot``: ``puma560`` or ``panda``); a program's ROBOT must agree.
+            Default: the program's ROBOT, else the PUMA 560.
 
     Returns:
         The run, read from its log. A statement that failed on the arm does not raise:
@@ -153,6 +157,7 @@ def run(
     """
     from cosmos.execution.program import stop_on_signals
     from cosmos.execution.session import Session
+    from cosmos.robots import robot_named
     from cosmos.runlog.writer import default_log_path
     from cosmos.runtime.rates import Rates
 
@@ -164,14 +169,23 @@ def run(
         None if servo_hz is None else _rate(servo_hz, "servo_hz"),
         None if param_hz is None else _rate(param_hz, "param_hz"),
     )
-    plan = check(program, name=name)
+    plan = check(program, name=name, robot=robot)
     for warning in plan.warnings:
         warnings.warn(warning.render(plan.source), CosmosWarning, stacklevel=2)
     stem = Path("program" if plan.file == TEXT_NAME else plan.file)
     log_path = Path(log) if log is not None else default_log_path(stem, datetime.now(UTC))
     failure: TaskFailure | None = None
     try:
-        session = Session(plan.file, plan.source, log_path, rates, seed, progress, ideal=ideal)
+        session = Session(
+            plan.file,
+            plan.source,
+            log_path,
+            rates,
+            seed,
+            progress,
+            ideal=ideal,
+            robot=robot_named(plan.robot),
+        )
     except OSError as error:  # the log cannot be created there
         raise UsageError(f"{log_path}: cannot write the log: {error.strerror or error}") from None
     with session:

@@ -13,6 +13,7 @@ import click
 
 from cosmos import __version__
 from cosmos.errors import CosmosError, UsageError
+from cosmos.robots import ROBOTS
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -78,6 +79,12 @@ def cli() -> None:
     default=None,
     help="Simulated seconds per wall-clock second (implies --realtime; default 1).",
 )
+@click.option(
+    "--robot",
+    type=click.Choice(sorted(ROBOTS), case_sensitive=False),
+    default=None,
+    help="The arm to run on (a program's ROBOT must agree; default: its ROBOT, else puma560).",
+)
 def run(
     program: Path,
     log_path: Path | None,
@@ -93,6 +100,7 @@ def run(
     port: int,
     realtime: bool,
     rate: float | None,
+    robot: str | None,
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
     from cosmos.commands.run import Pace, run_program
@@ -106,28 +114,44 @@ def run(
         variation = variation_for_run(program, vary, sample, seed, ideal)
     paced = live or realtime or rate is not None
     pace = Pace(rate or 1.0, port if live else None) if paced else None
-    _finish(run_program(program, log_path, rates, seed, force, variation, ros2=ros2, pace=pace, ideal=ideal))
+    _finish(
+        run_program(
+            program, log_path, rates, seed, force, variation, ros2=ros2, pace=pace, ideal=ideal, robot=robot
+        )
+    )
 
 
 @cli.command()
 @program_argument
 @click.option("--json", "as_json", is_flag=True, help="Print the plan as JSON.")
 @click.option("--full", is_flag=True, help="Print every step of a long plan, not a summary.")
-def check(program: Path, as_json: bool, full: bool) -> None:
+@click.option(
+    "--robot",
+    type=click.Choice(sorted(ROBOTS), case_sensitive=False),
+    default=None,
+    help="The arm to check for (a program's ROBOT must agree; default: its ROBOT, else puma560).",
+)
+def check(program: Path, as_json: bool, full: bool, robot: str | None) -> None:
     """Parse, check and compile PROGRAM without running it; print the plan."""
     from cosmos.commands.check import check_program
 
-    _finish(check_program(program, as_json, full=full))
+    _finish(check_program(program, as_json, full=full, robot=robot))
 
 
 @cli.command()
 @click.option("--log", "log_path", type=click.Path(path_type=Path), help="MCAP log path.")
 @click.option("--force", is_flag=True, help="Overwrite the --log file if it exists.")
-def repl(log_path: Path | None, force: bool) -> None:
+@click.option(
+    "--robot",
+    type=click.Choice(sorted(ROBOTS), case_sensitive=False),
+    default=None,
+    help="The arm to drive (default: puma560).",
+)
+def repl(log_path: Path | None, force: bool, robot: str | None) -> None:
     """Interactive session on a live simulated arm."""
     from cosmos.commands.repl import run_repl
 
-    _finish(run_repl(log_path, force))
+    _finish(run_repl(log_path, force, robot))
 
 
 @cli.command()

@@ -689,12 +689,15 @@ class Plan:
         source: The program text.
         steps: Segments and scene changes in execution order.
         warnings: Diagnostics that do not stop the program.
+        robot: The arm it runs on (:data:`cosmos.robots.ROBOTS`: its ROBOT statement, else the
+            run's ``--robot``, else the PUMA 560).
     """
 
     file: str
     source: str
     steps: tuple[Step, ...]
     warnings: tuple[Diagnostic, ...]
+    robot: str = "puma560"
 
     @property
     def segments(self) -> tuple[Segment, ...]:
@@ -865,9 +868,10 @@ def step_to_json(step: Step) -> dict[str, Any]:
 
 
 def plan_to_json(plan: Plan) -> Mapping[str, Any]:
-    """The plan as JSON-ready dicts: ``file``, ``steps``, ``warnings``."""
+    """The plan as JSON-ready dicts: ``file``, ``robot``, ``steps``, ``warnings``."""
     return {
         "file": plan.file,
+        "robot": plan.robot,
         "steps": [step_to_json(step) for step in plan.steps],
         "warnings": [
             {"line": w.span.line, "column": w.span.column, "message": w.message} for w in plan.warnings

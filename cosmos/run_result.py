@@ -135,7 +135,7 @@ class Run:
         """The ``/cosmos/state`` samples, one row each, a new DataFrame on each access.
 
         Columns: ``t`` [s], ``segment``, ``line`` (0: no statement), the joint angles
-        named after the arm's joints (``joint1`` .. ``joint6``) [rad], the tool point
+        named after the arm's joints (``joint1`` .. ``joint<n>``) [rad], the tool point
         ``x y z`` [m] and orientation ``qw qx qy qz`` in the world frame, and the wrench
         the tool applies to the environment ``fx fy fz`` [N] ``mx my mz`` [N m]
         (world axes, moment about the tool point). Values not finite in the log are NaN.
@@ -147,11 +147,9 @@ class Run:
             import pandas
         except ImportError:
             raise CosmosError(PANDAS_MISSING) from None
-        from cosmos.workcell import JOINT_NAMES
-
         state = self.record.state
         columns = {"t": state.t, "segment": state.segment, "line": state.line}
-        columns |= {name: state.q[:, i] for i, name in enumerate(JOINT_NAMES)}
+        columns |= {f"joint{i + 1}": state.q[:, i] for i in range(state.q.shape[1])}
         columns |= {name: state.x[:, i] for i, name in enumerate(("x", "y", "z"))}
         columns |= {name: state.quat[:, i] for i, name in enumerate(("qw", "qx", "qy", "qz"))}
         columns |= {name: state.wrench[:, i] for i, name in enumerate(("fx", "fy", "fz", "mx", "my", "mz"))}

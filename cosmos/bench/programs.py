@@ -91,13 +91,15 @@ def executor_run(path: Path) -> ExecutorRun:
     from cosmos.commands.run import compile_file
     from cosmos.errors import CosmosError
     from cosmos.execution.session import Session
+    from cosmos.robots import robot_named
     from cosmos.runtime.rates import Rates
 
     plan = compile_file(path)
     rates = Rates()
     with tempfile.TemporaryDirectory(prefix="cosmos-bench-") as tmp:
         opened = time.perf_counter()
-        with Session(str(path), plan.source, Path(tmp) / "run.mcap", rates) as session:
+        arm = robot_named(plan.robot)
+        with Session(str(path), plan.source, Path(tmp) / "run.mcap", rates, robot=arm) as session:
             runtime = session.runtime
             inside = [0]
             runtime_tick, clock = runtime.tick, time.perf_counter_ns

@@ -29,6 +29,7 @@ from cosmos import plan
 from cosmos.errors import CosmosError, UsageError
 from cosmos.lang import compile_program, read_program
 from cosmos.lang.compile.state import FrameLike
+from cosmos.robots import ROBOTS
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -75,6 +76,7 @@ def check_program(
     out: TextIO | None = None,
     err: TextIO | None = None,
     full: bool = False,
+    robot: str | None = None,
 ) -> int:
     """Compile ``program`` and print its plan; return the exit status (0; with ``as_json``, 1 or 2 on error).
 
@@ -85,6 +87,7 @@ def check_program(
         out: Where the plan goes (stdout).
         err: Where warnings go (stderr).
         full: Print every step of a long plan and every warning, not a summary.
+        robot: The arm to check for (a program's ROBOT must agree); None: the program's ROBOT.
 
     Raises:
         ProgramError: Syntax or check errors (unless ``as_json``: printed as JSON).
@@ -94,7 +97,9 @@ def check_program(
     err = err or sys.stderr
     try:
         source = read_program(program)
-        compiled = compile_program(source, str(program), load_fixtures() if fixtures is None else fixtures)
+        compiled = compile_program(
+            source, str(program), load_fixtures() if fixtures is None else fixtures, robot=robot
+        )
     except CosmosError as error:
         if not as_json:
             raise
@@ -220,7 +225,12 @@ def plan_table(compiled: plan.Plan) -> Table:
     """The plan as a table: one row per step."""
     from rich.table import Table
 
-    table = Table(title=f"{compiled.file}: {len(compiled.segments)} segments", title_justify="left")
+    arm = ROBOTS[compiled.robot]
+    title = (
+        f"{compiled.file}: {len(compiled.segments)} segments on the {arm.title} "
+        f"({arm.dof} joints, reach {arm.capability.reach_m * 1e3:.0f} mm)"
+    )
+    table = Table(title=title, title_justify="left")
     for header in ("#", "line", "statement", "kind", "frame", "motion", "force", "setpoints", "goal", "ends"):
         table.add_column(header, overflow="fold")
     for depth, step in _rows(compiled.steps):

@@ -16,6 +16,7 @@ from cosmos.execution.program import StopOnSignals, TerminalProgress, execute_pl
 from cosmos.execution.session import Session
 from cosmos.lang import compile_program, read_program
 from cosmos.plan import Plan
+from cosmos.robots import robot_named
 from cosmos.runlog.output import check_output
 from cosmos.runlog.writer import unused_log_path
 from cosmos.runtime.rates import Rates
@@ -25,10 +26,10 @@ if TYPE_CHECKING:
     from cosmos.sweep.variation import WorkcellVariation
 
 
-def compile_file(path: Path) -> Plan:
-    """Parse, check and compile a program file; warnings go to stderr."""
+def compile_file(path: Path, robot: str | None = None) -> Plan:
+    """Parse, check and compile a program file (for the arm ``robot`` if given); warnings go to stderr."""
     source = read_program(path)
-    plan = compile_program(source, str(path), fixture_frames())
+    plan = compile_program(source, str(path), fixture_frames(), robot=robot)
     for warning in plan.warnings:
         click.echo(warning.render(source), err=True)
     return plan
@@ -73,6 +74,7 @@ def run_program(
     ros2: bool = False,
     pace: Pace | None = None,
     ideal: bool = False,
+    robot: str | None = None,
 ) -> int:
     """Run a program (in a varied workcell: ``cosmos run --vary/--sample``); print the log's path.
 
@@ -88,7 +90,7 @@ def run_program(
         UsageError: If the log cannot be written (it exists and not ``force``, is not
             a regular file, its directory is missing, or a write fails), naming it.
     """
-    plan = compile_file(path)
+    plan = compile_file(path, robot)
     make_parents = log_path is None
     log_path = log_path or unused_log_path(path, datetime.now(UTC))
     check_output(log_path, what="the log", force=force, make_parents=make_parents)
@@ -97,7 +99,16 @@ def run_program(
     signals = _StopAndRemember()
     with signals:
         with Session(
-            str(path), plan.source, log_path, rates, seed, progress, variation, ros2=ros2, ideal=ideal
+            str(path),
+            plan.source,
+            log_path,
+            rates,
+            seed,
+            progress,
+            variation,
+            ros2=ros2,
+            ideal=ideal,
+            robot=robot_named(plan.robot),
         ) as session:
             signals.attach(session.executor)
             server = None if pace is None else session.log.pace(pace.rate, pace.live_port)

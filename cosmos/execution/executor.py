@@ -209,7 +209,9 @@ class Executor:
                 return Outcome(Verdict.FAILED, f"cannot reach its goal: {beyond}")
         if segment.duration_s is not None:
             error = goal_error(start_position, start_rotation, *goals[-1])
-            infeasible = timed_move_problem(error.distance_m, error.angle_rad, segment.duration_s)
+            infeasible = timed_move_problem(
+                error.distance_m, error.angle_rad, segment.duration_s, rt.robot.description.capability
+            )
             if infeasible is not None:
                 return Outcome(Verdict.FAILED, infeasible)
         goal_index = 0

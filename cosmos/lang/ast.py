@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from cosmos.errors import Span
 from cosmos.lang.ast_null_space import SetOrientation, SetPosture
+from cosmos.lang.ast_settings import ChooseRobot, SetLimit, SetSpeed
 from cosmos.lang.expressions import (
     AllOf,
     AnyOf,
@@ -41,13 +42,12 @@ __all__ = [  # the statements and clauses here, and the parts of cosmos.lang.exp
     "AxisRef",
     "Binary",
     "Call",
+    "ChooseRobot",
     "Clause",
     "ClauseKind",
     "Comparison",
     "Comply",
     "ComplyClause",
-    "SearchClause",
-    "SearchPattern",
     "Condition",
     "Contact",
     "Direction",
@@ -70,6 +70,8 @@ __all__ = [  # the statements and clauses here, and the parts of cosmos.lang.exp
     "RemoveObstacle",
     "Repeat",
     "Retry",
+    "SearchClause",
+    "SearchPattern",
     "Sensed",
     "SetLimit",
     "SetOrientation",
@@ -269,22 +271,6 @@ class FrameDef:
 
 
 @dataclass(frozen=True)
-class SetSpeed:
-    """``SPEED v``: the default speed limit for what follows."""
-
-    value: Expr
-    span: Span
-
-
-@dataclass(frozen=True)
-class SetLimit:
-    """``LIMIT FORCE f``: the protective stop's force limit in free motion, for what follows."""
-
-    value: Expr
-    span: Span
-
-
-@dataclass(frozen=True)
 class Wait:
     """``WAIT [t] [UNTIL c] [TIMEOUT t]``."""
 
@@ -380,6 +366,7 @@ Statement = (
     | SetLimit
     | SetOrientation
     | SetPosture
+    | ChooseRobot
     | Wait
     | ProcDef
     | Repeat

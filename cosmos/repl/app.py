@@ -27,6 +27,7 @@ from cosmos.repl.loop import run_loop
 from cosmos.repl.output import Printer, Tone
 from cosmos.repl.reader import Reader, history_path, open_history, plain_reader, prompt_reader
 from cosmos.repl.statements import REPL_FILE
+from cosmos.robots import DEFAULT_ROBOT, Robot
 from cosmos.runtime.rates import Rates
 
 BANNER = "cosmos {version}: a simulated PUMA 560 in its workcell. :help for help, Ctrl-D to leave."
@@ -56,6 +57,7 @@ class ReplApp:
         output: Output | None = None,
         history: History | None = None,
         stdin: TextIO | None = None,
+        robot: Robot = DEFAULT_ROBOT,
     ):
         interactive = input is not None or _is_terminal(stdin or sys.stdin)
         self.printer = Printer(stream, color=interactive and _is_terminal(stream))
@@ -64,7 +66,7 @@ class ReplApp:
                 "starting the arm (a first run compiles the controller: up to a minute)", Tone.NOTE
             )
         try:
-            session = Session(REPL_FILE, None, log_path, Rates())
+            session = Session(REPL_FILE, None, log_path, Rates(), robot=robot)
         except OSError as error:
             raise UsageError(f"cannot write the log {log_path}: {error.strerror or error}") from None
         self.engine = ReplEngine(session, self.printer, show_progress=input is None and interactive)

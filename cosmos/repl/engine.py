@@ -55,7 +55,8 @@ class ReplEngine:
         self.session = session
         self.printer = printer
         self.show_progress = show_progress
-        self.compiler = Compiler(fixture_frames())
+        # The session's arm is chosen: a ROBOT input must name it.
+        self.compiler = Compiler(fixture_frames(session.robot), robot=session.robot.name)
         self.state = self.compiler.initial_state()
         self.transcript = Transcript()
 

@@ -121,7 +121,7 @@ def joint_positions_at(state: StateSeries, times_s: np.ndarray) -> np.ndarray:
     times outside the samples take the first or last one.
 
     Returns:
-        One row of six joint angles per time. # (frames, 6)
+        One row of the arm's joint angles per time. # (frames, n)
 
     Raises:
         CosmosError: If no sample has a finite ``q``.
@@ -133,10 +133,12 @@ def joint_positions_at(state: StateSeries, times_s: np.ndarray) -> np.ndarray:
     return np.column_stack([np.interp(times_s, t, q[:, j]) for j in range(q.shape[1])])
 
 
-def _scene() -> Plant:
+def _scene(record: RunRecord) -> Plant:
+    """The workcell of the log's arm (metadata ``robot``; the PUMA 560 in logs before the Panda)."""
     from cosmos.plant import Plant
+    from cosmos.robots import robot_named
 
-    return Plant()
+    return Plant(robot_named(record.metadata.get("robot", "puma560")).scene_xml)
 
 
 def _geom_names(plant: Plant) -> set[str]:
@@ -202,11 +204,11 @@ def render_video(
         raise UsageError(f"--video {path}: is a directory; give a file name ending in .mp4")
     check_output(path, what="the video", force=force)
     times = frame_times(record.state.t, playback)
-    positions = joint_positions_at(record.state, times)  # (frames, 6)
+    positions = joint_positions_at(record.state, times)  # (frames, n)
     prefer_headless_gl()
     import mujoco
 
-    plant = _scene()
+    plant = _scene(record)
     obstacles = scene_timeline(record.path, _geom_names(plant))
     try:
         renderer = mujoco.Renderer(plant.model, VIDEO_HEIGHT, VIDEO_WIDTH)
@@ -253,11 +255,11 @@ def view(record: RunRecord, playback: Playback) -> None:
     if not has_display():
         raise CosmosError("no display: use --video FILE.mp4")
     times = frame_times(record.state.t, Playback(playback.start_s, playback.rate, fps=60.0))
-    positions = joint_positions_at(record.state, times)  # (frames, 6)
+    positions = joint_positions_at(record.state, times)  # (frames, n)
     import mujoco
     import mujoco.viewer
 
-    plant = _scene()
+    plant = _scene(record)
     obstacles = scene_timeline(record.path, _geom_names(plant))
     _pose(plant, positions[0])
     viewer_window = mujoco.viewer.launch_passive(

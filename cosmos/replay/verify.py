@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 from cosmos.errors import CosmosError, ProgramError, TaskFailure, UsageError
 from cosmos.lang.parse.source_file import MAX_PROGRAM_BYTES
 from cosmos.replay.compare import DEFAULT_TOLERANCE, Verification, compare_runs
+from cosmos.robots import ROBOTS
 from cosmos.runlog.printable import printable
 from cosmos.runlog.reader import RunRecord, read_log
 from cosmos.runtime.rates import PHYSICS_HZ, Rates
@@ -86,6 +87,7 @@ class RunSettings:
     seed: int
     ideal: bool = True
     model_error: float | None = None
+    robot: str = "puma560"
 
 
 def settings_from_log(record: RunRecord) -> RunSettings:
@@ -120,8 +122,19 @@ def settings_from_log(record: RunRecord) -> RunSettings:
         message = error.message if isinstance(error, UsageError) else str(error)
         raise CosmosError(f"{record.path}: a setting in the metadata is malformed: {message}") from None
     program = meta.get("program") or record.source_name or "<log>"
+    robot = meta.get("robot", "puma560")  # logs before the Panda ran the PUMA
+    if robot not in ROBOTS:
+        raise CosmosError(
+            f"{record.path}: the metadata names the robot {robot[:40]!r}, which this cosmos has not"
+        )
     return RunSettings(
-        program=program, source=record.source, rates=rates, seed=seed, ideal=ideal, model_error=model_error
+        program=program,
+        source=record.source,
+        rates=rates,
+        seed=seed,
+        ideal=ideal,
+        model_error=model_error,
+        robot=robot,
     )
 
 
@@ -162,10 +175,11 @@ def rerun(settings: RunSettings, log_path: Path, limit_s: float = math.inf) -> f
     from cosmos.execution.program import StopOnSignals, TerminalProgress, execute_plan
     from cosmos.execution.session import Session
     from cosmos.lang import compile_program
+    from cosmos.robots import robot_named
     from cosmos.workcell import fixture_frames
 
     try:
-        plan = compile_program(settings.source, settings.program, fixture_frames())
+        plan = compile_program(settings.source, settings.program, fixture_frames(), robot=settings.robot)
     except ProgramError as error:
         rendered = printable(error.render(), keep_newlines=True)
         raise CosmosError(f"the program stored in the log does not compile:\n{rendered}") from None
@@ -181,6 +195,7 @@ def rerun(settings: RunSettings, log_path: Path, limit_s: float = math.inf) -> f
             progress,
             ideal=settings.ideal,
             model_error=settings.model_error,
+            robot=robot_named(plan.robot),
         ) as session:
             signals.attach(session.executor)
             recorder = session.runtime.recorder

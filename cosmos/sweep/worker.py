@@ -83,6 +83,7 @@ def run_task(task: RunTask) -> dict[str, Any]:
     and clean-up).
     """
     from cosmos.execution.session import Session
+    from cosmos.robots import robot_named
     from cosmos.runtime.rates import Rates
 
     started, cpu_started = time.perf_counter(), time.process_time()
@@ -92,7 +93,8 @@ def run_task(task: RunTask) -> dict[str, Any]:
     os.close(handle)
     log_path = Path(name)
     try:
-        with Session(task.program, task.source, log_path, Rates(), variation=variation) as session:
+        arm = robot_named(plan.robot)
+        with Session(task.program, task.source, log_path, Rates(), variation=variation, robot=arm) as session:
             tap = LogTap(session.log)
             simulate_started = time.perf_counter()
             try:

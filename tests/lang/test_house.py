@@ -24,7 +24,13 @@ LAYERS: list[tuple[str, ...]] = [
     ("cosmos.rotations", "cosmos.capabilities", "cosmos.robots"),  # robots: the arms, described
     ("cosmos.plan",),  # the contract between the language and the executor
     # the language, stage by stage (its vocabulary first, its facade last)
-    ("cosmos.lang.expressions", "cosmos.lang.ast", "cosmos.lang.ast_null_space", "cosmos.lang.units"),
+    (
+        "cosmos.lang.expressions",
+        "cosmos.lang.ast_settings",
+        "cosmos.lang.ast",
+        "cosmos.lang.ast_null_space",
+        "cosmos.lang.units",
+    ),
     ("cosmos.lang.parse",),
     ("cosmos.lang.check",),
     ("cosmos.lang.evaluate",),

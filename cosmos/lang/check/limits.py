@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cosmos import plan
-from cosmos.capabilities import ARM_CAPABILITY, HOME_TOOL, WRIST_SENSOR
+from cosmos.capabilities import ARM_CAPABILITY, HOME_TOOL, WRIST_SENSOR, ArmCapability
 from cosmos.errors import Span
 from cosmos.lang import units
 
@@ -178,15 +178,14 @@ def vector_problem(what: str, dim: units.Dim, values: tuple[float, ...], written
     return None
 
 
-def shortest_timed_move_s(distance_m: float, angle_rad: float) -> float:
+def shortest_timed_move_s(distance_m: float, angle_rad: float, arm: ArmCapability = ARM_CAPABILITY) -> float:
     """The shortest duration of a timed move the arm can do [s].
 
     A timed move follows a minimum-jerk profile (:class:`cosmos.osc.motion.PoseTrajectory`):
     over a distance d in time T its peak speed is 1.875 d / T and its peak acceleration
-    5.774 d / T^2; both must stay within :data:`cosmos.workcell.ARM_CAPABILITY`, for
-    the translation and for the rotation.
+    5.774 d / T^2; both must stay within the arm's capabilities (the PUMA's by default,
+    :attr:`cosmos.robots.Robot.capability`), for the translation and for the rotation.
     """
-    arm = ARM_CAPABILITY
     return max(
         1.875 * distance_m / arm.tool_speed_mps,
         math.sqrt(5.774 * distance_m / arm.tool_acceleration_mps2),
@@ -196,23 +195,27 @@ def shortest_timed_move_s(distance_m: float, angle_rad: float) -> float:
     )
 
 
-def timed_move_problem(distance_m: float, angle_rad: float, duration_s: float) -> str | None:
+def timed_move_problem(
+    distance_m: float, angle_rad: float, duration_s: float, arm: ArmCapability = ARM_CAPABILITY
+) -> str | None:
     """The check error for a timed move the arm cannot do in ``duration_s``, else None."""
-    shortest = shortest_timed_move_s(distance_m, angle_rad)
+    shortest = shortest_timed_move_s(distance_m, angle_rad, arm)
     if duration_s >= shortest:
         return None
     return (
         f"cannot move {distance_m * 1e3:.0f} mm"
         + (f" and turn {math.degrees(angle_rad):.0f} deg" if angle_rad > 1e-9 else "")
         + f" in {duration_s:g} s: the shortest feasible duration is {math.ceil(shortest * 100) / 100:g} s "
-        f"(the tool at most {ARM_CAPABILITY.tool_speed_mps:g} m/s and "
-        f"{ARM_CAPABILITY.tool_acceleration_mps2:g} m/s^2, its rotation at most "
-        f"{ARM_CAPABILITY.angular_speed_rad_s:g} rad/s and "
-        f"{ARM_CAPABILITY.angular_acceleration_rad_s2:g} rad/s^2)"
+        f"(the tool at most {arm.tool_speed_mps:g} m/s and "
+        f"{arm.tool_acceleration_mps2:g} m/s^2, its rotation at most "
+        f"{arm.angular_speed_rad_s:g} rad/s and "
+        f"{arm.angular_acceleration_rad_s2:g} rad/s^2)"
     )
 
 
-def first_infeasible_timed_move(steps: tuple[plan.Step, ...]) -> tuple[str, Span] | None:
+def first_infeasible_timed_move(
+    steps: tuple[plan.Step, ...], arm: ArmCapability = ARM_CAPABILITY
+) -> tuple[str, Span] | None:
     """The first timed ``MOVE TO`` the arm cannot do in its time, where its start is known.
 
     The tool starts at home; after a MOVE that ends where it was sent (no UNTIL) the
@@ -236,7 +239,7 @@ def first_infeasible_timed_move(steps: tuple[plan.Step, ...]) -> tuple[str, Span
             distance = float(np.linalg.norm(np.asarray(target.position_world) - position))
             cosine = (float(np.trace(rotation.T @ goal_rotation)) - 1.0) / 2.0
             angle = math.acos(min(1.0, max(-1.0, cosine)))
-            problem = timed_move_problem(distance, angle, step.duration_s)
+            problem = timed_move_problem(distance, angle, step.duration_s, arm)
             if problem is not None:
                 return f"from where the program leaves the tool, the arm {problem}", step.span
         holds_everything = bool(np.all(step.motion_axes)) and step.until is None

@@ -11,7 +11,7 @@ public entry points.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -24,6 +24,7 @@ from cosmos.lang.compile.state import CompileState, Defaults, FrameLike, frozen_
 from cosmos.lang.compile.statement_pass import StatementPass
 from cosmos.lang.evaluate.values import Binding, BindingKind, FrameValue, SuppressedError
 from cosmos.lang.parse.parser import parse_program
+from cosmos.robots import ROBOTS, robot_named
 from cosmos.rotations import IDENTITY, readonly
 
 MAX_ERRORS = 20
@@ -72,10 +73,19 @@ class Compiler:
             each has ``position`` (3,) [m, world] and ``rotation`` (3, 3). ``world``
             (the world frame) is always defined.
         defaults: Values used where a program does not give one.
+        robot: The arm of the run when chosen outside the program (``cosmos run --robot``,
+            the REPL's session): a ROBOT statement must name it. None: the program's ROBOT
+            chooses, the PUMA 560 without one.
     """
 
-    def __init__(self, fixtures: Mapping[str, FrameLike] | None = None, defaults: Defaults | None = None):
+    def __init__(
+        self,
+        fixtures: Mapping[str, FrameLike] | None = None,
+        defaults: Defaults | None = None,
+        robot: str | None = None,
+    ):
         self.defaults = defaults or Defaults()
+        self.robot = robot
         names = {"world": Binding(FrameValue(readonly(np.zeros(3)), IDENTITY), BindingKind.FIXTURE, None)}
         for name, frame in (fixtures or {}).items():
             value = FrameValue(readonly(frame.position), readonly(frame.rotation))
@@ -98,7 +108,10 @@ class Compiler:
 
     def initial_state(self) -> CompileState:
         """The state at the start of a program: home pose, no names but the fixtures."""
-        return CompileState(default_speed_mps=self.defaults.speed_mps, names=self._fixture_names)
+        state = CompileState(default_speed_mps=self.defaults.speed_mps, names=self._fixture_names)
+        if self.robot is not None:
+            state = replace(state, robot=robot_named(self.robot).name, robot_fixed=True)
+        return state
 
     def compile_statement(
         self, statement: ast.Statement, state: CompileState, source: str
@@ -161,10 +174,11 @@ class Compiler:
         if not source.strip():
             warnings.append(plan.Diagnostic("the program is empty", Span(file, 1, 1, 1, 1)))
         warnings.sort(key=lambda w: (w.span.line, w.span.column))
-        infeasible = limits.first_infeasible_timed_move(result.steps)
+        robot = result.state.robot
+        infeasible = limits.first_infeasible_timed_move(result.steps, ROBOTS[robot].capability)
         if infeasible is not None:
             raise ProgramError(*infeasible).with_source(source)
-        return plan.Plan(file=file, source=source, steps=result.steps, warnings=tuple(warnings))
+        return plan.Plan(file=file, source=source, steps=result.steps, warnings=tuple(warnings), robot=robot)
 
 
 def _poison(statement: ast.Statement, state: CompileState) -> CompileState:
@@ -180,6 +194,7 @@ def compile_program(
     file: str = "<input>",
     fixtures: Mapping[str, FrameLike] | None = None,
     defaults: Defaults | None = None,
+    robot: str | None = None,
 ) -> plan.Plan:
     """Parse, check and compile a program to a plan.
 
@@ -188,8 +203,9 @@ def compile_program(
         file: The name errors and spans carry.
         fixtures: Predefined frames by name (see :class:`Compiler`).
         defaults: Values used where the program does not give one.
+        robot: The run's arm if chosen outside the program (see :class:`Compiler`).
 
     Raises:
         ProgramError: Syntax or check errors, with spans and the source attached.
     """
-    return Compiler(fixtures, defaults).compile_program(source, file)
+    return Compiler(fixtures, defaults, robot).compile_program(source, file)

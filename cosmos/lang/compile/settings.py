@@ -1,8 +1,8 @@
-"""SPEED, LET, FRAME, COMPLY, ORIENTATION and POSTURE: the statements that change the compile state only.
+"""SPEED, LET, FRAME, COMPLY, ORIENTATION, POSTURE, ROBOT: statements that change the compile state only.
 
 They emit no steps: SPEED sets the default speed, LET and FRAME bind a name,
 COMPLY sets (or, without axes, clears) the compliance of task axes, ORIENTATION
-FREE / HELD and POSTURE set what the null space does (seed section 4).
+FREE / HELD and POSTURE set what the null space does (seed section 4), ROBOT chooses the arm.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.state import NO_COMPLIANCE, AxisCompliance, CompileState
 from cosmos.lang.evaluate.values import Binding, BindingKind, Vec
+from cosmos.robots import ROBOTS
 
 _LET = BindingKind.LET
 _FRAME = BindingKind.FRAME
@@ -137,7 +138,24 @@ def _not_negative(value: float, span: Span, what: str) -> None:
         raise ProgramError(f"{what} cannot be negative ({value:g})", span)
 
 
+def compile_robot(run: CompileContext, statement: ast.ChooseRobot, state: CompileState) -> CompileState:
+    """Choose the arm the program runs on: the first statement, naming an arm of the workcell."""
+    name = statement.name
+    robot = ROBOTS.get(name.key)
+    if robot is None:
+        raise ProgramError(f"ROBOT {name.name}: no such arm; the workcell has {', '.join(ROBOTS)}", name.span)
+    if state.statements:
+        raise ProgramError(
+            "ROBOT must be the program's first statement: it chooses the arm the whole program runs on",
+            statement.span,
+        )
+    if state.robot_fixed and robot.name != state.robot:
+        raise ProgramError(f"ROBOT {name.name}: this run is on the {state.robot} (--robot)", name.span)
+    return replace(state, robot=robot.name)
+
+
 HANDLERS: dict[type, Handler] = {
+    ast.ChooseRobot: compile_robot,
     ast.SetSpeed: compile_speed,
     ast.SetLimit: compile_limit,
     ast.Let: compile_definition,

@@ -16,6 +16,7 @@ from cosmos import plan
 from cosmos.errors import Span
 from cosmos.lang import ast
 from cosmos.lang.evaluate.values import Binding
+from cosmos.robots import DEFAULT_ROBOT
 from cosmos.rotations import IDENTITY, FloatArray
 
 
@@ -158,6 +159,10 @@ class CompileState:
         orientation_free: ORIENTATION FREE in force: MOVE and WAIT leave the tool's
             orientation to the null space.
         posture: The POSTURE in force, or None.
+        robot: The arm the program runs on (:data:`cosmos.robots.ROBOTS`; ROBOT chooses it).
+        robot_fixed: The run's arm was chosen outside the program (``--robot``, the REPL's
+            session): a ROBOT statement must name it.
+        statements: Top-level statements compiled so far (ROBOT must come first).
     """
 
     default_speed_mps: float
@@ -173,6 +178,9 @@ class CompileState:
     force_limit_n: float | None = None
     orientation_free: bool = False
     posture: plan.Posture | None = None
+    robot: str = DEFAULT_ROBOT.name
+    robot_fixed: bool = False
+    statements: int = 0
 
     def bind(self, key: str, binding: Binding) -> CompileState:
         """A state with ``key`` bound."""

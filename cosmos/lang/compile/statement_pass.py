@@ -9,6 +9,7 @@ statement type to what compiles it (each module of handlers gives its rows).
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 from cosmos import plan
@@ -129,7 +130,8 @@ class StatementPass:
         self.emitted = 0
         try:
             check_statement(statement)
-            return _dispatch(self, statement, state)  # at the top level there is no context to name
+            after = _dispatch(self, statement, state)  # at the top level there is no context to name
+            return replace(after, statements=after.statements + 1)
         except ProgramError as error:
             del self.steps[steps:], self.warnings[warnings:]
             raise error.with_source(self.source) from None

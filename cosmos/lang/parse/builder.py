@@ -104,6 +104,9 @@ class _Builder(Transformer):
         none = isinstance(value, Token) and value.type == "NONE"
         return ast.SetPosture(None if none else value, span_of(children))
 
+    def robot(self, children: list[Any]) -> ast.ChooseRobot:
+        return ast.ChooseRobot(_ident(children[1]), span_of(children))
+
     def comply(self, children: list[Any]) -> ast.Comply:
         return ast.Comply(children[1], tuple(children[2:]), span_of(children))
 

@@ -16,6 +16,7 @@ from cosmos.lang.compile.motion.axis_rules import AxisRules
 from cosmos.lang.compile.motion.base import ContactChange
 from cosmos.lang.compile.motion.clause_values import ClauseValues
 from cosmos.lang.compile.motion.clauses import clauses_of
+from cosmos.robots import ROBOTS
 from cosmos.rotations import IDENTITY, readonly
 
 _MOVE_TO = ast.MoveMode.TO
@@ -82,7 +83,8 @@ class Move(AxisRules, ClauseValues):
         if timeout is not None:
             self._warn_timeout(timeout, distance, speed, duration, clauses)
         if duration is not None and distance is not None:
-            problem = limits.timed_move_problem(distance, 0.0, duration)
+            arm = ROBOTS[self.state.robot].capability
+            problem = limits.timed_move_problem(distance, 0.0, duration, arm)
             if problem is not None:
                 raise ProgramError(f"the arm {problem}", clauses.span_of(ast.ClauseKind.IN))
         self._add(
