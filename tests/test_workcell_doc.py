@@ -9,6 +9,7 @@ number outside those value cells, so the doc and the model cannot drift apart.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Callable
@@ -18,6 +19,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from cosmos.robots import PANDA
 from cosmos.workcell import HOME_KEY, SCENE_XML
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "workcell.md"
@@ -27,8 +29,8 @@ UNITS = {"mm": 1e-3, "m": 1.0, "deg": math.pi / 180, "kg": 1.0, "": 1.0}
 class Scene:
     """The compiled workcell at its home keyframe, with lookups by name."""
 
-    def __init__(self) -> None:
-        self.model = mujoco.MjModel.from_xml_path(str(SCENE_XML))
+    def __init__(self, scene_xml: Path = SCENE_XML) -> None:
+        self.model = mujoco.MjModel.from_xml_path(str(scene_xml))
         self.data = mujoco.MjData(self.model)
         key = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
         mujoco.mj_resetDataKeyframe(self.model, self.data, key)
@@ -55,6 +57,12 @@ class Scene:
         """Distance of a world point from the flange along the flange's z axis [m]."""
         origin, rotation = self.site("flange")
         return float((point - origin) @ rotation[:, 2])
+
+
+@functools.cache
+def _panda() -> Scene:
+    """The Panda's workcell at its home keyframe."""
+    return Scene(PANDA.scene_xml)
 
 
 def _box_top(s: Scene, name: str) -> float:
@@ -222,6 +230,11 @@ QUANTITIES: dict[str, Callable[[Scene], float | np.ndarray]] = {
     "tool mass": lambda s: float(s.model.body_mass[s.model.body("tool").id]),
     "tool point at home": _tool_point_home,
     "tool point at home above the table frame": lambda s: _tool_point_home(s)[2] - s.site("table")[0][2],
+    # the Panda's scene: its own arm among the same fixtures (tests/test_panda_model.py)
+    "Panda pedestal height": lambda s: 2 * _panda().geom("pedestal")[2][1],
+    "Panda shoulder height": lambda s: _panda().data.xpos[_panda().model.body("link2").id][2],
+    "Panda home": lambda s: _panda().model.key(HOME_KEY).qpos,
+    "Panda tool point at home": lambda s: _tool_point_home(_panda()),
 }
 
 

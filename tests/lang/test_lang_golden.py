@@ -27,6 +27,8 @@ from lang_support import (
 )
 
 from cosmos import plan
+from cosmos.errors import ProgramError
+from cosmos.lang import compile_program
 
 I3 = np.eye(3)
 ALL_MOTION = [1, 1, 1, 1, 1, 1]
@@ -188,6 +190,23 @@ def test_let_speed_then_speed_statement() -> None:
 def test_speed_statement_sets_the_default_for_what_follows() -> None:
     segments = compile_text("MOVE BY (0, 0, 1 mm)\nSPEED 0.3 m/s\nMOVE BY (0, 0, 1 mm)\n").segments
     assert [s.speed_limit_mps for s in segments] == [0.1, 0.3]
+
+
+def test_robot_chooses_the_arm_and_compiles_to_nothing() -> None:
+    """Catches ROBOT emitting a step, the plan losing its arm, or the PUMA not being the default."""
+    chosen = compile_text("ROBOT panda\nMOVE BY (0, 0, 10 mm)\n")
+    plain = compile_text("MOVE BY (0, 0, 10 mm)\n")
+    assert (chosen.robot, plain.robot) == ("panda", "puma560")
+    [segment] = chosen.segments
+    check(segment, line=2, target=relative([0, 0, 0.01]))
+    assert compile_text("# the arm\nROBOT PUMA560\n").robot == "puma560"  # names fold case
+
+
+def test_a_run_on_one_arm_refuses_a_program_for_the_other() -> None:
+    """``cosmos run --robot puma560`` of a ROBOT panda program: catches the program's word winning."""
+    with pytest.raises(ProgramError, match=r"ROBOT panda: this run is on the puma560 \(--robot\)"):
+        compile_program("ROBOT panda\n", "test.cos", FIXTURES, robot="puma560")
+    assert compile_program("MOVE BY (0, 0, 1 mm)\n", "test.cos", FIXTURES, robot="panda").robot == "panda"
 
 
 def test_move_by_in_a_frame_is_along_its_axes() -> None:
