@@ -30,7 +30,7 @@ from cosmos.repl.statements import REPL_FILE
 from cosmos.robots import DEFAULT_ROBOT, Robot
 from cosmos.runtime.rates import Rates
 
-BANNER = "cosmos {version}: a simulated PUMA 560 in its workcell. :help for help, Ctrl-D to leave."
+BANNER = "cosmos {version}: a simulated {arm} in its workcell. :help for help, Ctrl-D to leave."
 
 
 class ReplApp:
@@ -92,7 +92,7 @@ class ReplApp:
         Returns:
             0, or 1 when the session was ended by a signal.
         """
-        self.printer.write(BANNER.format(version=__version__))
+        self.printer.write(BANNER.format(version=__version__, arm=self.engine.session.robot.title))
         self.printer.write(f"log: {self.log_path}", Tone.NOTE)
         status = 0
         try:

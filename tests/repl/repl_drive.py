@@ -12,6 +12,7 @@ from prompt_toolkit.input import create_pipe_input
 from prompt_toolkit.output import DummyOutput
 
 from cosmos.repl.app import ReplApp
+from cosmos.robots import DEFAULT_ROBOT, Robot
 from cosmos.runlog.reader import RunRecord, read_log
 
 ENTER = "\r"
@@ -43,7 +44,7 @@ class Driven:
         return np.array(self.log.state.x[index])
 
 
-def drive(tmp_path: Path, keys: str, app_hook=None) -> Driven:  # noqa: ANN001 - test helper
+def drive(tmp_path: Path, keys: str, app_hook=None, robot: Robot = DEFAULT_ROBOT) -> Driven:  # noqa: ANN001
     """Type ``keys`` into a fresh session (end them with Ctrl-D) and run it to the end.
 
     Args:
@@ -55,7 +56,12 @@ def drive(tmp_path: Path, keys: str, app_hook=None) -> Driven:  # noqa: ANN001 -
     with create_pipe_input() as pipe:
         pipe.send_text(keys)
         app = ReplApp(
-            tmp_path / "session.mcap", stream, input=pipe, output=DummyOutput(), history=InMemoryHistory()
+            tmp_path / "session.mcap",
+            stream,
+            input=pipe,
+            output=DummyOutput(),
+            history=InMemoryHistory(),
+            robot=robot,
         )
         if app_hook is not None:
             app_hook(app)

@@ -11,7 +11,7 @@ import numpy as np
 
 from cosmos.plant import Plant, SensorNoise
 from cosmos.realism import PlantRealism
-from cosmos.robot_model import build_robot_model
+from cosmos.robot_model import RobotModel, build_robot_model
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -20,21 +20,31 @@ from cosmos.workcell import JOINT_NAMES
 ROBOT = build_robot_model()
 
 
-def plant_for_tests(ideal: bool = False, seed: int = 0) -> Plant:
-    """The realistic plant of ``seed`` (as ``cosmos run --seed``), or the ideal one, noiseless."""
+def plant_for_tests(ideal: bool = False, seed: int = 0, robot: RobotModel | None = None) -> Plant:
+    """The realistic plant of ``seed`` (as ``cosmos run --seed``), or the ideal one, noiseless.
+
+    ``robot``: another arm's controller model; its workcell is simulated ideal (the realistic
+    plant is the PUMA's).
+    """
+    if robot is not None and robot is not ROBOT:
+        return Plant(robot.description.scene_xml)
     if ideal:
         return Plant()
     return Plant(sensor_noise=SensorNoise(seed), realism=PlantRealism.drawn(seed, JOINT_NAMES))
 
 
 def runtime_at(
-    q: np.ndarray | None = None, rates: Rates | None = None, ideal: bool = False, seed: int = 0
+    q: np.ndarray | None = None,
+    rates: Rates | None = None,
+    ideal: bool = False,
+    seed: int = 0,
+    robot: RobotModel = ROBOT,
 ) -> Runtime:
     """A runtime on a fresh plant (:func:`plant_for_tests`), the arm at rest at ``q`` (home if None),
-    holding its pose."""
-    plant = plant_for_tests(ideal, seed)
+    holding its pose; ``robot``: the controller's model (the PUMA's by default)."""
+    plant = plant_for_tests(ideal, seed, robot)
     plant.reset(q)
-    runtime = Runtime(plant, ROBOT, rates or Rates())
+    runtime = Runtime(plant, robot, rates or Rates())
     hold(runtime)
     return runtime
 

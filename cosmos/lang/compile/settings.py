@@ -144,13 +144,13 @@ def compile_robot(run: CompileContext, statement: ast.ChooseRobot, state: Compil
     robot = ROBOTS.get(name.key)
     if robot is None:
         raise ProgramError(f"ROBOT {name.name}: no such arm; the workcell has {', '.join(ROBOTS)}", name.span)
+    if state.robot_fixed and robot.name != state.robot:
+        raise ProgramError(f"ROBOT {name.name}: this run is on the {state.robot} (--robot)", name.span)
     if state.statements:
         raise ProgramError(
             "ROBOT must be the program's first statement: it chooses the arm the whole program runs on",
             statement.span,
         )
-    if state.robot_fixed and robot.name != state.robot:
-        raise ProgramError(f"ROBOT {name.name}: this run is on the {state.robot} (--robot)", name.span)
     return replace(state, robot=robot.name)
 
 
