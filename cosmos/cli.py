@@ -41,7 +41,7 @@ program_argument = click.argument("program", type=click.Path(path_type=Path))
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="cosmos")
 def cli() -> None:
-    """COSMOS: operational-space task programs for a simulated PUMA 560."""
+    """COSMOS: operational-space task programs for a simulated PUMA 560 (or Franka Emika Panda)."""
 
 
 @cli.command()
