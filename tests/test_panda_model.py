@@ -192,3 +192,32 @@ def test_home_puts_the_tool_where_the_pumas_home_does():
         assert np.all(model.key("home").qpos <= model.jnt_range[:, 1] - 0.1)
     np.testing.assert_allclose(poses[0][0], poses[1][0], atol=1e-9)
     np.testing.assert_allclose(poses[0][1], poses[1][1], atol=1e-9)
+
+
+def test_controller_model_is_the_plant():
+    """The controller's Pinocchio model (panda.xml parsed by Pinocchio, plus the tool's datasheet)
+    against MuJoCo's scene at random q: A(q) with the rotor inertia, g(q) and the tool point.
+    Catches Pinocchio's MJCF parser reading ``fullinertia`` or the armature otherwise than MuJoCo,
+    or the tool put on the wrong joint."""
+    from cosmos.robot_model import build_robot_model
+    from cosmos.robots import PANDA
+
+    robot = build_robot_model(PANDA)
+    pdata = robot.model.createData()
+    scene = mujoco.MjModel.from_xml_path(str(SCENE))
+    data = mujoco.MjData(scene)
+    site = scene.site("tool").id
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        q = rng.uniform(scene.jnt_range[:, 0], scene.jnt_range[:, 1])
+        data.qpos[:], data.qvel[:] = q, 0.0
+        mujoco.mj_forward(scene, data)
+        inertia = np.zeros((7, 7))
+        mujoco.mj_fullM(scene, data, inertia)
+        expected = pin.crba(robot.model, pdata, q)
+        expected = np.triu(expected) + np.triu(expected, 1).T
+        np.testing.assert_allclose(expected, inertia, atol=1e-10)
+        gravity = pin.computeGeneralizedGravity(robot.model, pdata, q)
+        np.testing.assert_allclose(gravity, data.qfrc_bias, atol=1e-9)
+        pin.framesForwardKinematics(robot.model, pdata, q)
+        np.testing.assert_allclose(pdata.oMf[robot.tool_frame].translation, data.site_xpos[site], atol=1e-12)
