@@ -53,7 +53,7 @@ from cosmos.plan import (
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
-from cosmos.workcell import HOME_Q
+from cosmos.workcell import home_q
 
 HOLD_AFTER_FAILURE_S = 0.3
 """After a failure the arm holds its pose this long before the run ends [s]."""
@@ -200,7 +200,8 @@ class Executor:
         if segment.orientation_free:  # the orientation is the null space's (seed section 4)
             goals = [(position, start_rotation.copy()) for position, _ in goals]
         robot = rt.robot
-        posture, problem = posture_joints(segment.posture, HOME_Q, robot.q_lower_rad, robot.q_upper_rad)
+        home = home_q(robot.description)  # POSTURE home: this arm's
+        posture, problem = posture_joints(segment.posture, home, robot.q_lower_rad, robot.q_upper_rad)
         if problem:
             return Outcome(Verdict.FAILED, problem)
         if isinstance(segment.target, AbsoluteTarget):
