@@ -61,7 +61,6 @@ class Evaluation:
     Attributes:
         values: Everything below, packed (layout: :mod:`cosmos.runtime.kernels.evaluation`).
         joint_limit_torque: Section 6's joint-limit repulsion, in [N m]. # (n,)
-        dof: The arm's number of joints n.
         q: Joint positions at the evaluation, in [rad]. # (n,)
         position: Tool point in world, in [m]. # (3,)
         rotation_tool_to_world: Tool orientation. # (3, 3)
@@ -78,7 +77,11 @@ class Evaluation:
 
     values: FloatArray
     joint_limit_torque: FloatArray
-    dof: int
+
+    @property
+    def dof(self) -> int:
+        """The arm's number of joints n (the joint-limit torque has one entry per joint)."""
+        return int(self.joint_limit_torque.shape[0])
 
     q = _Slot(ek.Q, lambda n: (n,))
     position = _Slot(ek.POSITION, _fixed(3))
@@ -117,7 +120,7 @@ class ParameterLevel:
         sensor_in_tool = tool_in_joint.actInv(frames[robot.sensor_frame].placement)
         flange_in_tool = tool_in_joint.actInv(frames[robot.flange_frame].placement)
         com_from_sensor_in_flange = robot.tool.com_in_flange - robot.tool.sensor_position_in_flange
-        n = self._dof = robot.model.nv
+        n = robot.model.nv
         self._no_torque = np.zeros(n)
         self._no_torque.setflags(write=False)
         constants = np.empty(ek.C_Q_LOWER + 2 * n)
@@ -151,4 +154,4 @@ class ParameterLevel:
         pin.computeAllTerms(self._model, self._data, q, qd)  # A (upper), nle, J, dJ, Jcom, placements
         values = ek.evaluation_values(q, qd, *self._views, self._constants)
         values.flags.writeable = False
-        return Evaluation(values, self._joint_limit_torque(q, values[ek.LIMIT_MARGIN]), self._dof)
+        return Evaluation(values, self._joint_limit_torque(q, values[ek.LIMIT_MARGIN]))

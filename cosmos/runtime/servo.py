@@ -16,15 +16,12 @@ friction compensation, saturated to the drives. The arithmetic is compiled
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from cosmos.osc.dynamics import DEFAULT_POLICY, SingularityPolicy
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.null_space import DEFAULT_ABSORPTION, AbsorptionPolicy
 from cosmos.osc.orientation import pose_error
-from cosmos.osc.unified import ForceGains
 from cosmos.plant import LiveSignals
 from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
@@ -32,65 +29,10 @@ from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
 from cosmos.runtime.kernels.parameter import refold
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
 from cosmos.runtime.parameters import Evaluation
+from cosmos.runtime.servo_gains import ServoGains as ServoGains  # the servo's gains, named here too
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 FloatArray = np.ndarray
-
-
-@dataclass(frozen=True)
-class ServoGains:
-    """Gains of the servo level that do not change from segment to segment.
-
-    Attributes:
-        force: Force-loop gains on force-controlled axes.
-        xi_q: Null-space joint damping of eq. 34, in [1/s].
-        contact_threshold_n: Sensed force on the force-controlled axes above which the
-            tool counts as touching for the rest of the segment: from then on the force
-            error is integrated (in free space it would wind up), [N].
-        coulomb_velocity_rad_s: Joint speed over which the Coulomb friction
-            compensation ramps from 0 to its full value, in [rad/s].
-        coulomb_lookahead_s: How far ahead the commanded joint acceleration counts
-            toward the direction of motion, in [s].
-        coulomb_filter_s: Time constant of the low-pass on the Coulomb compensation, [s].
-        admittance_gain: On force-controlled moment axes, rotation speed per N m of
-            moment error, in [rad/s / N m] (admittance control; see kernels.servo).
-        admittance_max_speed_rad_s: Bound on that speed, in [rad/s].
-        admittance_kv: Velocity gain of the unit-mass servo that tracks it, in [1/s].
-        moment_filter_s: Time constant of the low-pass on the sensed moment there, [s].
-        force_speed_kv: Velocity gain that holds a force-controlled push to the segment's
-            speed limit (:func:`cosmos.osc.unified.speed_limited_push`), in [1/s].
-        force_speed_ki: Its integral gain (on the speed error while the cap binds), [1/s^2].
-        force_speed_integral_limit_m: Anti-windup bound on that integral, in [m].
-        push_speed_aim: The capped push aims at this fraction of the speed limit: as the
-            contact's friction changes (a chamfer, the hole's walls) its speed swings by up to
-            a millimetre per second (INSERT at 5-30 mm/s), and the limit is a limit.
-        motion_ki: Integral gain on the motion axes' translation error in contact, once a
-            tracked trajectory's reference has stopped
-            (:func:`cosmos.osc.motion.integrate_motion_error`), in [1/s^3]; below
-            ``kp kv`` (16,000 at the defaults), the third-order loop's stability bound.
-        motion_integral_limit_ms: Anti-windup bound on that integral, per axis, in [m s]
-            (``motion_ki`` times it, 8 m/s^2, is the most it adds to F*).
-        posture_kp: Unit-mass joint stiffness of the POSTURE task in the null space, in
-            [1/s^2]: ``xi_q^2 / 4``, critically damped by the null-space damping.
-    """
-
-    force: ForceGains = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
-    xi_q: float = 20.0
-    contact_threshold_n: float = 1.0
-    coulomb_velocity_rad_s: float = 0.01
-    coulomb_lookahead_s: float = 0.02
-    coulomb_filter_s: float = 0.005
-    admittance_gain: float = 30.0
-    admittance_max_speed_rad_s: float = 0.3
-    admittance_kv: float = 40.0
-    moment_filter_s: float = 0.02
-    force_speed_kv: float = 300.0
-    force_speed_ki: float = 4000.0
-    force_speed_integral_limit_m: float = 0.0005
-    push_speed_aim: float = 0.93
-    motion_ki: float = 2000.0
-    motion_integral_limit_ms: float = 0.004
-    posture_kp: float = 100.0
 
 
 LIMIT_PROJECTION_MARGIN_RAD = 0.30
