@@ -52,7 +52,11 @@ class RobotModel:
         armature_kgm2: Rotor inertia reflected to the joints, G^2 Jm [kg m^2];
             already part of ``crba``/``rnea``/``aba`` (module docstring).
         viscous_nms_per_rad: Viscous friction, G^2 B [N m s/rad].
-        coulomb_nm: Coulomb friction (symmetric) [N m].
+        coulomb_nm: Coulomb friction as the model file holds it (symmetric) [N m].
+        coulomb_positive_nm: Coulomb friction while the joint turns positively [N m]: the
+            published value where the arm has one (``Robot.coulomb_by_direction_nm``), else
+            ``coulomb_nm``.
+        coulomb_negative_nm: The same, turning negatively (a magnitude) [N m].
     """
 
     description: Robot
@@ -69,6 +73,8 @@ class RobotModel:
     armature_kgm2: np.ndarray
     viscous_nms_per_rad: np.ndarray
     coulomb_nm: np.ndarray
+    coulomb_positive_nm: np.ndarray
+    coulomb_negative_nm: np.ndarray
 
 
 def _drive_torque_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
@@ -108,6 +114,10 @@ def build_robot_model(robot: Robot = DEFAULT_ROBOT) -> RobotModel:
         False,
     )
 
+    published = robot.coulomb_by_direction_nm
+    by_direction = (
+        np.column_stack((model.friction, model.friction)) if published is None else np.array(published)
+    )
     tau_lower, tau_upper = _drive_torque_limits(robot)
     model.effortLimit = np.maximum(-tau_lower, tau_upper)
     return RobotModel(
@@ -125,4 +135,6 @@ def build_robot_model(robot: Robot = DEFAULT_ROBOT) -> RobotModel:
         armature_kgm2=read_only(model.armature),
         viscous_nms_per_rad=read_only(model.damping),
         coulomb_nm=read_only(model.friction),
+        coulomb_positive_nm=read_only(by_direction[:, 0]),
+        coulomb_negative_nm=read_only(by_direction[:, 1]),
     )

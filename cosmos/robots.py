@@ -42,6 +42,10 @@ class Robot:
             from ``shoulder_m`` to the flange origin.
         wrist_joint: Index in q of the joint whose zero aligns the wrist's first and last
             axes (a spherical wrist's singularity), or None if the wrist has none.
+        coulomb_by_direction_nm: Published joint-side Coulomb friction by the direction the
+            joint turns, ``(|G| Tc+, |G| |Tc-|)`` per joint [N m], or None where only the
+            model file's symmetric ``frictionloss`` is known. The controller compensates it
+            by direction; the model file holds the two directions' mean.
     """
 
     name: str
@@ -54,6 +58,7 @@ class Robot:
     shoulder_m: tuple[float, float, float]
     capability: ArmCapability
     wrist_joint: int | None
+    coulomb_by_direction_nm: tuple[tuple[float, float], ...] | None = None
 
     @property
     def dof(self) -> int:
@@ -71,6 +76,21 @@ class Robot:
         return (*self.link_bodies, "tool")
 
 
+PUMA560_COULOMB_NM = (
+    (24.7314, 27.2358),
+    (13.5847, 7.65487),
+    (7.08923, 5.63916),
+    (0.851608, 1.28502),
+    (0.666007, 1.04288),
+    (0.303677, 0.805203),
+)
+"""Joint-side Coulomb friction of the PUMA 560 [N m]: ``(|G| Tc+, |G| |Tc-|)`` per joint.
+
+From the drive table (``shared/reference/puma560.md``): ``Tc+`` acts while the joint
+turns positively, ``Tc-`` negatively, whatever the gear's sign (Corke's Robotics Toolbox,
+``Link.friction``: "depends on the sign of the joint velocity, not the motor velocity").
+"""
+
 PUMA560 = Robot(
     name="puma560",
     model_dir=MODELS_DIR / "puma560",
@@ -82,6 +102,7 @@ PUMA560 = Robot(
     shoulder_m=(0.0, 0.0, 0.67183),  # DH d1: joint 2's axis crosses joint 1's there
     capability=ARM_CAPABILITY,
     wrist_joint=4,  # joint 5: at zero joints 4 and 6 are aligned
+    coulomb_by_direction_nm=PUMA560_COULOMB_NM,
 )
 
 PANDA_CAPABILITY = ArmCapability(

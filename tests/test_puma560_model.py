@@ -271,5 +271,9 @@ def test_controller_model_limits_and_friction(arm, scene):
     np.testing.assert_allclose(robot.armature_kgm2, arm.dof_armature)
     np.testing.assert_allclose(robot.viscous_nms_per_rad, arm.dof_damping)
     np.testing.assert_allclose(robot.coulomb_nm, arm.dof_frictionloss)
+    # The controller compensates the published friction by direction (Corke: by the joint's
+    # velocity): a swapped pair or the mean would leave up to 3 N m on joint 2 unanswered.
+    np.testing.assert_allclose(robot.coulomb_positive_nm, np.abs(GEAR) * COULOMB_PLUS, rtol=1e-5)
+    np.testing.assert_allclose(robot.coulomb_negative_nm, np.abs(GEAR * COULOMB_MINUS), rtol=1e-5)
     with pytest.raises(ValueError):
         robot.q_lower_rad[0] = 0.0

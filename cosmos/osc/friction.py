@@ -6,7 +6,7 @@ motion or a light push. The servo adds, per joint, the friction torque in the
 direction the joint is moving or, from rest, is being told to move::
 
     intent   = (qd + Jbar (L a + xd_c)) / v_c                    (Jbar: eq. 28)
-    target   = Gamma_c clip(intent, -1, 1)
+    target   = Gamma_c(sign intent) clip(intent, -1, 1)
     Gamma_f <- Gamma_f + beta (target - Gamma_f)                  (once per servo tick)
 
 ``a`` is the commanded operational acceleration and ``L`` a short look-ahead,
@@ -15,7 +15,10 @@ so that ``Jbar L a`` is the joint speed the command is about to produce;
 ``xd_d`` on the motion axes, an admittance speed, a push at its speed limit),
 so that a slow joint is not left to stick. ``v_c`` is the joint speed at which
 the full friction torque is compensated (a linear ramp below it avoids
-chattering at rest), and the first-order low-pass ``beta = dt / tau`` keeps a
+chattering at rest), ``Gamma_c(+)`` and ``Gamma_c(-)`` are the joint's friction
+turning positively and negatively (the PUMA's published drive table differs by up to a
+factor of 2.6 between the two: compensating their mean leaves 3 N m on joint 2
+unanswered), and the first-order low-pass ``beta = dt / tau`` keeps a
 new setpoint or a change of sign from stepping the torque.
 
 The compiled kernels of :mod:`cosmos.runtime.kernels.contact` run the same
@@ -56,18 +59,24 @@ def friction_intent(
 
 
 def coulomb_compensation(
-    previous_nm: FloatArray, coulomb_nm: FloatArray, intent: FloatArray, blend: float
+    previous_nm: FloatArray,
+    positive_nm: FloatArray,
+    negative_nm: FloatArray,
+    intent: FloatArray,
+    blend: float,
 ) -> FloatArray:
     """One servo tick of the low-passed Coulomb compensation torque.
 
     Args:
         previous_nm: Gamma_f of the previous tick, in [N m]. # (n,)
-        coulomb_nm: Gamma_c, each joint's Coulomb friction torque, in [N m]. # (n,)
+        positive_nm: Gamma_c(+), each joint's Coulomb friction turning positively, in [N m]. # (n,)
+        negative_nm: Gamma_c(-), the same turning negatively (a magnitude), in [N m]. # (n,)
         intent: :func:`friction_intent`. # (n,)
         blend: beta, the low-pass's share of the new target per tick, in [0, 1].
 
     Returns:
-        ``Gamma_f + beta (Gamma_c clip(intent, -1, 1) - Gamma_f)``, in [N m]. # (n,)
+        ``Gamma_f + beta (Gamma_c(sign intent) clip(intent, -1, 1) - Gamma_f)``, in [N m]. # (n,)
     """
-    target = np.asarray(coulomb_nm) * np.clip(intent, -1.0, 1.0)
+    coulomb = np.where(np.asarray(intent) > 0.0, positive_nm, negative_nm)
+    target = coulomb * np.clip(intent, -1.0, 1.0)
     return np.asarray(previous_nm) + blend * (target - np.asarray(previous_nm))

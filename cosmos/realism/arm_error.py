@@ -11,9 +11,10 @@ plant is the published arm changed by an :class:`ArmError` drawn from the run's 
 * each drive's rotor inertia (``armature``) scaled the same way;
 * each drive's viscous friction, and its Coulomb friction, scaled by ``1 + 2 s u``
   (friction is known less well than mass: up to 10 % by default);
-* Coulomb friction with the published asymmetry (:data:`PUMA560_COULOMB_NM`): the
-  controller compensates their mean, which is all MuJoCo's ``frictionloss`` can hold;
-  the plant adds the rest (:func:`asymmetry_torque`).
+* Coulomb friction with the published asymmetry (:data:`PUMA560_COULOMB_NM`): MuJoCo's
+  ``frictionloss`` holds the two directions' mean, the plant adds the rest
+  (:func:`asymmetry_torque`); the controller compensates the published values by
+  direction (:mod:`cosmos.osc.friction`), so what it misses is the drawn error.
 
 The scale is ``--vary model_error=...`` in a sweep. With ``s = 0`` the arm's masses and
 friction levels are the published ones, the asymmetry stays.
@@ -28,21 +29,12 @@ import mujoco
 import numpy as np
 
 from cosmos.osc._types import FloatArray
+from cosmos.robots import PUMA560
+from cosmos.robots import PUMA560_COULOMB_NM as PUMA560_COULOMB_BY_JOINT
 
-PUMA560_COULOMB_NM = {
-    "joint1": (24.7314, 27.2358),
-    "joint2": (13.5847, 7.65487),
-    "joint3": (7.08923, 5.63916),
-    "joint4": (0.851608, 1.28502),
-    "joint5": (0.666007, 1.04288),
-    "joint6": (0.303677, 0.805203),
-}
-"""Joint-side Coulomb friction of the PUMA 560 [N m]: ``(|G| Tc+, |G| |Tc-|)``.
-
-From the drive table (``shared/reference/puma560.md``): ``Tc+`` acts while the joint
-turns positively, ``Tc-`` negatively, whatever the gear's sign (Corke's Robotics Toolbox,
-``Link.friction``: "depends on the sign of the joint velocity, not the motor velocity").
-"""
+PUMA560_COULOMB_NM = dict(zip(PUMA560.joint_names, PUMA560_COULOMB_BY_JOINT, strict=True))
+"""The PUMA 560's published Coulomb friction by direction (:data:`cosmos.robots.PUMA560_COULOMB_NM`),
+by joint name."""
 
 DEFAULT_SCALE = 0.05
 """Default model-error scale ``s``: link masses, inertias, rotor inertias within 5 %."""

@@ -82,6 +82,18 @@ class PhaseTimes:
         self.ticks = 0
 
 
+def _compensated_coulomb(robot: RobotModel, plant: Plant) -> tuple[FloatArray, FloatArray]:
+    """The Coulomb friction the servo compensates, turning positively and negatively [N m].
+
+    The published values by direction (:attr:`RobotModel.coulomb_positive_nm`), which a
+    real arm of the type has; on the ideal plant (``--ideal``), which is the model file
+    itself and holds only their mean (MuJoCo's symmetric ``frictionloss``), that mean.
+    """
+    if plant.realism is None:
+        return robot.coulomb_nm, robot.coulomb_nm
+    return robot.coulomb_positive_nm, robot.coulomb_negative_nm
+
+
 class Runtime:
     """A controller (parameter + servo levels) closed around a plant."""
 
@@ -102,7 +114,7 @@ class Runtime:
             gains,
             np.minimum(-robot.tau_lower_nm, robot.tau_upper_nm),
             robot.viscous_nms_per_rad,
-            robot.coulomb_nm,
+            _compensated_coulomb(robot, plant),
             1.0 / rates.servo_hz,
             self._tool_weight_z_n,
             joint_limits=(robot.q_lower_rad, robot.q_upper_rad),

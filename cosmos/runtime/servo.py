@@ -53,7 +53,7 @@ class ServoLevel:
         gains: ServoGains,
         torque_limits: FloatArray,
         viscous: FloatArray,
-        coulomb: FloatArray,
+        coulomb: tuple[FloatArray, FloatArray],
         servo_dt_s: float,
         tool_weight_z_n: float,
         policy: SingularityPolicy = DEFAULT_POLICY,
@@ -66,7 +66,7 @@ class ServoLevel:
             gains: Gains that hold for every segment.
             torque_limits: Drive limits, symmetric, in [N m]. # (n,)
             viscous: Viscous friction per joint, in [N m s/rad]. # (n,)
-            coulomb: Coulomb friction per joint, in [N m]. # (n,)
+            coulomb: Coulomb friction per joint turning positively, then negatively, in [N m]. # 2 x (n,)
             servo_dt_s: Servo period, in [s].
             tool_weight_z_n: World z component of the weight below the wrist sensor, in [N].
             policy: Section 5's singularity thresholds.
@@ -123,7 +123,7 @@ class ServoLevel:
         self._scalars = scalars
         # Rows of w = max(6, n): task-space rows use six entries, joint-space rows n (kernels.servo).
         self._vectors = workspace[vectors:matrices].reshape((kernel.VECTORS, w))
-        self._vectors[kernel.COULOMB_NM, :n] = coulomb
+        self._vectors[kernel.COULOMB_NM, :n], self._vectors[kernel.COULOMB_NEGATIVE_NM, :n] = coulomb
         self._vectors[kernel.TORQUE_MAX, :n] = torque_limits
         self._matrices = workspace[matrices:jacobian].reshape((kernel.MATRICES, 6, 6))
         self._jacobian = workspace[jacobian:jbar].reshape((6, n))

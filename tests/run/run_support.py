@@ -235,20 +235,17 @@ def angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
-FRICTION_ASYMMETRY = (
-    "measured on the realistic plant (docs/plant.md): the controller compensates the mean of "
-    "the published asymmetric Coulomb friction, so while the joints move the half-difference "
-    "(up to 3.1 N m, joint 2) acts uncompensated (without it in the plant the test passes): "
-)
-"""The cause of the realistic plant's known shortfalls that were traced; each adds what it measured."""
-
 NOT_TRACED = "measured on the realistic plant (docs/plant.md), the cause not traced yet: "
 
 
-def on_both_plants(shortfall: str, cause: str = FRICTION_ASYMMETRY) -> list[Any]:
+def on_both_plants(shortfall: str, cause: str = NOT_TRACED) -> list[Any]:
     """``ideal`` parameters: the realistic plant as a strict xfail with its measured ``shortfall``,
     then the ideal plant (the test's logic, as before the realistic plant)."""
     return [
         pytest.param(False, id="realistic", marks=pytest.mark.xfail(strict=True, reason=cause + shortfall)),
         pytest.param(True, id="ideal"),
     ]
+
+
+BOTH_PLANTS = [pytest.param(False, id="realistic"), pytest.param(True, id="ideal")]
+"""``ideal`` parameters: the realistic plant, then the ideal one, both expected to pass."""

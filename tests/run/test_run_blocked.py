@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import on_both_plants, run_in_process, write_program
+from run_support import BOTH_PLANTS, run_in_process, write_program
 
 from cosmos.runlog.reader import read_log
 
@@ -46,10 +46,7 @@ def test_a_pose_out_of_reach_fails_saying_so(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(
     "ideal",
-    on_both_plants(
-        "along the 100 N/m axis the tool falls onto the table at 91 mm/s (33 mm/s on the ideal "
-        "plant) and the wrist reads 33.1 N, over the MOVE's 30 N protective limit"
-    ),
+    BOTH_PLANTS,
 )
 def test_a_move_on_a_compliant_spring_settles_short_of_a_blocked_goal(tmp_path: Path, ideal: bool) -> None:
     # Z is a 100 N/m spring: pressed on the table it rests where the spring balances.

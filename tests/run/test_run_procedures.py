@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import TABLE_TOP_Z_M, ProgramRun, on_both_plants, run_in_process, write_program
+from run_support import BOTH_PLANTS, TABLE_TOP_Z_M, ProgramRun, run_in_process, write_program
 
 from cosmos import plan
 from cosmos.commands.check import load_fixtures
@@ -92,10 +92,7 @@ def test_the_logs_segments_are_the_same(runs: tuple[ProgramRun, ProgramRun]) -> 
 
 @pytest.mark.parametrize(
     "ideal",
-    on_both_plants(
-        "each CONTACT approach drifts 4.6 mm back along x, so the touches land at "
-        "575, 590 and 606 mm for 580, 600 and 620 mm"
-    ),
+    BOTH_PLANTS,
 )
 def test_the_touches_land_on_the_spots(ideal: bool, request: pytest.FixtureRequest) -> None:
     """Each CONTACT hold of the parameterised run presses the table top at its spot with 6 N."""

@@ -12,7 +12,7 @@ from collections.abc import Callable
 
 import numpy as np
 import pytest
-from run_support import FRICTION_ASYMMETRY, PROGRAMS, SHIPPED, TABLE_POINT_M, TABLE_TOP_Z_M, ProgramRun
+from run_support import PROGRAMS, SHIPPED, TABLE_POINT_M, TABLE_TOP_Z_M, ProgramRun
 
 REQUIRED = {"hello.cos", "contact_slide.cos", "peg_in_hole.cos", "comply_slope.cos", "procedures.cos"}
 
@@ -52,12 +52,6 @@ def test_shipped_program_runs(name: str, shipped_run: Callable[[str], ProgramRun
     assert run.log.events[-1].kind in ("done", "stopped")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason=FRICTION_ASYMMETRY
-    + "each CONTACT approach drifts back along x: the touches land 15.4 mm apart, not 20 mm "
-    "(on the ideal plant: tests/run/test_run_procedures.py, test_the_touches_land_on_the_spots)",
-)
 def test_procedures_touch_the_table_three_times(shipped_run: Callable[[str], ProgramRun]) -> None:
     """The PROC inside REPEAT 3 touches the table at three points 20 mm apart along x."""
     run = shipped_run("procedures.cos")

@@ -11,17 +11,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from run_support import on_both_plants
+from run_support import BOTH_PLANTS
 from search_seeds import SEARCH, inserted, program, run_seeded, succeeded
 
-SIDEWAYS = (
-    "the CONTACT approach from 16 mm off drifts sideways towards the hole (as the procedures' "
-    "touches land 4.6 mm short, tests/run/test_run_procedures.py), where the peg's round tip "
-    "lands inside the 14 mm mouth and the INSERT goes in"
-)
 
-
-@pytest.mark.parametrize("ideal", on_both_plants(SIDEWAYS))
+@pytest.mark.parametrize("ideal", BOTH_PLANTS)
 def test_plain_insert_jams_beyond_the_mouth(tmp_path: Path, ideal: bool) -> None:
     """16 mm off, the tip lands on the flat top: a plain INSERT jams there. Catches a test
     setup too kind to need a search (the search cases below would then prove nothing)."""
@@ -52,7 +46,7 @@ def test_lissajous_search_finds_the_hole_and_inserts(tmp_path: Path) -> None:
     assert succeeded(result), result
 
 
-@pytest.mark.parametrize("ideal", on_both_plants(SIDEWAYS))
+@pytest.mark.parametrize("ideal", BOTH_PLANTS)
 def test_a_search_too_small_fails_with_its_reason(tmp_path: Path, ideal: bool) -> None:
     """A spiral of 4 mm from 16 mm off never reaches the mouth: the INSERT fails saying the
     search covered its radius, with the measured reach. Catches a search that ends as a

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from run_support import on_both_plants
+from run_support import BOTH_PLANTS
 from slide_grid import Case, run_case
 
 
@@ -23,9 +23,7 @@ def test_heavy_slow_diagonal_slide_holds_its_push(tmp_path: Path) -> None:
     assert result.ok, result
 
 
-@pytest.mark.parametrize(
-    "ideal", on_both_plants("the push's lowest is 62 % of 12 N and 93.7 % of the slide is within 15 %")
-)
+@pytest.mark.parametrize("ideal", BOTH_PLANTS)
 def test_fast_slide_in_world_y_holds_its_push(tmp_path: Path, ideal: bool) -> None:
     """12 N, 50 mm/s, -Y: the same bar at the grid's top speed. Catches the tool contact
     creeping out of the table while it slides fast (with the pyramidal friction cone its

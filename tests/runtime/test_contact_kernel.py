@@ -150,7 +150,8 @@ def _friction_inputs(rng: np.random.Generator) -> tuple[np.ndarray, ...]:
         jbar,
         rng.normal(0.0, 0.5, 6),  # commanded acceleration
         rng.normal(0.0, 0.02, 6),  # commanded speed
-        rng.uniform(0.5, 25.0, 6),  # Gamma_c, [N m]
+        rng.uniform(0.5, 25.0, 6),  # Gamma_c(+), [N m]
+        rng.uniform(0.5, 25.0, 6),  # Gamma_c(-), [N m]
         rng.uniform(-5.0, 5.0, 6),  # previous Gamma_f
     )
 
@@ -162,37 +163,40 @@ def test_coulomb_compensation_is_its_reference(seed: int) -> None:
     Catches the look-ahead applied to the commanded speed too, the clip on the torque instead
     of the intent, the low-pass's blend reversed, or the torque not receiving the result."""
     rng = np.random.default_rng(seed)
-    qd, jbar, acceleration, speed, coulomb_nm, previous = _friction_inputs(rng)
+    qd, jbar, acceleration, speed, positive_nm, negative_nm, previous = _friction_inputs(rng)
     lookahead_s, full_speed, blend = 0.02, float(rng.uniform(0.005, 0.05)), float(rng.uniform(0.01, 1.0))
     intent = friction_intent(qd, jbar, acceleration, speed, lookahead_s, full_speed)
-    expected = coulomb_compensation(previous, coulomb_nm, intent, blend)
+    expected = coulomb_compensation(previous, positive_nm, negative_nm, intent, blend)
     torque, coulomb = rng.normal(0.0, 10.0, 6), previous.copy()
     torque_before = torque.copy()
     kernel_acceleration = acceleration + speed / lookahead_s  # as servo_tick passes it
     ck.coulomb_compensation_into(
-        torque, coulomb, qd, lookahead_s * jbar, kernel_acceleration, coulomb_nm, 1.0 / full_speed, blend
-    )
+        torque, coulomb, qd, lookahead_s * jbar, kernel_acceleration, positive_nm, negative_nm,
+        1.0 / full_speed, blend,
+    )  # fmt: skip
     _close(coulomb, expected)
     _close(torque, torque_before + expected)
 
 
-def test_coulomb_compensation_at_the_clip() -> None:
-    """An intent far beyond +-1 asks for exactly +-Gamma_c; with blend 1 that is the torque; at rest
-    with no command, the compensation decays toward zero.
+def test_coulomb_compensation_at_the_clip_by_direction() -> None:
+    """An intent far beyond +-1 asks for exactly Gamma_c(+) turning positively and -Gamma_c(-)
+    negatively; with blend 1 that is the torque; at rest with no command it decays toward zero.
 
-    Catches a clip missing (torque growing with speed) or a sign flipped on a joint."""
-    coulomb_nm = np.arange(1.0, 7.0)
+    Catches a clip missing (torque growing with speed), a sign flipped on a joint, or the two
+    directions' levels swapped or averaged (the PUMA's joint 2: 13.6 N m up, 7.7 N m down)."""
+    positive_nm, negative_nm = np.arange(1.0, 7.0), np.arange(11.0, 17.0)
     qd = np.array((1.0, -1.0, 1.0, -1.0, 1.0, -1.0))  # 100 x v_c
     zero = np.zeros(6)
     coulomb, torque = zero.copy(), zero.copy()
-    ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, coulomb_nm, 100.0, 1.0)
+    ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, positive_nm, negative_nm, 100.0, 1.0)
     intent = friction_intent(qd, np.eye(6), zero, zero, 1.0, 0.01)
-    _close(coulomb, coulomb_compensation(zero, coulomb_nm, intent, 1.0))
-    _close(coulomb, coulomb_nm * np.sign(qd))
+    _close(coulomb, coulomb_compensation(zero, positive_nm, negative_nm, intent, 1.0))
+    _close(coulomb, np.where(qd > 0, positive_nm, -negative_nm))
     previous = coulomb.copy()
-    ck.coulomb_compensation_into(torque, coulomb, zero, np.eye(6), zero, coulomb_nm, 100.0, 0.25)
+    levels = (positive_nm, negative_nm)
+    ck.coulomb_compensation_into(torque, coulomb, zero, np.eye(6), zero, *levels, 100.0, 0.25)
     _close(coulomb, 0.75 * previous)
-    _close(coulomb, coulomb_compensation(previous, coulomb_nm, zero, 0.25))
+    _close(coulomb, coulomb_compensation(previous, positive_nm, negative_nm, zero, 0.25))
 
 
 @pytest.mark.parametrize("seed", SEEDS)

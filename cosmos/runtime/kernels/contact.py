@@ -93,7 +93,8 @@ def coulomb_compensation_into(
     qd: FloatArray,
     jbar_lookahead: FloatArray,
     acceleration: FloatArray,
-    coulomb_nm: FloatArray,
+    positive_nm: FloatArray,
+    negative_nm: FloatArray,
     intent_scale: float,
     blend: float,
 ) -> None:
@@ -105,7 +106,8 @@ def coulomb_compensation_into(
         qd: Joint velocities, in [rad/s]. # (n,)
         jbar_lookahead: ``L Jbar``. # (n, 6)
         acceleration: ``a + xd_c / L``, world. # (6,)
-        coulomb_nm: Gamma_c, in [N m]. # (n,)
+        positive_nm: Gamma_c(+), in [N m]. # (n,)
+        negative_nm: Gamma_c(-), in [N m]. # (n,)
         intent_scale: ``1 / v_c``, in [s/rad].
         blend: beta, in [0, 1].
     """
@@ -114,7 +116,8 @@ def coulomb_compensation_into(
         for k in range(6):
             acc += jbar_lookahead[i, k] * acceleration[k]
         intent = (qd[i] + acc) * intent_scale
-        target = coulomb_nm[i] * min(max(intent, -1.0), 1.0)
+        level = positive_nm[i] if intent > 0.0 else negative_nm[i]
+        target = level * min(max(intent, -1.0), 1.0)
         coulomb[i] += blend * (target - coulomb[i])
         torque[i] += coulomb[i]
 

@@ -62,14 +62,15 @@ MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, 
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
 # task-space rows (wrenches, twists, gains) use their first six entries, the joint-space rows
-# (EVALUATION_Q, GRAVITY, COULOMB_NM, TORQUE_MAX; COULOMB, TORQUE) their first n.
+# (EVALUATION_Q, GRAVITY, COULOMB_NM, TORQUE_MAX, COULOMB_NEGATIVE_NM; COULOMB, TORQUE) their
+# first n. COULOMB_NM is the Coulomb friction turning positively, COULOMB_NEGATIVE_NM negatively.
 
 # ``vectors``. REFERENCE_*: ``x_e - x_d`` at the evaluation (tracking: at this
 # tick's trajectory sample), ``xd_d`` and ``xdd_d``. SENSOR_OFFSETS: tool point then tool
 # centre of mass, minus the sensor origin, world, [m].
 KP, KV, FORCE_WORLD, FORCE_START, REFERENCE_ERROR, REFERENCE_VELOCITY, REFERENCE_ACCELERATION = range(7)
-EVALUATION_Q, GRAVITY, SENSOR_OFFSETS, COULOMB_NM, TORQUE_MAX = range(7, 12)
-VECTORS = 12
+EVALUATION_Q, GRAVITY, SENSOR_OFFSETS, COULOMB_NM, TORQUE_MAX, COULOMB_NEGATIVE_NM = range(7, 13)
+VECTORS = 13
 
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3). The Jacobian J (6, n), the
 # look-ahead ``L Jbar P`` (n, 6) and the task's null space ``N^T`` (n, n) are blocks of their own.
@@ -340,6 +341,7 @@ def servo_tick(
         jbar_lookahead,
         acceleration,
         vectors[COULOMB_NM, :n],
+        vectors[COULOMB_NEGATIVE_NM, :n],
         scalars[INTENT_SCALE],
         scalars[COULOMB_BLEND],
     )
