@@ -1,9 +1,10 @@
 """What the realistic plant's friction error does to a goal motion: a reduced model for tolerances.
 
-The controller compensates the published viscous friction ``B qd`` and the mean Coulomb
-friction ``m sign(qd)``; the realistic arm's are ``f_v B qd``, ``f_c m sign(qd)`` and the
-published asymmetry ``d`` (cosmos.realism.arm_error). While the joints move, the
-difference is a torque disturbance ``dtau = -(f_v - 1) B qd - ((f_c - 1) m sign(qd) + d)``,
+The controller compensates the published viscous friction ``B qd`` and the published
+Coulomb friction by direction ``c(qd) sign(qd)`` (``Tc+`` turning positively, ``|Tc-|``
+negatively); the realistic arm's are ``f_v B qd`` and ``f_c c(qd) sign(qd)``
+(cosmos.realism.arm_error). While the joints move, the difference is a torque
+disturbance ``dtau = -(f_v - 1) B qd - (f_c - 1) c(qd) sign(qd)``,
 which reaches the unit-mass task space as the acceleration ``a = J M^-1 dtau`` (Lambda^-1
 J^-T = J M^-1), computed here with the controller's Pinocchio model, not the plant's.
 
@@ -38,7 +39,8 @@ def friction_disturbance(runtime: Runtime) -> np.ndarray:
     arm = realism.arm
     moving = np.minimum(np.abs(qd) / ASYMMETRY_SPEED_RAD_S, 1.0)
     viscous = (np.array(arm.viscous) - 1.0) * robot.viscous_nms_per_rad * qd
-    coulomb = ((np.array(arm.coulomb) - 1.0) * robot.coulomb_nm * np.sign(qd) + arm.asymmetry_nm()) * moving
+    level = np.where(qd > 0.0, robot.coulomb_positive_nm, robot.coulomb_negative_nm)
+    coulomb = (np.array(arm.coulomb) - 1.0) * level * np.sign(qd) * moving
     inertia = pin.crba(robot.model, robot.data, q)
     inertia = np.triu(inertia) + np.triu(inertia, 1).T
     jacobian = pin.computeFrameJacobian(robot.model, robot.data, q, robot.tool_frame, pin.LOCAL_WORLD_ALIGNED)

@@ -5,9 +5,9 @@ V_max, so between the acceleration and deceleration the tool travels in a
 straight line at V_max, and the critically damped approach (kp, kv = 2 sqrt(kp))
 does not overshoot.
 
-On the realistic plant (cosmos.realism) the drives' friction is 10 % off the published
-levels and has the published asymmetry, which the controller does not compensate: a
-torque disturbance while the joints move, which eq. 21 at its speed limit resists only
+On the realistic plant (cosmos.realism) the drives' friction is up to 10 % off the
+published levels the controller compensates (by direction): a torque disturbance while
+the joints move, which eq. 21 at its speed limit resists only
 weakly across the line (``kv V_max / D``, ``D`` the distance left). The limits add what a
 reduced model of that (tests/runtime/friction_error.py) predicts for the run, 1.5 times
 (over seeds 0-2 the runs left the line by 0.74-1.13 times its prediction), to the ideal plant's.
