@@ -394,6 +394,8 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     vectors[sk.SENSOR_OFFSETS, :3] = to_tool
     vectors[sk.SENSOR_OFFSETS, 3:] = to_com
     vectors[sk.COULOMB_NM] = rng.uniform(1.0, 8.0, 6)
+    # The levels differ by direction, as the PUMA's published ones (no draw: the cases' inputs stay).
+    vectors[sk.COULOMB_NEGATIVE_NM] = 0.6 * vectors[sk.COULOMB_NM]
     vectors[sk.TORQUE_MAX] = 1e6  # replaced below when the case saturates
 
     matrices = np.zeros((sk.MATRICES, 6, 6))
@@ -617,7 +619,9 @@ def _finish_tick(
     intent = friction_intent(
         inputs.qd, inputs.dynamics.jbar, acceleration, commanded, LOOKAHEAD_S, 1.0 / INTENT_SCALE
     )
-    coulomb = coulomb_compensation(st[sk.COULOMB], vec[sk.COULOMB_NM], intent, COULOMB_BLEND)
+    coulomb = coulomb_compensation(
+        st[sk.COULOMB], vec[sk.COULOMB_NM], vec[sk.COULOMB_NEGATIVE_NM], intent, COULOMB_BLEND
+    )
     torque = torque + coulomb
     saturated, _ = saturate_torque(torque, vec[sk.TORQUE_MAX], keep=vec[sk.GRAVITY])
     rows = {
@@ -729,7 +733,9 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
     other = _reference_tick(inputs, force_acceleration_always=latched).rows
     assert np.max(np.abs(other[sk.COULOMB] - expected[sk.COULOMB])) > 1e-6
     intent_unclipped = np.abs(expected[sk.COULOMB] - (1 - COULOMB_BLEND) * inputs.state[sk.COULOMB]) < (
-        COULOMB_BLEND * inputs.vectors[sk.COULOMB_NM] * (1 - 1e-9)
+        COULOMB_BLEND
+        * np.minimum(inputs.vectors[sk.COULOMB_NM], inputs.vectors[sk.COULOMB_NEGATIVE_NM])
+        * (1 - 1e-9)
     )
     assert intent_unclipped.any(), "every joint's Coulomb intent is clipped: the look-ahead goes untested"
 
