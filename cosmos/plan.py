@@ -177,16 +177,20 @@ class ForceSettled:
 class DepthReached:
     """Done when the tool point has gone ``depth_m`` deep along ``direction_world``.
 
-    Depth is measured since the segment started:
+    Depth is measured since the statement started (its first segment):
     ``(x - x_start) @ direction_world >= depth_m``.
 
     Attributes:
         direction_world: Unit insertion direction, world, shape (3,).
         depth_m: Depth to reach [m].
+        touch_n: None for the insertion itself. Set on an INSERT's approach (every axis
+            held while it moves along the direction): done also when the force the tool
+            applies along ``direction_world`` exceeds this [N]; the insertion follows.
     """
 
     direction_world: FloatArray
     depth_m: float
+    touch_n: float | None = None
     kind: ClassVar[CompletionKind] = CompletionKind.DEPTH_REACHED
 
 

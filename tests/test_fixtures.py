@@ -21,7 +21,7 @@ def test_fixture_primitives_are_the_table_hole_and_plate():
     np.testing.assert_allclose(top.position, (0.62, -0.10, 0.15), atol=1e-12)
     walls = [p for name, p in primitives.items() if name.startswith("hole_wall")]
     radii = [math.dist(w.position[:2], (0.60, 0.15)) for w in walls]
-    np.testing.assert_allclose(radii, 0.0275, atol=1e-9)  # r 10 .. 45 mm about the hole's axis
+    np.testing.assert_allclose(radii, 0.02751625, atol=1e-9)  # r 10.0325 .. 45 mm about the hole's axis
     w, x, y, z = primitives["slope_plate"].quat_wxyz
     tilt = math.degrees(2 * math.atan2(math.hypot(x, y), abs(w)))
     assert abs(tilt - 20.0) < 1e-6

@@ -156,10 +156,26 @@ def _tool_cylinder(s: Scene, name: str) -> np.ndarray:
 
 
 def _peg(s: Scene) -> np.ndarray:
-    """(start of the peg's cylinder, its tip) along the tool [m]: a capsule, its tip a hemisphere."""
-    position, _, size = s.geom("peg")
-    centre, half, radius = s.along_tool(position), size[1], size[0]
-    return np.array([centre - half, centre + half + radius])
+    """(start of the peg's cylinder, its flat end) along the tool [m]: cylinder ``peg``, then the
+    end disc ``peg_end`` inside the chamfer."""
+    return np.array([_tool_cylinder(s, "peg").min(), _tool_cylinder(s, "peg_end").max()])
+
+
+def _peg_chamfer_angle(s: Scene) -> float:
+    """Angle of the peg's chamfer facets from the peg's axis [rad]: each facet box's face that
+    looks away from the axis and towards the end."""
+    angles = []
+    flange = s.site("flange")[1][:, 2]
+    for name in s.geoms("peg_chamfer"):
+        position, rotation, size = s.geom(name)
+        axis_point = s.site("tool")[0]
+        radial = position - axis_point - ((position - axis_point) @ flange) * flange
+        radial /= np.linalg.norm(radial)
+        faces = [sign * rotation[:, k] for k in range(3) for sign in (1.0, -1.0)]
+        outer = [n for n in faces if n @ radial > 0.1 and n @ flange > 0.1]
+        assert len(outer) == 1, f"{name}: no single face looks out and towards the end"
+        angles.append(math.pi / 2 - math.acos(float(outer[0] @ flange)))  # the face, not its normal
+    return _one(np.round(np.array(angles), 12))
 
 
 def _plate_face_centre(s: Scene) -> np.ndarray:
@@ -225,6 +241,10 @@ QUANTITIES: dict[str, Callable[[Scene], float | np.ndarray]] = {
     "collar radius": lambda s: s.geom("peg_collar")[2][0],
     "peg": _peg,
     "peg radius": lambda s: s.geom("peg")[2][0],
+    "peg end radius": lambda s: s.geom("peg_end")[2][0],
+    "peg chamfer": lambda s: s.geom("peg")[2][0] - s.geom("peg_end")[2][0],
+    "peg chamfer facets": lambda s: float(len(s.geoms("peg_chamfer"))),
+    "peg chamfer angle": _peg_chamfer_angle,
     "peg length beyond the collar": lambda s: _peg(s)[1] - _tool_cylinder(s, "peg_collar")[1],
     "diametral clearance in the hole": lambda s: 2 * (_flats(s) - s.geom("peg")[2][0]),
     "tool mass": lambda s: float(s.model.body_mass[s.model.body("tool").id]),

@@ -307,6 +307,8 @@ def _ends(segment: plan.Segment) -> str:
         text = f"force settled ±{completion.tolerance_n:g} N"
     elif isinstance(completion, plan.DepthReached):
         text = f"depth {completion.depth_m * 1000:g} mm"
+        if completion.touch_n is not None:
+            text = f"touch > {completion.touch_n:g} N or {text}"
     elif isinstance(completion, plan.Elapsed):
         text = f"after {completion.duration_s:g} s"
     elif isinstance(completion, plan.UntilOnly):

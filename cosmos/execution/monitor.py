@@ -174,6 +174,9 @@ class SegmentMonitor:
         direction = getattr(segment.completion, "direction_world", None)  # a touch's or a depth's
         self._direction: tuple[float, ...] = (0.0,) * 3 if direction is None else tuple(direction.tolist())
         self._start_xyz: tuple[float, ...] = tuple(np.asarray(start_position, dtype=float).tolist())
+        self._statement_xyz: tuple[float, ...] = tuple(
+            np.asarray(statement_start_position, dtype=float).tolist()
+        )
         self._sprung = any(
             stiffness is not None and stiffness > 0.0 and moving
             for stiffness, moving in zip(segment.stiffness, self._motion, strict=True)
@@ -345,10 +348,15 @@ class SegmentMonitor:
     def _depth(self, snap: Snapshot, depth: DepthReached) -> Outcome | None:
         dx, dy, dz = self._direction
         x, y, z = snap.position.tolist()
-        x0, y0, z0 = self._start_xyz
+        x0, y0, z0 = self._statement_xyz  # DEPTH counts from the statement's start
         travelled = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
         if travelled >= depth.depth_m:
             return Outcome(Verdict.DONE, f"depth {travelled * 1e3:.1f} mm reached")
+        if depth.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
+            push = float(snap.wrench[:3].dot(depth.direction_world))
+            if push > depth.touch_n:
+                return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the insertion")
+            return None
         jam = self.segment.jam_check
         if self.searching is not None:  # the pattern moves across: depth is the search's to judge
             self._last_depth, self._last_progress_s = travelled, snap.t_s

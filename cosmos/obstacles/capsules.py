@@ -4,7 +4,9 @@ Seed section 6 controls each link's point closest to an obstacle. Each link is
 modelled by capsules (a segment swollen by a radius), the collision geoms of
 the workcell's arm and tool (the arm's ``scene.xml``, bodies ``link1`` .. ``link<n>`` and
 ``tool``): a capsule geom is taken as it is, a cylinder as the capsule of its
-axis and radius (which contains it). The segment ends are expressed in the
+axis and radius (which contains it). A box is allowed only where it lies inside
+another capsule of its link (the facets of the peg's chamfer inside the peg's
+capsule), and is then left out. The segment ends are expressed in the
 frame of the Pinocchio joint that carries the body, so the controller places
 them from its own kinematics: ``a_world = oMi[joint] * a_joint``.
 
@@ -107,6 +109,21 @@ def _body_in_link(model: mujoco.MjModel, body: int) -> pin.SE3:
     return pose
 
 
+def _box_corners(model: mujoco.MjModel, geom: int) -> FloatArray:
+    """The eight corners of a box geom, in its body's frame. # (8, 3)."""
+    rotation = np.empty(9)
+    mujoco.mju_quat2Mat(rotation, model.geom_quat[geom])
+    signs = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+    return model.geom_pos[geom] + (signs * model.geom_size[geom]).dot(rotation.reshape(3, 3).T)
+
+
+def _link_of(model: mujoco.MjModel, body: int) -> str:
+    """The link (``link1`` .. ``link<n>``) that ``body`` is, or is welded to."""
+    while not is_link(model.body(body).name):
+        body = int(model.body_parentid[body])
+    return str(model.body(body).name)
+
+
 @functools.cache
 def _scene_capsules(
     scene_xml: Path = SCENE_XML,
@@ -114,18 +131,27 @@ def _scene_capsules(
     """(geom, link, a, b, radius) of every collision geom of the arm, ends in the link's body frame."""
     model = mujoco.MjModel.from_xml_path(str(scene_xml))
     out = []
+    boxes = []
     for geom in range(model.ngeom):
         body = int(model.geom_bodyid[geom])
         if not is_arm_body(model.body(body).name):
             continue
         if model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0:
             continue  # visual only
-        a, b, radius = _segment_in_body(model, geom)
         to_link = _body_in_link(model, body)
-        link = body
-        while not is_link(model.body(link).name):
-            link = int(model.body_parentid[link])
-        out.append((model.geom(geom).name, model.body(link).name, to_link.act(a), to_link.act(b), radius))
+        link = _link_of(model, body)
+        if model.geom_type[geom] == mujoco.mjtGeom.mjGEOM_BOX:
+            corners = np.array([to_link.act(c) for c in _box_corners(model, geom)])
+            boxes.append((model.geom(geom).name, link, corners))
+            continue
+        a, b, radius = _segment_in_body(model, geom)
+        out.append((model.geom(geom).name, link, to_link.act(a), to_link.act(b), radius))
+    for name, link, corners in boxes:  # a box inside a capsule is never the closer one
+        if not any(other[1] == link and _corners_inside(corners, other) for other in out):
+            raise CosmosError(
+                f"{scene_xml}: arm geom '{name}' is a box outside the link's capsules; "
+                "make it a capsule or a cylinder"
+            )
     return tuple(
         capsule
         for capsule in out
@@ -133,6 +159,11 @@ def _scene_capsules(
             other is not capsule and other[1] == capsule[1] and _inside(capsule, other) for other in out
         )
     )
+
+
+def _corners_inside(corners: FloatArray, outer: tuple[str, str, FloatArray, FloatArray, float]) -> bool:
+    """True when every corner lies within capsule ``outer`` (a capsule is convex: so does the box)."""
+    return all(_segment_distance(c, outer[2], outer[3]) <= outer[4] + 1e-9 for c in corners)
 
 
 def _segment_distance(point: FloatArray, a: FloatArray, b: FloatArray) -> float:

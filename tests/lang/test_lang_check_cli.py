@@ -103,9 +103,9 @@ def test_error_exits_1_with_a_rendered_message(tmp_path: Path) -> None:
 
 
 def test_warnings_are_printed_and_exit_0(tmp_path: Path) -> None:
-    status, _, err = run(tmp_path, "INSERT DOWN DEPTH 5 mm FORCE 5 N\n")
+    status, _, err = run(tmp_path, "INSERT -Z IN hole DEPTH 5 mm FORCE 5 N\n")
     assert status == 0
-    assert "1:1: warning: no contact is held" in err
+    assert "1:8: warning: fixture frames point +Z into their surface" in err
 
 
 def test_console_script_end_to_end(tmp_path: Path) -> None:
@@ -205,7 +205,8 @@ def test_check_prints_every_branch_indented_under_its_decision(tmp_path: Path) -
         "  MOVE BY (0, 0, 20 mm)",
         "ELSE",
         "  TRY",
-        "    INSERT DOWN DEPTH 5 mm FORCE 5 N",
+        "    INSERT DOWN DEPTH 5 mm FORCE 5 N",  # its approach (no contact is held) ...
+        "    INSERT DOWN DEPTH 5 mm FORCE 5 N",  # ... and the insertion
         "  ON FAIL",
         "    MOVE BY (0, 0, 10 mm)",
         "    RETRY 2",

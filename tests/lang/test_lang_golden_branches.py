@@ -111,11 +111,15 @@ def test_try_holds_its_block_its_handler_and_the_retry() -> None:
     attempt, after = compile_text(source).steps
     assert isinstance(attempt, plan.Attempt)
     assert (attempt.line, attempt.handler_line) == (1, 3)
-    assert [s.kind for s in attempt.body] == [plan.SegmentKind.INSERT]  # type: ignore[union-attr]
+    # No contact is held: the INSERT approaches with every axis held, then inserts.
+    assert [s.kind for s in attempt.body] == [  # type: ignore[union-attr]
+        plan.SegmentKind.CONTACT_APPROACH,
+        plan.SegmentKind.INSERT,
+    ]
     move, retry = attempt.handler
     assert isinstance(move, plan.Segment) and isinstance(retry, plan.Retry)
     assert retry.times == 3 and retry.line == 5
-    assert isinstance(after, plan.Segment) and after.index == 2
+    assert isinstance(after, plan.Segment) and after.index == 3
 
 
 def test_names_and_settings_made_in_a_branch_end_with_it() -> None:
