@@ -185,7 +185,8 @@ class DepthReached:
         depth_m: Depth to reach [m].
         touch_n: None for the insertion itself. Set on an INSERT's approach (every axis
             held while it moves along the direction): done also when the force the tool
-            applies along ``direction_world`` exceeds this [N]; the insertion follows.
+            applies exceeds this [N], in any direction (a peg that enters its hole without
+            meeting the chamfer touches the bore's wall first); the insertion follows.
     """
 
     direction_world: FloatArray

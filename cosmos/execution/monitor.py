@@ -353,9 +353,9 @@ class SegmentMonitor:
         if travelled >= depth.depth_m:
             return Outcome(Verdict.DONE, f"depth {travelled * 1e3:.1f} mm reached")
         if depth.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
-            push = float(snap.wrench[:3].dot(depth.direction_world))
+            push = _norm3(snap.wrench[:3])
             if push > depth.touch_n:
-                return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the insertion")
+                return Outcome(Verdict.DONE, f"touched: {push:.2f} N")
             return None
         jam = self.segment.jam_check
         if self.searching is not None:  # the pattern moves across: depth is the search's to judge

@@ -11,7 +11,10 @@ FCSupv) or reflexes (Franka), every servo tick the executor asks a
   COMPLY spring) expects the tool against the fixtures; a guarded motion (UNTIL on
   a force or moment) expects the tool against anything. A link never touches
   anything. A contact the tool already had when the statement began (lifting off
-  the table) is allowed until it has been gone for :data:`CONTACT_GONE_S`.
+  the table), or that the statement before expected (a peg in its hole), is allowed
+  until it has been gone for :data:`CONTACT_GONE_S` with the tool more than
+  :data:`INHERITED_REACH_M` from where the statement began (a peg pulled out of a
+  0.24 mm clearance hole leaves its bore's walls and grazes them again).
 - **force**: the wrist sensor's force above the statement's expected range for
   :data:`FORCE_TICKS` ticks in a row (:func:`force_limit_n`); while the tool is
   still in a contact the statement began with (pulling a peg out of its hole),
@@ -68,7 +71,11 @@ contacts and force every tick."""
 SATURATION_FRACTION = 0.999
 """A torque at or above this fraction of its limit counts as at the limit."""
 CONTACT_GONE_S = 0.05
-"""A contact the tool had at a statement's start stays allowed until gone this long [s]."""
+"""A contact the tool had at a statement's start stays allowed until gone this long [s]..."""
+INHERITED_REACH_M = 0.05
+"""... and the tool this far from where the statement began [m]: longer than the hole is deep
+(45 mm), so a peg pulled out grazes its bore freely; a lift off the table is clear of it
+long before."""
 
 
 _RATING2 = WRIST_SENSOR.force_n**2
@@ -186,6 +193,7 @@ class Supervisor:
         self._over = 0
         self._inherited = False
         self._since_touch = 0
+        self._start: tuple[float, ...] = (0.0, 0.0, 0.0)  # the tool point where the segment began
         # The commanded line as floats (the check runs every tick): start, direction, length^2.
         self._line: tuple[tuple[float, ...], tuple[float, ...], float] = ((0.0,) * 3, (0.0,) * 3, 0.0)
         self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
@@ -205,6 +213,7 @@ class Supervisor:
         self._tick = 0
         self._inherited = worked_in_contact or self._tool_touches_fixture()
         self._since_touch = 0
+        self._start = tuple(np.asarray(position, dtype=float).tolist())
         self._path_axes = [
             tuple(segment.frame_rotation[:, i].tolist())
             for i in range(3)
@@ -239,12 +248,12 @@ class Supervisor:
             position: The measured tool point, world [m]. # (3,)
         """
         if self._data.ncon:
-            stop = self._contacts(t_s, wrench)
+            stop = self._contacts(t_s, wrench, position)
             if stop is not None:
                 return stop
         elif self._inherited:
             self._since_touch += 1
-            if self._since_touch >= self._gone_ticks:
+            if self._since_touch >= self._gone_ticks and self._away(position):
                 self._inherited = False
         fx, fy, fz = wrench[:3].tolist()
         if fx * fx + fy * fy + fz * fz > (_RATING2 if self._inherited else self._force_limit2):
@@ -296,7 +305,12 @@ class Supervisor:
                 return True
         return False
 
-    def _contacts(self, t_s: float, wrench: FloatArray) -> ProtectiveStop | None:
+    def _away(self, position: FloatArray) -> bool:
+        """Whether the tool point is more than :data:`INHERITED_REACH_M` from the statement's start."""
+        x, y, z = position[0] - self._start[0], position[1] - self._start[1], position[2] - self._start[2]
+        return x * x + y * y + z * z > INHERITED_REACH_M * INHERITED_REACH_M
+
+    def _contacts(self, t_s: float, wrench: FloatArray, position: FloatArray) -> ProtectiveStop | None:
         """A stop for the first contact the statement does not expect; tracks inherited ones."""
         roles, kinds = self._roles_list, _PAIR_KINDS
         touching_fixture = False
@@ -314,7 +328,7 @@ class Supervisor:
             return self._contact_stop(index, arm, other, roles[other], t_s, wrench)
         if self._inherited:
             self._since_touch = 0 if touching_fixture else self._since_touch + 1
-            if self._since_touch >= self._gone_ticks:
+            if self._since_touch >= self._gone_ticks and self._away(position):
                 self._inherited = False
         return None
 
