@@ -1,12 +1,11 @@
 """INSERT ... SEARCH SPIRAL from lateral errors beyond the hole's mouth, seed by seed (issue 22, item 4).
 
-The peg's tip is a hemisphere (radius 9.6 mm) and the mouth's radius is 14 mm
-(docs/workcell.md), so a plain INSERT already finds the hole while the tip's
-lowest point lands inside the mouth: measured, it succeeds from 13 mm off and jams
-on the flat top from 14 mm off (and 15, 16, 20 mm). Each case here starts
-16-18.4 mm off, in several directions: without SEARCH the INSERT jams; with
-``SEARCH SPIRAL RADIUS 20 mm PITCH 6 mm`` it must reach its depth with the tip on
-the hole's axis.
+The peg's end is flat, chamfered 1.5 mm, and the hole's mouth is chamfered 1 mm
+(docs/workcell.md): a plain compliant INSERT goes in while the chamfers meet, up to
+about 2.6 mm off the axis, and jams on the flat top beyond (tests/run/test_run_insert.py;
+8 mm off, it jams). Each case here starts 16-18.4 mm off, in several directions:
+without SEARCH the INSERT jams; with ``SEARCH SPIRAL RADIUS 20 mm PITCH 6 mm`` it
+must reach its depth with the tip on the hole's axis.
 
 Run every case with ten noise seeds (the README's Measured table)::
 
@@ -34,9 +33,9 @@ CASES_MM = ((16.0, 0.0), (0.0, -16.0), (-13.0, 13.0), (12.0, 12.0))
 """Lateral errors of the start [mm], world x and y: 16, 16, 18.4 and 17 mm off the axis."""
 DEPTH_M = 0.025
 ON_AXIS_M = 1.5e-3
-"""The tip within this of the hole's axis once inserted [m]: the radial clearance is 0.4 mm
-(0.6 mm to the polygon's corners) and the compliant peg tilts, putting its round tip up to
-1.0 mm off (measured); 25 mm below the mouth it can only be in the hole (radius 10 mm)."""
+"""The tip within this of the hole's axis once inserted [m]: the radial clearance is 0.12 mm
+(0.32 mm to the polygon's corners); 25 mm below the mouth the tip can only be in the hole
+(radius 10.03 mm)."""
 
 
 def program(dx_mm: float, dy_mm: float, search: str) -> str:

@@ -1,8 +1,8 @@
 """TRY ... ON FAIL ... RETRY n around an INSERT that jams (issue 22, "Must show").
 
 The peg starts 25 mm beside the hole's axis, where its whole face lands on the
-fixture's flat top (the flat runs from 14 mm, the chamfer's outer edge, to 45 mm
-from the axis; the peg's radius is 9.6 mm): INSERT jams there. The handler lifts,
+fixture's flat top (the flat runs from 11 mm, the chamfer's outer edge, to 45 mm
+from the axis; the peg's radius is 9.9 mm): INSERT jams there. The handler lifts,
 moves over the hole and retries; the second INSERT goes in. The depth reached is
 judged on the logged tool point against the hole's mouth written out in
 run_support, not on the executor's own report.

@@ -14,6 +14,8 @@ from cosmos.osc.search import LissajousPath, SpiralPath
 from cosmos.rotations import readonly, signed_column
 
 _INSERT = plan.SegmentKind.INSERT
+APPROACH_BEYOND_M = 0.002
+"""An INSERT's approach aims this far beyond its DEPTH [m] (it ends at DEPTH, or on a touch)."""
 
 
 class Insert(AxisRules, ClauseValues):
@@ -83,7 +85,10 @@ class Insert(AxisRules, ClauseValues):
                 statement,
                 frame,
                 self._axes(NO_FORCES, NO_FREE),
-                target=plan.RelativeTarget(readonly(tuple(d * depth for d in direction))),
+                # Aimed beyond DEPTH: a goal at DEPTH would be neared, never quite reached.
+                target=plan.RelativeTarget(
+                    readonly(tuple(d * (depth + APPROACH_BEYOND_M) for d in direction))
+                ),
                 speed=speed,
                 completion=plan.DepthReached(
                     direction_world, depth, touch_n=min(self.defaults.touch_threshold_n, 0.5 * force)
