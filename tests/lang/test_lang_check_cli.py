@@ -213,7 +213,8 @@ def test_check_prints_every_branch_indented_under_its_decision(tmp_path: Path) -
     ], listing
     status, out, _ = run(tmp_path, BRANCHES)
     assert status == 0
-    for word in ("IF FORCE Z < -5 N", "ELSE", "TRY", "ON FAIL", "RETRY 2", "if", "else", "try", "retry"):
+    # (the table wraps its statement column: "IF FORCE Z < -5" then "N" below it)
+    for word in ("IF FORCE Z < -5", "ELSE", "TRY", "ON FAIL", "RETRY 2", "if", "else", "try", "retry"):
         assert word in out
     status, out, _ = run(tmp_path, BRANCHES, "--json")
     step = json.loads(out)["steps"][1]
