@@ -49,9 +49,10 @@ AT_MOUTH_M = 0.005
 """A jammed peg has not gone deeper than this below the mouth [m] (its chamfer is 1.5 mm)."""
 INSERT_LINE = 3
 """The INSERT's line in :func:`program`."""
-HELD_M = 0.3e-3
+HELD_M = 1.0e-3
 """While the INSERT approaches (every axis held) the tool stays this close to its start
-across the insertion [m]."""
+across the insertion [m]: measured 0.04-0.84 mm on the realistic plant (its uncompensated
+friction asymmetry, docs/plant.md), under 0.06 mm on the ideal one; free, 1.6 mm."""
 
 
 @dataclass(frozen=True)

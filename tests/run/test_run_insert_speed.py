@@ -43,8 +43,27 @@ SLOW_STICK_SLIP = pytest.mark.xfail(
 )
 
 
-@pytest.mark.parametrize("speed_mmps", [None, 10.0, 30.0, pytest.param(5.0, marks=SLOW_STICK_SLIP)])
-def test_insert_peaks_within_ten_percent_of_its_speed(tmp_path: Path, speed_mmps: float | None) -> None:
+REALISTIC_OVERSHOOT = pytest.mark.xfail(
+    strict=True,
+    reason="realistic plant (docs/plant.md): the INSERT's approach, a goal motion at the speed "
+    "limit, starts from the MOVE's arrival and overshoots it (39.8 mm/s at SPEED 30), as the "
+    "realistic plant's goal motions run fast (README, straight line: 6 %); not traced further",
+)
+
+
+@pytest.mark.parametrize(
+    ("speed_mmps", "ideal"),
+    [
+        (None, True),
+        (10.0, True),
+        (30.0, True),
+        pytest.param(5.0, True, marks=SLOW_STICK_SLIP),
+        pytest.param(30.0, False, marks=REALISTIC_OVERSHOOT),
+    ],
+)
+def test_insert_peaks_within_ten_percent_of_its_speed(
+    tmp_path: Path, speed_mmps: float | None, ideal: bool
+) -> None:
     """The peak downward speed of the INSERT (approach and insertion) within 10 % of the limit,
     the depth reached. Catches the push left uncapped on its force axis (55.6 mm/s at SPEED
     10 mm/s, 80 mm/s in peg_in_hole.cos), an approach at the MOVE's speed, and a cap so tight
@@ -52,7 +71,7 @@ def test_insert_peaks_within_ten_percent_of_its_speed(tmp_path: Path, speed_mmps
     clause = "" if speed_mmps is None else f" SPEED {speed_mmps:g} mm/s"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", cosmos.CosmosWarning)
-        run = cosmos.run(PROGRAM.format(speed=clause), log=tmp_path / "insert_speed.mcap")
+        run = cosmos.run(PROGRAM.format(speed=clause), log=tmp_path / "insert_speed.mcap", ideal=ideal)
     assert run.ok, run.outcome
     limit = DEFAULT_INSERT_SPEED_MPS if speed_mmps is None else speed_mmps * 1e-3
     segments = [s for s in run.segments if s.line == INSERT_LINE]
