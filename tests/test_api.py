@@ -107,7 +107,7 @@ def test_doc_example_runs_and_its_states_match_the_logged_messages(doc_run: dict
     assert (doc_run["where"] / "peg.png").stat().st_size > 10_000
     states = run.states
     logged = messages(log, "/cosmos/state")
-    assert len(states) == len(logged) > 1500  # 8 s at 250 Hz
+    assert len(states) == len(logged) > 1000  # peg_in_hole.cos: 4.3 s at 250 Hz
     times = np.array([m["t"] for _, m in logged])
     np.testing.assert_array_equal(np.array([t for t, _ in logged]), np.round(times * 1e9))
     np.testing.assert_array_equal(states["t"], times)

@@ -183,9 +183,12 @@ def test_press_on_the_table(robot):
     press(10.0, 0.5)
     np.testing.assert_array_equal(plant.data.warning.number, 0)
 
-    # No bouncing: once touched, the peg never lifts off by more than 0.05 mm.
+    # No bouncing: once touched, the peg never leaves the table. (Its flat end sinks into the soft
+    # tool contact at the landing and rises again by up to 0.56 mm within it: the round tip did not.)
     first_touch = touching.index(True)
-    assert max(heights[first_touch:]) < 5e-5
+    assert all(touching[first_touch:])
+    after = np.array(heights[first_touch:])
+    assert np.max(after - np.minimum.accumulate(after)) < 1e-3
     # Stiff: at 10 N the tool point is less than 1 mm into the table, and moved
     # less than 1 mm from where 2 N held it.
     assert -1e-3 < heights[-1] <= 1e-5

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from run_support import BOTH_PLANTS
+from run_support import BOTH_PLANTS, FLAT_END
 from slide_grid import Case, run_case
 
 
@@ -23,6 +23,11 @@ def test_heavy_slow_diagonal_slide_holds_its_push(tmp_path: Path) -> None:
     assert result.ok, result
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason=FLAT_END + "on both plants at 12 N and 50 mm/s along -Y the push's lowest is 0.4 % of its "
+    "setpoint and 75.7 % of the slide is within 15 % (ideal plant)",
+)
 @pytest.mark.parametrize("ideal", BOTH_PLANTS)
 def test_fast_slide_in_world_y_holds_its_push(tmp_path: Path, ideal: bool) -> None:
     """12 N, 50 mm/s, -Y: the same bar at the grid's top speed. Catches the tool contact
