@@ -47,7 +47,7 @@ ON_AXIS_M = 0.5e-3
 polygon's corners 0.2 mm further; more means the peg is not in the bore [m]."""
 AT_MOUTH_M = 0.005
 """A jammed peg has not gone deeper than this below the mouth [m] (its chamfer is 1.5 mm)."""
-INSERT_LINE = 3
+INSERT_LINE = 4
 """The INSERT's line in :func:`program`."""
 HELD_M = 1.0e-3
 """While the INSERT approaches (every axis held) the tool stays this close to its start
@@ -78,21 +78,25 @@ def directions() -> np.ndarray:
     return np.random.default_rng(SEED).uniform(0.0, 2.0 * np.pi, RUNS)
 
 
-def program(offset_m: float, angle: float, comply: str) -> str:
-    """From home to 2 mm above the mouth, ``offset_m`` off the axis towards ``angle``, and INSERT."""
+def program(offset_m: float, angle: float, comply: str, robot: str = "") -> str:
+    """From home to 2 mm above the mouth, ``offset_m`` off the axis towards ``angle``, and INSERT
+    (its line is :data:`INSERT_LINE`, after a ``ROBOT robot`` line if one is given)."""
     dx, dy = 1e3 * offset_m * np.cos(angle), 1e3 * offset_m * np.sin(angle)
     return (
-        "SPEED 0.25 m/s\n"
+        (f"ROBOT {robot}\n" if robot else "# the default arm\n") + "SPEED 0.25 m/s\n"
         f"MOVE TO hole + ({dx:.3f} mm, {dy:.3f} mm, 2 mm)\n"
         f"INSERT DOWN DEPTH 27 mm FORCE 15 N COMPLY {comply} TIMEOUT 10 s\n"
     )
 
 
-def insert(tmp_path: Path, offset_m: float, angle: float, comply: str, seed: int) -> Insertion:
+def insert(
+    tmp_path: Path, offset_m: float, angle: float, comply: str, seed: int, robot: str = ""
+) -> Insertion:
     """Run one insertion (noise seed ``seed``) and judge it from the log."""
+    source = program(offset_m, angle, comply, robot)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", cosmos.CosmosWarning)
-        run = cosmos.run(program(offset_m, angle, comply), seed=seed, log=tmp_path / f"insert-{seed}.mcap")
+        run = cosmos.run(source, seed=seed, log=tmp_path / f"insert-{seed}.mcap")
     closing = [e for e in run.events if e.line == INSERT_LINE and e.kind in ("done", "failed")]
     state = run.record.state
     inserting = state.line == INSERT_LINE
