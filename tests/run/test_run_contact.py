@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import FLAT_END, ProgramRun, run_in_process, samples_of, write_program
+from run_support import ProgramRun, run_in_process, samples_of, write_program
 
 CONTACT_FORCE_N = 10.0
 """The contact test's setpoint: the language page's own example force."""
@@ -144,11 +144,6 @@ SLIDE +X BY 100 mm SPEED 20 mm/s
 """
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason=FLAT_END + "at 10 N and 50 mm/s the push fell to 2.49 N (the tool contact is the slide "
-    "helper's to make steel; not traced further)",
-)
 def test_light_fast_slide_holds_10_n(tmp_path: Path) -> None:
     """SLIDE at 10 N and 20 mm/s: the push held to issue 14's bar (item 5).
 

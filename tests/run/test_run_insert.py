@@ -49,10 +49,9 @@ AT_MOUTH_M = 0.005
 """A jammed peg has not gone deeper than this below the mouth [m] (its chamfer is 1.5 mm)."""
 INSERT_LINE = 4
 """The INSERT's line in :func:`program`."""
-HELD_M = 1.0e-3
+HELD_M = 0.3e-3
 """While the INSERT approaches (every axis held) the tool stays this close to its start
-across the insertion [m]: measured 0.04-0.84 mm on the realistic plant (its uncompensated
-friction asymmetry, docs/plant.md), under 0.06 mm on the ideal one; free, 1.6 mm."""
+across the insertion, on the ideal plant [m]: measured under 0.06 mm; free, 1.6 mm."""
 
 
 @dataclass(frozen=True)
@@ -90,13 +89,19 @@ def program(offset_m: float, angle: float, comply: str, robot: str = "") -> str:
 
 
 def insert(
-    tmp_path: Path, offset_m: float, angle: float, comply: str, seed: int, robot: str = ""
+    tmp_path: Path,
+    offset_m: float,
+    angle: float,
+    comply: str,
+    seed: int,
+    robot: str = "",
+    ideal: bool = False,
 ) -> Insertion:
     """Run one insertion (noise seed ``seed``) and judge it from the log."""
     source = program(offset_m, angle, comply, robot)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", cosmos.CosmosWarning)
-        run = cosmos.run(source, seed=seed, log=tmp_path / f"insert-{seed}.mcap")
+        run = cosmos.run(source, seed=seed, log=tmp_path / f"insert-{seed}.mcap", ideal=ideal)
     closing = [e for e in run.events if e.line == INSERT_LINE and e.kind in ("done", "failed")]
     state = run.record.state
     inserting = state.line == INSERT_LINE
@@ -146,12 +151,17 @@ def test_compliant_insertion_from_2_mm_succeeds_ten_of_ten(compliant: list[Inser
         assert r.off_axis_m <= ON_AXIS_M, summary
 
 
-def test_insert_holds_its_axes_until_it_touches(compliant: list[Insertion]) -> None:
+def test_insert_holds_its_axes_until_it_touches(tmp_path: Path) -> None:
     """Without a held contact the INSERT approaches with every axis held: the tip moves
-    straight down to the chamfer. Catches zero-force axes left free in free space (the
+    straight down to the chamfer (on the ideal plant; the realistic one's friction error moves
+    a held tool up to 1.5 mm there). Catches zero-force axes left free in free space (the
     joints' friction pushed the tip 1.6 mm sideways in the 2 mm above the mouth, off the
     chamfer, and 7 of 10 of these insertions jammed)."""
-    assert max(r.approach_drift_m for r in compliant) <= HELD_M, report(compliant)
+    held = [
+        insert(tmp_path, OFFSET_M, a, "X Y RX RY", seed, ideal=True)
+        for seed, a in enumerate(directions()[:3])
+    ]
+    assert max(r.approach_drift_m for r in held) <= HELD_M, report(held)
 
 
 def test_stiff_insertion_from_2_mm_jams_nine_of_ten(stiff: list[Insertion]) -> None:

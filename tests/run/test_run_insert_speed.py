@@ -43,14 +43,6 @@ SLOW_STICK_SLIP = pytest.mark.xfail(
 )
 
 
-REALISTIC_OVERSHOOT = pytest.mark.xfail(
-    strict=True,
-    reason="realistic plant (docs/plant.md): the INSERT's approach, a goal motion at the speed "
-    "limit, starts from the MOVE's arrival and overshoots it (39.8 mm/s at SPEED 30), as the "
-    "realistic plant's goal motions run fast (README, straight line: 6 %); not traced further",
-)
-
-
 @pytest.mark.parametrize(
     ("speed_mmps", "ideal"),
     [
@@ -58,7 +50,7 @@ REALISTIC_OVERSHOOT = pytest.mark.xfail(
         (10.0, True),
         (30.0, True),
         pytest.param(5.0, True, marks=SLOW_STICK_SLIP),
-        pytest.param(30.0, False, marks=REALISTIC_OVERSHOOT),
+        (30.0, False),
     ],
 )
 def test_insert_peaks_within_ten_percent_of_its_speed(

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import FLAT_END, ProgramRun, run_in_process, write_program
+from run_support import ProgramRun, run_in_process, write_program
 
 from cosmos.errors import ProgramError
 from cosmos.lang import compile_program
@@ -145,11 +145,6 @@ def test_a_sphere_that_touches_the_tool_is_named_as_a_collision(tmp_path: Path) 
     assert run.events("protective_stop", line=3)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason=FLAT_END + "the guarded MOVE's force jumps from 0.7 N to 6.0 N in one tick, and the "
-    "statement's peak (0.73 N) leaves out the sample that fired its UNTIL FORCE > 4 N",
-)
 def test_an_until_that_fired_shows_the_value_that_fired_it(tmp_path: Path) -> None:
     """The summary said peak 0.4 N for a guarded move stopped by FORCE > 4 N, and the reason
     repeated the TIMEOUT clause."""
