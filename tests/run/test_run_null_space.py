@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from run_support import NOT_TRACED, on_both_plants
+from run_support import BOTH_PLANTS, on_both_plants
 
 from cosmos.api import check
 from cosmos.execution.executor import Progress
@@ -84,27 +84,85 @@ def null_space_speed(record: RunRecord) -> np.ndarray:
 
 
 HOLD_FREE = "ORIENTATION FREE\nWAIT 3 s\n"
-
-
-@pytest.mark.parametrize(
-    "ideal",
-    on_both_plants("the null-space joint speed |N qd| stays at 0.06 rad/s 2 s after the kick", NOT_TRACED),
+MODEL_ERROR = (
+    "traced to the drawn model error: N^T of the controller's A is not the real arm's, so the "
+    "null-space torque leaks into the task; with model_error = 0 the same run moves the tool "
+    "0.79 mm (posture) and 0.56 mm (ball): "
 )
+
+
+COUNTS_PER_DEGREE = np.array([173.92, 239.59, 149.18, 211.21, 199.79, 106.51])
+"""The PUMA 560's encoder counts per joint degree (docs/plant.md, the Unimation controller's factors)."""
+OBSERVER_RAD_S = 2.0 * math.pi * 40.0
+"""The realistic plant's velocity observer bandwidth (docs/plant.md), [rad/s]."""
+ONE_COUNT_RAD = np.radians(1.0 / COUNTS_PER_DEGREE)
+ONE_COUNT_SPEED_RAD_S = float(OBSERVER_RAD_S * ONE_COUNT_RAD.max() / math.e * 98.5 / 92.5)
+"""The observer's largest answer to one count's rounding (omega delta / e, x 1.065 stepped at
+1 kHz; joint 6's coarser count): 1.6e-2 rad/s, the floor of a logged velocity on the realistic
+plant, which logs what the controller senses."""
+
+
+@pytest.mark.parametrize("ideal", BOTH_PLANTS)
 def test_eq_38_null_space_damping_stops_the_self_motion(tmp_path: Path, ideal: bool) -> None:
     """Eq. 34/38 in the product: after a kick of the wrist with the tool held (position-only task),
     the null-space joint velocity falls below 1e-3 rad/s within 2 s, and the tool, knocked a few
     millimetres by the kick's task-space part, is back within 0.1 mm of its hold by then.
-    Catches the servo folding the 6-row Lambda under ORIENTATION FREE (no null space: eq. 34's
-    damping is zero and the orientation is held), xi_q not reaching the servo, and a Lambda_r
-    that is not dynamically consistent (the damping would move the tool)."""
+    On the realistic plant the log holds the encoders' counts and the observer's estimate, which
+    cannot show 1e-3 rad/s: there the arm is at rest to its sensors' resolution (no joint's
+    reading spans more than one count, |N qd| below the observer's one-count answer; the run
+    without xi_q stays above 5e-2). Catches the servo folding the 6-row Lambda under
+    ORIENTATION FREE (no null space: eq. 34's damping is zero and the orientation is held),
+    xi_q not reaching the servo, and a Lambda_r that is not dynamically consistent (the damping
+    would move the tool)."""
     record = run(tmp_path, HOLD_FREE, progress=kick_wrist, ideal=ideal)
     t, speed = record.state.t, null_space_speed(record)
     kicked = t[np.argmax(speed > 0.5)]
     assert KICK_S - 0.01 <= kicked <= KICK_S + 0.2, f"the kick at {kicked:.3f} s"
-    assert speed[t > kicked + 2.0].max() < 1e-3, f"{speed[t > kicked + 2.0].max():.2e} rad/s 2 s on"
+    later = t > kicked + 2.0
+    if ideal:
+        assert speed[later].max() < 1e-3, f"{speed[later].max():.2e} rad/s 2 s on"
+    else:
+        assert speed[later].max() < ONE_COUNT_SPEED_RAD_S, f"{speed[later].max():.2e} rad/s 2 s on"
+        span = record.state.q[later].max(axis=0) - record.state.q[later].min(axis=0)
+        assert np.all(span <= 1.01 * ONE_COUNT_RAD), f"readings span {span / ONE_COUNT_RAD} counts"
     offset = np.linalg.norm(record.state.x - record.state.x[0], axis=1)
     assert offset.max() < 10e-3, f"the kick moved the tool {offset.max() * 1e3:.2f} mm"
-    assert offset[t > kicked + 2.0].max() < 0.1e-3, f"{offset[-1] * 1e3:.2f} mm off its hold"
+    assert offset[later].max() < 0.1e-3, f"{offset[-1] * 1e3:.2f} mm off its hold"
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="traced: the Coulomb compensation's ramp (coulomb_velocity_rad_s = 0.01 rad/s) is below "
+    "the observer's answer to one encoder count (0.011-0.016 rad/s), so the rounding alone asks "
+    "for the full friction torque and the arm dithers within one count at 1.0-1.6e-3 rad/s; a "
+    "0.05 rad/s ramp brings it to 1.5e-4 but lets POSTURE move the tool 2.5 mm",
+)
+def test_eq_38_the_realistic_arm_itself_stops(tmp_path: Path) -> None:
+    """Eq. 38 on the realistic arm itself, read from MuJoCo's own qvel (what no sensor logs):
+    2 s after the kick the true null-space speed is below 1e-3 rad/s. Catches a limit cycle
+    below the encoders' resolution, which the logged test above cannot see."""
+    truth: list[tuple[float, np.ndarray, np.ndarray]] = []
+
+    def kick_and_watch(session: Session, report: Progress) -> None:
+        kick_wrist(session, report)
+        plant = session.plant
+        if not truth:
+            advance = plant.advance
+
+            def watched() -> float:
+                now = advance()
+                truth.append((now, plant.data.qpos[:6].copy(), plant.data.qvel[:6].copy()))
+                return now
+
+            plant.advance = watched  # type: ignore[method-assign]
+
+    run(tmp_path, HOLD_FREE, progress=kick_and_watch)
+    t = np.array([sample[0] for sample in truth])
+    state = dataclasses.make_dataclass("State", ["q", "qd"])(
+        np.array([sample[1] for sample in truth])[::10], np.array([sample[2] for sample in truth])[::10]
+    )
+    speed = null_space_speed(dataclasses.make_dataclass("Record", ["state"])(state))  # type: ignore[arg-type]
+    assert speed[t[::10] > KICK_S + 2.1].max() < 1e-3, f"{speed[t[::10] > KICK_S + 2.1].max():.2e} rad/s"
 
 
 def test_without_xi_q_the_self_motion_goes_on(tmp_path: Path) -> None:
@@ -124,7 +182,7 @@ WAIT 2.5 s
 """
 
 
-@pytest.mark.parametrize("ideal", on_both_plants("the tool moves 1.09 mm (limit 1 mm)", NOT_TRACED))
+@pytest.mark.parametrize("ideal", on_both_plants("the tool moves 1.14 mm (limit 1 mm)", MODEL_ERROR))
 def test_posture_moves_the_arm_and_not_the_tool(tmp_path: Path, ideal: bool) -> None:
     """POSTURE in the null space: with the tool held still (position task), the arm turns toward
     the posture (joint 6 by 30 deg, joint 4 some way: the PUMA's 3-D null space cannot take
@@ -154,7 +212,7 @@ WAIT 3 s
 
 
 @pytest.mark.parametrize(
-    "ideal", on_both_plants("projected, the tool moves 1.30 mm (limit 1 mm; whole 4.33 mm)", NOT_TRACED)
+    "ideal", on_both_plants("projected, the tool moves 1.23 mm (limit 1 mm)", MODEL_ERROR)
 )
 def test_a_ball_at_the_forearm_moves_the_tool_less_through_the_null_space(
     tmp_path: Path, ideal: bool
