@@ -1,7 +1,8 @@
 """The Panda's null space keeps its elbow off a ball while the tool goes straight (issue 16).
 
-``programs/panda_null_space.cos`` runs in process, as ``cosmos run`` runs it, on the
-realistic plant; every figure is read back from its MCAP log. The tool's deviation from
+``programs/panda_null_space.cos`` runs in process, as ``cosmos run`` runs it (the Panda's
+plant is the ideal one: the drawn model error is the PUMA's only); every figure is read
+back from its MCAP log. The tool's deviation from
 its line is the measured tool site (MuJoCo's, in the log) against the straight line from
 where the MOVE began to 0.4 m along +y. A link's clearance from the ball is computed here,
 apart from the controller's distance kernels: each link's collision capsule of the Panda's
@@ -39,7 +40,7 @@ MOVE_TEXT = "MOVE BY (0, 0.4 m, 0)"
 
 
 def run(path: Path, source: str, project_links: bool = True) -> RunRecord:
-    """Run ``source`` in process on the realistic plant; its log, read back."""
+    """Run ``source`` in process on the Panda; its log, read back."""
     plan = check(source)
     with Session("<test>", plan.source, path, Rates(), robot=PANDA) as session:
         if not project_links:  # the links' field acts whole, as if the arm had no null space
