@@ -125,6 +125,12 @@ def compile_posture(run: CompileContext, statement: ast.SetPosture, state: Compi
         )
     if not all(math.isfinite(a) for a in angles.values):
         raise ProgramError("POSTURE's angles must be finite numbers", value.span)
+    arm = ROBOTS[state.robot]
+    if len(angles.values) != arm.dof:
+        raise ProgramError(
+            f"POSTURE gives {len(angles.values)} joint angles; the {arm.title} has {arm.dof} joints",
+            value.span,
+        )
     return replace(state, posture=plan.Posture(tuple(angles.values), None, statement.span))
 
 
