@@ -62,7 +62,7 @@ def _put_int(out: ByteArray, pos: int, value: int) -> int:
     return end
 
 
-@kernel
+@kernel("int64(uint8[::1], int64, uint8[::1], int64[::1], int64)")  # once, not per literal index
 def _put_literal(out: ByteArray, pos: int, literals: ByteArray, bounds: IntArray, index: int) -> int:
     """Write literal ``index`` of a template at ``out[pos]``; return the position after it."""
     for k in range(bounds[index], bounds[index + 1]):

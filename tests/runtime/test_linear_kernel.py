@@ -39,3 +39,25 @@ def test_rotate_blocks_turns_both_halves(transpose: bool) -> None:
     vector = rng.normal(size=6)
     expected = np.concatenate((r @ vector[:3], r @ vector[3:]))
     np.testing.assert_allclose(linear.rotate_blocks(rotation, vector, transpose), expected, atol=1e-14)
+
+
+def test_one_signature_takes_transposes_columns_and_read_only_operands() -> None:
+    """Each product has one compiled signature (any layout, read-only or not): catches a signature
+    narrowed to contiguous or writable operands, which rejects a transpose, a column or a plan's
+    read-only array (or, without the explicit signature, compiles the kernel again for each)."""
+    rng = np.random.default_rng(3)
+    a, block = rng.normal(size=(6, 6)), rng.normal(size=(6, 8))
+    frozen = a.copy()
+    frozen.flags.writeable = False
+    column = block[:, 2]
+    np.testing.assert_allclose(linear.matmul(a.T, frozen), a.T @ a, rtol=1e-13, atol=1e-13)
+    np.testing.assert_allclose(linear.matvec(frozen.T, column), a.T @ column, rtol=1e-13, atol=1e-13)
+    largest = np.max(np.abs(block[:, :6] @ column))
+    assert linear.max_abs_product(block[:, :6], column) == pytest.approx(largest)
+    out = np.zeros((8, 6))
+    linear.scaled_matrix_into(out[1:7, :], frozen.T, -2.0)
+    np.testing.assert_array_equal(out[1:7], -2.0 * a.T)
+    linear.scaled_into(out[:, 3], block[2, :], 0.5)
+    np.testing.assert_array_equal(out[:, 3], 0.5 * block[2])
+    for kernel in (linear.matmul, linear.matvec, linear.max_abs_product, linear.rotate_blocks):
+        assert len(kernel.signatures) == 1, kernel

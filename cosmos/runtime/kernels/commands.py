@@ -25,7 +25,7 @@ FloatArray = np.ndarray
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = 0.0, 1.0, 2.0
 
 
-@kernel
+@kernel(read_only=("sensor", "rotation_sensor_to_world", "sensor_to_tool_m", "sensor_to_com_m"))
 def environment_wrench_into(
     out: FloatArray,
     sensor: FloatArray,

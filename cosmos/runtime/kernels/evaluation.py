@@ -29,7 +29,14 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.runtime.kernels.linear import matmul, matvec
+from cosmos.runtime.kernels.linear import (
+    NEW_VECTOR,
+    VECTOR,
+    matmul,
+    matvec,
+    scaled_into,
+    scaled_matrix_into,
+)
 
 FloatArray = np.ndarray
 
@@ -140,7 +147,7 @@ def spd_inverse_into(out: FloatArray, a: FloatArray) -> bool:
     return True
 
 
-@kernel
+@kernel(NEW_VECTOR(VECTOR, VECTOR))
 def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
     return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
 
@@ -174,22 +181,28 @@ def evaluation_values(
     """
     n = q.shape[0]
     values = np.empty(size(n))
-    values[Q : Q + n] = q
+    scaled_into(values[Q : Q + n], q, 1.0)
     tool_rotation = matmul(
         joint_rotation, constants[C_ROTATION_TOOL_IN_JOINT : C_ROTATION_TOOL_IN_JOINT + 9].reshape((3, 3))
     )
-    p = joint_translation + matvec(joint_rotation, constants[C_TOOL_IN_JOINT : C_TOOL_IN_JOINT + 3])
-    values[POSITION : POSITION + 3] = p
-    values[ROTATION_TOOL : ROTATION_TOOL + 9] = tool_rotation.ravel()
+    p = matvec(joint_rotation, constants[C_TOOL_IN_JOINT : C_TOOL_IN_JOINT + 3])
+    for i in range(3):
+        p[i] += joint_translation[i]
+    scaled_into(values[POSITION : POSITION + 3], p, 1.0)
+    scaled_into(values[ROTATION_TOOL : ROTATION_TOOL + 9], tool_rotation.ravel(), 1.0)
     sensor_rotation = matmul(
         tool_rotation, constants[C_ROTATION_SENSOR_TO_TOOL : C_ROTATION_SENSOR_TO_TOOL + 9].reshape((3, 3))
     )
-    values[ROTATION_SENSOR : ROTATION_SENSOR + 9] = sensor_rotation.ravel()
-    values[SENSOR_TO_TOOL : SENSOR_TO_TOOL + 3] = matvec(
-        tool_rotation, constants[C_TOOL_FROM_SENSOR : C_TOOL_FROM_SENSOR + 3]
+    scaled_into(values[ROTATION_SENSOR : ROTATION_SENSOR + 9], sensor_rotation.ravel(), 1.0)
+    scaled_into(
+        values[SENSOR_TO_TOOL : SENSOR_TO_TOOL + 3],
+        matvec(tool_rotation, constants[C_TOOL_FROM_SENSOR : C_TOOL_FROM_SENSOR + 3]),
+        1.0,
     )
-    values[SENSOR_TO_COM : SENSOR_TO_COM + 3] = matvec(
-        tool_rotation, constants[C_COM_FROM_SENSOR : C_COM_FROM_SENSOR + 3]
+    scaled_into(
+        values[SENSOR_TO_COM : SENSOR_TO_COM + 3],
+        matvec(tool_rotation, constants[C_COM_FROM_SENSOR : C_COM_FROM_SENSOR + 3]),
+        1.0,
     )
 
     jacobian_start = jacobian_at(n)
@@ -198,21 +211,26 @@ def evaluation_values(
     a_origin = np.zeros(6)  # Jdot qd there: (a_o, alpha)
     for k in range(n):
         angular = joint_jacobian[3:, k]
-        linear = joint_jacobian[:3, k] + _cross(angular, p)
+        moment = _cross(angular, p)
         for i in range(3):
-            jacobian[i, k] = linear[i]
+            jacobian[i, k] = joint_jacobian[i, k] + moment[i]
             jacobian[3 + i, k] = angular[i]
         for i in range(6):
             v_origin[i] += joint_jacobian[i, k] * qd[k]
             a_origin[i] += joint_jacobian_dot[i, k] * qd[k]
     w, alpha = v_origin[3:], a_origin[3:]
-    v_point = v_origin[:3] + _cross(w, p)
-    values[JDOT_QDOT : JDOT_QDOT + 3] = a_origin[:3] + _cross(alpha, p) + _cross(w, v_point)
-    values[JDOT_QDOT + 3 : JDOT_QDOT + 6] = alpha
+    w_p = _cross(w, p)
+    v_point = np.empty(3)
+    for i in range(3):
+        v_point[i] = v_origin[i] + w_p[i]
+    alpha_p, w_v = _cross(alpha, p), _cross(w, v_point)
+    for i in range(3):
+        values[JDOT_QDOT + i] = a_origin[i] + alpha_p[i] + w_v[i]
+        values[JDOT_QDOT + 3 + i] = alpha[i]
 
     inertia_start, inverse_start = inertia_at(n), inertia_inv_at(n)
     inertia = values[inertia_start : inertia_start + n * n].reshape((n, n))
-    inertia[:, :] = symmetric_from_upper(inertia_upper)
+    scaled_matrix_into(inertia, symmetric_from_upper(inertia_upper), 1.0)
     if not spd_inverse_into(values[inverse_start : inverse_start + n * n].reshape((n, n)), inertia):
         values[inverse_start : inverse_start + n * n] = np.nan  # only for a non-finite q
     weight = constants[C_WEIGHT : C_WEIGHT + 3]

@@ -22,7 +22,7 @@ from cosmos.osc.null_space import FREE_AXIS_INVERSE_MASS
 from cosmos.osc.orientation import NEAR_PI_SIN, SMALL_ANGLE_RAD
 from cosmos.runtime.kernels import evaluation as ek
 from cosmos.runtime.kernels import servo as sk
-from cosmos.runtime.kernels.linear import matmul, matvec
+from cosmos.runtime.kernels.linear import matmul, matvec, scaled_into, scaled_matrix_into
 
 FloatArray = np.ndarray
 
@@ -59,8 +59,11 @@ def lambda_and_projection(
             trace += lambda_[i, i] / (scale[i] * scale[i])
         if 0.0 < trace <= limit:
             return lambda_
-    outer = np.outer(scale, scale)
-    eigenvalues, eigenvectors = np.linalg.eigh(lambda_inv * outer)
+    scaled = np.empty((6, 6))  # Lambda^-1 scaled: lambda_inv * outer(scale, scale)
+    for i in range(6):
+        for k in range(6):
+            scaled[i, k] = lambda_inv[i, k] * (scale[i] * scale[k])
+    eigenvalues, eigenvectors = np.linalg.eigh(scaled)
     s_lo = 1.0 / max_effective_mass_kg
     weights = np.empty(6)
     for i in range(6):
@@ -69,8 +72,18 @@ def lambda_and_projection(
         weights[i] = blend / max(eigenvalues[i], s_lo)
         if blend < 1.0:  # one factor of singular_task_projection
             weight = min(1.0, SINGULAR_GIVE_UP_RATE * (1.0 - blend))
-            _remove_direction(projection, scale * eigenvectors[:, i], weight)
-    return matmul(eigenvectors * weights, eigenvectors.T) * outer
+            direction = np.empty(6)
+            for k in range(6):
+                direction[k] = scale[k] * eigenvectors[k, i]
+            _remove_direction(projection, direction, weight)
+    lambda_ = np.empty((6, 6))  # (eigenvectors * weights) @ eigenvectors.T, unscaled
+    for i in range(6):
+        for k in range(6):
+            acc = 0.0
+            for m in range(6):
+                acc += eigenvectors[i, m] * weights[m] * eigenvectors[k, m]
+            lambda_[i, k] = acc * (scale[i] * scale[k])
+    return lambda_
 
 
 @kernel
@@ -167,8 +180,13 @@ def fold_servo(
     j_t = jacobian.T.copy()
     a_inv_jt = matmul(inertia_inv, j_t)
     lambda_inv = matmul(jacobian, a_inv_jt)  # eq. 27
-    controlled = omega + omega_bar
-    free = 6.0 - np.trace(controlled) > 0.5  # ORIENTATION FREE: Lambda_r of the controlled rows
+    controlled = np.empty((6, 6))
+    trace = 0.0
+    for i in range(6):
+        for k in range(6):
+            controlled[i, k] = omega[i, k] + omega_bar[i, k]
+        trace += controlled[i, i]
+    free = 6.0 - trace > 0.5  # ORIENTATION FREE: Lambda_r of the controlled rows
     lambda_task = lambda_inv
     if free:
         lambda_task = matmul(matmul(controlled, lambda_inv), controlled)
@@ -180,23 +198,26 @@ def fold_servo(
     )
     if free:
         lambda_ = matmul(matmul(controlled, lambda_), controlled)
-    projection[:, :] = matmul(projection, limit_projection)
+    scaled_matrix_into(projection, matmul(projection, limit_projection), 1.0)
     jbar = matmul(a_inv_jt, lambda_)  # eq. 28
-    null_space_t[:, :] = -matmul(j_t, jbar.T)
+    scaled_matrix_into(null_space_t, matmul(j_t, jbar.T), -1.0)
     for i in range(null_space_t.shape[0]):  # n joints
         null_space_t[i, i] += 1.0
     force_to_torque = matmul(j_t, omega_bar)
     jt_lambda = matmul(j_t, lambda_)
-    stacked[:, 0:6] = matmul(matmul(jt_lambda, projection), omega)
-    stacked[:, 6:12] = force_to_torque
-    stacked[:, 12:18] = -k_vf * matmul(matmul(force_to_torque, lambda_), omega_bar)
-    stacked[:, 18] = bias + gravity - matvec(jt_lambda, jdot_qdot) + held_torque
+    scaled_matrix_into(stacked[:, 0:6], matmul(matmul(jt_lambda, projection), omega), 1.0)
+    scaled_matrix_into(stacked[:, 6:12], force_to_torque, 1.0)
+    scaled_matrix_into(stacked[:, 12:18], matmul(matmul(force_to_torque, lambda_), omega_bar), -k_vf)
+    h_torque = matvec(jt_lambda, jdot_qdot)
+    joint_space = matmul(jt_lambda, jacobian)
     n = inertia.shape[0]
-    stacked[:, 19 : 19 + n] = -xi_q * (inertia - matmul(jt_lambda, jacobian))
     for i in range(n):
+        stacked[i, 18] = bias[i] + gravity[i] - h_torque[i] + held_torque[i]
+        for k in range(n):
+            stacked[i, 19 + k] = -xi_q * (inertia[i, k] - joint_space[i, k])
         stacked[i, 19 + i] += viscous[i]
-    force_to_acceleration[:, :] = matmul(lambda_inv, omega_bar)
-    jbar_lookahead[:, :] = lookahead_s * matmul(jbar, projection)
+    scaled_matrix_into(force_to_acceleration, matmul(lambda_inv, omega_bar), 1.0)
+    scaled_matrix_into(jbar_lookahead, matmul(jbar, projection), lookahead_s)
 
 
 @kernel
@@ -263,19 +284,24 @@ def refold(
     gravity = evaluation[gravity_at : gravity_at + n]
     rotation_tool = evaluation[ek.ROTATION_TOOL : ek.ROTATION_TOOL + 9].reshape((3, 3))
     error = vectors[sk.REFERENCE_ERROR, :6]
-    error[:3] = evaluation[ek.POSITION : ek.POSITION + 3] - goal_position
-    error[3:] = unwrapped_rotation_error(
-        rotation_log(matmul(rotation_tool, goal_rotation_to_world.T)), error[3:]
+    for i in range(3):
+        error[i] = evaluation[ek.POSITION + i] - goal_position[i]
+    scaled_into(
+        error[3:],
+        unwrapped_rotation_error(rotation_log(matmul(rotation_tool, goal_rotation_to_world.T)), error[3:]),
+        1.0,
     )
     limit_projection = np.eye(6)
     if constants.shape[0] > LIMITS_OFFSET:
+        toward_goal = np.empty(6)
+        scaled_into(toward_goal, error, -1.0)
         joint_limit_projection_into(
             limit_projection,
             jacobian,
             evaluation[ek.Q : ek.Q + n],
             constants[LIMITS_OFFSET : LIMITS_OFFSET + n],
             constants[LIMITS_OFFSET + n : LIMITS_OFFSET + 2 * n],
-            -error,
+            toward_goal,
             constants[LIMITS_OFFSET + 2 * n],
             constants[LIMITS_OFFSET + 2 * n + 1],
         )
@@ -304,13 +330,13 @@ def refold(
         limit_projection,
         null_space_t,
     )
-    jacobian_out[:, :] = jacobian
-    matrices[sk.OMEGA_BAR] = omega_bar
+    scaled_matrix_into(jacobian_out, jacobian, 1.0)
+    scaled_matrix_into(matrices[sk.OMEGA_BAR], omega_bar, 1.0)
     rotation_sensor = evaluation[ek.ROTATION_SENSOR : ek.ROTATION_SENSOR + 9].reshape((3, 3))
-    matrices[sk.ROTATION_SENSOR, :3, :3] = rotation_sensor
-    vectors[sk.EVALUATION_Q, :n] = evaluation[ek.Q : ek.Q + n]
-    vectors[sk.GRAVITY, :n] = gravity
-    vectors[sk.SENSOR_OFFSETS, :6] = evaluation[ek.SENSOR_TO_TOOL : ek.SENSOR_TO_COM + 3]
+    scaled_matrix_into(matrices[sk.ROTATION_SENSOR, :3, :3], rotation_sensor, 1.0)
+    scaled_into(vectors[sk.EVALUATION_Q, :n], evaluation[ek.Q : ek.Q + n], 1.0)
+    scaled_into(vectors[sk.GRAVITY, :n], gravity, 1.0)
+    scaled_into(vectors[sk.SENSOR_OFFSETS, :6], evaluation[ek.SENSOR_TO_TOOL : ek.SENSOR_TO_COM + 3], 1.0)
 
 
 LIMITS_OFFSET = 6
@@ -342,9 +368,10 @@ def joint_limit_projection_into(
     if not near:
         return
     if n == 6:
-        if abs(np.linalg.det(jacobian)) < 1e-12:
+        square = jacobian.copy()  # writable, as jjt below: numba's det and inv compile once
+        if abs(np.linalg.det(square)) < 1e-12:
             return
-        inverse = np.linalg.inv(jacobian)
+        inverse = np.linalg.inv(square)
     else:
         jjt = matmul(jacobian, jacobian.T.copy())
         if abs(np.linalg.det(jjt)) < 1e-24:
