@@ -43,6 +43,13 @@ from enum import IntEnum
 import mujoco
 import numpy as np
 
+from cosmos.execution.contact_kernel import (
+    IGNORED,
+    LINK_ANY,
+    TOOL_FIXTURE,
+    TOOL_OBSTACLE,
+    first_unexpected_contact,
+)
 from cosmos.execution.expected import (
     FREE_MOTION_FORCE_N,
     expects_contact,
@@ -92,18 +99,17 @@ class Role(IntEnum):
 
 
 _ROLES = len(Role)
-_IGNORED, _TOOL_FIXTURE, _TOOL_OBSTACLE, _LINK_ANY = 0, 1, 2, 3
 
 
 def _pair_kind(a: Role, b: Role) -> int:
     """What a contact between geoms of roles ``a`` and ``b`` is, for the supervision."""
     arm = {Role.LINK, Role.TOOL}
     if (a in arm) == (b in arm) or Role.NONE in (a, b):
-        return _IGNORED  # nothing of the arm, or the arm on itself
+        return IGNORED  # nothing of the arm, or the arm on itself
     part, other = (a, b) if a in arm else (b, a)
     if part is Role.LINK:
-        return _LINK_ANY
-    return _TOOL_FIXTURE if other is Role.FIXTURE else _TOOL_OBSTACLE
+        return LINK_ANY
+    return TOOL_FIXTURE if other is Role.FIXTURE else TOOL_OBSTACLE
 
 
 _PAIR_KINDS = [_pair_kind(a, b) for a in Role for b in Role]
@@ -171,6 +177,10 @@ class Supervisor:
         self._data = plant.data
         self._roles = _roles(plant)
         self._roles_list: list[int] = self._roles.tolist()
+        # Each pair of geoms' kind (geom1, geom2), read by the compiled look at the contacts.
+        self._pair_kinds = np.asarray(_PAIR_KINDS, dtype=np.int8)[
+            self._roles[:, None].astype(np.int64) * _ROLES + self._roles[None, :]
+        ]
         self._owners = plant.geom_owners
         self._torque_limits = [float(t) for t in torque_limits_nm]
         self._saturated_at = [SATURATION_FRACTION * t for t in self._torque_limits]
@@ -312,18 +322,13 @@ class Supervisor:
 
     def _contacts(self, t_s: float, wrench: FloatArray, position: FloatArray) -> ProtectiveStop | None:
         """A stop for the first contact the statement does not expect; tracks inherited ones."""
-        roles, kinds = self._roles_list, _PAIR_KINDS
-        touching_fixture = False
-        for index, (g1, g2) in enumerate(self._data.contact.geom.tolist()):
-            kind = kinds[roles[g1] * _ROLES + roles[g2]]
-            if kind == _IGNORED:
-                continue
-            if kind == _TOOL_FIXTURE:
-                touching_fixture = True
-                if self._expect_fixture or self._guarded or self._inherited:
-                    continue
-            elif kind == _TOOL_OBSTACLE and self._guarded:
-                continue
+        geom = self._data.contact.geom
+        index, touching_fixture = first_unexpected_contact(
+            geom, self._pair_kinds, self._expect_fixture or self._guarded or self._inherited, self._guarded
+        )
+        if index >= 0:
+            roles = self._roles_list
+            g1, g2 = geom[index].tolist()
             arm, other = (g1, g2) if roles[g1] in (Role.LINK, Role.TOOL) else (g2, g1)
             return self._contact_stop(index, arm, other, roles[other], t_s, wrench)
         if self._inherited:
