@@ -5,7 +5,12 @@ user cache per cosmos version, numba version and CPU, shared by every
 environment; a temporary one if the home is read-only; none, with a warning, if
 nothing can be written), and compilations are announced on stderr
 (:mod:`cosmos.jit.notice`). ``@kernel("signature", ...)`` compiles (or loads)
-those signatures at once and no others, as ``njit`` does.
+those signatures and no others, as ``njit`` does, but at the first call (from
+Python or from another kernel) instead of at import: a kernel that only other
+kernels call is compiled into them, and a run whose kernels are cached never
+loads it on its own. Any call whose arguments convert to a declared signature
+(a C-contiguous array to an any-layout one, a writable one to a read-only one, a
+literal to its type) uses it: no second compilation.
 
 ``@kernel(read_only=("name", ...))`` compiles the named array arguments as
 read-only whatever the caller passes: numba compiles a kernel again for every
@@ -74,7 +79,33 @@ def _compile_read_only(dispatcher: Any, function: Callable[..., Any], names: tup
     dispatcher.compile = compile
 
 
-def _compiled(function: Callable[..., Any], signatures: tuple[str, ...], options: dict[str, Any]) -> Any:
+def _compile_declared(dispatcher: Any, signatures: tuple[Any, ...]) -> None:
+    """Make ``dispatcher`` compile (or load) ``signatures`` at its first compilation, and no others.
+
+    The first request, whatever its argument types, compiles the declared signatures and
+    closes the dispatcher to new ones; numba then converts every call's arguments to them.
+    """
+    compile_types = dispatcher.compile
+
+    def compile(signature: Any) -> Any:
+        if dispatcher._can_compile:
+            for declared in signatures:
+                compile_types(declared)
+            dispatcher.disable_compile()
+        asked, _ = sigutils.normalize_signature(signature)
+        typing = dispatcher.typingctx
+        for declared in signatures:
+            args, _ = sigutils.normalize_signature(declared)
+            if len(args) == len(asked) and all(
+                typing.can_convert(have, want) is not None for have, want in zip(asked, args, strict=True)
+            ):
+                return dispatcher.overloads[tuple(args)].entry_point
+        raise TypeError(f"{dispatcher.py_func.__name__}: no declared signature takes {asked}")
+
+    dispatcher.compile = compile
+
+
+def _compiled(function: Callable[..., Any], signatures: tuple[Any, ...], options: dict[str, Any]) -> Any:
     read_only = tuple(options.pop("read_only", ()))
     dispatcher = numba.njit(**options)(function)
     if read_only:
@@ -83,10 +114,8 @@ def _compiled(function: Callable[..., Any], signatures: tuple[str, ...], options
     _warn_fallback()
     if cache is not None:
         dispatcher._cache = cache  # what njit(cache=True) sets, with cosmos's locator
-    for signature in signatures:
-        dispatcher.compile(signature)
     if signatures:
-        dispatcher.disable_compile()
+        _compile_declared(dispatcher, signatures)
     return dispatcher
 
 
