@@ -196,3 +196,37 @@ def test_every_kernel_uses_the_cosmos_decorator() -> None:
         if re.search(r"^\s*@(numba\.)?(njit|jit)\b|^\s*from numba import .*\b(njit|jit)\b", text, re.M):
             offenders.append(str(path.relative_to(ROOT)))
     assert offenders == [], f"use cosmos.jit.kernel in {offenders}"
+
+
+def test_declared_signatures_compile_at_the_first_call_and_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A kernel with a declared signature was compiled (or loaded from the cache) at import: a warm
+    run loaded the linear-algebra kernels it only ever calls from other kernels (9 loads, about
+    50 ms). Catches that, and a second compilation for arguments that convert to the declared
+    signature (a contiguous, a strided and a read-only array; from Python and from a kernel)."""
+    monkeypatch.setattr(cache, "kernel_directory", lambda: None)
+    from numba.core import types
+
+    any_vector = types.Array(types.float64, 1, "A", readonly=True)
+
+    def total(values: np.ndarray) -> float:
+        acc = 0.0
+        for value in values:
+            acc += value
+        return acc
+
+    declared = kernel(types.float64(any_vector))(total)
+    assert declared.signatures == []  # nothing compiled yet
+
+    def twice_total(values: np.ndarray) -> float:
+        return 2.0 * declared(values)
+
+    caller = kernel(twice_total)
+    assert caller(np.arange(4.0)) == 12.0  # the declared kernel compiled inside the caller
+    frozen = np.arange(6.0)
+    frozen.flags.writeable = False
+    assert declared(np.arange(4.0)) == 6.0
+    assert declared(frozen[::2]) == 6.0
+    assert declared(frozen) == 15.0
+    assert len(declared.signatures) == 1 and declared.signatures[0] == (any_vector,)
+    with pytest.raises(TypeError):
+        declared(np.arange(4))  # integers do not convert to the declared float64 array
