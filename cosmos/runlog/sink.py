@@ -41,7 +41,13 @@ class LogSink(io.RawIOBase):
         self.reported = False  # whether check() has raised the error
         self._position = 0  # where the writer believes it is: the file's, until an error
         self._end = 0
-        self._syncing: threading.Thread | None = None
+        # One fsync thread for the file's life, started by the first sync: a thread started
+        # per statement cost the loop up to 2 ms each on a loaded machine (waiting for it to run).
+        self._syncer: threading.Thread | None = None
+        self._sync_state = threading.Condition()
+        self._asked = 0  # syncs asked for
+        self._synced = 0  # of them, those on disk (one fsync covers all asked before it began)
+        self._closing = False
 
     def writable(self) -> bool:
         """Yes."""
@@ -85,29 +91,53 @@ class LogSink(io.RawIOBase):
         """Nothing to do: the file is unbuffered (:meth:`sync` puts it on disk)."""
 
     def sync(self) -> None:
-        """Ask the OS to put the data written so far on disk, beside the caller.
+        """Ask the OS to put the data written so far on disk, beside the caller (who does not wait).
 
-        The ``fsync`` runs in a thread (it waits for the disk: milliseconds, which the
-        servo loop need not wait for); a sync still running is waited for first, and
-        :meth:`close` waits for the last. Its error is kept like a write error.
+        The ``fsync`` runs in the file's sync thread (it waits for the disk: milliseconds,
+        which the servo loop need not wait for); syncs asked for while one runs are done
+        by the next, one at a time, and :meth:`close` waits for the last. Its error is
+        kept like a write error.
         """
-        self.wait()
-        if self.error is None:
-            self._syncing = threading.Thread(target=self._fsync, name="cosmos-log-fsync", daemon=True)
-            self._syncing.start()
+        if self.error is not None:
+            return
+        with self._sync_state:
+            self._asked += 1
+            if self._syncer is None:
+                self._syncer = threading.Thread(target=self._sync_loop, name="cosmos-log-fsync", daemon=True)
+                self._syncer.start()
+            self._sync_state.notify_all()
 
-    def _fsync(self) -> None:
-        try:
-            os.fsync(self._stream.fileno())
-        except (OSError, ValueError) as error:  # ValueError: closed under it (cannot happen: close waits)
-            if self.error is None:
-                self.error = error if isinstance(error, OSError) else OSError(str(error))
+    def _sync_loop(self) -> None:
+        state = self._sync_state
+        while True:
+            with state:
+                while self._synced == self._asked and not self._closing:
+                    state.wait()
+                if self._synced == self._asked:  # closing, nothing left
+                    return
+                asked = self._asked
+            try:
+                os.fsync(self._stream.fileno())
+            except (OSError, ValueError) as error:  # ValueError: closed under it (cannot happen: close waits)
+                if self.error is None:
+                    self.error = error if isinstance(error, OSError) else OSError(str(error))
+            with state:
+                self._synced = asked
+                state.notify_all()
 
     def wait(self) -> None:
-        """Wait until the last :meth:`sync` has put the data on disk."""
-        syncing, self._syncing = self._syncing, None
-        if syncing is not None:
-            syncing.join()
+        """Wait until every :meth:`sync` asked for so far has put the data on disk."""
+        with self._sync_state:
+            while self._synced < self._asked and self._syncer is not None and self._syncer.is_alive():
+                self._sync_state.wait()
+
+    def _stop_syncing(self) -> None:
+        """Wait for the last sync and end the sync thread."""
+        with self._sync_state:
+            self._closing = True
+            self._sync_state.notify_all()
+        if self._syncer is not None:
+            self._syncer.join()
 
     def check(self) -> None:
         """Raise the first write error, if there was one.
@@ -122,7 +152,7 @@ class LogSink(io.RawIOBase):
     def close(self) -> None:
         """Close the file; an error closing it is kept like a write error."""
         if not self.closed:
-            self.wait()
+            self._stop_syncing()
             try:
                 self._stream.close()
             except OSError as error:

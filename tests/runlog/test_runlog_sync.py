@@ -5,6 +5,8 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -28,17 +30,37 @@ def test_close_waits_for_the_fsync_and_its_error_is_reported(tmp_path: Path) -> 
         sink.check()
 
 
-def test_a_sync_after_a_sync_waits_for_the_first(tmp_path: Path) -> None:
-    """Catches two fsyncs of one file running at once (a thread per statement piling up)."""
+def test_syncs_share_one_thread_one_fsync_at_a_time(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Catches two fsyncs of one file running at once, a thread started per statement (each start
+    cost the loop up to 2 ms on a loaded machine), and a sync asked for during a running fsync lost
+    (its data not on disk when the file closes)."""
+    running, most, calls = [0], [0], []
+    real_fsync = os.fsync
+
+    def slow_fsync(fd: int) -> None:
+        running[0] += 1
+        most[0] = max(most[0], running[0])
+        time.sleep(0.02)
+        calls.append(fd)
+        real_fsync(fd)
+        running[0] -= 1
+
+    monkeypatch.setattr(os, "fsync", slow_fsync)
+    before = threading.active_count()
     with (tmp_path / "f").open("wb", buffering=0) as stream:
         sink = LogSink(tmp_path / "f", stream)
-        sink.write(b"abc")
+        for chunk in (b"a", b"b", b"c", b"d"):
+            sink.write(chunk)
+            sink.sync()  # returns at once: the fsync runs beside
+        assert threading.active_count() <= before + 1
+        sink.wait()
+        assert sink._synced == sink._asked == 4
+        sink.write(b"e")
         sink.sync()
-        first = sink._syncing
-        sink.sync()
-        assert first is not None and not first.is_alive()
         sink.close()
-    assert sink.error is None and (tmp_path / "f").read_bytes() == b"abc"
+    assert most[0] == 1 and 2 <= len(calls) <= 5  # asked-for syncs coalesce, the last one runs
+    assert sink.error is None and (tmp_path / "f").read_bytes() == b"abcde"
+    assert sink._syncer is not None and not sink._syncer.is_alive()
 
 
 def test_a_run_imports_neither_the_reader_nor_the_plotting() -> None:
