@@ -153,7 +153,7 @@ def test_without_any_cache_kernels_compile_and_run(
     err = capsys.readouterr().err
     assert "cannot keep compiled kernels anywhere" in err and "COSMOS_CACHE_DIR" in err
     assert listener.announced == {"the controller"} and listener.compiled == 1
-    assert "compiling the controller for this machine, once: about 20 s (kept in nowhere)" in err
+    assert "compiling the controller for this machine, once: about 15 s (kept in nowhere)" in err
 
 
 def test_read_only_arguments_compile_once(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -14,7 +14,6 @@ commanded), writes a ``failed`` event (after a ``protective_stop`` one, and a
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import NoReturn
@@ -30,6 +29,7 @@ from cosmos.execution.monitor import (
     SegmentMonitor,
     Snapshot,
     Verdict,
+    distance_to_point,
     failure_text,
     statement_head,
 )
@@ -267,11 +267,7 @@ class Executor:
         def deviation() -> float:
             return supervisor.path_deviation_m(position)
 
-        def distance_to(point: tuple[float, ...]) -> float:  # every tick: floats, not an array's norm
-            x, y, z = position.tolist()
-            return math.sqrt((x - point[0]) ** 2 + (y - point[1]) ** 2 + (z - point[2]) ** 2)
-
-        goal_points = [tuple(goal[0].tolist()) for goal in goals]
+        goal_points = [tuple(goal[0].tolist()) for goal in goals]  # as floats: distances every tick
 
         while True:
             if obstacles is not None:
@@ -302,7 +298,7 @@ class Executor:
                 return Outcome(Verdict.FAILED, stop.message, stop)
             snapshot.t_s = now
             if goal_index < last_goal:
-                if distance_to(goal_points[goal_index]) < via_radius:
+                if distance_to_point(position, goal_points[goal_index]) < via_radius:
                     goal_index += 1
                     supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
                     rt.set_setpoint(
@@ -313,7 +309,7 @@ class Executor:
                     return outcome
                 continue
             if watch_minima and obstacles is not None:
-                stuck = obstacles.local_minimum(distance_to(goal_points[-1]))
+                stuck = obstacles.local_minimum(distance_to_point(position, goal_points[-1]))
                 if stuck is not None:
                     head = statement_head(segment.statement)
                     return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())

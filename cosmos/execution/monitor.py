@@ -94,6 +94,12 @@ def _norm3(v: FloatArray) -> float:
     return math.sqrt(x * x + y * y + z * z)
 
 
+def distance_to_point(position: FloatArray, point: tuple[float, ...]) -> float:
+    """The distance from ``position`` (3,) to ``point``, in floats (cheaper than an array's norm)."""
+    x, y, z = position.tolist()
+    return math.sqrt((x - point[0]) ** 2 + (y - point[1]) ** 2 + (z - point[2]) ** 2)
+
+
 def statement_head(statement: str) -> str:
     """The statement's keyword and its first operand, as messages name it (``CONTACT UP``, ``WAIT 2 s``)."""
     words = statement.split()

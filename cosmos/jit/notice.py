@@ -33,9 +33,9 @@ class KernelGroup:
 
 
 GROUPS = (
-    KernelGroup("cosmos.obstacles.", "the obstacle field", 10.0),
-    KernelGroup("cosmos.runlog.", "the run log's writer", 5.0),
-    KernelGroup("cosmos.", "the controller", 20.0),
+    KernelGroup("cosmos.obstacles.", "the obstacle field", 5.0),
+    KernelGroup("cosmos.runlog.", "the run log's writer", 2.0),
+    KernelGroup("cosmos.", "the controller", 15.0),
 )
 """Measured on the development machine with a fresh cache (``cosmos bench`` reports the total)."""
 

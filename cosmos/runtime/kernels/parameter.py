@@ -286,11 +286,8 @@ def refold(
     error = vectors[sk.REFERENCE_ERROR, :6]
     for i in range(3):
         error[i] = evaluation[ek.POSITION + i] - goal_position[i]
-    scaled_into(
-        error[3:],
-        unwrapped_rotation_error(rotation_log(matmul(rotation_tool, goal_rotation_to_world.T)), error[3:]),
-        1.0,
-    )
+    rotation_error = rotation_log(matmul(rotation_tool, goal_rotation_to_world.T))
+    scaled_into(error[3:], unwrapped_rotation_error(rotation_error, error[3:]), 1.0)
     limit_projection = np.eye(6)
     if constants.shape[0] > LIMITS_OFFSET:
         toward_goal = np.empty(6)
