@@ -36,6 +36,8 @@ import mujoco
 import numpy as np
 
 from cosmos.errors import CosmosError
+from cosmos.hand.fingers import Fingers
+from cosmos.hand.gripper_scene import DRIVE
 from cosmos.realism.plant_realism import PlantRealism
 from cosmos.realism.sensing import Sensing
 from cosmos.workcell import FORCE_SENSOR, HOME_KEY, SCENE_XML, TORQUE_SENSOR
@@ -123,8 +125,9 @@ class Plant:
 
     Args:
         scene_xml: MJCF file of the scene. It must have the hinge joints and
-            motors ``joint1`` .. ``joint<n>`` as its only degrees of freedom and
-            actuators, in that order, and a keyframe ``home``. The wrist sensor
+            motors ``joint1`` .. ``joint<n>`` as its first degrees of freedom and
+            actuators, in that order, and a keyframe ``home``; after them it may have a
+            gripper's fingers and drive (:mod:`cosmos.hand`) and free objects. The wrist sensor
             (``ft_force``, ``ft_torque``) is optional: without it
             :meth:`read_wrench_sensor` raises.
         sensor_noise: Noise (and bias) of the wrist sensor; None: exact readings.
@@ -150,7 +153,7 @@ class Plant:
         if realism is not None:
             realism.arm.apply_to_spec(spec)
         model = spec.compile()
-        _check_arm(model, scene_xml)
+        n = _check_arm(model, scene_xml)
         home = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
         if home < 0:
             raise CosmosError(f"{scene_xml}: the scene has no keyframe '{HOME_KEY}'")
@@ -161,9 +164,10 @@ class Plant:
         self._geom_names = tuple(model.geom(i).name for i in range(model.ngeom))
         self._geom_owners = _geom_owners(spec, model)
         # Views into MjData's buffers, taken once: the hot loop does not rebuild them.
-        self._qpos = self._data.qpos  # (n,)
-        self._qvel = self._data.qvel  # (n,)
-        self._ctrl = self._data.ctrl  # (n,)
+        # The arm's joints come first in qpos, qvel and ctrl (_check_arm): views of their n.
+        self._qpos = self._data.qpos[:n]  # (n,)
+        self._qvel = self._data.qvel[:n]  # (n,)
+        self._ctrl = self._data.ctrl[:n]  # (n,)
         self._sensordata = self._data.sensordata
         self._noise_std = None if sensor_noise is None else sensor_noise.std
         self._noise_bias = np.zeros(6) if sensor_noise is None else np.array(sensor_noise.bias, dtype=float)
@@ -178,6 +182,13 @@ class Plant:
         self._noise_next = _NOISE_BLOCK  # the first reading draws the first block
         self._realism = realism
         self._sensing = None if realism is None else Sensing(realism, model, self._data, self._wrench_index)
+        self._fingers = (
+            None
+            if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, DRIVE) < 0
+            else Fingers(
+                model, self._data, 0 if sensor_noise is None else sensor_noise.seed, realism is not None
+            )
+        )
         self.reset()
 
     @property
@@ -194,6 +205,11 @@ class Plant:
     def realism(self) -> PlantRealism | None:
         """The realistic plant's arm error and sensing; None for the ideal plant."""
         return self._realism
+
+    @property
+    def fingers(self) -> Fingers | None:
+        """The gripper's drive and pad sensors (``TOOL GRIPPER``); None with the peg."""
+        return self._fingers
 
     @property
     def geom_owners(self) -> tuple[str, ...]:
@@ -224,6 +240,8 @@ class Plant:
         mujoco.mj_forward(self._model, self._data)
         if self._sensing is not None:
             self._sensing.reset()
+        if self._fingers is not None:
+            self._fingers.reset()
 
     def step(self, tau: np.ndarray) -> float:
         """Apply joint torques for one time step and advance the simulation.
@@ -250,6 +268,9 @@ class Plant:
         sensing = self._sensing
         if sensing is not None:
             sensing.sense()
+        fingers = self._fingers
+        if fingers is not None:
+            fingers.sense()
         return float(data.time)
 
     def live_signals(self) -> LiveSignals:
@@ -342,25 +363,32 @@ class Plant:
         ]
 
 
-def _check_arm(model: mujoco.MjModel, scene_xml: Path | str) -> None:
-    """Raise unless the DOFs and actuators are the n joints ``joint1`` .. ``joint<n>``, in order."""
-    joints = tuple(model.joint(i).name for i in range(model.njnt))
-    names = tuple(f"joint{k}" for k in range(1, max(model.njnt, 1) + 1))
-    hinges = all(t == mujoco.mjtJoint.mjJNT_HINGE for t in model.jnt_type)
-    if joints != names or not hinges or model.nq != len(names):
+def _check_arm(model: mujoco.MjModel, scene_xml: Path | str) -> int:
+    """The arm's n; raise unless the first DOFs and actuators are the n joints ``joint1`` .. ``joint<n>``.
+
+    After them a scene may have other joints (fingers, free objects) and actuators (the
+    gripper's drive), none named ``joint<k>``.
+    """
+    all_joints = tuple(model.joint(i).name for i in range(model.njnt))
+    count = sum(1 for name in all_joints if name.startswith("joint"))
+    joints = all_joints[:count]
+    names = tuple(f"joint{k}" for k in range(1, max(count, 1) + 1))
+    hinges = all(t == mujoco.mjtJoint.mjJNT_HINGE for t in model.jnt_type[:count])
+    if joints != names or not hinges or int(model.jnt_qposadr[count - 1]) != count - 1:
         raise CosmosError(
             f"{scene_xml}: expected exactly the hinge joints {', '.join(names)}, "
             f"found: {', '.join(joints) or 'none'}"
         )
-    targets = tuple(model.joint(int(j)).name for j in model.actuator_trnid[:, 0])
-    motors = tuple(model.actuator(i).name for i in range(model.nu))
+    targets = tuple(model.joint(int(j)).name for j in model.actuator_trnid[:count, 0])
+    motors = tuple(model.actuator(i).name for i in range(min(model.nu, count)))
     if motors != names or targets != names:
         raise CosmosError(
             f"{scene_xml}: expected the motors {', '.join(names)} on the joints of the "
             f"same names, found: {', '.join(motors) or 'none'}"
         )
-    if not model.actuator_ctrllimited.all():
+    if not model.actuator_ctrllimited[:count].all():
         raise CosmosError(f"{scene_xml}: every motor needs its torque limits (ctrllimited, ctrlrange)")
+    return count
 
 
 def _geom_owners(spec: mujoco.MjSpec, model: mujoco.MjModel) -> tuple[str, ...]:

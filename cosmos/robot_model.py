@@ -22,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from cosmos.errors import CosmosError
+from cosmos.hand.tool import Tool
 from cosmos.robots import DEFAULT_ROBOT, Robot
 from cosmos.workcell import FLANGE_SITE, SENSOR_SITE, TOOL_SITE, ToolSpec, read_only, tool_spec
 
@@ -89,8 +90,13 @@ def _drive_torque_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     return lower, upper
 
 
-def build_robot_model(robot: Robot = DEFAULT_ROBOT) -> RobotModel:
-    """Build the controller's model: the bare arm from its MJCF plus its tool (:func:`tool_spec`)."""
+def build_robot_model(robot: Robot = DEFAULT_ROBOT, tool: Tool = Tool.PEG) -> RobotModel:
+    """Build the controller's model: the bare arm from its MJCF plus its tool (:func:`tool_spec`).
+
+    Args:
+        robot: The arm.
+        tool: The hand on its flange (the scene's peg, or the gripper: ``TOOL``).
+    """
     model = pin.buildModelFromMJCF(str(robot.arm_xml))
     model.gravity = pin.Motion(GRAVITY, np.zeros(3))
     names = tuple(model.names[1:])
@@ -100,7 +106,7 @@ def build_robot_model(robot: Robot = DEFAULT_ROBOT) -> RobotModel:
     last_joint = model.frames[flange].parentJoint
     flange_in_joint = model.frames[flange].placement
 
-    spec = tool_spec(robot)
+    spec = tool_spec(robot, tool)
     tool_inertia = pin.Inertia(spec.mass_kg, spec.com_in_flange, spec.inertia_in_flange)
     model.appendBodyToJoint(last_joint, tool_inertia, flange_in_joint)
     sensor_in_flange = pin.SE3(spec.sensor_rotation_in_flange, spec.sensor_position_in_flange)
@@ -109,7 +115,7 @@ def build_robot_model(robot: Robot = DEFAULT_ROBOT) -> RobotModel:
         pin.Frame(SENSOR_SITE, last_joint, flange, flange_in_joint * sensor_in_flange, pin.OP_FRAME),
         False,
     )
-    tool = model.addFrame(
+    tool_frame = model.addFrame(
         pin.Frame(TOOL_SITE, last_joint, flange, flange_in_joint * tool_in_flange, pin.OP_FRAME),
         False,
     )
@@ -127,7 +133,7 @@ def build_robot_model(robot: Robot = DEFAULT_ROBOT) -> RobotModel:
         data=model.createData(),
         flange_frame=flange,
         sensor_frame=sensor,
-        tool_frame=tool,
+        tool_frame=tool_frame,
         q_lower_rad=read_only(model.lowerPositionLimit),
         q_upper_rad=read_only(model.upperPositionLimit),
         tau_lower_nm=read_only(tau_lower),

@@ -30,6 +30,8 @@ import numpy as np
 from cosmos.capabilities import ARM_CAPABILITY as ARM_CAPABILITY
 from cosmos.capabilities import WRIST_SENSOR as WRIST_SENSOR
 from cosmos.errors import CosmosError
+from cosmos.hand.gripper_scene import mount_gripper
+from cosmos.hand.tool import Tool
 from cosmos.robots import DEFAULT_ROBOT, PUMA560, Robot
 
 MODEL_DIR: Path = PUMA560.model_dir
@@ -113,10 +115,20 @@ def _object_id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
     return int(index)
 
 
+def scene_spec(scene_xml: Path, tool: Tool = Tool.PEG) -> mujoco.MjSpec:
+    """An arm's workcell as a spec, carrying ``tool`` (the scene file's peg, or the gripper)."""
+    spec = mujoco.MjSpec.from_file(str(scene_xml))
+    if tool is Tool.GRIPPER:
+        mount_gripper(spec)
+    return spec
+
+
 @functools.cache
-def _scene_at_home(scene_xml: Path = SCENE_XML) -> tuple[mujoco.MjModel, mujoco.MjData]:
+def _scene_at_home(
+    scene_xml: Path = SCENE_XML, tool: Tool = Tool.PEG
+) -> tuple[mujoco.MjModel, mujoco.MjData]:
     """The compiled scene with the kinematics evaluated at the home keyframe."""
-    model = mujoco.MjModel.from_xml_path(str(scene_xml))
+    model = scene_spec(scene_xml, tool).compile()
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY))
     mujoco.mj_kinematics(model, data)
@@ -145,9 +157,13 @@ def _rotation(quat: np.ndarray) -> np.ndarray:
 
 
 @functools.cache
-def tool_spec(robot: Robot = DEFAULT_ROBOT) -> ToolSpec:
-    """The tool mounted on the arm's flange in its scene, as the controller is allowed to know it."""
-    model, _ = _scene_at_home(robot.scene_xml)
+def tool_spec(robot: Robot = DEFAULT_ROBOT, tool: Tool = Tool.PEG) -> ToolSpec:
+    """The tool mounted on the arm's flange in its scene, as the controller is allowed to know it.
+
+    The gripper's mass properties are those of the ``tool`` body and its fingers together,
+    the fingers open (as at home).
+    """
+    model, data = _scene_at_home(robot.scene_xml, tool)
     flange = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, FLANGE_SITE)
     body = _object_id(model, mujoco.mjtObj.mjOBJ_BODY, TOOL_BODY)
     sensor = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, SENSOR_SITE)
@@ -169,16 +185,54 @@ def tool_spec(robot: Robot = DEFAULT_ROBOT) -> ToolSpec:
     def rotation_in_flange(quat_in_body: np.ndarray) -> np.ndarray:
         return read_only(rotation_body @ _rotation(quat_in_body))
 
-    principal_axes = rotation_in_flange(model.body_iquat[body])
+    if model.body_subtreemass[body] == model.body_mass[body]:  # one rigid body: its own inertial
+        principal_axes = rotation_in_flange(model.body_iquat[body])
+        mass_kg = float(model.body_mass[body])
+        com_in_flange = position_in_flange(model.body_ipos[body])
+        inertia = principal_axes @ np.diag(model.body_inertia[body]) @ principal_axes.T
+    else:
+        mass_kg, com_in_flange, inertia = _composite_in_flange(model, data, body, flange)
     return ToolSpec(
-        mass_kg=float(model.body_mass[body]),
-        com_in_flange=position_in_flange(model.body_ipos[body]),
-        inertia_in_flange=read_only(principal_axes @ np.diag(model.body_inertia[body]) @ principal_axes.T),
+        mass_kg=mass_kg,
+        com_in_flange=com_in_flange,
+        inertia_in_flange=read_only(inertia),
         sensor_position_in_flange=position_in_flange(model.site_pos[sensor]),
         sensor_rotation_in_flange=rotation_in_flange(model.site_quat[sensor]),
         tool_position_in_flange=position_in_flange(model.site_pos[point]),
         tool_rotation_in_flange=rotation_in_flange(model.site_quat[point]),
     )
+
+
+def _composite_in_flange(
+    model: mujoco.MjModel, data: mujoco.MjData, root: int, flange: int
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """Mass, centre of mass and inertia about it (flange axes) of body ``root`` and its subtree.
+
+    Summed over the bodies at the scene's home pose by the parallel-axis theorem, from
+    MuJoCo's world-frame centres (``xipos``) and principal axes (``ximat``).
+    """
+    bodies = [b for b in range(model.nbody) if _descends(model, b, root)]
+    rotation_flange = data.site_xmat[flange].reshape(3, 3)
+    origin_flange = data.site_xpos[flange]
+    masses = np.array([model.body_mass[b] for b in bodies])
+    centres = np.array([rotation_flange.T @ (data.xipos[b] - origin_flange) for b in bodies])
+    mass = float(masses.sum())
+    com = masses @ centres / mass
+    inertia = np.zeros((3, 3))
+    for b, m, c in zip(bodies, masses, centres, strict=True):
+        axes = rotation_flange.T @ data.ximat[b].reshape(3, 3)
+        r = c - com
+        inertia += axes @ np.diag(model.body_inertia[b]) @ axes.T + m * (r @ r * np.eye(3) - np.outer(r, r))
+    return mass, read_only(com), inertia
+
+
+def _descends(model: mujoco.MjModel, body: int, root: int) -> bool:
+    """Whether ``body`` is ``root`` or below it."""
+    while body > 0:
+        if body == root:
+            return True
+        body = int(model.body_parentid[body])
+    return False
 
 
 @functools.cache

@@ -11,6 +11,10 @@ from cosmos import __version__
 from cosmos.execution.executor import Executor, ProgressCallback
 from cosmos.execution.fixtures import fixture_primitives
 from cosmos.execution.obstacles import ObstacleWorld
+from cosmos.hand.gripper_scene import mount_gripper
+from cosmos.hand.object_scene import add_objects
+from cosmos.hand.tool import Tool
+from cosmos.hand.work_object import WorkObject
 from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant, SensorNoise
 from cosmos.realism.plant_realism import PlantRealism, ideal_metadata
@@ -60,6 +64,10 @@ class Session:
         robot: The arm (the program's ``ROBOT``; the PUMA 560 by default); recorded in the
             log's metadata (``robot``, ``joints``, ``model``, ``scene``). The realistic plant
             is the PUMA's (its published friction and encoders): the Panda runs the ideal one.
+        tool: The hand on the flange (the program's ``TOOL``): the scene's peg, or the gripper
+            mounted below the wrist sensor (:mod:`cosmos.hand`); recorded in the log's
+            metadata (``tool``).
+        objects: The program's objects (``OBJECT``), free bodies of the workcell from the start.
     """
 
     def __init__(
@@ -76,10 +84,12 @@ class Session:
         ideal: bool = False,
         model_error: float | None = None,
         robot: Robot = DEFAULT_ROBOT,
+        tool: Tool = Tool.PEG,
+        objects: tuple[WorkObject, ...] = (),
     ):
-        noise, edit, varied = SensorNoise(seed), None, {}
+        noise, vary, varied = SensorNoise(seed), None, {}
         if variation is not None:
-            noise, edit = variation.sensor_noise(), variation.apply_to_spec
+            noise, vary = variation.sensor_noise(), variation.apply_to_spec
             seed = noise.seed
             varied = {"variation": variation.arguments()}
             ideal = ideal or variation.ideal
@@ -94,8 +104,17 @@ class Session:
             )
         plant_metadata = ideal_metadata() if realism is None else realism.metadata()
         self.robot = robot
+        self.tool = tool
+
+        def edit(spec: mujoco.MjSpec) -> None:
+            if tool is Tool.GRIPPER:
+                mount_gripper(spec)
+            add_objects(spec, objects)  # after the fingers: the keyframe holds the arm's and theirs
+            if vary is not None:
+                vary(spec)
+
         self.plant = Plant(obstacle_scene_xml(scene_xml=robot.scene_xml), noise, edit, realism)
-        self.runtime = Runtime(self.plant, build_robot_model(robot), rates, gains)
+        self.runtime = Runtime(self.plant, build_robot_model(robot, tool), rates, gains)
         self.log = RunLog(
             log_path,
             program=program,
@@ -105,7 +124,12 @@ class Session:
             state_hz=rates.state_hz,
             model=robot.source,
             seed=seed,
-            metadata={"scene": robot.scene_xml.name, "robot": robot.name, "cosmos_version": __version__}
+            metadata={
+                "scene": robot.scene_xml.name,
+                "robot": robot.name,
+                "tool": tool.value,
+                "cosmos_version": __version__,
+            }
             | plant_metadata
             | varied,
             frames=robot.frames,

@@ -53,10 +53,10 @@ class Sensing:
     def __init__(
         self, realism: PlantRealism, model: mujoco.MjModel, data: mujoco.MjData, wrench_index: WrenchIndex
     ):
-        n = model.nq
-        if len(realism.encoder_resolution_rad) != n or len(realism.arm.joints) != n:
+        n = len(realism.arm.joints)  # the arm's joints come first; a gripper's and objects' follow
+        if len(realism.encoder_resolution_rad) != n or model.nq < n:
             raise CosmosError(
-                f"the realistic plant is drawn for {len(realism.arm.joints)} joints, the arm has {n}"
+                f"the realistic plant is drawn for {len(realism.arm.joints)} joints, the scene has {model.nq}"
             )
         dt = float(model.opt.timestep)
         self.scalars = np.zeros(SCALARS)
@@ -82,8 +82,8 @@ class Sensing:
             self._wrench_index = np.asarray(wrench_index, dtype=np.int64)
         # MjData's buffers, taken once (they are updated in place, never replaced).
         self._data = data
-        self._qpos, self._qvel, self._sensordata = data.qpos, data.qvel, data.sensordata
-        self._qfrc_applied = data.qfrc_applied
+        self._qpos, self._qvel, self._sensordata = data.qpos[:n], data.qvel[:n], data.sensordata
+        self._qfrc_applied = data.qfrc_applied[:n]
 
     def reset(self) -> None:
         """At rest: the observer on the encoders' reading, the sensor's filter settled."""

@@ -1,0 +1,53 @@
+"""Objects of the workcell that the gripper can pick up: what a program's ``OBJECT`` declares.
+
+No simulator here (the language builds these); :mod:`cosmos.hand.object_scene` makes each
+one a free MuJoCo body.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+DEFAULT_OBJECT_FRICTION = 0.5
+"""Sliding friction of an object that names none (wood or plastic on the fixtures' 0.3)."""
+
+
+class ObjectShape(Enum):
+    """The shape of an object."""
+
+    BOX = "box"
+    CYLINDER = "cylinder"
+
+
+@dataclass(frozen=True)
+class WorkObject:
+    """A rigid, uniform object, free in the workcell.
+
+    Attributes:
+        name: Its name in programs (``GRASP block``) and the MuJoCo body's.
+        shape: Box or cylinder (axis along its frame's z).
+        half_extents_m: Half sizes along its frame's x, y, z [m]; a cylinder's x and y are its
+            radius.
+        mass_kg: Its mass [kg]; uniform density.
+        position_m: Its centre at the start, world [m].
+        quat_wxyz: Its orientation at the start, frame to world (w, x, y, z).
+        friction: Sliding friction coefficient of its surface.
+    """
+
+    name: str
+    shape: ObjectShape
+    half_extents_m: tuple[float, float, float]
+    mass_kg: float
+    position_m: tuple[float, float, float]
+    quat_wxyz: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    friction: float = DEFAULT_OBJECT_FRICTION
+
+    def inertia_diagonal_kgm2(self) -> tuple[float, float, float]:
+        """Principal moments about the centre, its frame's axes [kg m^2] (uniform solid)."""
+        a, b, c = self.half_extents_m
+        m = self.mass_kg
+        if self.shape is ObjectShape.BOX:
+            return (m * (b * b + c * c) / 3.0, m * (a * a + c * c) / 3.0, m * (a * a + b * b) / 3.0)
+        radial = m * (3.0 * a * a + 4.0 * c * c) / 12.0  # height 2c
+        return (radial, radial, m * a * a / 2.0)

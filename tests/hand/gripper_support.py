@@ -1,0 +1,47 @@
+"""A gripper session with a block under the fingers, for the hand's tests.
+
+The numbers that judge the runs are written here from the gripper's datasheet and the
+block's declaration (Robotiq 2F-85: 0.925 kg; the wrist sensor's housing on the tool side:
+0.25 kg, ``cosmos/models/puma560/scene.xml``), not read from the code under test.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from cosmos.execution.session import Session
+from cosmos.hand.tool import Tool
+from cosmos.hand.work_object import ObjectShape, WorkObject
+from cosmos.lang import compile_program
+from cosmos.runtime.rates import Rates
+from cosmos.workcell import fixture_frames
+
+G = 9.81
+HAND_MASS_KG = 0.925 + 0.25
+"""The gripper (datasheet) and the sensor's tool-side housing [kg]."""
+HOME_TCP_XY = (0.5963, -0.15005)
+"""The tool point's x, y at home [m] (the peg's tip's: the gripper's is on the same axis)."""
+BLOCK = WorkObject("block", ObjectShape.BOX, (0.02, 0.015, 0.025), 0.5, (*HOME_TCP_XY, 0.225))
+"""A 0.5 kg block, 40 mm between the pads, standing on the table under the home tool point."""
+DOWN_TO_BLOCK = "MOVE BY (0, 0, -232.5 mm) SPEED 0.1 m/s\n"
+"""From home to the pads' centres 12.5 mm below the block's top (the pads are 25 mm tall)."""
+
+
+def gripper_session(tmp_path: Path, ideal: bool, objects: tuple[WorkObject, ...] = (BLOCK,)) -> Session:
+    """A session of the PUMA with the gripper and ``objects``, logging to ``tmp_path``."""
+    return Session(
+        "t.cos", None, tmp_path / "t.mcap", Rates(), 3, tool=Tool.GRIPPER, ideal=ideal, objects=objects
+    )
+
+
+def run_text(session: Session, text: str) -> None:
+    """Compile ``text`` and run it in ``session``."""
+    session.executor.run(compile_program(text, "t.cos", fixture_frames()))
+
+
+def body_position(session: Session, name: str) -> np.ndarray:
+    """MuJoCo's position of body ``name``, world [m]."""
+    plant = session.plant
+    return plant.data.xpos[plant.model.body(name).id].copy()
