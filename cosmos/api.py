@@ -157,6 +157,7 @@ def run(
     """
     from cosmos.execution.program import stop_on_signals
     from cosmos.execution.session import Session
+    from cosmos.hand.tool import Tool
     from cosmos.robots import robot_named
     from cosmos.runlog.writer import default_log_path
     from cosmos.runtime.rates import Rates
@@ -185,6 +186,8 @@ def run(
             progress,
             ideal=ideal,
             robot=robot_named(plan.robot),
+            tool=Tool(plan.tool),
+            objects=plan.objects,
         )
     except OSError as error:  # the log cannot be created there
         raise UsageError(f"{log_path}: cannot write the log: {error.strerror or error}") from None

@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cosmos.errors import CosmosError, Span
+from cosmos.hand.work_object import WorkObject
 from cosmos.rotations import matrix_to_quaternion
 
 FloatArray = NDArray[np.float64]
@@ -561,6 +562,35 @@ class RemoveObstacle:
     statement: str
 
 
+class HandAction(enum.Enum):
+    """What a hand step does."""
+
+    GRASP = "grasp"
+    RELEASE = "release"
+
+
+@dataclass(frozen=True, eq=False)
+class HandStep:
+    """GRASP or RELEASE: the gripper closes on an object and holds it, or opens and lets go.
+
+    Attributes:
+        action: Grasp or release.
+        object_name: The object a GRASP names (as declared), or None for whatever is between
+            the fingers; None for a RELEASE.
+        force_n: The grip force [N] (a RELEASE opens with the drive's smallest force).
+        width_m: The opening a GRASP expects to close to (``WIDTH``) [m], or None.
+        span, line, statement: Where it was written.
+    """
+
+    action: HandAction
+    object_name: str | None
+    force_n: float
+    width_m: float | None
+    span: Span
+    line: int
+    statement: str
+
+
 # -------------------------------------------------------- decided at run time
 
 
@@ -644,7 +674,7 @@ class Retry:
     context: str
 
 
-Step = Segment | AddObstacle | RemoveObstacle | Branch | Loop | Attempt | Retry
+Step = Segment | AddObstacle | RemoveObstacle | HandStep | Branch | Loop | Attempt | Retry
 Decided = Branch | Loop | Attempt | Retry
 """The steps decided at run time."""
 
@@ -696,6 +726,8 @@ class Plan:
         warnings: Diagnostics that do not stop the program.
         robot: The arm it runs on (:data:`cosmos.robots.ROBOTS`: its ROBOT statement, else the
             run's ``--robot``, else the PUMA 560).
+        tool: The hand on the flange (``peg`` or ``gripper``: its TOOL statement, else the peg).
+        objects: The workcell's free objects (its OBJECT statements), there from the start.
     """
 
     file: str
@@ -703,6 +735,8 @@ class Plan:
     steps: tuple[Step, ...]
     warnings: tuple[Diagnostic, ...]
     robot: str = "puma560"
+    tool: str = "peg"
+    objects: tuple[WorkObject, ...] = ()
 
     @property
     def segments(self) -> tuple[Segment, ...]:
@@ -855,6 +889,15 @@ def step_to_json(step: Step) -> dict[str, Any]:
         return _decided_to_json(step)
     if isinstance(step, RemoveObstacle):
         return {"step": "remove_obstacle", "name": step.name, "line": step.line, "statement": step.statement}
+    if isinstance(step, HandStep):
+        return {
+            "step": step.action.value,
+            "object": step.object_name,
+            "force": step.force_n,
+            "width": step.width_m,
+            "line": step.line,
+            "statement": step.statement,
+        }
     return {
         "step": "add_obstacle",
         "name": step.name,
@@ -877,6 +920,18 @@ def plan_to_json(plan: Plan) -> Mapping[str, Any]:
     return {
         "file": plan.file,
         "robot": plan.robot,
+        "tool": plan.tool,
+        "objects": [
+            {
+                "name": item.name,
+                "shape": item.shape.value,
+                "size_m": [2 * h for h in item.half_extents_m],
+                "mass_kg": item.mass_kg,
+                "position_m": list(item.position_m),
+                "friction": item.friction,
+            }
+            for item in plan.objects
+        ],
         "steps": [step_to_json(step) for step in plan.steps],
         "warnings": [
             {"line": w.span.line, "column": w.span.column, "message": w.message} for w in plan.warnings

@@ -91,6 +91,7 @@ def executor_run(path: Path) -> ExecutorRun:
     from cosmos.commands.run import compile_file
     from cosmos.errors import CosmosError
     from cosmos.execution.session import Session
+    from cosmos.hand.tool import Tool
     from cosmos.robots import robot_named
     from cosmos.runtime.rates import Rates
 
@@ -99,7 +100,15 @@ def executor_run(path: Path) -> ExecutorRun:
     with tempfile.TemporaryDirectory(prefix="cosmos-bench-") as tmp:
         opened = time.perf_counter()
         arm = robot_named(plan.robot)
-        with Session(str(path), plan.source, Path(tmp) / "run.mcap", rates, robot=arm) as session:
+        with Session(
+            str(path),
+            plan.source,
+            Path(tmp) / "run.mcap",
+            rates,
+            robot=arm,
+            tool=Tool(plan.tool),
+            objects=plan.objects,
+        ) as session:
             runtime = session.runtime
             inside = [0]
             runtime_tick, clock = runtime.tick, time.perf_counter_ns

@@ -184,6 +184,8 @@ def _kind(step: plan.Step) -> str:
         return f"add {step.shape.value}"
     if isinstance(step, plan.RemoveObstacle):
         return "remove obstacle"
+    if isinstance(step, plan.HandStep):
+        return step.action.value
     return _DECIDED[type(step)]
 
 

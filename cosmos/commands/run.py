@@ -14,6 +14,7 @@ import click
 from cosmos.errors import CosmosError, UsageError
 from cosmos.execution.program import StopOnSignals, TerminalProgress, execute_plan
 from cosmos.execution.session import Session
+from cosmos.hand.tool import Tool
 from cosmos.lang import compile_program, read_program
 from cosmos.plan import Plan
 from cosmos.robots import robot_named
@@ -109,6 +110,8 @@ def run_program(
             ros2=ros2,
             ideal=ideal,
             robot=robot_named(plan.robot),
+            tool=Tool(plan.tool),
+            objects=plan.objects,
         ) as session:
             signals.attach(session.executor)
             server = None if pace is None else session.log.pace(pace.rate, pace.live_port)

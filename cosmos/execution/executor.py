@@ -38,7 +38,7 @@ from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, goal_pose, posture_joints, setpoint_for
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
-from cosmos.execution.walker import PlanWalker, Senses
+from cosmos.execution.walker import NO_HAND, HandSteps, PlanWalker, Senses
 from cosmos.lang.check.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
@@ -97,6 +97,7 @@ class Executor:
             self.recorder = LogRecorder(log, runtime.plant, runtime.robot.description.frames)
             runtime.recorder = self.recorder
         self.obstacles = obstacles
+        self.hand: HandSteps = NO_HAND  # the gripper's GRASP and RELEASE (TOOL GRIPPER)
         self.segment_count = 0
         self._source: str | None = None
         self._stopped_at: float | None = None

@@ -6,12 +6,15 @@ from pathlib import Path
 from typing import Protocol
 
 import mujoco
+import numpy as np
 
 from cosmos import __version__
 from cosmos.execution.executor import Executor, ProgressCallback
 from cosmos.execution.fixtures import fixture_primitives
 from cosmos.execution.obstacles import ObstacleWorld
-from cosmos.hand.gripper_scene import mount_gripper
+from cosmos.execution.recording import LogRecorder
+from cosmos.hand.gripper_scene import FINGERS, mount_gripper
+from cosmos.hand.hand_log import HandRunLog
 from cosmos.hand.object_scene import add_objects
 from cosmos.hand.tool import Tool
 from cosmos.hand.work_object import WorkObject
@@ -115,7 +118,10 @@ class Session:
 
         self.plant = Plant(obstacle_scene_xml(scene_xml=robot.scene_xml), noise, edit, realism)
         self.runtime = Runtime(self.plant, build_robot_model(robot, tool), rates, gains)
-        self.log = RunLog(
+        # The bodies on /tf and drawn on /scene: the arm's, the fingers', the objects'.
+        frames = (*robot.frames, *(FINGERS if tool is Tool.GRIPPER else ()), *(item.name for item in objects))
+        log_class = RunLog if tool is Tool.PEG else HandRunLog
+        self.log = log_class(
             log_path,
             program=program,
             source=source,
@@ -132,15 +138,41 @@ class Session:
             }
             | plant_metadata
             | varied,
-            frames=robot.frames,
+            frames=frames,
             ros2_joints=robot.joint_names if ros2 else None,
             joints=robot.dof,
         )
-        arm = arm_entities(self.plant.model, self.plant.geom_owners, robot.frames)
+        arm = arm_entities(self.plant.model, self.plant.geom_owners, frames)
         self.log.scene(0.0, add=[*fixture_primitives(self.plant), *arm])
         self.obstacles = ObstacleWorld(self.runtime, self.log)
         self.executor = Executor(self.runtime, self.log, progress, obstacles=self.obstacles)
+        if tool is Tool.GRIPPER:
+            self._mount_hand(objects, frames)
+        elif frames != robot.frames:
+            self.executor.recorder = self.runtime.recorder = LogRecorder(self.log, self.plant, frames)
         self.executor.hold()
+
+    def _mount_hand(self, objects: tuple[WorkObject, ...], frames: tuple[str, ...]) -> None:
+        """The executor's GRASP and RELEASE, its supervision watching for slip, the hand's log."""
+        from cosmos.hand.grasping import Hand
+        from cosmos.hand.hand_log import HandRecorder
+        from cosmos.hand.supervision import GraspSupervisor
+
+        executor = self.executor
+        hand = executor.hand = Hand(self.runtime, objects, executor.hold)
+        robot = self.runtime.robot
+        executor.supervisor = GraspSupervisor(
+            self.plant,
+            np.minimum(-robot.tau_lower_nm, robot.tau_upper_nm),
+            1.0 / self.runtime.rates.servo_hz,
+            hand,
+        )
+
+        def held() -> str:
+            return "" if hand.held is None else hand.held.item.name
+
+        assert isinstance(self.log, HandRunLog)
+        executor.recorder = self.runtime.recorder = HandRecorder(self.log, self.plant, frames, held)
 
     @property
     def log_path(self) -> Path:

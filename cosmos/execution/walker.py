@@ -20,6 +20,7 @@ the branch taken), and so is every recovery (``recovery``) and retry (``retry``)
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NoReturn, Protocol
 
@@ -36,6 +37,7 @@ from cosmos.plan import (
     Condition,
     Ending,
     FloatArray,
+    HandStep,
     LastOutcome,
     Loop,
     Quantity,
@@ -61,8 +63,29 @@ class Senses:
     position_world: FloatArray
 
 
+class HandSteps(Protocol):
+    """What runs GRASP and RELEASE (:class:`cosmos.hand.grasping.Hand`)."""
+
+    def apply(self, step: HandStep, fail: Callable[[str], None]) -> str:
+        """Run the step; returns what it did. ``fail(reason)`` logs a failure and raises."""
+        ...
+
+
+class _NoHand:
+    """The hand of a workcell without the gripper: every hand step fails."""
+
+    def apply(self, step: HandStep, fail: Callable[[str], None]) -> str:
+        fail("needs the gripper: this run's tool is the peg (TOOL GRIPPER)")
+        raise AssertionError  # fail() raises
+
+
+NO_HAND: HandSteps = _NoHand()
+
+
 class StepRunner(Protocol):
     """What the walker needs of the executor."""
+
+    hand: HandSteps
 
     def run_statement(self, segments: list[Segment]) -> bool:
         """Run one statement's segments; True when its UNTIL ended it.
@@ -144,6 +167,8 @@ class PlanWalker:
                 self.last = Ending.STOPPED if stopped else None
             elif isinstance(group, AddObstacle | RemoveObstacle):
                 self.runner.scene_step(group)
+            elif isinstance(group, HandStep):
+                self._hand(group)
             elif isinstance(group, Branch):
                 self._branch(group)
             elif isinstance(group, Loop):
@@ -152,6 +177,12 @@ class PlanWalker:
                 self._attempt(group)
             else:
                 raise _RetryRequest(group)
+
+    def _hand(self, step: HandStep) -> None:
+        runner = self.runner
+        runner.note("start", step, "")
+        done = runner.hand.apply(step, lambda reason: runner.fail(step, reason))
+        runner.note("done", step, done)
 
     def _branch(self, step: Branch) -> None:
         holds, read = self.decide(step.condition)
@@ -257,9 +288,11 @@ def measure(comparison: Comparison, senses: Senses) -> float:
 
 def statement_groups(
     steps: tuple[Step, ...],
-) -> list[list[Segment] | AddObstacle | RemoveObstacle | Branch | Loop | Attempt | Retry]:
+) -> list[list[Segment] | AddObstacle | RemoveObstacle | HandStep | Branch | Loop | Attempt | Retry]:
     """Steps grouped into statements: consecutive segments sharing a statement index."""
-    groups: list[list[Segment] | AddObstacle | RemoveObstacle | Branch | Loop | Attempt | Retry] = []
+    groups: list[
+        list[Segment] | AddObstacle | RemoveObstacle | HandStep | Branch | Loop | Attempt | Retry
+    ] = []
     for step in steps:
         if not isinstance(step, Segment):
             groups.append(step)

@@ -33,6 +33,8 @@ class WorkObject:
         position_m: Its centre at the start, world [m].
         quat_wxyz: Its orientation at the start, frame to world (w, x, y, z).
         friction: Sliding friction coefficient of its surface.
+        base_in_body_m: Its frame's origin, the centre of the face it stood on when declared,
+            in its body's axes from its centre [m]: the point a MOVE of the held object moves.
     """
 
     name: str
@@ -42,6 +44,7 @@ class WorkObject:
     position_m: tuple[float, float, float]
     quat_wxyz: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
     friction: float = DEFAULT_OBJECT_FRICTION
+    base_in_body_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def inertia_diagonal_kgm2(self) -> tuple[float, float, float]:
         """Principal moments about the centre, its frame's axes [kg m^2] (uniform solid)."""

@@ -12,6 +12,7 @@ import enum
 from dataclasses import dataclass
 
 from cosmos.errors import Span
+from cosmos.lang.ast_hand import ChooseTool, DeclareObject, Grasp, Release
 from cosmos.lang.ast_null_space import SetOrientation, SetPosture
 from cosmos.lang.ast_settings import ChooseRobot, SetLimit, SetSpeed
 from cosmos.lang.expressions import (
@@ -43,6 +44,10 @@ __all__ = [  # the statements and clauses here, and the parts of cosmos.lang.exp
     "Binary",
     "Call",
     "ChooseRobot",
+    "ChooseTool",
+    "DeclareObject",
+    "Grasp",
+    "Release",
     "Clause",
     "ClauseKind",
     "Comparison",
@@ -115,6 +120,9 @@ class ClauseKind(enum.Enum):
     GAIN = "GAIN"
     MAX = "MAX"
     PITCH = "PITCH"
+    MASS = "MASS"
+    FRICTION = "FRICTION"
+    WIDTH = "WIDTH"
 
 
 @dataclass(frozen=True)
@@ -367,6 +375,10 @@ Statement = (
     | SetOrientation
     | SetPosture
     | ChooseRobot
+    | ChooseTool
+    | DeclareObject
+    | Grasp
+    | Release
     | Wait
     | ProcDef
     | Repeat

@@ -27,6 +27,7 @@ STIFFNESS: Dim = (0, 1, -2, 0)
 ROTATIONAL_STIFFNESS: Dim = (2, 1, -2, -1)
 DAMPING: Dim = (0, 1, -1, 0)
 ROTATIONAL_DAMPING: Dim = (2, 1, -1, -1)
+MASS: Dim = (0, 1, 0, 0)
 
 _DESCRIPTIONS: dict[Dim, tuple[str, str]] = {
     DIMENSIONLESS: ("a plain number", "3"),
@@ -41,6 +42,7 @@ _DESCRIPTIONS: dict[Dim, tuple[str, str]] = {
     ROTATIONAL_STIFFNESS: ("a rotational stiffness", "20 Nm/rad"),
     DAMPING: ("a damping", "40 N s/m"),
     ROTATIONAL_DAMPING: ("a rotational damping", "2 N m s/rad"),
+    MASS: ("a mass", "0.5 kg"),
 }
 
 # Numerator and denominator words, lower case, spaces and '.', '*' removed.
@@ -58,6 +60,8 @@ _NUMERATORS: dict[str, tuple[float, Dim]] = {
     "nms": (1.0, (2, 1, -1, 0)),
     "deg": (math.pi / 180.0, ANGLE),
     "rad": (1.0, ANGLE),
+    "kg": (1.0, MASS),
+    "g": (1e-3, MASS),
 }
 _DENOMINATORS: dict[str, tuple[float, Dim]] = {
     "mm": (1e-3, LENGTH),
@@ -73,6 +77,7 @@ _DENOMINATORS: dict[str, tuple[float, Dim]] = {
 KNOWN_UNITS: tuple[str, ...] = (
     "mm", "cm", "m", "N", "kN", "Nm", "N m", "deg", "rad", "s", "ms", "min",
     "m/s", "mm/s", "deg/s", "rad/s", "N/m", "N/mm", "Nm/rad", "N m/rad", "N s/m", "N m s/rad",
+    "kg", "g",
 )  # fmt: skip
 """Units as documented (docs/language.md); matching ignores case and spacing."""
 

@@ -174,6 +174,7 @@ def rerun(settings: RunSettings, log_path: Path, limit_s: float = math.inf) -> f
     from cosmos.execution.executor import Interrupted
     from cosmos.execution.program import StopOnSignals, TerminalProgress, execute_plan
     from cosmos.execution.session import Session
+    from cosmos.hand.tool import Tool
     from cosmos.lang import compile_program
     from cosmos.robots import robot_named
     from cosmos.workcell import fixture_frames
@@ -196,6 +197,8 @@ def rerun(settings: RunSettings, log_path: Path, limit_s: float = math.inf) -> f
             ideal=settings.ideal,
             model_error=settings.model_error,
             robot=robot_named(plan.robot),
+            tool=Tool(plan.tool),
+            objects=plan.objects,
         ) as session:
             signals.attach(session.executor)
             recorder = session.runtime.recorder

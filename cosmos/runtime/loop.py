@@ -132,6 +132,18 @@ class Runtime:
         """The way round the current goal motion turns (None outside goal motions)."""
         self.reset_clocks()
 
+    def carry(self, robot: RobotModel) -> None:
+        """Take ``robot`` as the controller's model from now on: this arm, its tool changed.
+
+        A GRASP's held object (:func:`cosmos.hand.payload.holding`) and its RELEASE: the
+        parameter level is rebuilt on the new tool frame and mass, and the servo compensates
+        the wrist sensor for the new weight below it.
+        """
+        self.robot = robot
+        self._tool_weight_z_n = float(GRAVITY[2]) * robot.tool.mass_kg
+        self.parameters = ParameterLevel(robot)
+        self.servo.set_tool_weight(self._tool_weight_z_n)
+
     def reset_clocks(self) -> None:
         """Sense once, evaluate the model now and restart the parameter schedule from here."""
         now = self.plant.time_s

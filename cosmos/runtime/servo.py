@@ -144,6 +144,10 @@ class ServoLevel:
         # bias + held potentials | null-space and viscous damping], one product per tick.
         self._stacked = workspace[stacked:state].reshape((n, live_kernel.STACKED_COLUMNS + n))
 
+    def set_tool_weight(self, tool_weight_z_n: float) -> None:
+        """The world z component of the weight below the wrist sensor from now on [N] (a held payload)."""
+        self._scalars[kernel.TOOL_WEIGHT_Z_N] = tool_weight_z_n
+
     @property
     def torque(self) -> FloatArray:
         """Joint torques of the last tick, within the drive limits, in [N m]. # (n,)."""

@@ -83,6 +83,7 @@ def run_task(task: RunTask) -> dict[str, Any]:
     and clean-up).
     """
     from cosmos.execution.session import Session
+    from cosmos.hand.tool import Tool
     from cosmos.robots import robot_named
     from cosmos.runtime.rates import Rates
 
@@ -94,7 +95,16 @@ def run_task(task: RunTask) -> dict[str, Any]:
     log_path = Path(name)
     try:
         arm = robot_named(plan.robot)
-        with Session(task.program, task.source, log_path, Rates(), variation=variation, robot=arm) as session:
+        with Session(
+            task.program,
+            task.source,
+            log_path,
+            Rates(),
+            variation=variation,
+            robot=arm,
+            tool=Tool(plan.tool),
+            objects=plan.objects,
+        ) as session:
             tap = LogTap(session.log)
             simulate_started = time.perf_counter()
             try:

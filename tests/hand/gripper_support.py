@@ -45,3 +45,35 @@ def body_position(session: Session, name: str) -> np.ndarray:
     """MuJoCo's position of body ``name``, world [m]."""
     plant = session.plant
     return plant.data.xpos[plant.model.body(name).id].copy()
+
+
+def tf_last_pose(log_path: Path, frame: str) -> tuple[np.ndarray, np.ndarray]:
+    """The last pose of body ``frame`` on the log's ``/tf`` (MuJoCo's): position [m], quat w x y z."""
+    from cosmos.runlog.scan import load_mcap
+    from tests.foxglove_proto import decode
+
+    contents = load_mcap(log_path)
+    channels = {cid: c for cid, c in contents.channels.items() if c.topic == "/tf"}
+    found = None
+    for message in contents.messages:
+        channel = channels.get(message.channel_id)
+        if channel is None:
+            continue
+        decoded = decode(contents.schemas[channel.schema_id].name, message.data)
+        for transform in decoded["transforms"]:
+            if transform["child_frame_id"] == frame:
+                found = transform
+    assert found is not None, f"no /tf pose of {frame} in {log_path}"
+    t, r = found["translation"], found["rotation"]
+    return np.array([t["x"], t["y"], t["z"]]), np.array([r["w"], r["x"], r["y"], r["z"]])
+
+
+def hand_samples(log_path: Path) -> list[dict[str, object]]:
+    """The messages of the log's ``/cosmos/hand``, in order."""
+    import json
+
+    from cosmos.runlog.scan import load_mcap
+
+    contents = load_mcap(log_path)
+    ids = {cid for cid, c in contents.channels.items() if c.topic == "/cosmos/hand"}
+    return [json.loads(m.data) for m in contents.messages if m.channel_id in ids]

@@ -22,11 +22,14 @@ LAYERS: list[tuple[str, ...]] = [
     # jit: the numba decorator every kernel uses; user_cache: where it and cosmos check keep files
     ("cosmos.errors", "cosmos.osc", "cosmos.jit", "cosmos.user_cache"),
     ("cosmos.rotations", "cosmos.capabilities", "cosmos.robots"),  # robots: the arms, described
+    # the hand's vocabulary: which tool, the objects a program declares (no simulator)
+    ("cosmos.hand", "cosmos.hand.tool", "cosmos.hand.work_object"),
     ("cosmos.plan",),  # the contract between the language and the executor
     # the language, stage by stage (its vocabulary first, its facade last)
     (
         "cosmos.lang.expressions",
         "cosmos.lang.ast_settings",
+        "cosmos.lang.ast_hand",
         "cosmos.lang.ast",
         "cosmos.lang.ast_null_space",
         "cosmos.lang.units",
@@ -38,13 +41,17 @@ LAYERS: list[tuple[str, ...]] = [
     ("cosmos.lang",),
     # the arm: the workcell, the plant and the controller's model, the run log the
     # executor writes, obstacles, the servo loop, plan execution
+    ("cosmos.hand.gripper_scene", "cosmos.hand.object_scene"),  # the gripper and objects in MJCF
     ("cosmos.workcell",),
     ("cosmos.realism",),  # how the realistic plant differs from the model, and its sensing
-    ("cosmos.plant", "cosmos.robot_model"),
+    ("cosmos.hand.fingers",),  # the plant's finger drive and pad sensors
+    ("cosmos.plant", "cosmos.plant_scene", "cosmos.robot_model"),
+    ("cosmos.hand.payload",),  # a held object in the controller's model
     ("cosmos.runlog",),
     ("cosmos.obstacles",),
     ("cosmos.runtime",),
-    ("cosmos.execution",),
+    ("cosmos.hand.grasping",),  # GRASP and RELEASE on the arm
+    ("cosmos.execution", "cosmos.hand.supervision", "cosmos.hand.hand_log"),
     ("cosmos.sweep",),  # many runs in varied workcells, on worker processes
     # what people use: a run's results, replay and the REPL, the commands and the Python API
     ("cosmos.replay", "cosmos.repl", "cosmos.run_result"),

@@ -22,6 +22,7 @@ import numpy as np
 from cosmos import plan
 from cosmos.capabilities import ARM_CAPABILITY, HOME_TOOL, WRIST_SENSOR, ArmCapability
 from cosmos.errors import Span
+from cosmos.hand.tool import GRIPPER
 from cosmos.lang import units
 
 MAX_DURATION_S = 3600.0
@@ -94,6 +95,9 @@ SLOT_RANGES: dict[tuple[str, units.Dim], Range] = {
     ),
     ("SEARCH PITCH", units.LENGTH): Range(MIN_SEARCH_PITCH_M, MAX_SEARCH_RADIUS_M, 1e-3, "mm"),
     ("LIMIT FORCE", units.FORCE): _FORCE,
+    ("GRASP FORCE", units.FORCE): Range(
+        GRIPPER.grip_force_min_n, GRIPPER.grip_force_max_n, 1.0, "N", "the gripper's datasheet"
+    ),
     ("REPEAT", units.DIMENSIONLESS): Range(0.0, MAX_COUNT, 1.0, "", "passes"),
     ("GAIN", units.DIMENSIONLESS): Range(0.0, MAX_COUNT, 1.0, ""),
     ("MOVING", units.SPEED): Range(0.0, MAX_OBSTACLE_SPEED_MPS, 1.0, "m/s"),

@@ -178,7 +178,15 @@ class Compiler:
         infeasible = limits.first_infeasible_timed_move(result.steps, ROBOTS[robot].capability)
         if infeasible is not None:
             raise ProgramError(*infeasible).with_source(source)
-        return plan.Plan(file=file, source=source, steps=result.steps, warnings=tuple(warnings), robot=robot)
+        return plan.Plan(
+            file=file,
+            source=source,
+            steps=result.steps,
+            warnings=tuple(warnings),
+            robot=robot,
+            tool=result.state.tool,
+            objects=result.state.objects,
+        )
 
 
 def _poison(statement: ast.Statement, state: CompileState) -> CompileState:

@@ -14,6 +14,7 @@ from typing import Protocol, TypeVar
 
 from cosmos import plan
 from cosmos.errors import Span
+from cosmos.hand.work_object import WorkObject
 from cosmos.lang import ast
 from cosmos.lang.evaluate.values import Binding
 from cosmos.robots import DEFAULT_ROBOT
@@ -163,6 +164,8 @@ class CompileState:
         robot_fixed: The run's arm was chosen outside the program (``--robot``, the REPL's
             session): a ROBOT statement must name it.
         statements: Top-level statements compiled so far (ROBOT must come first).
+        tool: The hand on the flange (:class:`cosmos.hand.tool.Tool`'s value; TOOL chooses it).
+        objects: The objects declared so far (OBJECT), in order.
     """
 
     default_speed_mps: float
@@ -181,6 +184,8 @@ class CompileState:
     robot: str = DEFAULT_ROBOT.name
     robot_fixed: bool = False
     statements: int = 0
+    tool: str = "peg"
+    objects: tuple[WorkObject, ...] = ()
 
     def bind(self, key: str, binding: Binding) -> CompileState:
         """A state with ``key`` bound."""

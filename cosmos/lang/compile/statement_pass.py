@@ -16,7 +16,7 @@ from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
 from cosmos.lang.check.statements import check_statement
-from cosmos.lang.compile import blocks, branches, obstacles, settings
+from cosmos.lang.compile import blocks, branches, hand, obstacles, settings
 from cosmos.lang.compile.blocks import MAX_STEPS
 from cosmos.lang.compile.context import Handler, statement_text
 from cosmos.lang.compile.motion import builder as motion
@@ -164,6 +164,7 @@ STATEMENT_HANDLERS: dict[type, Handler] = {
     **motion.HANDLERS,
     **settings.HANDLERS,
     **obstacles.HANDLERS,
+    **hand.HANDLERS,
     **blocks.HANDLERS,
     **branches.HANDLERS,
 }

@@ -107,6 +107,24 @@ class _Builder(Transformer):
     def robot(self, children: list[Any]) -> ast.ChooseRobot:
         return ast.ChooseRobot(_ident(children[1]), span_of(children))
 
+    def tool(self, children: list[Any]) -> ast.ChooseTool:
+        return ast.ChooseTool(_ident(children[1]), span_of(children))
+
+    def object(self, children: list[Any]) -> ast.DeclareObject:
+        _, name, shape, *clauses = children
+        return ast.DeclareObject(_ident(name), shape.type, tuple(clauses), span_of(children))
+
+    def grasp(self, children: list[Any]) -> ast.Grasp:
+        _, name, *clauses = children
+        return ast.Grasp(
+            None if name is None else _ident(name),
+            tuple(clauses),
+            span_of([c for c in children if c is not None]),
+        )
+
+    def release(self, children: list[Any]) -> ast.Release:
+        return ast.Release(span_of(children))
+
     def comply(self, children: list[Any]) -> ast.Comply:
         return ast.Comply(children[1], tuple(children[2:]), span_of(children))
 
