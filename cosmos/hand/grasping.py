@@ -48,7 +48,7 @@ FELT = 0.9
 SETTLE_S = 0.05
 """The opening must stay within :data:`SETTLE_M` this long for a grasp to be made [s]."""
 SETTLE_M = 2e-4
-NOTHING_M = 1e-3
+NOTHING_M = 4e-4
 """Closed below this opening, the fingers hold nothing [m]."""
 WIDTH_TOLERANCE_M = 3e-3
 """A GRASP's WIDTH and the opening it closed to may differ by this much [m]."""
