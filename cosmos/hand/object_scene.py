@@ -7,7 +7,9 @@ their joints come after the arm's in ``qpos`` (:class:`cosmos.plant.Plant` needs
 first); their start pose is the body's, MuJoCo's ``qpos0`` for a free joint, which the
 ``home`` keyframe leaves as it is.
 
-Contacts: ``contype 1`` touches the fixtures and other objects (their ``conaffinity`` 1);
+Contacts: an object's friction is the one its contacts use (MuJoCo's geom ``priority``), so
+a program's ``FRICTION`` decides how well the pads hold it and how it slides on the table.
+``contype 1`` touches the fixtures and other objects (their ``conaffinity`` 1);
 ``conaffinity 7`` lets the arm's links (``contype 2``) and the tool and fingers
 (``contype 4``) touch them.
 """
@@ -21,6 +23,9 @@ import mujoco
 from cosmos.hand.work_object import ObjectShape, WorkObject
 
 OBJECT_CONTYPE, OBJECT_CONAFFINITY = 1, 7
+OBJECT_PRIORITY = 1
+"""Above every other geom's 0: an object's contacts (with the pads, the table, the fixtures)
+take its friction (the program's ``FRICTION``) and its contact parameters."""
 OBJECT_RGBA = (0.25, 0.55, 0.85, 1.0)
 _GEOM = {ObjectShape.BOX: mujoco.mjtGeom.mjGEOM_BOX, ObjectShape.CYLINDER: mujoco.mjtGeom.mjGEOM_CYLINDER}
 
@@ -36,4 +41,5 @@ def add_objects(spec: mujoco.MjSpec, objects: Sequence[WorkObject]) -> None:
         geom.friction = (item.friction, 0.005, 0.0001)
         geom.condim = 4
         geom.contype, geom.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY
+        geom.priority = OBJECT_PRIORITY
         geom.rgba = OBJECT_RGBA

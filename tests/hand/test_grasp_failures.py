@@ -91,3 +91,22 @@ def test_dragging_a_held_block_into_the_table_is_a_protective_stop(tmp_path: Pat
     reason = _failed_at(run, "MOVE TO table + (30 mm")
     assert reason.startswith("protective stop: "), reason
     assert run.events("protective_stop")
+
+
+@pytest.mark.parametrize("ideal", [True, False], ids=["ideal", "realistic"])
+def test_a_slipping_object_is_a_protective_stop(tmp_path: Path, ideal: bool) -> None:
+    """2 kg at FRICTION 0.2 held with 20 N (8 N of friction for 19.6 N of weight) slips: a protective stop.
+
+    Catches a lift that carries on while the object slides out of the fingers (the program
+    would place nothing), and an object's FRICTION that the pads' contacts ignore (the
+    pads' own 1.0 would hold it).
+    """
+    body = (
+        "OBJECT heavy BOX SIZE (40 mm, 30 mm, 50 mm) MASS 2 kg AT table + (0, 100 mm, 0) FRICTION 0.2\n"
+        "MOVE TO table + (0, 100 mm, 32.5 mm) SPEED 50 mm/s\nGRASP heavy FORCE 20 N\n"
+        "MOVE BY (0, 0, 50 mm) SPEED 0.1 m/s\n"
+    )
+    run = _run(tmp_path, body, ideal)
+    reason = _failed_at(run, "MOVE BY (0, 0, 50 mm)")
+    assert reason.startswith("protective stop: 'heavy' slips: "), reason
+    assert run.events("protective_stop")
