@@ -15,6 +15,7 @@ from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.hand.gripper_scene import FINGERS, mount_gripper
 from cosmos.hand.hand_log import HandRunLog
+from cosmos.hand.holder_scene import add_holder
 from cosmos.hand.object_scene import add_objects
 from cosmos.hand.tool import Tool
 from cosmos.hand.work_object import WorkObject
@@ -112,6 +113,7 @@ class Session:
         def edit(spec: mujoco.MjSpec) -> None:
             if tool is Tool.GRIPPER:
                 mount_gripper(spec)
+                add_holder(spec)
             add_objects(spec, objects)  # after the fingers: the keyframe holds the arm's and theirs
             if vary is not None:
                 vary(spec)

@@ -105,7 +105,12 @@ class Hand:
         self._model, self._data = plant.model, plant.data
         self._objects = {item.name: item for item in objects}
         self._bodies = {mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_BODY, n): n for n in self._objects}
-        self._pads = [mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_GEOM, pad) for pad in PADS]
+        geom = mujoco.mjtObj.mjOBJ_GEOM
+        self._pad_side = {
+            mujoco.mj_name2id(self._model, geom, name): side
+            for side, pad in enumerate(PADS)
+            for name in (pad, f"{pad}_lower")
+        }
         self._site = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)
         self._hand_site = (self._model.site_pos[self._site].copy(), self._model.site_quat[self._site].copy())
         self._hand_model: RobotModel = runtime.robot
@@ -182,13 +187,13 @@ class Hand:
         """The declared object both pads touch, if any."""
         data, bodies = self._data, self._bodies
         found: list[set[str]] = [set(), set()]
+        sides = self._pad_side
         for g1, g2 in data.contact.geom[: data.ncon].tolist():
-            for side, pad in enumerate(self._pads):
-                other = g2 if g1 == pad else g1 if g2 == pad else -1
-                if other >= 0:
-                    name = bodies.get(int(self._model.geom_bodyid[other]))
-                    if name is not None:
-                        found[side].add(name)
+            for pad, other in ((g1, g2), (g2, g1)):
+                side = sides.get(pad)
+                name = None if side is None else bodies.get(int(self._model.geom_bodyid[other]))
+                if name is not None:
+                    found[side].add(name)  # type: ignore[index]
         both = found[0] & found[1]
         return next(iter(sorted(both)), None)
 

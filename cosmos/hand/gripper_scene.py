@@ -13,7 +13,8 @@ Frames (tool body frame = flange frame, z away from the flange, fingers along x)
 - each finger a slide on x, its joint the half opening: the left finger's inner face at
   ``x = q_left``, the right one's at ``x = -q_right``, each from 0 (closed) to half the
   85 mm stroke; fingers reach from z 145 to 200 mm (the peg's tip was at 200 mm);
-- a rubber pad (1 mm, 22 x 25 mm, friction 1.0) on each inner face, z 175 .. 200 mm, and a
+- a rubber pad (1 mm, 22 x 25 mm, friction 1.0) on each inner face, z 175 .. 200 mm, as two
+  strips (its upper and lower thirds: two contact lines on a cylinder, not one pivot), and a
   touch site around it (MuJoCo's ``touch`` sums the normal forces of the contacts inside);
 - the tool point (site ``tool``) between the pads' centres, z 187.5 mm, z along the fingers.
 
@@ -35,7 +36,7 @@ from cosmos.hand.tool import GRIPPER
 FINGERS = ("finger_left", "finger_right")
 """The finger bodies and their slide joints, same names."""
 PADS = ("pad_left", "pad_right")
-"""The pad geoms; the touch sensors and their sites are ``<pad>_touch``."""
+"""The pads: geoms ``<pad>`` and ``<pad>_lower`` (two strips), touch sensor and site ``<pad>_touch``."""
 OPENING_TENDON = "gripper_opening"
 DRIVE = "gripper"
 """The actuator of the fingers (after the arm's motors)."""
@@ -48,6 +49,8 @@ _HOUSING = ((0.045, 0.0325, 0.050), 0.095, 0.625)  # half sizes, centre z [m], m
 _FINGER_BASE_Z_M = 0.145
 _FINGER = ((0.005, 0.011, 0.0275), 0.100)  # half sizes [m], mass [kg] each
 _PAD = (0.0005, 0.011, 0.0125)  # half sizes [m]; the pad's centre is at z TCP_Z_M
+_PAD_STRIP = (_PAD[0], _PAD[1], _PAD[2] / 3)  # each of its two strips (upper and lower third)
+_PAD_STRIP_Z = 2 * _PAD[2] / 3  # their centres above and below the pad's centre [m]
 _PAD_FRICTION = (1.0, 0.005, 0.0001)
 DRIVE_KP_N_PER_M = 2.0e4
 """Stiffness of the drive's position loop on the opening [N/m]: the largest grip force is
@@ -57,6 +60,10 @@ DRIVE_KV_NS_PER_M = 100.0
 FINGER_ARMATURE_KG = 0.05
 """Reflected inertia of the drive on each finger's slide [kg]."""
 TOOL_CONTYPE, TOOL_CONAFFINITY = 4, 1
+NOSLIP_ITERATIONS = 3
+"""MuJoCo's no-slip pass on the gripper's workcell: without it a soft contact's friction creeps
+under a steady load, and a peg held at 60 N turned 2 deg/s in the pads while pressed into the
+hole's chamfer (``tests/hand/test_grasp_and_insert.py``)."""
 
 
 def mount_gripper(spec: mujoco.MjSpec) -> None:
@@ -65,6 +72,7 @@ def mount_gripper(spec: mujoco.MjSpec) -> None:
     Args:
         spec: A workcell's spec (``cosmos/models/<arm>/scene.xml``), edited in place.
     """
+    spec.option.noslip_iterations = NOSLIP_ITERATIONS
     tool = spec.body("tool")
     for geom in list(tool.geoms):
         if geom.name not in _KEEP:
@@ -95,12 +103,18 @@ def mount_gripper(spec: mujoco.MjSpec) -> None:
             finger_mass,
         )
         pad_z = TCP_Z_M - _FINGER_BASE_Z_M
-        geom = _hand_geom(finger, pad, mujoco.mjtGeom.mjGEOM_BOX, _PAD, (side * _PAD[0], 0.0, pad_z), 0.0)
-        geom.friction = _PAD_FRICTION
-        geom.condim = 4
-        geom.solref = (0.004, 1.0)
-        geom.solimp = (0.95, 0.99, 0.001, 0.5, 2.0)
-        geom.rgba = (0.15, 0.15, 0.15, 1.0)
+        # Two strips per pad, its upper and lower thirds: a part held at two lines on each
+        # side is held against turning about the pad's normal by a couple, as by a real pad's
+        # area (one flat box against a cylinder makes one contact, a pivot).
+        for part, dz in ((pad, _PAD_STRIP_Z), (f"{pad}_lower", -_PAD_STRIP_Z)):
+            geom = _hand_geom(
+                finger, part, mujoco.mjtGeom.mjGEOM_BOX, _PAD_STRIP, (side * _PAD[0], 0.0, pad_z + dz), 0.0
+            )
+            geom.friction = _PAD_FRICTION
+            geom.condim = 4
+            geom.solref = (0.004, 1.0)
+            geom.solimp = (0.95, 0.99, 0.001, 0.5, 2.0)
+            geom.rgba = (0.15, 0.15, 0.15, 1.0)
         finger.add_site(
             name=f"{pad}_touch",
             type=mujoco.mjtGeom.mjGEOM_BOX,

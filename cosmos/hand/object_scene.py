@@ -16,9 +16,11 @@ a program's ``FRICTION`` decides how well the pads hold it and how it slides on 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import mujoco
+import numpy as np
 
 from cosmos.hand.work_object import ObjectShape, WorkObject
 
@@ -35,6 +37,9 @@ def add_objects(spec: mujoco.MjSpec, objects: Sequence[WorkObject]) -> None:
     for item in objects:
         body = spec.worldbody.add_body(name=item.name, pos=item.position_m, quat=item.quat_wxyz)
         body.add_freejoint(name=f"{item.name}_free")
+        if item.peg_end:
+            _peg(body, item)
+            continue
         a, b, c = item.half_extents_m
         size = (a, b, c) if item.shape is ObjectShape.BOX else (a, c, 0.0)
         geom = body.add_geom(name=f"{item.name}_geom", type=_GEOM[item.shape], size=size, mass=item.mass_kg)
@@ -43,3 +48,76 @@ def add_objects(spec: mujoco.MjSpec, objects: Sequence[WorkObject]) -> None:
         geom.contype, geom.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY
         geom.priority = OBJECT_PRIORITY
         geom.rgba = OBJECT_RGBA
+
+
+# The welded peg's chamfered end (cosmos/models/puma560/scene.xml, "Peg"), its +z end here.
+_CHAMFER_M = 0.0015
+_FACETS = 32
+_FACET_POS = (0.00893421393557783, 0.0, -0.000927279164369)  # from the end face
+_FACET_TILT_RAD = 0.7825517141122433
+_FACET_SIZE = (0.0010636922228183007, 0.0009715949035167694, 0.00025)
+_TOOL_SOLREF = (0.18, 1.0)
+_TOOL_SOLIMP = (0.5, 0.95, 0.002, 0.5, 2.0)
+"""The welded tool's soft steel contact (README, "Contacts"), on the chamfer's facets: the held
+peg meets the hole's chamfer as the welded one does. Its cylinder and end disc keep the
+workcell's stiff contact, so it stands in its holder and in the fingers without sinking."""
+
+
+def _peg(body: mujoco.MjsBody, item: WorkObject) -> None:
+    """A steel peg: a cylinder, a flat end disc and 32 chamfer facets at its +z end."""
+    radius, _, half = item.half_extents_m
+    end = half
+    cylinder = body.add_geom(
+        name=f"{item.name}_geom",
+        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+        fromto=(0.0, 0.0, -half, 0.0, 0.0, end - _CHAMFER_M),
+        size=(radius, 0.0, 0.0),
+        mass=item.mass_kg,
+    )
+    disc = body.add_geom(
+        name=f"{item.name}_end",
+        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+        pos=(0.0, 0.0, end - _CHAMFER_M / 2),
+        size=(radius - _CHAMFER_M, _CHAMFER_M / 2, 0.0),
+        mass=0.0,
+    )
+    sleeve = body.add_geom(
+        name=f"{item.name}_sleeve",
+        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+        fromto=(0.0, 0.0, -half, 0.0, 0.0, end - _CHAMFER_M),
+        size=(radius, 0.0, 0.0),
+        mass=0.0,
+    )
+    geoms = [cylinder, disc, sleeve]
+    for k in range(_FACETS):
+        angle = 2 * math.pi * k / _FACETS
+        c, s = math.cos(angle), math.sin(angle)
+        x, _, dz = _FACET_POS
+        quat = np.empty(4)
+        mujoco.mju_mulQuat(
+            quat,
+            np.array([math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2)]),
+            np.array([math.cos(_FACET_TILT_RAD / 2), 0.0, math.sin(_FACET_TILT_RAD / 2), 0.0]),
+        )
+        facet = body.add_geom(
+            name=f"{item.name}_chamfer{k:02d}",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            pos=(c * x, s * x, end + dz),
+            quat=quat,
+            size=_FACET_SIZE,
+            mass=0.0,
+        )
+        facet.contype, facet.conaffinity = 8, 0  # the hole's geoms only (their conaffinity 9)
+        geoms.append(facet)
+    for geom in geoms:
+        geom.friction = (item.friction, 0.005, 0.0001)
+        geom.priority = OBJECT_PRIORITY
+        geom.rgba = (0.8, 0.8, 0.85, 1.0)
+    # The pads and links hold the stiff cylinder; the fixtures' walls (hole and holder) meet the
+    # same cylinder as a soft sleeve, and the hole's chamfer its soft facets; the end disc
+    # stands stiff on the table, the holder's and the hole's bottoms.
+    cylinder.contype, cylinder.conaffinity = 0, 6
+    sleeve.contype, sleeve.conaffinity = 8, 1
+    disc.contype, disc.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY
+    for geom in geoms[2:]:
+        geom.solref, geom.solimp = _TOOL_SOLREF, _TOOL_SOLIMP

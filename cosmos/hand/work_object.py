@@ -35,6 +35,9 @@ class WorkObject:
         friction: Sliding friction coefficient of its surface.
         base_in_body_m: Its frame's origin, the centre of the face it stood on when declared,
             in its body's axes from its centre [m]: the point a MOVE of the held object moves.
+        peg_end: A cylinder whose base end is the welded peg's (a 1.5 mm chamfer of 32 facets
+            that touch the hole's geoms) and whose contacts are the tool's soft steel ones:
+            the shipped peg (:data:`SHIPPED_PEG`).
     """
 
     name: str
@@ -45,6 +48,7 @@ class WorkObject:
     quat_wxyz: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
     friction: float = DEFAULT_OBJECT_FRICTION
     base_in_body_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    peg_end: bool = False
 
     def inertia_diagonal_kgm2(self) -> tuple[float, float, float]:
         """Principal moments about the centre, its frame's axes [kg m^2] (uniform solid)."""
@@ -54,3 +58,30 @@ class WorkObject:
             return (m * (b * b + c * c) / 3.0, m * (a * a + c * c) / 3.0, m * (a * a + b * b) / 3.0)
         radial = m * (3.0 * a * a + 4.0 * c * c) / 12.0  # height 2c
         return (radial, radial, m * a * a / 2.0)
+
+
+PEG_RADIUS_M = 0.0099125
+"""The shipped peg's radius: the welded peg's (c11 middle, 19.825 mm)."""
+PEG_LENGTH_M = 0.100
+PEG_MASS_KG = 7850.0 * 3.141592653589793 * PEG_RADIUS_M**2 * PEG_LENGTH_M
+"""Steel, 7850 kg/m^3: 0.242 kg."""
+HOLDER_XY_M = (0.60, 0.27)
+"""The peg holder's bore on the table, 120 mm from the hole along y [m]."""
+HOLDER_TOP_Z_M = 0.23
+HOLDER_DEPTH_M = 0.025
+"""Its top face and the depth of its bore [m]: the peg stands 75 mm out of it."""
+STEEL_FRICTION = 0.45
+
+SHIPPED_PEG = WorkObject(
+    name="peg",
+    shape=ObjectShape.CYLINDER,
+    half_extents_m=(PEG_RADIUS_M, PEG_RADIUS_M, PEG_LENGTH_M / 2),
+    mass_kg=PEG_MASS_KG,
+    position_m=(HOLDER_XY_M[0], HOLDER_XY_M[1], HOLDER_TOP_Z_M - HOLDER_DEPTH_M + PEG_LENGTH_M / 2),
+    quat_wxyz=(0.0, 1.0, 0.0, 0.0),  # z down: its frame is the hole's and the table's
+    friction=STEEL_FRICTION,
+    base_in_body_m=(0.0, 0.0, PEG_LENGTH_M / 2),  # the chamfered end, at the bore's bottom
+    peg_end=True,
+)
+"""The peg of ``TOOL GRIPPER``'s workcell, standing chamfered end down in its holder next to the
+hole; its frame (the centre of that end, z down) goes where a program MOVEs or INSERTs it."""

@@ -99,13 +99,16 @@ def test_closing_on_nothing_closes_to_zero(tmp_path: Path) -> None:
 
 
 def _pad_normal_force(model: mujoco.MjModel, data: mujoco.MjData) -> float:
-    """Mean over the two pads of MuJoCo's contact normal forces on each [N]."""
-    pads = {model.geom("pad_left").id: 0.0, model.geom("pad_right").id: 0.0}
+    """Mean over the two pads of MuJoCo's contact normal forces on each (both strips) [N]."""
+    sides = {
+        model.geom(f"{pad}{part}").id: pad for pad in ("pad_left", "pad_right") for part in ("", "_lower")
+    }
+    pads = {"pad_left": 0.0, "pad_right": 0.0}
     force = np.zeros(6)
     for i in range(data.ncon):
         contact = data.contact[i]
         for geom in (int(contact.geom1), int(contact.geom2)):
-            if geom in pads:
+            if geom in sides:
                 mujoco.mj_contactForce(model, data, i, force)
-                pads[geom] += force[0]
+                pads[sides[geom]] += force[0]
     return float(np.mean(list(pads.values())))

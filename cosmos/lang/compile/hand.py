@@ -17,7 +17,7 @@ import numpy as np
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.hand.tool import DEFAULT_GRIP_FORCE_N, GRIPPER, Tool, tool_named
-from cosmos.hand.work_object import DEFAULT_OBJECT_FRICTION, ObjectShape, WorkObject
+from cosmos.hand.work_object import DEFAULT_OBJECT_FRICTION, SHIPPED_PEG, ObjectShape, WorkObject
 from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.state import CompileState
@@ -47,7 +47,10 @@ def compile_tool(run: CompileContext, statement: ast.ChooseTool, state: CompileS
             f"TOOL {statement.name.name}: no such tool; the workcell has {names}", statement.name.span
         )
     _before_motion(state, statement.span, "TOOL")
-    return replace(state, tool=tool.value)
+    if tool is Tool.GRIPPER and state.tool != Tool.GRIPPER.value:
+        # The gripper's workcell: the peg in its holder beside the hole comes with it.
+        return replace(state, tool=tool.value, objects=(SHIPPED_PEG, *state.objects))
+    return replace(state, tool=tool.value, objects=tuple(o for o in state.objects if o is not SHIPPED_PEG))
 
 
 def compile_object(run: CompileContext, statement: ast.DeclareObject, state: CompileState) -> CompileState:
@@ -55,7 +58,10 @@ def compile_object(run: CompileContext, statement: ast.DeclareObject, state: Com
     _before_motion(state, statement.span, "OBJECT")
     name = statement.name
     if any(item.name.casefold() == name.key for item in state.objects):
-        raise ProgramError(f"an object named '{name.name}' is already declared", name.span)
+        shipped = (
+            " (the gripper's workcell has it: the peg in its holder)" if name.key == SHIPPED_PEG.name else ""
+        )
+        raise ProgramError(f"an object named '{name.name}' is already in the workcell{shipped}", name.span)
     shape = ObjectShape(statement.shape.lower())  # the grammar allows BOX and CYLINDER
     clauses = {c.kind: c for c in statement.clauses if isinstance(c, ast.ValueClause)}
     evaluator = run.evaluator_for(state)
