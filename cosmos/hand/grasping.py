@@ -10,10 +10,10 @@ executor, holding the arm where it is while the fingers move:
   to 0 mm: nothing between the fingers"), on something else than the named object or not
   on an object at all (the pads' contacts name what they touch: the world model's
   recognition of what is in the hand), or to an opening other than its ``WIDTH``. A held
-  object is affixed: :func:`cosmos.hand.payload.holding` makes its frame the tool frame
-  and adds its declared mass to the controller's model; the plant's ``tool`` site moves
-  with it, so the measured tool (the log's ``/cosmos/state``, arrival checks) is the
-  object's frame too.
+  object is affixed: :func:`cosmos.hand.payload.holding` moves the tool frame to the
+  object's base point and adds its declared mass to the controller's model; the plant's
+  ``tool`` site moves with it, so the measured tool (the log's ``/cosmos/state``, arrival
+  checks) is that point too.
 - **RELEASE** opens the fingers until they are clear of the object and goes back to the
   empty hand's model; with nothing held it fails at its line.
 
@@ -67,14 +67,14 @@ class Held:
         force_n: The grip force it is held with [N].
         opening_m: The opening the fingers closed to [m].
         body: Its MuJoCo body id.
-        object_in_tool: Its pose in the tool site's frame (MuJoCo's) at the grasp, 4x4.
+        centre_in_site_m: Its centre in the (affixed) tool site's frame at the grasp [m]. # (3,)
     """
 
     item: WorkObject
     force_n: float
     opening_m: float
     body: int
-    object_in_tool: np.ndarray
+    centre_in_site_m: np.ndarray
 
 
 class Hand:
@@ -223,18 +223,15 @@ class Hand:
             self._hand_model, item, object_in_flange[:3, :3], object_in_flange[:3, 3], self.declare_payload
         )
         self._runtime.carry(carried)
-        # The plant's tool site goes to the object's base, in the tool body's frame.
+        # The plant's tool site goes to the object's base point (its axes stay the hand's).
         base_in_tool = object_in_tool[:3, 3] + object_in_tool[:3, :3] @ np.asarray(item.base_in_body_m)
         hand_pos, hand_quat = self._hand_site
         hand_rotation = np.empty(9)
         mujoco.mju_quat2Mat(hand_rotation, hand_quat)
-        rotation_site = hand_rotation.reshape(3, 3) @ object_in_tool[:3, :3]
-        quat = np.empty(4)
-        mujoco.mju_mat2Quat(quat, rotation_site.ravel())
         model.site_pos[site] = hand_pos + hand_rotation.reshape(3, 3) @ base_in_tool
-        model.site_quat[site] = quat
         mujoco.mj_kinematics(model, data)
-        self.held = Held(item, force_n, opening_m, body, object_in_tool)
+        centre_in_site = data.site_xmat[site].reshape(3, 3).T @ (data.xpos[body] - data.site_xpos[site])
+        self.held = Held(item, force_n, opening_m, body, centre_in_site)
         self._hold(0.0)
 
     # --------------------------------------------------------------- release
@@ -274,10 +271,9 @@ class Hand:
                 f"below {SLIP_FORCE_FRACTION:.0%} of {held.force_n:g} N"
             )
         data, site = self._data, self._site
-        # The affixed site is the object's frame: its centre is at -base_in_body there.
         offset = data.xpos[held.body] - data.site_xpos[site]
         centre_in_site = data.site_xmat[site].reshape(3, 3).T @ offset
-        moved = float(np.linalg.norm(centre_in_site + np.asarray(held.item.base_in_body_m)))
+        moved = float(np.linalg.norm(centre_in_site - held.centre_in_site_m))
         if moved > SLIP_M:
             return f"'{held.item.name}' slips: it moved {moved * 1e3:.1f} mm in the fingers"
         return None

@@ -3,8 +3,11 @@
 While the gripper holds an object (GRASP), two things change in the controller's model
 (:class:`cosmos.robot_model.RobotModel`), both fixed relative to the last link:
 
-- the **tool frame** is the object's frame (the centre of the face it stood on, its axes), so every
-  following MOVE, CONTACT, SLIDE and INSERT moves the object;
+- the **tool frame** is the object's: its origin the centre of the face the object stood on
+  (:attr:`WorkObject.base_in_body_m`), its axes the hand's tool axes at the grasp, so every
+  following MOVE, CONTACT, SLIDE and INSERT moves that point of the object and keeps the
+  object turned as it was when grasped (a MOVE's goal orientation means what it meant for
+  the empty hand);
 - its declared **mass and inertia** join the last link's (the payload), so the gravity
   g(q), the joint-space inertia A(q) and with them Lambda, mu, p of eq. 27-28 include it,
   and the wrist sensor's reading is compensated for the hand's weight and the object's.
@@ -44,9 +47,8 @@ def holding(
             the controller ignores the weight it carries; for the comparison in the tests).
 
     Returns:
-        A new model (the hand's is not changed): tool frame at the object's frame
-        (:attr:`WorkObject.base_in_body_m`), and with ``declare_payload`` the object's inertia
-        on the last link.
+        A new model (the hand's is not changed): tool frame at the object's base point, and
+        with ``declare_payload`` the object's inertia on the last link.
     """
     model = hand.model.copy()
     flange = model.frames[hand.flange_frame]
@@ -54,12 +56,10 @@ def holding(
     rotation = np.asarray(rotation_object_to_flange, dtype=float)
     centre = np.asarray(object_centre_in_flange, dtype=float)
     base_in_flange = centre + rotation @ np.asarray(item.base_in_body_m)
-    model.frames[hand.tool_frame].placement = flange_in_joint * pin.SE3(rotation, base_in_flange)
-    tool = replace(
-        hand.tool,
-        tool_position_in_flange=read_only(base_in_flange),
-        tool_rotation_in_flange=read_only(rotation),
-    )
+    # The tool frame: at the object's base point, with the hand's tool axes (module docstring).
+    tool_rotation = hand.tool.tool_rotation_in_flange
+    model.frames[hand.tool_frame].placement = flange_in_joint * pin.SE3(tool_rotation, base_in_flange)
+    tool = replace(hand.tool, tool_position_in_flange=read_only(base_in_flange))
     if declare_payload:
         inertia_in_flange = rotation @ np.diag(item.inertia_diagonal_kgm2()) @ rotation.T
         payload = pin.Inertia(item.mass_kg, centre, inertia_in_flange)

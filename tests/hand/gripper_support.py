@@ -26,6 +26,10 @@ HOME_TCP_XY = (0.5963, -0.15005)
 BLOCK = WorkObject("block", ObjectShape.BOX, (0.02, 0.015, 0.025), 0.5, (*HOME_TCP_XY, 0.225))
 """A 0.5 kg block, 40 mm between the pads, standing on the table under the home tool point."""
 DOWN_TO_BLOCK = "MOVE BY (0, 0, -232.5 mm) SPEED 0.1 m/s\n"
+GRASP_BLOCK = (
+    "TOOL GRIPPER\nOBJECT block BOX SIZE (40 mm, 30 mm, 50 mm) MASS 0.5 kg AT table\nGRASP block FORCE 40 N\n"
+)
+"""A GRASP of :data:`BLOCK` with 40 N (declared as the session has it: the text compiles alone)."""
 """From home to the pads' centres 12.5 mm below the block's top (the pads are 25 mm tall)."""
 
 

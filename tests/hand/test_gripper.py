@@ -14,6 +14,7 @@ from cosmos.workcell import scene_spec, tool_spec
 from tests.hand.gripper_support import (
     BLOCK,
     DOWN_TO_BLOCK,
+    GRASP_BLOCK,
     HAND_MASS_KG,
     G,
     body_position,
@@ -66,8 +67,8 @@ def test_grasp_lift_weighs_and_grips(tmp_path: Path, ideal: bool) -> None:
         assert free[2] == pytest.approx(-HAND_MASS_KG * G, abs=0.3)  # sensor z up at home: the hand's weight
         run_text(session, DOWN_TO_BLOCK)
         assert fingers.read().opening_m == pytest.approx(0.085, abs=1e-4)
-        fingers.command(-0.05, 40.0)
-        session.executor.hold(1.2)
+        run_text(session, GRASP_BLOCK)
+        session.executor.hold(0.2)
         grip = fingers.read()
         assert grip.opening_m == pytest.approx(2 * BLOCK.half_extents_m[0], abs=1e-3)
         assert grip.force_left_n == pytest.approx(40.0, rel=0.05)

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from cosmos.errors import TaskFailure
 from cosmos.execution.session import Session
 from cosmos.hand.tool import Tool
 from cosmos.lang import compile_program
@@ -36,7 +38,8 @@ def _steady_error_m(tmp_path: Path, ideal: bool, grasp: bool, declare: bool) -> 
         executor.hand.declare_payload = declare  # type: ignore[attr-defined]
         executor.run(plan)
         goal = executor.meter.position + np.array([0.0, 0.0, 0.1])
-        executor.run(compile_program("MOVE BY (0, 0, 100 mm) SPEED 0.1 m/s\n", "p.cos", fixture_frames()))
+        with contextlib.suppress(TaskFailure):  # undeclared, the weight may keep it from arriving
+            executor.run(compile_program("MOVE BY (0, 0, 100 mm) SPEED 0.1 m/s\n", "p.cos", fixture_frames()))
         runtime.reset_clocks()
         runtime.set_setpoint(
             ServoSetpoint(
