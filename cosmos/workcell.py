@@ -115,20 +115,20 @@ def _object_id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
     return int(index)
 
 
-def scene_spec(scene_xml: Path, tool: Tool = Tool.PEG) -> mujoco.MjSpec:
-    """An arm's workcell as a spec, carrying ``tool`` (the scene file's peg, or the gripper)."""
+def scene_spec(scene_xml: Path, tool: Tool = Tool.PEG, robot: str = "puma560") -> mujoco.MjSpec:
+    """An arm's workcell as a spec, carrying ``tool`` (the scene file's peg, or the arm's gripper)."""
     spec = mujoco.MjSpec.from_file(str(scene_xml))
     if tool is Tool.GRIPPER:
-        mount_gripper(spec)
+        mount_gripper(spec, robot)
     return spec
 
 
 @functools.cache
 def _scene_at_home(
-    scene_xml: Path = SCENE_XML, tool: Tool = Tool.PEG
+    scene_xml: Path = SCENE_XML, tool: Tool = Tool.PEG, robot: str = "puma560"
 ) -> tuple[mujoco.MjModel, mujoco.MjData]:
     """The compiled scene with the kinematics evaluated at the home keyframe."""
-    model = scene_spec(scene_xml, tool).compile()
+    model = scene_spec(scene_xml, tool, robot).compile()
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY))
     mujoco.mj_kinematics(model, data)
@@ -163,7 +163,7 @@ def tool_spec(robot: Robot = DEFAULT_ROBOT, tool: Tool = Tool.PEG) -> ToolSpec:
     The gripper's mass properties are those of the ``tool`` body and its fingers together,
     the fingers open (as at home).
     """
-    model, data = _scene_at_home(robot.scene_xml, tool)
+    model, data = _scene_at_home(robot.scene_xml, tool, robot.name)
     flange = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, FLANGE_SITE)
     body = _object_id(model, mujoco.mjtObj.mjOBJ_BODY, TOOL_BODY)
     sensor = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, SENSOR_SITE)

@@ -112,7 +112,7 @@ class Session:
 
         def edit(spec: mujoco.MjSpec) -> None:
             if tool is Tool.GRIPPER:
-                mount_gripper(spec)
+                mount_gripper(spec, robot.name)
                 add_holder(spec)
             add_objects(spec, objects)  # after the fingers: the keyframe holds the arm's and theirs
             if vary is not None:
@@ -159,9 +159,10 @@ class Session:
         from cosmos.hand.grasping import Hand
         from cosmos.hand.hand_log import HandRecorder
         from cosmos.hand.supervision import GraspSupervisor
+        from cosmos.hand.tool import gripper_of
 
         executor = self.executor
-        hand = executor.hand = Hand(self.runtime, objects, executor.hold)
+        hand = executor.hand = Hand(self.runtime, objects, executor.hold, gripper_of(self.robot.name))
         robot = self.runtime.robot
         executor.supervisor = GraspSupervisor(
             self.plant,

@@ -21,7 +21,6 @@ import numpy as np
 
 from cosmos.errors import CosmosError
 from cosmos.hand.gripper_scene import DRIVE, FINGERS, PADS
-from cosmos.hand.tool import GRIPPER
 from cosmos.realism.wrist_sensor import (
     BIAS_FORCE_STD_N,
     CUTOFF_HZ,
@@ -108,11 +107,10 @@ class Fingers:
         loop starts from its encoder), so a RELEASE opens at once.
 
         Args:
-            speed_mps: Opening speed [m/s]; clipped to the datasheet's fastest.
+            speed_mps: Opening speed [m/s]; clipped to the drive's fastest (its ``ctrlrange``).
             force_n: Grip force setting [N]: the drive's force limit on each finger.
         """
         self._data.act[self._act] = self.opening_m()
-        self._data.ctrl[self._drive] = float(
-            np.clip(speed_mps, -GRIPPER.speed_max_mps, GRIPPER.speed_max_mps)
-        )
+        low, high = self._model.actuator_ctrlrange[self._drive]
+        self._data.ctrl[self._drive] = min(max(speed_mps, float(low)), float(high))
         self._model.actuator_forcerange[self._drive] = (-force_n, force_n)

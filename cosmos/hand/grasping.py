@@ -36,7 +36,7 @@ from cosmos.errors import CosmosError
 from cosmos.hand.fingers import Fingers
 from cosmos.hand.gripper_scene import PADS
 from cosmos.hand.payload import holding
-from cosmos.hand.tool import DEFAULT_FINGER_SPEED_MPS, GRIPPER
+from cosmos.hand.tool import DEFAULT_FINGER_SPEED_MPS, GRIPPER, GripperDatasheet
 from cosmos.hand.work_object import WorkObject
 from cosmos.plan import HandAction, HandStep
 from cosmos.robot_model import RobotModel
@@ -84,6 +84,7 @@ class Hand:
         runtime: The controller and its plant (which must have the gripper).
         objects: The program's objects.
         hold: Holds the arm where it is for a duration [s] (the executor's ``hold``).
+        datasheet: The gripper's (its stroke and smallest force).
         declare_payload: Add a held object's mass to the controller's model (tests compare
             without).
 
@@ -96,6 +97,7 @@ class Hand:
         runtime: Runtime,
         objects: tuple[WorkObject, ...],
         hold: Callable[[float], None],
+        datasheet: GripperDatasheet = GRIPPER,
         declare_payload: bool = True,
     ) -> None:
         plant = runtime.plant
@@ -114,6 +116,7 @@ class Hand:
         self._site = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)
         self._hand_site = (self._model.site_pos[self._site].copy(), self._model.site_quat[self._site].copy())
         self._hand_model: RobotModel = runtime.robot
+        self._datasheet = datasheet
         self.declare_payload = declare_payload
         self.held: Held | None = None
 
@@ -144,7 +147,7 @@ class Hand:
         dt = self._runtime.plant.dt_s
         settle_ticks, still = math.ceil(SETTLE_S / dt), 0
         last = fingers.opening_m()
-        limit_s = self._runtime.time_s + GRIPPER.stroke_m / DEFAULT_FINGER_SPEED_MPS + 1.0
+        limit_s = self._runtime.time_s + self._datasheet.stroke_m / DEFAULT_FINGER_SPEED_MPS + 1.0
         tick = self._runtime.tick
         while True:
             tick()
@@ -152,20 +155,20 @@ class Hand:
             still = still + 1 if abs(reading.opening_m - last) < SETTLE_M * dt / SETTLE_S else 0
             last = reading.opening_m
             if reading.opening_m < NOTHING_M:
-                fingers.command(DEFAULT_FINGER_SPEED_MPS, GRIPPER.grip_force_min_n)
+                fingers.command(DEFAULT_FINGER_SPEED_MPS, self._datasheet.grip_force_min_n)
                 where = self._distance_text(step.object_name)
                 fail(f"closed to {reading.opening_m * 1e3:.0f} mm: nothing between the fingers{where}")
             if still >= settle_ticks and min(reading.force_left_n, reading.force_right_n) >= FELT * force:
                 break
             if self._runtime.time_s > limit_s:
-                fingers.command(DEFAULT_FINGER_SPEED_MPS, GRIPPER.grip_force_min_n)
+                fingers.command(DEFAULT_FINGER_SPEED_MPS, self._datasheet.grip_force_min_n)
                 fail(
                     f"the fingers did not settle on {force:g} N: pads {reading.force_left_n:.1f} N and "
                     f"{reading.force_right_n:.1f} N at {reading.opening_m * 1e3:.1f} mm"
                 )
         touched = self._touched()
         if touched is None or (step.object_name is not None and touched != step.object_name):
-            fingers.command(DEFAULT_FINGER_SPEED_MPS, GRIPPER.grip_force_min_n)
+            fingers.command(DEFAULT_FINGER_SPEED_MPS, self._datasheet.grip_force_min_n)
             self._hold(0.5)
             what = "no object (the pads touch no declared OBJECT)" if touched is None else f"'{touched}'"
             wanted = f", not on '{step.object_name}'" if step.object_name is not None else ""
@@ -173,7 +176,7 @@ class Hand:
             raise AssertionError  # fail() raises
         assert touched is not None
         if step.width_m is not None and abs(last - step.width_m) > WIDTH_TOLERANCE_M:
-            fingers.command(DEFAULT_FINGER_SPEED_MPS, GRIPPER.grip_force_min_n)
+            fingers.command(DEFAULT_FINGER_SPEED_MPS, self._datasheet.grip_force_min_n)
             self._hold(0.5)
             fail(f"closed to {last * 1e3:.1f} mm; WIDTH expects {step.width_m * 1e3:.1f} mm")
         self._affix(self._objects[touched], force, last)
@@ -242,13 +245,13 @@ class Hand:
             fail("the gripper holds nothing")
             raise AssertionError  # fail() raises
         fingers = self._fingers
-        fingers.command(DEFAULT_FINGER_SPEED_MPS, GRIPPER.grip_force_min_n)
-        target = min(held.opening_m + 2 * RELEASE_CLEARANCE_M, GRIPPER.stroke_m - 1e-3)
+        fingers.command(DEFAULT_FINGER_SPEED_MPS, self._datasheet.grip_force_min_n)
+        target = min(held.opening_m + 2 * RELEASE_CLEARANCE_M, self._datasheet.stroke_m - 1e-3)
         limit_s = self._runtime.time_s + 2 * RELEASE_CLEARANCE_M / DEFAULT_FINGER_SPEED_MPS + 1.0
         self._hold(0.0)
         while fingers.opening_m() < target and self._runtime.time_s < limit_s:
             self._runtime.tick()
-        fingers.command(0.0, GRIPPER.grip_force_min_n)
+        fingers.command(0.0, self._datasheet.grip_force_min_n)
         self.held = None
         self._runtime.carry(self._hand_model)
         position, quat = self._hand_site

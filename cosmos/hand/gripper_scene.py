@@ -28,10 +28,12 @@ motor current). A tendon force ``f`` pushes each pad with ``f``: the grip force.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
+
 import mujoco
 import numpy as np
 
-from cosmos.hand.tool import GRIPPER
+from cosmos.hand.tool import FRANKA_HAND, GRIPPER, GripperDatasheet
 
 FINGERS = ("finger_left", "finger_right")
 """The finger bodies and their slide joints, same names."""
@@ -40,23 +42,83 @@ PADS = ("pad_left", "pad_right")
 OPENING_TENDON = "gripper_opening"
 DRIVE = "gripper"
 """The actuator of the fingers (after the arm's motors)."""
-TCP_Z_M = 0.1875
-"""The tool point between the pads, on the flange's z axis [m]."""
 
 _KEEP = ("ft_sensor_housing",)
-_COUPLING = (0.0375, 0.005, 0.040, 0.10)  # radius, half height, centre z [m], mass [kg]
-_HOUSING = ((0.045, 0.0325, 0.050), 0.095, 0.625)  # half sizes, centre z [m], mass [kg]
-_FINGER_BASE_Z_M = 0.145
-_FINGER = ((0.005, 0.011, 0.0275), 0.100)  # half sizes [m], mass [kg] each
-_PAD = (0.0005, 0.011, 0.0125)  # half sizes [m]; the pad's centre is at z TCP_Z_M
-_PAD_STRIP = (_PAD[0], _PAD[1], _PAD[2] / 3)  # each of its two strips (upper and lower third)
-_PAD_STRIP_Z = 2 * _PAD[2] / 3  # their centres above and below the pad's centre [m]
-_PAD_FRICTION = (1.0, 0.005, 0.0001)
+SENSOR_FACE_Z_M = 0.035
+"""The wrist sensor's tool-side face in the tool body: where a hand is mounted [m]."""
+
+
+@dataclass(frozen=True)
+class HandGeometry:
+    """A parallel gripper's shape and drive, in the tool body's frame (z away from the flange).
+
+    Attributes:
+        datasheet: What it can do.
+        housing: Its fixed geoms: name, box or cylinder, MuJoCo size, centre [m], mass [kg].
+        housing_inertial: Mass [kg], centre [m] and principal moments [kg m^2] (tool axes) of
+            the housing from a published inertial (then the housing geoms carry no mass), or
+            None (the geoms' masses).
+        finger_base_z_m: Where the fingers' slides are [m].
+        finger_half_m: Half sizes of a finger's box [m] (its inner face behind the pad).
+        finger_mass_kg: Mass of each finger [kg].
+        pad_half_m: Half sizes of a pad (thickness, width, height) [m].
+        tcp_z_m: The tool point between the pads' centres [m].
+    """
+
+    datasheet: GripperDatasheet
+    housing: tuple[
+        tuple[str, mujoco.mjtGeom, tuple[float, float, float], tuple[float, float, float], float], ...
+    ]
+    housing_inertial: tuple[float, tuple[float, float, float], tuple[float, float, float]] | None
+    finger_base_z_m: float
+    finger_half_m: tuple[float, float, float]
+    finger_mass_kg: float
+    pad_half_m: tuple[float, float, float]
+    tcp_z_m: float
+
+
+_BOX, _CYLINDER = mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_CYLINDER
+ROBOTIQ_2F85 = HandGeometry(
+    datasheet=GRIPPER,
+    housing=(
+        ("gripper_coupling", _CYLINDER, (0.0375, 0.005, 0.0), (0.0, 0.0, 0.040), 0.10),
+        ("gripper_housing", _BOX, (0.045, 0.0325, 0.050), (0.0, 0.0, 0.095), 0.625),
+    ),
+    housing_inertial=None,
+    finger_base_z_m=0.145,
+    finger_half_m=(0.005, 0.011, 0.0275),
+    finger_mass_kg=0.100,
+    pad_half_m=(0.0005, 0.011, 0.0125),
+    tcp_z_m=0.1875,
+)
+"""The PUMA's gripper (module docstring; ``cosmos/models/puma560/README.md``, "Gripper")."""
+
+_HAND_Z_M = SENSOR_FACE_Z_M  # the URDF's panda_hand frame, mounted on the sensor's face
+FRANKA_HAND_GEOMETRY = HandGeometry(
+    datasheet=FRANKA_HAND,
+    # A box over the hand's collision mesh (not shipped: its extent, 200 x 60 mm, 58 mm tall
+    # to where the fingers start, is this model's), massless: the URDF's inertial carries it.
+    housing=(("hand_housing", _BOX, (0.03, 0.10, 0.0292), (0.0, 0.0, _HAND_Z_M + 0.0292), 0.0),),
+    # URDF panda_hand: 0.73 kg at (-0.01, 0, 0.03), diag(0.001, 0.0025, 0.0017) in its axes;
+    # its fingers close along its y, here along the tool's x: hand y -> tool x, hand x -> -tool y.
+    housing_inertial=(0.73, (0.0, 0.01, _HAND_Z_M + 0.03), (0.0025, 0.001, 0.0017)),
+    finger_base_z_m=_HAND_Z_M + 0.0584,  # URDF panda_finger_joint1: 0.0584 m from the hand
+    finger_half_m=(0.0075, 0.011, 0.027),  # the URDF's collision boxes' extent, 15 x 22 x 54 mm
+    finger_mass_kg=0.015,
+    pad_half_m=(0.0005, 0.00875, 0.00925),  # the fingertip's 17.5 x 18.5 mm box
+    tcp_z_m=_HAND_Z_M + 0.1034,  # URDF panda_hand_tcp_joint
+)
+"""The Panda's own hand, from ``cosmos/models/panda/source/panda.urdf``, below the sensor."""
+
+HAND_GEOMETRIES = {"puma560": ROBOTIQ_2F85, "panda": FRANKA_HAND_GEOMETRY}
+"""Each arm's gripper, by the arm's name."""
+
+PAD_FRICTION = (1.0, 0.005, 0.0001)
 DRIVE_KP_N_PER_M = 2.0e4
-"""Stiffness of the drive's position loop on the opening [N/m]: the largest grip force is
-reached 12 mm past contact."""
+"""Stiffness of the drive's position loop on the opening [N/m]: the 2F-85's largest grip force
+is reached 12 mm past contact, the Panda hand's 5 mm."""
 DRIVE_KV_NS_PER_M = 100.0
-"""Its damping [N s/m] (about critical for the fingers' 0.2 kg)."""
+"""Its damping [N s/m] (about critical for the 2F-85's fingers, 0.2 kg and the armature)."""
 FINGER_ARMATURE_KG = 0.05
 """Reflected inertia of the drive on each finger's slide [kg]."""
 TOOL_CONTYPE, TOOL_CONAFFINITY = 4, 1
@@ -66,26 +128,31 @@ under a steady load, and a peg held at 60 N turned 2 deg/s in the pads while pre
 hole's chamfer (``tests/hand/test_grasp_and_insert.py``)."""
 
 
-def mount_gripper(spec: mujoco.MjSpec) -> None:
-    """Replace the peg of the scene's ``tool`` body by the gripper (module docstring).
+def mount_gripper(spec: mujoco.MjSpec, robot: str = "puma560") -> None:
+    """Replace the peg of the scene's ``tool`` body by the arm's gripper (module docstring).
 
     Args:
         spec: A workcell's spec (``cosmos/models/<arm>/scene.xml``), edited in place.
+        robot: The arm's name: the PUMA carries the 2F-85, the Panda its own hand.
     """
+    hand = _mounted(HAND_GEOMETRIES.get(robot, ROBOTIQ_2F85), spec)
     spec.option.noslip_iterations = NOSLIP_ITERATIONS
     tool = spec.body("tool")
     for geom in list(tool.geoms):
         if geom.name not in _KEEP:
             spec.delete(geom)
-    spec.site("tool").pos = (0.0, 0.0, TCP_Z_M)
-    radius, half, z, mass = _COUPLING
-    _hand_geom(tool, "gripper_coupling", mujoco.mjtGeom.mjGEOM_CYLINDER, (radius, half, 0), (0, 0, z), mass)
-    sizes, z, mass = _HOUSING
-    _hand_geom(tool, "gripper_housing", mujoco.mjtGeom.mjGEOM_BOX, sizes, (0, 0, z), mass)
-    half_stroke = 0.5 * GRIPPER.stroke_m
-    finger_sizes, finger_mass = _FINGER
-    for name, pad, side in zip(FINGERS, PADS, (1.0, -1.0), strict=True):
-        finger = tool.add_body(name=name, pos=(0.0, 0.0, _FINGER_BASE_Z_M))
+    spec.site("tool").pos = (0.0, 0.0, hand.tcp_z_m)
+    holder = tool
+    if hand.housing_inertial is not None:
+        mass, centre, moments = hand.housing_inertial
+        holder = tool.add_body(name="hand", mass=mass, ipos=centre, inertia=moments, explicitinertial=True)
+    for name, kind, size, pos, mass in hand.housing:
+        _hand_geom(holder, name, kind, size, pos, mass)
+    half_stroke = 0.5 * hand.datasheet.stroke_m
+    pad = hand.pad_half_m
+    strip, strip_z = (pad[0], pad[1], pad[2] / 3), 2 * pad[2] / 3  # upper and lower thirds
+    for name, pad_name, side in zip(FINGERS, PADS, (1.0, -1.0), strict=True):
+        finger = tool.add_body(name=name, pos=(0.0, 0.0, hand.finger_base_z_m))
         finger.add_joint(
             name=name,
             type=mujoco.mjtJoint.mjJNT_SLIDE,
@@ -93,41 +160,61 @@ def mount_gripper(spec: mujoco.MjSpec) -> None:
             range=(0.0, half_stroke),
             armature=FINGER_ARMATURE_KG,
         )
-        behind = 2.0 * _PAD[0]  # the finger's inner face is behind the pad
+        half = hand.finger_half_m
+        behind = 2.0 * pad[0]  # the finger's inner face is behind the pad
         _hand_geom(
-            finger,
-            f"{name}_link",
-            mujoco.mjtGeom.mjGEOM_BOX,
-            finger_sizes,
-            (side * (behind + finger_sizes[0]), 0.0, finger_sizes[2]),
-            finger_mass,
+            finger, f"{name}_link", _BOX, half, (side * (behind + half[0]), 0.0, half[2]), hand.finger_mass_kg
         )
-        pad_z = TCP_Z_M - _FINGER_BASE_Z_M
+        pad_z = hand.tcp_z_m - hand.finger_base_z_m
         # Two strips per pad, its upper and lower thirds: a part held at two lines on each
         # side is held against turning about the pad's normal by a couple, as by a real pad's
         # area (one flat box against a cylinder makes one contact, a pivot).
-        for part, dz in ((pad, _PAD_STRIP_Z), (f"{pad}_lower", -_PAD_STRIP_Z)):
-            geom = _hand_geom(
-                finger, part, mujoco.mjtGeom.mjGEOM_BOX, _PAD_STRIP, (side * _PAD[0], 0.0, pad_z + dz), 0.0
-            )
-            geom.friction = _PAD_FRICTION
+        for part, dz in ((pad_name, strip_z), (f"{pad_name}_lower", -strip_z)):
+            geom = _hand_geom(finger, part, _BOX, strip, (side * pad[0], 0.0, pad_z + dz), 0.0)
+            geom.friction = PAD_FRICTION
             geom.condim = 4
             geom.solref = (0.004, 1.0)
             geom.solimp = (0.95, 0.99, 0.001, 0.5, 2.0)
             geom.rgba = (0.15, 0.15, 0.15, 1.0)
         finger.add_site(
-            name=f"{pad}_touch",
-            type=mujoco.mjtGeom.mjGEOM_BOX,
-            pos=(side * _PAD[0], 0.0, pad_z),
-            size=(3.0 * _PAD[0], _PAD[1] + 0.001, _PAD[2] + 0.001),
+            name=f"{pad_name}_touch",
+            type=_BOX,
+            pos=(side * pad[0], 0.0, pad_z),
+            size=(3.0 * pad[0], pad[1] + 0.001, pad[2] + 0.001),
             rgba=(0.2, 0.8, 0.2, 0.3),
         )
         spec.add_sensor(
-            name=f"{pad}_touch",
+            name=f"{pad_name}_touch",
             type=mujoco.mjtSensor.mjSENS_TOUCH,
             objtype=mujoco.mjtObj.mjOBJ_SITE,
-            objname=f"{pad}_touch",
+            objname=f"{pad_name}_touch",
         )
+    _add_drive(spec, hand.datasheet)
+
+
+def _mounted(hand: HandGeometry, spec: mujoco.MjSpec) -> HandGeometry:
+    """``hand`` moved along z by the flange's height in the ``tool`` body.
+
+    The PUMA's ``tool`` body is at its flange; the Panda's sits at link 7's origin, the flange
+    107 mm out (its scene keeps the peg's sensor housing there): the hand hangs from the flange.
+    """
+    dz = float(spec.site("flange").pos[2] - spec.body("tool").pos[2])
+    if dz == 0.0:
+        return hand
+    inertial = hand.housing_inertial
+    return replace(
+        hand,
+        housing=tuple((n, k, size, (p[0], p[1], p[2] + dz), m) for n, k, size, p, m in hand.housing),
+        housing_inertial=None
+        if inertial is None
+        else (inertial[0], (inertial[1][0], inertial[1][1], inertial[1][2] + dz), inertial[2]),
+        finger_base_z_m=hand.finger_base_z_m + dz,
+        tcp_z_m=hand.tcp_z_m + dz,
+    )
+
+
+def _add_drive(spec: mujoco.MjSpec, datasheet: GripperDatasheet) -> None:
+    """The fingers' linkage (a joint equality), their opening tendon and its drive; open at every key."""
     spec.add_equality(
         name="gripper_linkage",
         type=mujoco.mjtEq.mjEQ_JOINT,
@@ -138,20 +225,17 @@ def mount_gripper(spec: mujoco.MjSpec) -> None:
     tendon = spec.add_tendon(name=OPENING_TENDON)
     for name in FINGERS:
         tendon.wrap_joint(name, 1.0)
-    drive = spec.add_actuator(
-        name=DRIVE,
-        target=OPENING_TENDON,
-        trntype=mujoco.mjtTrn.mjTRN_TENDON,
-    )
+    drive = spec.add_actuator(name=DRIVE, target=OPENING_TENDON, trntype=mujoco.mjtTrn.mjTRN_TENDON)
     drive.set_to_intvelocity(kp=DRIVE_KP_N_PER_M, kv=DRIVE_KV_NS_PER_M)
     drive.actlimited = True
-    drive.actrange = (0.0, GRIPPER.stroke_m)
-    drive.ctrlrange = (-GRIPPER.speed_max_mps, GRIPPER.speed_max_mps)
+    drive.actrange = (0.0, datasheet.stroke_m)
+    drive.ctrlrange = (-datasheet.speed_max_mps, datasheet.speed_max_mps)
     drive.forcelimited = True
-    drive.forcerange = (-GRIPPER.grip_force_max_n, GRIPPER.grip_force_max_n)
+    drive.forcerange = (-datasheet.grip_force_max_n, datasheet.grip_force_max_n)
+    half_stroke = 0.5 * datasheet.stroke_m
     for key in spec.keys:  # every keyframe starts with the fingers open
         key.qpos = [*key.qpos, half_stroke, half_stroke]
-        key.act = [GRIPPER.stroke_m]
+        key.act = [datasheet.stroke_m]
 
 
 def _hand_geom(

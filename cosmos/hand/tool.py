@@ -53,7 +53,29 @@ class GripperDatasheet:
 
 
 GRIPPER = GripperDatasheet()
-"""The gripper of ``TOOL GRIPPER`` (a Robotiq 2F-85, module docstring)."""
+"""The PUMA's gripper of ``TOOL GRIPPER`` (a Robotiq 2F-85, module docstring)."""
+
+FRANKA_HAND = GripperDatasheet(
+    stroke_m=0.080,
+    grip_force_min_n=GRIPPER.grip_force_min_n,
+    grip_force_max_n=100.0,
+    speed_min_mps=GRIPPER.speed_min_mps,
+    speed_max_mps=0.150,
+    mass_kg=0.73 + 2 * 0.015,
+)
+"""The Panda's own hand (``cosmos/models/panda/source/panda.urdf``: ``panda_hand`` 0.73 kg,
+``panda_leftfinger``/``panda_rightfinger`` 0.015 kg each, finger joints 0 .. 0.04 m with an
+effort limit of 100 N and 0.2 m/s); the URDF gives no smallest force: the 2F-85's is kept,
+and the fastest closing is the 2F-85's too (the datasheets' order)."""
+
+HANDS: dict[str, GripperDatasheet] = {"puma560": GRIPPER, "panda": FRANKA_HAND}
+"""Each arm's gripper, by the arm's name (``ROBOT``)."""
+
+
+def gripper_of(robot: str) -> GripperDatasheet:
+    """The datasheet of the gripper ``TOOL GRIPPER`` mounts on the arm named ``robot``."""
+    return HANDS.get(robot, GRIPPER)
+
 
 DEFAULT_GRIP_FORCE_N = 40.0
 """The grip force of a GRASP that names none [N]."""

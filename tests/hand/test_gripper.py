@@ -24,8 +24,17 @@ from tests.hand.gripper_support import (
 from tests.run.run_support import BOTH_PLANTS
 
 
-@pytest.mark.parametrize("robot", [PUMA560, PANDA], ids=["puma560", "panda"])
-def test_controller_knows_the_hand_as_mujoco_builds_it(robot) -> None:
+@pytest.mark.parametrize(
+    ("robot", "hand_kg", "tcp_z_m"),
+    [
+        (PUMA560, HAND_MASS_KG, 0.1875),  # 12.5 mm short of the peg's tip, 200 mm out
+        # The Panda's own hand (its URDF: hand 0.73 kg, fingers 0.015 kg each, TCP 103.4 mm from
+        # the hand) below the 35 mm sensor housing (0.25 kg) on the flange.
+        (PANDA, 0.73 + 0.03 + 0.25, 0.035 + 0.1034),
+    ],
+    ids=["puma560", "panda"],
+)
+def test_controller_knows_the_hand_as_mujoco_builds_it(robot, hand_kg: float, tcp_z_m: float) -> None:
     """The controller's tool mass, centre and inertia are the whole hand's, fingers included.
 
     Catches a tool spec read from the ``tool`` body alone (the fingers are bodies of their own):
@@ -33,21 +42,19 @@ def test_controller_knows_the_hand_as_mujoco_builds_it(robot) -> None:
     subtree mass and centre, and with the datasheet's mass.
     """
     spec = tool_spec(robot, Tool.GRIPPER)
-    model = scene_spec(robot.scene_xml, Tool.GRIPPER).compile()
+    model = scene_spec(robot.scene_xml, Tool.GRIPPER, robot.name).compile()
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, 0)
     mujoco.mj_forward(model, data)
     tool = model.body("tool").id
     flange = model.site("flange").id
-    assert spec.mass_kg == pytest.approx(HAND_MASS_KG, abs=1e-9)
+    assert spec.mass_kg == pytest.approx(hand_kg, abs=1e-9)
     assert spec.mass_kg == pytest.approx(model.body_subtreemass[tool], abs=1e-12)
     rotation = data.site_xmat[flange].reshape(3, 3)
     com_in_flange = rotation.T @ (data.subtree_com[tool] - data.site_xpos[flange])
     np.testing.assert_allclose(spec.com_in_flange, com_in_flange, atol=1e-12)
     assert np.all(np.linalg.eigvalsh(spec.inertia_in_flange) > 0)
-    np.testing.assert_allclose(
-        spec.tool_position_in_flange, tool_spec(robot).tool_position_in_flange - (0, 0, 0.0125)
-    )
+    np.testing.assert_allclose(spec.tool_position_in_flange, (0.0, 0.0, tcp_z_m), atol=1e-12)
 
 
 @pytest.mark.parametrize("ideal", BOTH_PLANTS)

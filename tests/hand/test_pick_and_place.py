@@ -1,4 +1,5 @@
-"""programs/pick_and_place.cos on both plants: the block ends where the program puts it, held fast."""
+"""programs/pick_and_place.cos on both plants (and the Panda's with its own hand): the block ends
+where the program puts it, held fast."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import numpy as np
 import pytest
 
 from tests.hand.gripper_support import hand_samples, tf_last_pose
-from tests.run.run_support import BOTH_PLANTS, PROGRAMS, TABLE_POINT_M, run_in_process
+from tests.run.run_support import PROGRAMS, TABLE_POINT_M, run_in_process
 
 BLOCK_HALF_HEIGHT_M = 0.025
 TARGET_BASE_M = TABLE_POINT_M + np.array([0.120, 0.080, 0.0])
@@ -16,8 +17,16 @@ TARGET_BASE_M = TABLE_POINT_M + np.array([0.120, 0.080, 0.0])
 GRIP_N = 40.0
 
 
-@pytest.mark.parametrize("ideal", BOTH_PLANTS)
-def test_pick_and_place_puts_the_block_on_its_target(tmp_path: Path, ideal: bool) -> None:
+@pytest.mark.parametrize(
+    ("program", "ideal"),
+    [
+        ("pick_and_place.cos", False),
+        ("pick_and_place.cos", True),
+        ("panda_pick_and_place.cos", True),  # the Panda's own hand; its plant is the ideal one
+    ],
+    ids=["realistic", "ideal", "panda"],
+)
+def test_pick_and_place_puts_the_block_on_its_target(tmp_path: Path, program: str, ideal: bool) -> None:
     """The 0.5 kg block ends within 2 mm and 2 deg of its target, gripped at 40 N +- 10 % while carried.
 
     Read from the log: the block's body pose on /tf (MuJoCo's) and the pads on /cosmos/hand.
@@ -27,7 +36,7 @@ def test_pick_and_place_puts_the_block_on_its_target(tmp_path: Path, ideal: bool
     that knocks the block over.
     """
     log = tmp_path / "pp.mcap"
-    run = run_in_process(PROGRAMS / "pick_and_place.cos", log, ideal=ideal)
+    run = run_in_process(PROGRAMS / program, log, ideal=ideal)
     assert run.returncode == 0, run.describe()
     position, quat = tf_last_pose(log, "block")
     centre_target = TARGET_BASE_M + np.array([0.0, 0.0, BLOCK_HALF_HEIGHT_M])

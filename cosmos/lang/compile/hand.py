@@ -16,7 +16,7 @@ import numpy as np
 
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
-from cosmos.hand.tool import DEFAULT_GRIP_FORCE_N, GRIPPER, Tool, tool_named
+from cosmos.hand.tool import DEFAULT_GRIP_FORCE_N, GRIPPER, Tool, gripper_of, tool_named
 from cosmos.hand.work_object import DEFAULT_OBJECT_FRICTION, SHIPPED_PEG, ObjectShape, WorkObject
 from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
@@ -170,13 +170,21 @@ def compile_grasp(run: CompileContext, statement: ast.Grasp, state: CompileState
     if ast.ClauseKind.FORCE in clauses:
         clause = clauses[ast.ClauseKind.FORCE]
         force = evaluator.expect_scalar(clause.value, units.FORCE, "GRASP FORCE")  # checked: limits.py
+        hand = gripper_of(state.robot)
+        if force > hand.grip_force_max_n:
+            raise ProgramError(
+                f"GRASP FORCE {force:g} N is more than the {state.robot}'s gripper holds "
+                f"({hand.grip_force_max_n:g} N)",
+                clause.value.span,
+            )
     width = None
     if ast.ClauseKind.WIDTH in clauses:
         clause = clauses[ast.ClauseKind.WIDTH]
         width = evaluator.expect_scalar(clause.value, units.LENGTH, "WIDTH")
-        if not 0 < width < GRIPPER.stroke_m:
+        stroke = gripper_of(state.robot).stroke_m
+        if not 0 < width < stroke:
             raise ProgramError(
-                f"WIDTH is what the fingers close to, between 0 and the {GRIPPER.stroke_m * 1e3:g} mm "
+                f"WIDTH is what the fingers close to, between 0 and the {stroke * 1e3:g} mm "
                 f"stroke, not {width * 1e3:g} mm",
                 clause.span,
             )
