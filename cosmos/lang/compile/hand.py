@@ -21,6 +21,7 @@ from cosmos.hand.work_object import DEFAULT_OBJECT_FRICTION, SHIPPED_PEG, Object
 from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.state import CompileState
+from cosmos.lang.evaluate.evaluator import suggest
 from cosmos.rotations import IDENTITY, matrix_to_quaternion
 
 TABLE_X_M = (0.30, 0.94)
@@ -161,8 +162,7 @@ def compile_grasp(run: CompileContext, statement: ast.Grasp, state: CompileState
         ident = statement.object_name
         known = {item.name.casefold(): item.name for item in state.objects}
         if ident.key not in known:
-            listed = ", ".join(known.values()) or "none: declare it with OBJECT"
-            raise ProgramError(f"GRASP {ident.name}: no such object; the workcell has {listed}", ident.span)
+            raise ProgramError(f"GRASP {ident.name}: no such object{suggest(ident.name, known)}", ident.span)
         name = known[ident.key]
     clauses = {c.kind: c for c in statement.clauses if isinstance(c, ast.ValueClause)}
     evaluator = run.evaluator_for(state)
