@@ -232,6 +232,9 @@ def plan_table(compiled: plan.Plan) -> Table:
         f"{compiled.file}: {len(compiled.segments)} segments on the {arm.title} "
         f"({arm.dof} joints, reach {arm.capability.reach_m * 1e3:.0f} mm)"
     )
+    if compiled.tool != "peg":
+        objects = ", ".join(f"{o.name} ({o.shape.value}, {o.mass_kg:.3g} kg)" for o in compiled.objects)
+        title += f" with the {compiled.tool}" + (f"; objects: {objects}" if objects else "")
     table = Table(title=title, title_justify="left")
     for header in ("#", "line", "statement", "kind", "frame", "motion", "force", "setpoints", "goal", "ends"):
         table.add_column(header, overflow="fold")
