@@ -29,6 +29,7 @@ from cosmos.runlog.printable import printable
 from cosmos.runlog.reader import RunRecord, StateSeries
 
 if TYPE_CHECKING:
+    from cosmos.hand.playback_bodies import BodyTimeline
     from cosmos.plant import Plant
 
 CAMERA = "overview"
@@ -134,11 +135,25 @@ def joint_positions_at(state: StateSeries, times_s: np.ndarray) -> np.ndarray:
 
 
 def _scene(record: RunRecord) -> Plant:
-    """The workcell of the log's arm (metadata ``robot``; the PUMA 560 in logs before the Panda)."""
+    """The workcell of the log's arm (``robot``; the PUMA 560 in logs before the Panda).
+
+    A ``TOOL GRIPPER`` run's (metadata ``tool``) has its gripper and objects.
+    """
+    from cosmos.hand.playback_bodies import gripper_workcell
     from cosmos.plant import Plant
     from cosmos.robots import robot_named
 
-    return Plant(robot_named(record.metadata.get("robot", "puma560")).scene_xml)
+    gripper = gripper_workcell(record)
+    scene_xml = robot_named(record.metadata.get("robot", "puma560")).scene_xml
+    return Plant(scene_xml) if gripper is None else Plant(scene_xml, edit_spec=gripper[0])
+
+
+def _bodies(record: RunRecord) -> BodyTimeline | None:
+    """A gripper run's objects and fingers over time (None for a peg run)."""
+    from cosmos.hand.playback_bodies import BodyTimeline, gripper_workcell
+
+    gripper = gripper_workcell(record)
+    return None if gripper is None else BodyTimeline(record, gripper[1])
 
 
 def _geom_names(plant: Plant) -> set[str]:
@@ -210,6 +225,7 @@ def render_video(
 
     plant = _scene(record)
     obstacles = scene_timeline(record.path, _geom_names(plant))
+    bodies = _bodies(record)
     try:
         renderer = mujoco.Renderer(plant.model, VIDEO_HEIGHT, VIDEO_WIDTH)
     except Exception as error:  # MuJoCo raises several kinds when no GL context can be made
@@ -224,6 +240,8 @@ def render_video(
             for k, (t_s, q) in enumerate(zip(times, positions, strict=True)):
                 if on_frame is not None:
                     on_frame(k, times.size)
+                if bodies is not None:
+                    bodies.apply(plant.model, plant.data, float(t_s))
                 _pose(plant, q)
                 renderer.update_scene(plant.data, camera=CAMERA)
                 draw(renderer.scene, obstacles.at(float(t_s)))
@@ -261,6 +279,7 @@ def view(record: RunRecord, playback: Playback) -> None:
 
     plant = _scene(record)
     obstacles = scene_timeline(record.path, _geom_names(plant))
+    bodies = _bodies(record)
     _pose(plant, positions[0])
     viewer_window = mujoco.viewer.launch_passive(
         plant.model, plant.data, show_left_ui=False, show_right_ui=False
@@ -273,6 +292,8 @@ def view(record: RunRecord, playback: Playback) -> None:
                 if not viewer.is_running():
                     return
                 with viewer.lock():
+                    if bodies is not None:
+                        bodies.apply(plant.model, plant.data, float(t_s))
                     _pose(plant, q)
                     viewer.user_scn.ngeom = 0
                     draw(viewer.user_scn, obstacles.at(float(t_s)))

@@ -54,7 +54,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("cosmos.execution", "cosmos.hand.supervision", "cosmos.hand.hand_log"),
     ("cosmos.sweep",),  # many runs in varied workcells, on worker processes
     # what people use: a run's results, replay and the REPL, the commands and the Python API
-    ("cosmos.replay", "cosmos.repl", "cosmos.run_result"),
+    ("cosmos.replay", "cosmos.repl", "cosmos.run_result", "cosmos.hand.playback_bodies"),
     ("cosmos.commands", "cosmos.api", "cosmos.bench"),
     ("cosmos.cli", "cosmos.__main__"),
 ]
