@@ -9,6 +9,7 @@ reference of the compiled kernels that run it (``cosmos/runtime``, ``cosmos/obst
 * :mod:`~cosmos.osc.motion`: motion commands F*_m (eq. 19-21, 36-37), timed trajectories.
 * :mod:`~cosmos.osc.orientation`: so(3) exp/log, the orientation error, quaternions, RPY.
 * :mod:`~cosmos.osc.unified`: the unified motion and force command (eq. 17-18, 29).
+* :mod:`~cosmos.osc.held_push`: a push held against a surface, eq. 18 stiffened along it.
 * :mod:`~cosmos.osc.limits`: torque saturation and the joint-limit potential (section 6).
 * :mod:`~cosmos.osc.firas`: FIRAS repulsion and capsule-to-obstacle proximity (section 6).
 * :mod:`~cosmos.osc.friction`: Coulomb friction compensation toward the commanded motion.

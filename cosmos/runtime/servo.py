@@ -16,6 +16,8 @@ friction compensation, saturated to the drives. The arithmetic is compiled
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from cosmos.osc.dynamics import DEFAULT_POLICY, SingularityPolicy
@@ -23,6 +25,7 @@ from cosmos.osc.force import Selection, selection
 from cosmos.osc.null_space import DEFAULT_ABSORPTION, AbsorptionPolicy
 from cosmos.osc.orientation import pose_error
 from cosmos.plant import LiveSignals
+from cosmos.robot_model import GRAVITY
 from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
 from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
@@ -33,6 +36,23 @@ from cosmos.runtime.servo_gains import ServoGains as ServoGains  # the servo's g
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 FloatArray = np.ndarray
+
+
+HELD_PUSH_RATE_S = 0.001
+"""The servo period the held push's gains are given for; a slower servo scales them down."""
+
+
+def held_push_at(gains: tuple[float, float, float, float], servo_dt_s: float) -> tuple[float, ...]:
+    """The held push's ``(k_fh, k_ih, k_vh, limit)`` for a servo period.
+
+    Its damping is near ``1 / dt`` at 1 kHz (a touch stopped within a tick or two) and its
+    integral fast: each gain scaled by ``min(1, HELD_PUSH_RATE_S / dt)`` keeps ``k_vh dt``,
+    ``k_ih dt`` and the contact's loop gain what they are at 1 kHz (at 225 Hz unscaled, the
+    loop rang up to 160 N on a 10 N CONTACT). The bound on the integral stays.
+    """
+    scale = min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
+    k_fh, k_ih, k_vh, limit = gains
+    return (k_fh * scale, k_ih * scale, k_vh * scale, limit)
 
 
 LIMIT_PROJECTION_MARGIN_RAD = 0.30
@@ -119,6 +139,9 @@ class ServoLevel:
         scalars[kernel.FORCE_SPEED_KI] = gains.force_speed_ki
         scalars[kernel.MOTION_KI] = gains.motion_ki
         scalars[kernel.MOTION_INTEGRAL_LIMIT] = gains.motion_integral_limit_ms
+        scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
+        scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass
+        scalars[kernel.HELD_PUSH + 6] = gains.touch_damping * min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
         scalars[kernel.FORCE_SPEED_INTEGRAL_LIMIT] = gains.force_speed_integral_limit_m
         self._scalars = scalars
         # Rows of w = max(6, n): task-space rows use six entries, joint-space rows n (kernels.servo).
@@ -257,6 +280,7 @@ class ServoLevel:
         state[kernel.FLAGS, kernel.ADMITTING] = 0.0  # latched by the first contact force
         state[kernel.FLAGS, kernel.PUSH_SPEED_INTEGRAL] = 0.0
         state[kernel.FLAGS, kernel.REACHED] = 0.0
+        state[kernel.FLAGS, kernel.HELD_INTEGRAL] = 0.0
         state[kernel.MOTION_INTEGRAL] = 0.0
         scalars, vectors = self._scalars, self._vectors
         tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None
@@ -264,6 +288,8 @@ class ServoLevel:
             kernel.MODE_TRAJECTORY if tracking else _MODES.get(setpoint.mode, kernel.MODE_HOLD)
         )
         scalars[kernel.UNIFORM] = float(setpoint.uniform_gains)
+        # A touch is looked for where gains are given per axis (a COMPLY spring expects contact).
+        scalars[kernel.HELD_PUSH + 4] = math.inf if setpoint.uniform_gains else self.gains.touch_n
         scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes[:3]))
         scalars[kernel.ADMITTANCE] = float(not all(setpoint.motion_axes[3:]))
         scalars[kernel.MAX_SPEED] = setpoint.max_speed

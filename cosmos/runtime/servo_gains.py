@@ -40,6 +40,20 @@ class ServoGains:
             ``kp kv`` (16,000 at the defaults), the third-order loop's stability bound.
         motion_integral_limit_ms: Anti-windup bound on that integral, per axis, in [m s]
             (``motion_ki`` times it, 8 m/s^2, is the most it adds to F*).
+        held_push: A push held against a surface (no speed cap: CONTACT, SLIDE, WAIT in
+            contact; once the touch is felt: in free space it would crawl at 1 mm/s), along
+            itself (:func:`cosmos.osc.held_push.held_push`): ``(k_fh, k_ih, k_vh, limit)``,
+            the proportional [1] and integral [1/s] gains added to ``force``'s, the damping
+            [1/s] (1000/s, near 1 / dt, held all 54 slides of the grid on the ideal plant but
+            amplified the realistic plant's encoder noise: 1 of 54; 200/s: 42, and a force axis
+            rang at 10 +- 0.8 N; 50/s: 52 and 54) and the integral's anti-windup bound [N s]
+            (``k_ih`` times it, 58 N, the most it adds).
+        touch_n: Where every axis is motion-controlled with gains per axis (a COMPLY spring,
+            which expects contact), a push above this on what the tool moves toward is a
+            touch, and the motion into it gets the held push's damping
+            (:func:`cosmos.osc.held_push.touch_damping`), in [N].
+        touch_damping: That damping, in [1/s] (a 100 N/m spring landing at 27 mm/s on the
+            table: 33 N at 50/s, a protective stop; under 30 N at 200/s), at 1 kHz.
         posture_kp: Unit-mass joint stiffness of the POSTURE task in the null space, in
             [1/s^2]: ``xi_q^2 / 4``, critically damped by the null-space damping.
     """
@@ -60,4 +74,7 @@ class ServoGains:
     push_speed_aim: float = 0.93
     motion_ki: float = 2000.0
     motion_integral_limit_ms: float = 0.004
+    held_push: tuple[float, float, float, float] = (0.4, 288.0, 50.0, 0.2)
+    touch_n: float = 8.0
+    touch_damping: float = 200.0
     posture_kp: float = 100.0

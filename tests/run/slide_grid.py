@@ -78,8 +78,9 @@ class Result:
         return self.returncode == 0 and self.lowest >= 0.5 and self.within >= 0.95 and self.speed >= 0.8
 
 
-def run_case(case: Case, directory: Path, ideal: bool = False) -> Result:
-    """Run one case in this process (``ideal``: on the ideal plant) and judge it from its log."""
+def run_case(case: Case, directory: Path, ideal: bool = False, servo_hz: float | None = None) -> Result:
+    """Run one case in this process (``ideal``: on the ideal plant; ``servo_hz``: at that servo rate)
+    and judge it from its log."""
     from cosmos.commands.run import run_program
     from cosmos.osc.motion import cruise_ramp_s
     from cosmos.runlog import read_log
@@ -90,7 +91,7 @@ def run_case(case: Case, directory: Path, ideal: bool = False) -> Result:
     program.write_text(case.program(), encoding="utf-8")
     log_path = directory / f"{safe}.mcap"
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-        returncode = run_program(program, log_path, Rates(), 0, ideal=ideal)
+        returncode = run_program(program, log_path, Rates.chosen(servo_hz, None), 0, ideal=ideal)
     record = read_log(log_path)
     slides = [s for s in record.segments if s.kind == "slide"]
     if not slides:

@@ -14,6 +14,7 @@ from cosmos.osc.admittance import admittance_command, admittance_speed, low_pass
 from cosmos.osc.contact import contact_latched, touch_latched
 from cosmos.osc.force import selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
+from cosmos.osc.held_push import held_push, touch_damping
 from cosmos.osc.orientation import so3_exp
 from cosmos.osc.unified import REACH_FRACTION, force_goal_reached, speed_limited_push
 from cosmos.runtime.kernels import contact as ck
@@ -241,3 +242,70 @@ def test_speed_limited_push_without_a_push_leaves_the_feedback() -> None:
     assert np.array_equal(got, feedback)
     expected, limited, integral = speed_limited_push(feedback, *args)
     assert not limited and integral == 0.001 and np.array_equal(expected, feedback)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_held_push_is_its_reference(seed: int) -> None:
+    """The held push's terms against cosmos.osc.held_push.held_push, integrating on even seeds.
+
+    Catches the terms added off the push's direction, the damping not scaled by the mass along
+    it, the integral growing when the gate is shut or escaping its clamp."""
+    rng = np.random.default_rng(seed)
+    goal = np.concatenate((rng.normal(0.0, 10.0, 3), rng.normal(0.0, 0.5, 3)))
+    m = rng.normal(size=(6, 6))
+    force_to_acceleration = np.linalg.inv(m @ m.T + 3.0 * np.eye(6)) @ _omega_bar(rng)
+    force_to_acceleration[:3, :3] = np.eye(3) * rng.uniform(0.02, 1.0)  # a push the arm can make
+    setpoint, sensed = rng.uniform(0.2, 1.0) * goal, rng.normal(0.0, 5.0, 6)
+    velocity, feedback = rng.normal(0.0, 0.02, 6), rng.normal(0.0, 5.0, 6)
+    gains = (float(rng.uniform(0.0, 1.0)), 288.0, 1000.0, 0.2)
+    integral, integrate = float(rng.uniform(-0.19, 0.19)), seed % 2 == 0
+    args = (goal, setpoint, sensed, velocity, force_to_acceleration)
+    expected, expected_integral = held_push(feedback, *args, gains, integral, integrate, 1e-3)
+    got = feedback.copy()
+    got_integral = ck.held_push_into(got, *args, np.array(gains), integral, integrate, 1e-3)
+    _close(got, expected)
+    assert got_integral == pytest.approx(expected_integral, rel=1e-12, abs=1e-15)
+    assert (got_integral != integral) == integrate and abs(got_integral) <= gains[3]
+    n = goal[:3] / np.linalg.norm(goal[:3])
+    assert np.allclose(np.cross(got[:3] - feedback[:3], n), 0.0, atol=1e-9)  # along the push only
+    assert np.array_equal(got[3:], feedback[3:])
+
+
+def test_held_push_without_a_push_leaves_the_feedback() -> None:
+    """No translation in F_d (a pure moment setpoint): nothing added, nothing integrated."""
+    feedback, goal = np.arange(6.0), np.array((0.0, 0.0, 0.0, 0.3, 0.0, 0.0))
+    args = (goal, goal, np.ones(6), np.ones(6), np.eye(6))
+    got = feedback.copy()
+    assert ck.held_push_into(got, *args, np.array((0.4, 288.0, 1000.0, 0.2)), 0.1, True, 1e-3) == 0.1
+    assert np.array_equal(got, feedback)
+    expected, integral = held_push(feedback, *args, (0.4, 288.0, 1000.0, 0.2), 0.1, True, 1e-3)
+    assert integral == 0.1 and np.array_equal(expected, feedback)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_touch_damping_is_its_reference(seed: int) -> None:
+    """The touch's damping against cosmos.osc.held_push.touch_damping: a push above the touch's
+    force on what the tool moves toward (even seeds), one below it or moving away (odd seeds),
+    the tool's own inertia at the commanded acceleration added to the sensed push.
+
+    Catches damping applied to a motion away from the push (a sphere pushing the tool aside
+    would be resisted), below the touch's force, to the tool's own inertia (a 5 cm step ran
+    37 mm off its unit-mass response), or off its line."""
+    rng = np.random.default_rng(seed)
+    velocity, motion = rng.normal(0.0, 0.05, 6), rng.normal(0.0, 3.0, 6)
+    n = rng.normal(size=3)
+    n /= np.linalg.norm(n)
+    toward = seed % 2 == 0
+    velocity[:3] += (0.03 if toward else -0.03) * n - n * float(n @ velocity[:3])
+    wrench = np.concatenate((rng.uniform(9.0, 40.0) * n, rng.normal(0.0, 0.5, 3)))
+    touch_n = 8.0 if seed % 4 != 1 else float(np.linalg.norm(wrench[:3])) + 1.0  # before the inertia
+    mass = 0.65
+    wrench[:3] += mass * motion[:3]  # the tool's own inertia at the commanded acceleration
+    expected = touch_damping(motion, wrench, velocity, 1000.0, touch_n, mass)
+    got = motion.copy()
+    ck.touch_damping_into(got, wrench, velocity, np.array((touch_n, mass, 1000.0)))
+    _close(got, expected)
+    damped = not np.array_equal(got, motion)
+    assert damped == toward
+    if damped:
+        assert np.allclose(got[:3] - motion[:3], -1000.0 * 0.03 * n) and np.array_equal(got[3:], motion[3:])

@@ -17,6 +17,7 @@ from cosmos.osc.contact import contact_latched, touch_latched
 from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
+from cosmos.osc.held_push import held_push, touch_damping
 from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, integrate_motion_error, tracking_command
 from cosmos.osc.orientation import so3_exp
@@ -240,6 +241,7 @@ class TickCase:
     admittance: bool = False
     tangent_n: float = 25.0
     admittance_max_speed: float = 10.0
+    held: bool = False
 
 
 TICK_CASES = {
@@ -251,6 +253,9 @@ TICK_CASES = {
     "touching, integral clamped": TickCase(True, -2.0, False, 0.9, integral_at_limit=True),
     "touching, push capped by its speed": TickCase(True, 0.2, False, 2.0, max_speed=0.001),
     "free space, push capped by its speed": TickCase(False, 0.1, True, 2.0, max_speed=0.002),
+    "with a held push (no speed cap), touching": TickCase(True, -13.0, False, 2.0, held=True),
+    "with a held push, free space": TickCase(False, 0.4, True, 0.5, held=True),
+    "with a held push, a slide": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY, held=True),
     "trajectory, motion only": TickCase(False, 3.0, False, 0.5, mode=sk.MODE_TRAJECTORY, force=False),
     "trajectory in contact (a slide)": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY),
     "hold, motion only": TickCase(True, 3.0, False, 0.5, saturate=True, mode=sk.MODE_HOLD, force=False),
@@ -266,6 +271,8 @@ ADMITTANCE_GAIN, ADMITTANCE_KV, MOMENT_BLEND = 3.0, 40.0, 0.3
 
 CONTACT_THRESHOLD_N = 1.0
 FORCE_GAINS = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
+HELD_PUSH_GAINS = (0.4, 288.0, 50.0, 0.2)
+"""The held push's (k_fh, k_ih, k_vh, limit) as cosmos.runtime.servo.ServoGains has them."""
 XI_Q = 20.0
 LOOKAHEAD_S = 0.02
 DT_S = 1e-3
@@ -359,7 +366,11 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.MAX_ANGULAR_SPEED] = 1.0
     scalars[sk.K_VF] = FORCE_GAINS.k_vf
     scalars[sk.FORCE_SPEED_KV] = 40.0
-    scalars[sk.PUSH_SPEED] = case.max_speed
+    scalars[sk.PUSH_SPEED] = 0.0 if case.held else case.max_speed
+    scalars[sk.HELD_PUSH : sk.HELD_PUSH + 4] = HELD_PUSH_GAINS
+    scalars[sk.HELD_PUSH + 4] = 2.0  # the touch's force [N], below the cases' pushes
+    scalars[sk.HELD_PUSH + 5] = TOOL_MASS_KG
+    scalars[sk.HELD_PUSH + 6] = 200.0  # the touch's damping [1/s]
     scalars[sk.FORCE_SPEED_KI] = 1000.0
     scalars[sk.FORCE_SPEED_INTEGRAL_LIMIT] = 0.002
     scalars[sk.MOTION_KI] = 2000.0
@@ -411,6 +422,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     state[sk.FLAGS, sk.TOUCHING] = float(case.touching)
     state[sk.FLAGS, sk.REACHED] = float(case.touching)  # in contact: the push has reached its goal
     state[sk.FLAGS, sk.PUSH_SPEED_INTEGRAL] = 0.001 * float(case.max_speed < 0.01)
+    state[sk.FLAGS, sk.HELD_INTEGRAL] = 0.05
     if case.integral_at_limit:
         # Along the force axis, its largest world component 1 mN s short of the clamp, on the
         # side the error drives it (F_d - F_s is negative along the normal): this step clamps.
@@ -507,6 +519,15 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     else:
         motion_task = -kp * error_task - kv * velocity_task
     motion = rotation @ motion_task
+    if not sc[sk.HAS_FORCE]:  # a motion into something: damped along the push it meets
+        motion = touch_damping(
+            motion,
+            wrench,
+            velocity,
+            float(sc[sk.HELD_PUSH + 6]),
+            float(sc[sk.HELD_PUSH + 4]),
+            TOOL_MASS_KG,
+        )
     # A tracked trajectory's xd_d on the motion axes counts toward the Coulomb intent as itself.
     tracked = sc[sk.MODE] == sk.MODE_TRAJECTORY
     speed = sel.omega @ velocity_d if tracked else np.zeros(6)
@@ -545,20 +566,36 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         motion = motion - np.concatenate((sc[sk.MOTION_KI] * motion_integral[:3], np.zeros(3)))
     integral_before_cap = integral.copy()
     feedback = force_feedback(setpoint, wrench, integral, FORCE_GAINS)
-    feedback, limited, _ = speed_limited_push(
-        feedback,
-        vec[sk.FORCE_WORLD],
-        wrench,
-        velocity,
-        dyn.lambda_inv @ sel.omega_bar,
-        sc[sk.PUSH_SPEED],
-        sc[sk.FORCE_SPEED_KV],
-        FORCE_GAINS.k_vf,
-        sc[sk.FORCE_SPEED_KI],
-        st[sk.FLAGS, sk.PUSH_SPEED_INTEGRAL],
-        DT_S,
-        sc[sk.FORCE_SPEED_INTEGRAL_LIMIT],
-    )
+    limited = False
+    if sc[sk.PUSH_SPEED] > 0.0:
+        feedback, limited, _ = speed_limited_push(
+            feedback,
+            vec[sk.FORCE_WORLD],
+            wrench,
+            velocity,
+            dyn.lambda_inv @ sel.omega_bar,
+            sc[sk.PUSH_SPEED],
+            sc[sk.FORCE_SPEED_KV],
+            FORCE_GAINS.k_vf,
+            sc[sk.FORCE_SPEED_KI],
+            st[sk.FLAGS, sk.PUSH_SPEED_INTEGRAL],
+            DT_S,
+            sc[sk.FORCE_SPEED_INTEGRAL_LIMIT],
+        )
+    else:  # a push held against a surface
+        gains = tuple(float(g) * touching for g in sc[sk.HELD_PUSH : sk.HELD_PUSH + 4])  # once touching
+        feedback, _ = held_push(
+            feedback,
+            vec[sk.FORCE_WORLD],
+            setpoint,
+            wrench,
+            velocity,
+            dyn.lambda_inv @ sel.omega_bar,
+            (gains[0], gains[1], gains[2], gains[3]),
+            st[sk.FLAGS, sk.HELD_INTEGRAL],
+            touching and reached,
+            DT_S,
+        )
     if limited:  # friction compensated toward the speed limit; the integral does not grow along n
         n = vec[sk.FORCE_WORLD, :3] / np.linalg.norm(vec[sk.FORCE_WORLD, :3])
         speed = speed + np.concatenate(((sc[sk.PUSH_SPEED] + n @ velocity[:3]) * n, np.zeros(3)))
@@ -726,9 +763,9 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
     # The push's speed cap binds in the cases with a small speed limit, and only there.
     inputs.scalars[sk.PUSH_SPEED] = 1e3
     uncapped = _reference_tick(inputs).rows
-    inputs.scalars[sk.PUSH_SPEED] = case.max_speed
+    inputs.scalars[sk.PUSH_SPEED] = 0.0 if case.held else case.max_speed
     capped = np.max(np.abs(uncapped[sk.TORQUE] - expected[sk.TORQUE])) > 1e-9
-    assert capped == (case.max_speed < 0.01)
+    assert capped == (case.max_speed < 0.01 or (case.held and latched))  # a held push, once touching
     # The free-space acceleration from the force loop changes the Coulomb term of this tick.
     other = _reference_tick(inputs, force_acceleration_always=latched).rows
     assert np.max(np.abs(other[sk.COULOMB] - expected[sk.COULOMB])) > 1e-6

@@ -181,3 +181,73 @@ def speed_limited_push_into(
     feedback[1] += cut * n1
     feedback[2] += cut * n2
     return True, along, min(max(grown, -integral_limit), integral_limit)
+
+
+@kernel
+def held_push_into(
+    feedback: FloatArray,
+    force_goal: FloatArray,
+    setpoint: FloatArray,
+    force_sensed: FloatArray,
+    velocity: FloatArray,
+    force_to_acceleration: FloatArray,
+    gains: FloatArray,
+    integral: float,
+    integrate: bool,
+    dt_s: float,
+) -> float:
+    """:func:`cosmos.osc.held_push.held_push`, added to ``feedback`` in place.
+
+    Args:
+        feedback: F_fb, world, [N, N m]. # (6,)
+        force_goal: F_d (not ramped), world: n is its direction. # (6,)
+        setpoint: F_d ramped, world. # (6,)
+        force_sensed: F_s, world. # (6,)
+        velocity: Tool twist, world. # (6,)
+        force_to_acceleration: ``Lambda^-1 Omega_bar``. # (6, 6)
+        gains: ``(k_fh, k_ih, k_vh, integral_limit)``. # (4,)
+        integral: The push error's integral along n so far, in [N s].
+        integrate: Whether it grows this tick (touching and the goal reached).
+        dt_s: Servo period, in [s].
+
+    Returns:
+        The updated integral, in [N s].
+    """
+    push = math.sqrt(force_goal[0] ** 2 + force_goal[1] ** 2 + force_goal[2] ** 2)
+    if not push > 0.0:
+        return integral
+    n0, n1, n2 = force_goal[0] / push, force_goal[1] / push, force_goal[2] / push
+    f2a = force_to_acceleration
+    inverse_mass = 0.0
+    for i, ni in ((0, n0), (1, n1), (2, n2)):
+        inverse_mass += ni * (f2a[i, 0] * n0 + f2a[i, 1] * n1 + f2a[i, 2] * n2)
+    if not inverse_mass > 0.0:
+        return integral
+    error = n0 * (setpoint[0] - force_sensed[0]) + n1 * (setpoint[1] - force_sensed[1])
+    error += n2 * (setpoint[2] - force_sensed[2])
+    if integrate:
+        integral = min(max(integral + error * dt_s, -gains[3]), gains[3])
+    along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
+    added = gains[0] * error + gains[1] * integral - gains[2] * along / inverse_mass
+    feedback[0] += added * n0
+    feedback[1] += added * n1
+    feedback[2] += added * n2
+    return integral
+
+
+@kernel
+def touch_damping_into(
+    motion: FloatArray, wrench: FloatArray, velocity: FloatArray, params: FloatArray
+) -> None:
+    """:func:`cosmos.osc.held_push.touch_damping` in place; ``params``: touch_n, m_tool, k_v."""
+    touch_n, mass, gain = params[0], params[1], params[2]
+    c0, c1, c2 = wrench[0] - mass * motion[0], wrench[1] - mass * motion[1], wrench[2] - mass * motion[2]
+    push = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    if not push > touch_n:
+        return
+    n0, n1, n2 = c0 / push, c1 / push, c2 / push
+    along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
+    if along > 0.0:
+        motion[0] -= gain * along * n0
+        motion[1] -= gain * along * n1
+        motion[2] -= gain * along * n2

@@ -9,15 +9,14 @@ inputs): the wrench the tool applies to the environment from the wrist sensor
 force error with its anti-windup clamp, eq. 17-18 and Figure 2,
 :func:`cosmos.osc.unified.integrate_force_error` and :func:`cosmos.osc.unified.force_feedback`,
 integral action only once :func:`cosmos.osc.contact.touch_latched`), a push held to
-its SPEED (:func:`cosmos.osc.unified.speed_limited_push`), a slide's integral action
+its SPEED (:func:`cosmos.osc.unified.speed_limited_push`) or at a surface
+(:func:`cosmos.osc.held_push.held_push`), a slide's integral action
 (:func:`cosmos.osc.motion.integrate_motion_error`) or, on compliant moment axes in
 contact, admittance control (:mod:`cosmos.osc.admittance`), eq. 29's single product
 with the folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction
 compensation (:mod:`cosmos.osc.friction`) and the saturation that scales the command
-about gravity (:func:`cosmos.osc.limits.saturate_torque`). The pieces with a kernel of
-their own are in :mod:`cosmos.runtime.kernels.commands` and
-:mod:`cosmos.runtime.kernels.contact`. In NumPy this is some 40 small-array calls of
-about a microsecond each; compiled it is one call.
+about gravity (:func:`cosmos.osc.limits.saturate_torque`). Pieces with a kernel of their own
+are in :mod:`cosmos.runtime.kernels.commands` and :mod:`cosmos.runtime.kernels.contact`.
 
 Results are written in place into the arrays passed (``state``, ``out``), so a
 tick creates no Python objects.
@@ -39,8 +38,10 @@ from cosmos.runtime.kernels.contact import (
     contact_latched,
     coulomb_compensation_into,
     goal_reached,
+    held_push_into,
     low_pass_into,
     speed_limited_push_into,
+    touch_damping_into,
     touch_latched,
 )
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
@@ -56,8 +57,8 @@ K_F, K_I, INTEGRAL_LIMIT, CONTACT_THRESHOLD_N, DT_S = range(7, 12)
 INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(12, 15)
 ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, LOOKAHEAD_S = range(15, 21)
 K_VF, FORCE_SPEED_KV, PUSH_SPEED, FORCE_SPEED_KI, FORCE_SPEED_INTEGRAL_LIMIT = range(21, 26)
-MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S = range(26, 29)
-SCALARS = 29
+MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(26, 30)
+SCALARS = 36  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -86,7 +87,7 @@ STATE_ROWS = 10
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 PUSH_SPEED_INTEGRAL = 2  # column of FLAGS: integral of a capped push's speed error this segment, [m]
-REACHED = 3  # column of FLAGS: 1.0 once the push felt along the goal reached REACH_FRACTION of it
+REACHED, HELD_INTEGRAL = 3, 4  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
 
 # Rows of a tick's work array (servo_tick).
 MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
@@ -192,7 +193,8 @@ def servo_tick(
             max_angular_speed,
         )
         motion = rotate_blocks(r, motion_task, False)
-
+    if scalars[HAS_FORCE] == 0.0:  # a motion into something (cosmos.osc.held_push.touch_damping)
+        touch_damping_into(motion, wrench, velocity, scalars[HELD_PUSH + 4 : HELD_PUSH + 7])
     feedback = work[FEEDBACK]
     feedback[:] = 0.0
     # Operational speed commanded outright, world: a tracked trajectory's xd_d on the motion
@@ -209,11 +211,10 @@ def servo_tick(
     for i in range(6):
         setpoint[i] = start[i] + fraction * (goal[i] - start[i])
     if admittance:
-        # Moment axes: admittance control. The moment error (sensor low-passed) sets a
-        # rotation speed, bounded, which a unit-mass velocity servo tracks, and toward which
-        # the joints' Coulomb friction is compensated (below). The seed's force loop would
-        # leave a contact's aligning moment (0.02 N m for the round tip on the slope) to
-        # fight the wrist's friction (~1 N m); a speed servo does not.
+        # Moment axes: admittance control. The moment error (sensor low-passed) sets a bounded
+        # rotation speed that a unit-mass velocity servo tracks (friction compensated toward it):
+        # the seed's force loop would leave a contact's aligning moment (0.02 N m for the round
+        # tip on the slope) to fight the wrist's friction (~1 N m).
         speed = admittance_speed(
             omega_admittance,
             setpoint,
@@ -244,11 +245,9 @@ def servo_tick(
         if touch_latched(flags[TOUCHING] != 0.0, omega_bar, wrench, scalars[CONTACT_THRESHOLD_N]):
             flags[TOUCHING] = 1.0
         if flags[TOUCHING] != 0.0 and mode == MODE_TRAJECTORY and t_s >= scalars[TRAJECTORY_END_S]:
-            # A trajectory tracked in contact (SLIDE), once its reference has stopped: eq. 19 plus
-            # integral action on the motion axes' translation error
-            # (cosmos.osc.motion.integrate_motion_error). Along the way the tracking lag pushes
-            # through the surface's friction (0.3 x 30 N) at the reference's speed; at the end
-            # static friction would hold the tool f / (Lambda kp), millimetres, short of its goal.
+            # A SLIDE whose reference has stopped: eq. 19 plus integral action on the motion axes'
+            # translation error (cosmos.osc.motion.integrate_motion_error): static friction would
+            # hold the tool f / (Lambda kp), millimetres, short of its goal.
             motion_integral, bound = state[MOTION_INTEGRAL, :6], scalars[MOTION_INTEGRAL_LIMIT]
             ki, dt = scalars[MOTION_KI], scalars[DT_S]
             for i in range(3):
@@ -260,8 +259,7 @@ def servo_tick(
                 acceleration[i] -= ki * motion_integral[i]
         integral = state[INTEGRAL, :6]
         previous_integral = integral.copy()
-        # ... and once the push has reached most of its goal: while a soft contact builds up
-        # after the touch the error would wind the integral into an overshoot.
+        # ... and once the push reached most of its goal (a contact building up would wind it up).
         if goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
             flags[REACHED] = 1.0
         if flags[TOUCHING] != 0.0 and flags[REACHED] != 0.0:
@@ -274,16 +272,22 @@ def servo_tick(
         k_f, k_i = scalars[K_F], scalars[K_I]
         for i in range(6):  # F_a without damping
             feedback[i] = (1.0 + k_f) * setpoint[i] - k_f * wrench[i] + k_i * integral[i]
-        # The SPEED of a force-controlled push (cosmos.osc.unified.speed_limited_push).
-        push_speed = scalars[PUSH_SPEED]  # 0: no cap
-        if push_speed > 0.0:
-            flags = state[FLAGS]
+        # The SPEED of a force-controlled push (cosmos.osc.unified.speed_limited_push); without
+        # one (0) a push held against a surface, stiffened along itself (cosmos.osc.held_push.held_push).
+        push_speed, f2a, gate = scalars[PUSH_SPEED], matrices[FORCE_TO_ACCELERATION], flags[REACHED] != 0.0
+        if not push_speed > 0.0:
+            held, dt = scalars[HELD_PUSH : HELD_PUSH + 4] * flags[TOUCHING], scalars[DT_S]  # once touching
+            gate = gate and flags[TOUCHING] != 0.0
+            flags[HELD_INTEGRAL] = held_push_into(
+                feedback, goal, setpoint, wrench, velocity, f2a, held, flags[HELD_INTEGRAL], gate, dt
+            )
+        else:
             limited, along, speed_integral = speed_limited_push_into(
                 feedback,
                 goal,
                 wrench,
                 velocity,
-                matrices[FORCE_TO_ACCELERATION],
+                f2a,
                 push_speed,
                 scalars[FORCE_SPEED_KV],
                 scalars[K_VF],
@@ -300,9 +304,8 @@ def servo_tick(
                 pushing_at_speed = True
                 push = math.sqrt(goal[0] ** 2 + goal[1] ** 2 + goal[2] ** 2)
                 n0, n1, n2 = goal[0] / push, goal[1] / push, goal[2] / push
-                commanded_speed[0] += (push_speed + along) * n0
-                commanded_speed[1] += (push_speed + along) * n1
-                commanded_speed[2] += (push_speed + along) * n2
+                for i, ni in ((0, n0), (1, n1), (2, n2)):
+                    commanded_speed[i] += (push_speed + along) * ni
                 if flags[TOUCHING] != 0.0:  # anti-windup: the integral does not grow along n
                     grown = n0 * (integral[0] - previous_integral[0])
                     grown += n1 * (integral[1] - previous_integral[1])
@@ -311,11 +314,10 @@ def servo_tick(
                     integral[1] -= grown * n1
                     integral[2] -= grown * n2
         if flags[TOUCHING] == 0.0:
-            force_to_acceleration = matrices[FORCE_TO_ACCELERATION]
             for i in range(6):
                 acc = 0.0
                 for k in range(6):
-                    acc += force_to_acceleration[i, k] * feedback[k]
+                    acc += f2a[i, k] * feedback[k]
                 acceleration[i] += acc
 
     torque = state[TORQUE, :n]
@@ -330,9 +332,7 @@ def servo_tick(
     # Coulomb friction is compensated in the direction the joint is moving or, from rest,
     # is being told to move (qd plus Jbar times the commanded acceleration over a short
     # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
-    if (
-        admittance or mode == MODE_TRAJECTORY or pushing_at_speed
-    ):  # Jbar xd_d: a slow joint is not left to stick
+    if admittance or mode == MODE_TRAJECTORY or pushing_at_speed:  # a slow joint is not left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
     coulomb_compensation_into(
         torque,

@@ -1,0 +1,120 @@
+"""A push held against a surface: eq. 18's force command stiffened along the push.
+
+CONTACT, SLIDE and a WAIT in contact hold a push against a surface (no SPEED cap,
+unlike INSERT's :func:`cosmos.osc.unified.speed_limited_push`). The compiled kernel
+:func:`cosmos.runtime.kernels.contact.held_push_into` runs the same arithmetic.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cosmos.osc._types import FloatArray
+
+
+def held_push(
+    feedback: FloatArray,
+    force_goal: FloatArray,
+    setpoint: FloatArray,
+    force_sensed: FloatArray,
+    velocity: FloatArray,
+    lambda_inv_omega_bar: FloatArray,
+    gains: tuple[float, float, float, float],
+    integral: float,
+    integrate: bool,
+    dt_s: float,
+) -> tuple[FloatArray, float]:
+    """A push held against a surface (CONTACT, SLIDE, WAIT in contact): eq. 18's F_a stiffened along it.
+
+    Eq. 18's ``F_a`` with the gains of :class:`cosmos.osc.unified.ForceGains` must also serve INSERT,
+    whose push moves, and the compliant axes at zero force. A push held against a
+    stiff surface needs more along its own direction ``n = F_d / |F_d|``: the
+    steel contact passes a force disturbance (the friction of a slide, the arm's
+    coupling as it accelerates) straight to the push, and an impact's momentum
+    (some 20 kg of rotor inertia at 20 mm/s) to the sensor within milliseconds. So
+    along n, where the push is not held to a speed (no :func:`cosmos.osc.unified.speed_limited_push`),
+    once it is felt (:func:`cosmos.osc.contact.touch_latched`; before, the servo passes zero gains)::
+
+        F_fb += n (k_fh e + k_ih integral(e) dt - k_vh m_n n^T xd),
+        e = n^T (F_d - F_s),  m_n = 1 / (n^T Lambda^-1 n)
+
+    extending eq. 18 with a higher proportional and integral gain along n (the
+    integral clamped to ``+-limit``, grown only while touching with the goal
+    reached, :func:`cosmos.osc.unified.force_goal_reached`) and a strong damping of the motion along
+    n (``k_vh``, 50/s by default): it takes an impact's momentum into the drives rather
+    than the contact, and damps the force loop on a stiff surface, which lets the
+    integral be fast.
+
+    Args:
+        feedback: F_fb from :func:`cosmos.osc.unified.force_feedback`, world, [N, N m]. # (6,)
+        force_goal: The segment's F_d (not ramped), world. # (6,)
+        setpoint: F_d ramped, world. # (6,)
+        force_sensed: F_s, world. # (6,)
+        velocity: Tool twist xd, world. # (6,)
+        lambda_inv_omega_bar: ``Lambda^-1 Omega_bar``. # (6, 6)
+        gains: ``(k_fh [1], k_ih [1/s], k_vh [1/s], limit [N s])``.
+        integral: ``integral(e) dt`` so far, in [N s].
+        integrate: Whether it grows this tick.
+        dt_s: Servo period, in [s].
+
+    Returns:
+        ``(F_fb, integral)``: the feedback with the held push's terms, the updated integral.
+    """
+    push = float(np.linalg.norm(force_goal[:3]))
+    if push == 0.0:
+        return feedback, integral
+    n = force_goal[:3] / push
+    inverse_mass = float(n.dot(lambda_inv_omega_bar[:3, :3]).dot(n))
+    if not inverse_mass > 0.0:
+        return feedback, integral
+    k_fh, k_ih, k_vh, limit = gains
+    error = float(n.dot(setpoint[:3] - force_sensed[:3]))
+    if integrate:
+        integral = min(max(integral + error * dt_s, -limit), limit)
+    added = k_fh * error + k_ih * integral - k_vh * float(n.dot(velocity[:3])) / inverse_mass
+    out = np.array(feedback, dtype=float)
+    out[:3] += added * n
+    return out, integral
+
+
+def touch_damping(
+    motion: FloatArray,
+    wrench: FloatArray,
+    velocity: FloatArray,
+    gain: float,
+    touch_n: float,
+    tool_mass_kg: float,
+) -> FloatArray:
+    """A motion that runs into something, damped along the push it meets (eq. 19-21's F*_m).
+
+    Where every axis is motion-controlled with gains per axis (a COMPLY spring, which expects
+    contact; the servo looks for no touch where the gains are uniform), the tool may land on a
+    surface at the motion's speed; on a steel contact the momentum (some 20 kg at 27 mm/s)
+    would reach the sensor as a spike of 130 N. The push the tool meets is the sensed one
+    less what its own inertia gives the sensor at the commanded acceleration,
+    ``c = f_s - m_tool a`` (``a`` = F*_m's translation; a 5 cm step accelerates at 20 m/s^2,
+    13 N on the 0.65 kg tool). Once ``|c| > touch_n`` and the tool moves toward it
+    (``n^T xd > 0``, ``n = c / |c|``), F*_m loses ``k_vh (n^T xd) n``: the held push's
+    damping (:func:`held_push`) on the motion into the surface.
+
+    Args:
+        motion: F*_m, unit-mass, world, [m/s^2, rad/s^2]. # (6,)
+        wrench: F_s, world, [N, N m]. # (6,)
+        velocity: Tool twist xd, world. # (6,)
+        gain: k_vh, in [1/s].
+        touch_n: The push that counts as a touch, in [N].
+        tool_mass_kg: The mass below the wrist sensor, in [kg].
+
+    Returns:
+        F*_m with the damping. # (6,)
+    """
+    out = np.array(motion, dtype=float)
+    contact = np.asarray(wrench[:3]) - tool_mass_kg * out[:3]
+    push = float(np.linalg.norm(contact))
+    if not push > touch_n:
+        return out
+    n = contact / push
+    along = float(n.dot(velocity[:3]))
+    if along > 0.0:
+        out[:3] -= gain * along * n
+    return out
