@@ -44,10 +44,14 @@ class ServoGains:
             contact; once the touch is felt: in free space it would crawl at 1 mm/s), along
             itself (:func:`cosmos.osc.held_push.held_push`): ``(k_fh, k_ih, k_vh, limit)``,
             the proportional [1] and integral [1/s] gains added to ``force``'s, the damping
-            [1/s] (1000/s, near 1 / dt, held all 54 slides of the grid on the ideal plant but
-            amplified the realistic plant's encoder noise: 1 of 54; 200/s: 42, and a force axis
-            rang at 10 +- 0.8 N; 50/s: 52 and 54) and the integral's anti-windup bound [N s]
-            (``k_ih`` times it, 58 N, the most it adds).
+            [1/s] and the integral's anti-windup bound [N s] (``k_ih`` times it, 58 N, the
+            most it adds). Measured on the slide grid (tests/run/slide_grid.py) with the
+            flat-ended peg, realistic plant: these gains on the table's 1.5 mm ramp, 52 of 54
+            (ideal plant 54); ``k_vh`` 100/s (on a 1 mm ramp) 49: the 5 N slides at 5 mm/s
+            keep 87-94 % within 15 %, the damping passing the velocity observer's
+            quantisation noise, and 200/s worse; ``k_ih`` 150/s: 5 N at 50 mm/s along -Y
+            falls to 70 % on both plants; ``k_fh = k_ih = 0``: the 5 N slides at 50 mm/s
+            fall to 61-64 % (but the 30 N ones arrive).
         touch_n: Where every axis is motion-controlled with gains per axis (a COMPLY spring,
             which expects contact), a push above this on what the tool moves toward is a
             touch, and the motion into it gets the held push's damping

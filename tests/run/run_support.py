@@ -249,10 +249,3 @@ def on_both_plants(shortfall: str, cause: str = NOT_TRACED) -> list[Any]:
 
 BOTH_PLANTS = [pytest.param(False, id="realistic"), pytest.param(True, id="ideal")]
 """``ideal`` parameters: the realistic plant, then the ideal one, both expected to pass."""
-
-
-FLAT_END = (
-    "the peg's flat end (issue 19, item 2) lands and slides on the table with its end disc: several "
-    "contact points of the soft tool contact at once, where the round tip had one; "
-)
-"""The start of a strict xfail's reason for a table contact changed by the flat-ended peg."""
