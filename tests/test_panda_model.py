@@ -144,7 +144,18 @@ def test_workcell_fixtures_and_tool_are_the_pumas():
     panda_world = {k: v for k, v in _world_geoms(panda).items() if k not in arm_only}
     puma_world = {k: v for k, v in _world_geoms(puma).items() if k not in arm_only}
     assert sorted(panda_world) == sorted(puma_world)
-    fields = ("type", "size", "pos", "quat", "contype", "conaffinity", "friction", "solref", "solimp", "solmix")
+    fields = (
+        "type",
+        "size",
+        "pos",
+        "quat",
+        "contype",
+        "conaffinity",
+        "friction",
+        "solref",
+        "solimp",
+        "solmix",
+    )
     for name, geom in puma_world.items():
         for field in fields:
             copy = getattr(panda_world[name], field)

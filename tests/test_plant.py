@@ -168,7 +168,7 @@ def test_press_on_the_table(robot):
     plant.reset(start)
     damping = np.array([20.0, 20.0, 10.0, 2.0, 2.0, 2.0])
     gravity = gravity_of(robot.model)
-    heights, touching = [], []
+    heights, touching, pushes, sensed = [], [], [], []
 
     def press(force_down: float, seconds: float) -> None:
         for _ in range(round(seconds / plant.dt_s)):
@@ -177,6 +177,8 @@ def test_press_on_the_table(robot):
             plant.step(gravity(q) + tool_jacobian(robot, q)[:3].T @ force - damping * qd)
             heights.append(plant.data.site("tool").xpos[2] - table.position[2])
             touching.append(plant.data.ncon > 0)
+            pushes.append(contact_force_on_tool(plant))
+            sensed.append(sensor_in_world(plant)[0])
 
     press(2.0, 0.8)
     height_2n = heights[-1]
@@ -193,20 +195,29 @@ def test_press_on_the_table(robot):
     assert -1e-3 < heights[-1] <= 1e-5
     assert abs(heights[-1] - height_2n) < 1e-3
 
-    expected = np.array([0.0, 0.0, 10.0])  # the table pushes back with 10 N
-    np.testing.assert_allclose(contact_force_on_tool(plant), expected, atol=0.2)
+    # The table pushes back with 10 N: over the last 0.1 s on average, and within 15 % (the slide
+    # grid's bar) at every step: the end disc's four steel contact points trade the load in
+    # ripples of up to 1.05 N, some 50 ms apart.
+    expected = np.array([0.0, 0.0, 10.0])
+    last = np.array(pushes[-round(0.1 / plant.dt_s) :])
+    np.testing.assert_allclose(last.mean(axis=0), expected, atol=0.2)
+    assert np.max(np.linalg.norm(last - expected, axis=1)) < 1.5
     # The sensor: force link 6 exerts on the tool = m a - (contact + weight) (Newton's second
-    # law on the tool, its centre of mass's acceleration a from MuJoCo's own RNE); the force
-    # the tool applies to the table is then R f + m g = (0, 0, -10) N. (On the steel contact
-    # the end disc's four contact points keep the tool trembling: m a is 1-40 mN.)
+    # law on the tool, its centre of mass's acceleration a from MuJoCo's own RNE: the trembling
+    # tool's m a is 1-40 mN); the force the tool applies to the table is then R f + m g, on
+    # average (0, 0, -10) N.
     force, _ = sensor_in_world(plant)
     mujoco.mj_rnePostConstraint(plant.model, plant.data)
     acceleration = np.zeros(6)
     tool = plant.model.body("tool").id
     mujoco.mj_objectAcceleration(plant.model, plant.data, mujoco.mjtObj.mjOBJ_BODY, tool, acceleration, 0)
     inertia = TOOL.mass_kg * (acceleration[3:] + GRAVITY)  # MuJoCo's carries -g (accelerometer)
-    np.testing.assert_allclose(force, inertia - contact_force_on_tool(plant) - TOOL.mass_kg * GRAVITY, atol=1e-6)
-    np.testing.assert_allclose(force + TOOL.mass_kg * GRAVITY, -expected, atol=0.2)
+    np.testing.assert_allclose(
+        force, inertia - contact_force_on_tool(plant) - TOOL.mass_kg * GRAVITY, atol=1e-6
+    )
+    np.testing.assert_allclose(
+        np.mean(sensed[-len(last) :], axis=0) + TOOL.mass_kg * GRAVITY, -expected, atol=0.2
+    )
 
     contacts = plant.contacts()
     assert {frozenset((c.body1, c.body2)) for c in contacts} == {frozenset(("tool", "table"))}

@@ -139,6 +139,7 @@ class ServoLevel:
         scalars[kernel.FORCE_SPEED_KI] = gains.force_speed_ki
         scalars[kernel.MOTION_KI] = gains.motion_ki
         scalars[kernel.MOTION_INTEGRAL_LIMIT] = gains.motion_integral_limit_ms
+        scalars[kernel.TILT_WINDOW : kernel.TILT_WINDOW + 2] = gains.insert_tilt_window
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
         scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass
         scalars[kernel.HELD_PUSH + 6] = gains.touch_damping * min(1.0, HELD_PUSH_RATE_S / servo_dt_s)

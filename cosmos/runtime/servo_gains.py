@@ -33,7 +33,10 @@ class ServoGains:
         force_speed_integral_limit_m: Anti-windup bound on that integral, in [m].
         push_speed_aim: The capped push aims at this fraction of the speed limit: as the
             contact's friction changes (a chamfer, the hole's walls) its speed swings by up to
-            a millimetre per second (INSERT at 5-30 mm/s), and the limit is a limit.
+            a millimetre per second (INSERT at 5-30 mm/s), and the limit is a limit. On the
+            steel contact the peg's landing on the chamfers (44 N at 29 mm/s) slows it to
+            24 mm/s and the speed loop's catching up overshot: 0.93 peaked at 33.75 mm/s at
+            SPEED 30 on the realistic plant (12.5 % over); 0.90 at 30.9 mm/s.
         motion_ki: Integral gain on the motion axes' translation error in contact, once a
             tracked trajectory's reference has stopped
             (:func:`cosmos.osc.motion.integrate_motion_error`), in [1/s^3]; below
@@ -58,6 +61,12 @@ class ServoGains:
             (:func:`cosmos.osc.held_push.touch_damping`), in [N].
         touch_damping: That damping, in [1/s] (a 100 N/m spring landing at 27 mm/s on the
             table: 33 N at 50/s, a protective stop; under 30 N at 200/s), at 1 kHz.
+        insert_tilt_window: An INSERT's compliant rotations turn freely within this angle of
+            the segment's orientation, [rad], and beyond it back at this speed per radian
+            over, [1/s] (:func:`cosmos.osc.tilt_window.tilt_window`). 10 deg: a peg landing
+            3.2 mm off tips into the mouth and rights itself; at 3 deg it stayed on the top
+            and jammed; with none a tipped peg wedged at 21-25 deg (on the Panda's
+            ``panda_search_insert.cos`` too); at 8 deg that search met a wall at 218 N.
         posture_kp: Unit-mass joint stiffness of the POSTURE task in the null space, in
             [1/s^2]: ``xi_q^2 / 4``, critically damped by the null-space damping.
     """
@@ -75,10 +84,11 @@ class ServoGains:
     force_speed_kv: float = 300.0
     force_speed_ki: float = 4000.0
     force_speed_integral_limit_m: float = 0.0005
-    push_speed_aim: float = 0.93
+    push_speed_aim: float = 0.90
     motion_ki: float = 2000.0
     motion_integral_limit_ms: float = 0.004
     held_push: tuple[float, float, float, float] = (0.4, 288.0, 50.0, 0.2)
     touch_n: float = 8.0
     touch_damping: float = 200.0
+    insert_tilt_window: tuple[float, float] = (0.1745, 20.0)
     posture_kp: float = 100.0

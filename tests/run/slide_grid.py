@@ -1,8 +1,9 @@
 """The contact-while-sliding grid of issue 14, item 5: every force x speed x direction x frame.
 
 Run ``python tests/run/slide_grid.py`` (40-100 s on two cores; ``--quick`` for
-five representative cases). Each case is a program: touch the table with
-CONTACT DOWN at the force, SLIDE 60 mm at the speed along the direction, in
+five representative cases, ``--ideal`` on the ideal plant). Each case is a
+program: touch the table with CONTACT DOWN at the force, SLIDE 60 mm at the
+speed along the direction, in
 the world frame or in a task frame turned 45 deg about z. From the run's own
 log it reports, over the slide after its force ramp: the lowest push as a
 fraction of the setpoint (must stay above 50 %) and the share of samples within
@@ -136,11 +137,14 @@ def main(argv: list[str] | None = None) -> int:
     """Run the grid and print one line per case and a summary; exit 1 if any case misses."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="only the suite's representative cases")
+    parser.add_argument(
+        "--ideal", action="store_true", help="on the ideal plant (default: the realistic one)"
+    )
     args = parser.parse_args(argv)
     results = []
     with tempfile.TemporaryDirectory() as directory:
         for case in grid(args.quick):
-            result = run_case(case, Path(directory))
+            result = run_case(case, Path(directory), ideal=args.ideal)
             results.append(result)
             print(
                 f"{'ok  ' if result.ok else 'MISS'} {case.name:34s} exit {result.returncode}  "

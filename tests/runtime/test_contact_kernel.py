@@ -16,6 +16,7 @@ from cosmos.osc.force import selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.held_push import held_push, touch_damping
 from cosmos.osc.orientation import so3_exp
+from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import REACH_FRACTION, force_goal_reached, speed_limited_push
 from cosmos.runtime.kernels import contact as ck
 
@@ -309,3 +310,27 @@ def test_touch_damping_is_its_reference(seed: int) -> None:
     assert damped == toward
     if damped:
         assert np.allclose(got[:3] - motion[:3], -1000.0 * 0.03 * n) and np.array_equal(got[3:], motion[3:])
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_tilt_window_is_its_reference(seed: int) -> None:
+    """The tilt window's stop against cosmos.osc.tilt_window.tilt_window: a tilt beyond the
+    window (even seeds) or within it (odd seeds).
+
+    Catches the stop acting inside the window (an INSERT's peg could not tip into the mouth),
+    pushing the tilt further out instead of back, or touching the speed's translation."""
+    rng = np.random.default_rng(seed)
+    speed, tilt = rng.normal(0.0, 0.2, 6), rng.normal(0.0, 1.0, 6)
+    window = 0.1745
+    size = rng.uniform(1.2, 3.0) * window if seed % 2 == 0 else rng.uniform(0.0, 0.95) * window
+    tilt[3:] *= size / np.linalg.norm(tilt[3:])
+    expected = tilt_window(speed, tilt, window, 20.0)
+    got = speed.copy()
+    ck.tilt_window_into(got, tilt, window, 20.0)
+    _close(got, expected)
+    assert np.array_equal(got[:3], speed[:3])
+    turned_back = float(np.dot(got[3:] - speed[3:], tilt[3:]))
+    if seed % 2 == 0:
+        assert turned_back == pytest.approx(-20.0 * (size - window) * size, rel=1e-9)
+    else:
+        assert np.array_equal(got, speed)

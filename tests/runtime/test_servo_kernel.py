@@ -21,6 +21,7 @@ from cosmos.osc.held_push import held_push, touch_damping
 from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, integrate_motion_error, tracking_command
 from cosmos.osc.orientation import so3_exp
+from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import (
     ForceGains,
     force_command,
@@ -273,6 +274,9 @@ CONTACT_THRESHOLD_N = 1.0
 FORCE_GAINS = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
 HELD_PUSH_GAINS = (0.4, 288.0, 50.0, 0.2)
 """The held push's (k_fh, k_ih, k_vh, limit) as cosmos.runtime.servo.ServoGains has them."""
+TILT_WINDOW = (0.005, 20.0)
+"""An INSERT's tilt window [rad] and its stop's rate [1/s]: narrow, so that the cases' rotation
+errors (about 0.01 rad) reach beyond it."""
 XI_Q = 20.0
 LOOKAHEAD_S = 0.02
 DT_S = 1e-3
@@ -391,6 +395,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.ADMITTANCE_MAX_SPEED] = case.admittance_max_speed
     scalars[sk.ADMITTANCE_KV] = ADMITTANCE_KV
     scalars[sk.MOMENT_BLEND] = MOMENT_BLEND
+    scalars[sk.TILT_WINDOW : sk.TILT_WINDOW + 2] = TILT_WINDOW
 
     vectors = np.zeros((sk.VECTORS, 6))
     vectors[sk.KP], vectors[sk.KV] = (np.full(6, 400.0), np.full(6, 40.0)) if case.uniform else _gains(rng)
@@ -503,6 +508,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     if sc[sk.ADMITTANCE]:
         moment = low_pass(moment, wrench, sc[sk.MOMENT_BLEND])
         admitting = contact_latched(bool(st[sk.FLAGS, sk.ADMITTING]), wrench, CONTACT_THRESHOLD_N)
+    tilt = omega_a @ error  # the rotation error on the compliant axes, before they drop it
     if admitting:
         error, velocity_d, accel_d = (without_axes(omega_a, v) for v in (error, velocity_d, accel_d))
 
@@ -538,6 +544,8 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         speed_a = admittance_speed(
             omega_a, setpoint, moment, sc[sk.ADMITTANCE_GAIN], sc[sk.ADMITTANCE_MAX_SPEED]
         )
+        if sc[sk.PUSH_SPEED] > 0.0:  # an INSERT's rotations: within their window
+            speed_a = tilt_window(speed_a, tilt, sc[sk.TILT_WINDOW], sc[sk.TILT_WINDOW + 1])
         motion = admittance_command(omega_a, motion, speed_a, velocity, sc[sk.ADMITTANCE_KV])
         speed = speed + speed_a
     extra = {sk.MOMENT_FILTERED: moment} if sc[sk.ADMITTANCE] else {}
@@ -794,6 +802,11 @@ def test_admittance_cases_exercise_what_they_claim(name: str) -> None:
     setpoint = start + fraction * (inputs.vectors[sk.FORCE_WORLD] - start)
     unbounded = ADMITTANCE_GAIN * np.linalg.norm((mat[sk.OMEGA_ADMITTANCE] @ (setpoint - moment))[3:])
     assert (unbounded > case.admittance_max_speed) == (case.admittance_max_speed < 1.0)
+    # The tilt window binds wherever the axes admit (the cases' pushes have a SPEED, as INSERT's).
+    inputs.scalars[sk.TILT_WINDOW] = np.inf
+    windowless = _reference_tick(inputs).rows[sk.TORQUE]
+    inputs.scalars[sk.TILT_WINDOW] = TILT_WINDOW[0]
+    assert (np.max(np.abs(windowless - reference.rows[sk.TORQUE])) > 1e-9) == reference.admitting
     inputs.scalars[sk.ADMITTANCE] = 0.0
     plain = _reference_tick(inputs).rows[sk.TORQUE]
     changed = np.max(np.abs(plain - reference.rows[sk.TORQUE])) > 1e-6

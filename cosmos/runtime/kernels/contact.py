@@ -11,7 +11,9 @@ at the edges (thresholds, bounds, clipping):
 * :func:`admittance_command`: :func:`cosmos.osc.admittance.admittance_command`;
 * :func:`coulomb_compensation_into`: :func:`cosmos.osc.friction.friction_intent` and
   :func:`cosmos.osc.friction.coulomb_compensation`;
-* :func:`speed_limited_push_into`: :func:`cosmos.osc.unified.speed_limited_push` (a push's SPEED).
+* :func:`speed_limited_push_into`: :func:`cosmos.osc.unified.speed_limited_push` (a push's SPEED);
+* :func:`held_push_into`, :func:`touch_damping_into`: :mod:`cosmos.osc.held_push`;
+* :func:`tilt_window_into`: :func:`cosmos.osc.tilt_window.tilt_window` (an INSERT's rotations).
 """
 
 from __future__ import annotations
@@ -251,3 +253,15 @@ def touch_damping_into(
         motion[0] -= gain * along * n0
         motion[1] -= gain * along * n1
         motion[2] -= gain * along * n2
+
+
+@kernel
+def tilt_window_into(speed: FloatArray, tilt: FloatArray, window_rad: float, rate: float) -> None:
+    """:func:`cosmos.osc.tilt_window.tilt_window` on ``speed`` (``w_a``) in place."""
+    t0, t1, t2 = tilt[3], tilt[4], tilt[5]
+    size = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+    if size > window_rad:
+        back = rate * (size - window_rad) / size
+        speed[3] -= back * t0
+        speed[4] -= back * t1
+        speed[5] -= back * t2

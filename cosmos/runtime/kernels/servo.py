@@ -12,7 +12,8 @@ integral action only once :func:`cosmos.osc.contact.touch_latched`), a push held
 its SPEED (:func:`cosmos.osc.unified.speed_limited_push`) or at a surface
 (:func:`cosmos.osc.held_push.held_push`), a slide's integral action
 (:func:`cosmos.osc.motion.integrate_motion_error`) or, on compliant moment axes in
-contact, admittance control (:mod:`cosmos.osc.admittance`), eq. 29's single product
+contact, admittance control (:mod:`cosmos.osc.admittance`; an INSERT's within its tilt
+window, :mod:`cosmos.osc.tilt_window`), eq. 29's single product
 with the folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction
 compensation (:mod:`cosmos.osc.friction`) and the saturation that scales the command
 about gravity (:func:`cosmos.osc.limits.saturate_torque`). Pieces with a kernel of their own
@@ -41,6 +42,7 @@ from cosmos.runtime.kernels.contact import (
     held_push_into,
     low_pass_into,
     speed_limited_push_into,
+    tilt_window_into,
     touch_damping_into,
     touch_latched,
 )
@@ -58,7 +60,8 @@ INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(12, 15)
 ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, LOOKAHEAD_S = range(15, 21)
 K_VF, FORCE_SPEED_KV, PUSH_SPEED, FORCE_SPEED_KI, FORCE_SPEED_INTEGRAL_LIMIT = range(21, 26)
 MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(26, 30)
-SCALARS = 36  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
+TILT_WINDOW = 36  # an INSERT's compliant rotations: the window [rad] and the stop's rate [1/s]
+SCALARS = 38  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -158,9 +161,11 @@ def servo_tick(
         if contact_latched(flags[ADMITTING] != 0.0, wrench, scalars[CONTACT_THRESHOLD_N]):
             flags[ADMITTING] = 1.0
         admittance = flags[ADMITTING] != 0.0
+    tilt = np.zeros(6)
     if admittance:  # no position goal on the moment axes under admittance control
         omega_admittance = matrices[OMEGA_ADMITTANCE]
-        error = error - matvec(omega_admittance, error)
+        tilt = matvec(omega_admittance, error)
+        error = error - tilt
         velocity_desired = velocity_desired - matvec(omega_admittance, velocity_desired)
         acceleration_desired = acceleration_desired - matvec(omega_admittance, acceleration_desired)
     if scalars[UNIFORM] != 0.0:
@@ -222,6 +227,8 @@ def servo_tick(
             scalars[ADMITTANCE_GAIN],
             scalars[ADMITTANCE_MAX_SPEED],
         )
+        if scalars[PUSH_SPEED] > 0.0:
+            tilt_window_into(speed, tilt, scalars[TILT_WINDOW], scalars[TILT_WINDOW + 1])
         motion = admittance_command(omega_admittance, motion, speed, velocity, scalars[ADMITTANCE_KV])
         commanded_speed = commanded_speed + speed
     acceleration = motion
