@@ -38,7 +38,7 @@ def add_objects(spec: mujoco.MjSpec, objects: Sequence[WorkObject]) -> None:
         body = spec.worldbody.add_body(name=item.name, pos=item.position_m, quat=item.quat_wxyz)
         body.add_freejoint(name=f"{item.name}_free")
         if item.peg_end:
-            _peg(body, item)
+            _peg(body, item, spec.find_default("tool").geom)
             continue
         a, b, c = item.half_extents_m
         size = (a, b, c) if item.shape is ObjectShape.BOX else (a, c, 0.0)
@@ -56,15 +56,15 @@ _FACETS = 32
 _FACET_POS = (0.00893421393557783, 0.0, -0.000927279164369)  # from the end face
 _FACET_TILT_RAD = 0.7825517141122433
 _FACET_SIZE = (0.0010636922228183007, 0.0009715949035167694, 0.00025)
-_TOOL_SOLREF = (0.18, 1.0)
-_TOOL_SOLIMP = (0.5, 0.95, 0.002, 0.5, 2.0)
-"""The welded tool's soft steel contact (README, "Contacts"), on the chamfer's facets: the held
-peg meets the hole's chamfer as the welded one does. Its cylinder and end disc keep the
-workcell's stiff contact, so it stands in its holder and in the fingers without sinking."""
 
 
-def _peg(body: mujoco.MjsBody, item: WorkObject) -> None:
-    """A steel peg: a cylinder, a flat end disc and 32 chamfer facets at its +z end."""
+def _peg(body: mujoco.MjsBody, item: WorkObject, tool: mujoco.MjsGeom) -> None:
+    """A steel peg: a cylinder, a flat end disc and 32 chamfer facets at its +z end.
+
+    Its sleeve and facets, which meet the hole's walls and chamfer, take the welded tool's
+    steel contact (``tool``: the scene's ``tool`` default class; models README, "Contacts"),
+    so the held peg meets the hole as the welded one does. Its cylinder and end disc keep
+    the workcell's default contact, so it stands in its holder and in the fingers."""
     radius, _, half = item.half_extents_m
     end = half
     cylinder = body.add_geom(
@@ -120,4 +120,4 @@ def _peg(body: mujoco.MjsBody, item: WorkObject) -> None:
     sleeve.contype, sleeve.conaffinity = 8, 1
     disc.contype, disc.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY
     for geom in geoms[2:]:
-        geom.solref, geom.solimp = _TOOL_SOLREF, _TOOL_SOLIMP
+        geom.solref, geom.solimp, geom.solmix = tool.solref, tool.solimp, tool.solmix
