@@ -64,7 +64,8 @@ def _peg(body: mujoco.MjsBody, item: WorkObject, tool: mujoco.MjsGeom) -> None:
     Its sleeve and facets, which meet the hole's walls and chamfer, take the welded tool's
     steel contact (``tool``: the scene's ``tool`` default class; models README, "Contacts"),
     so the held peg meets the hole as the welded one does. Its cylinder and end disc keep
-    the workcell's default contact, so it stands in its holder and in the fingers."""
+    the workcell's default contact, so it stands in its holder and in the fingers.
+    """
     radius, _, half = item.half_extents_m
     end = half
     cylinder = body.add_geom(
