@@ -46,6 +46,9 @@ class Robot:
             joint turns, ``(|G| Tc+, |G| |Tc-|)`` per joint [N m], or None where only the
             model file's symmetric ``frictionloss`` is known. The controller compensates it
             by direction; the model file holds the two directions' mean.
+        encoder_counts_per_degree: The joints' position encoders, counts per joint degree,
+            which the realistic plant rounds the angles to (:mod:`cosmos.realism.encoders`);
+            None: read exactly.
     """
 
     name: str
@@ -59,6 +62,7 @@ class Robot:
     capability: ArmCapability
     wrist_joint: int | None
     coulomb_by_direction_nm: tuple[tuple[float, float], ...] | None = None
+    encoder_counts_per_degree: tuple[float, ...] | None = None
 
     @property
     def dof(self) -> int:
@@ -91,6 +95,12 @@ turns positively, ``Tc-`` negatively, whatever the gear's sign (Corke's Robotics
 ``Link.friction``: "depends on the sign of the joint velocity, not the motor velocity").
 """
 
+PUMA560_COUNTS_PER_DEGREE = (173.92, 239.59, 149.18, 211.21, 199.79, 106.51)
+"""Encoder counts per joint degree of the PUMA 560, joints 1-6: the Unimation controller's
+conversion factors (posted with the PUMA's servo interface on comp.robotics, "Puma 560
+encoders->degrees", 4 Oct 1990); 1000, 800, 1000, 1000, 1000 and 500 counts per motor
+revolution through the published gear ratios (:mod:`cosmos.realism.encoders`)."""
+
 PUMA560 = Robot(
     name="puma560",
     model_dir=MODELS_DIR / "puma560",
@@ -103,6 +113,7 @@ PUMA560 = Robot(
     capability=ARM_CAPABILITY,
     wrist_joint=4,  # joint 5: at zero joints 4 and 6 are aligned
     coulomb_by_direction_nm=PUMA560_COULOMB_NM,
+    encoder_counts_per_degree=PUMA560_COUNTS_PER_DEGREE,
 )
 
 PANDA_CAPABILITY = ArmCapability(
@@ -124,6 +135,12 @@ PANDA_CAPABILITY = ArmCapability(
 )
 """The Panda's capabilities at the tool (the checker refuses requests beyond them)."""
 
+PANDA_COUNTS_PER_DEGREE = (2**19 / 360.0,) * 7
+"""Encoder counts per joint degree of the Panda: assumed. Franka publishes no encoder
+resolution; the joints' angles are measured on the link side, taken here as a 19-bit absolute
+encoder per joint (2^19 counts a turn, 1.2e-5 rad a count, a common grade for the class), so
+8 times finer than the PUMA's joint 2."""
+
 PANDA = Robot(
     name="panda",
     model_dir=MODELS_DIR / "panda",
@@ -135,6 +152,7 @@ PANDA = Robot(
     shoulder_m=(0.0, 0.0, 0.533),  # joint 2's axis: URDF joint 1 at 0.333 m on the 0.2 m pedestal
     capability=PANDA_CAPABILITY,
     wrist_joint=None,  # joints 5 and 7 are offset (0.088 m): no spherical wrist
+    encoder_counts_per_degree=PANDA_COUNTS_PER_DEGREE,
 )
 
 ROBOTS: dict[str, Robot] = {robot.name: robot for robot in (PUMA560, PANDA)}

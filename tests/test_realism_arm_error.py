@@ -15,6 +15,7 @@ from cosmos.plant import Plant
 from cosmos.realism import PlantRealism
 from cosmos.realism.arm_error import FRICTION_SCALE
 from cosmos.robot_model import build_robot_model
+from cosmos.robots import PUMA560
 from cosmos.workcell import ARM_XML, JOINT_NAMES
 
 ROBOT = build_robot_model()
@@ -48,7 +49,7 @@ def test_plant_links_differ_from_the_controller_s_by_the_drawn_factors_within_th
     """Catches a plant built from the controller's numbers (no model error), factors applied to the
     wrong link or twice, and draws outside the documented +-5 % (masses, inertias, rotor inertias)
     and +-10 % (friction)."""
-    realism = PlantRealism.drawn(seed, JOINT_NAMES)
+    realism = PlantRealism.drawn(seed, PUMA560)
     arm, scale = realism.arm, realism.model_error
     model = Plant(realism=realism).model
     for joint, body in enumerate(link_bodies(model)):
@@ -86,7 +87,7 @@ def test_friction_is_the_published_asymmetric_one_in_each_direction() -> None:
     mean), and Tc+ / Tc- taken by the motor's direction instead of the joint's (gears 1 and 3
     are negative): moving, the joint's friction is -|G| Tc+ turning positively, +|G| |Tc-|
     negatively (times the drawn factor), read from MuJoCo's constraint and applied forces."""
-    realism = PlantRealism.drawn(3, JOINT_NAMES)
+    realism = PlantRealism.drawn(3, PUMA560)
     plant = Plant(realism=realism)
     model, data = plant.model, plant.data
     for direction in (1.0, -1.0):
@@ -107,10 +108,10 @@ def test_friction_is_the_published_asymmetric_one_in_each_direction() -> None:
 def test_same_seed_same_arm_other_seed_other_arm() -> None:
     """Catches a plant that is not reproducible from the run's seed (replay --verify would fail),
     or one that does not change with it (every run of a sweep the same arm)."""
-    a, b, c = (PlantRealism.drawn(s, JOINT_NAMES) for s in (5, 5, 6))
+    a, b, c = (PlantRealism.drawn(s, PUMA560) for s in (5, 5, 6))
     assert a == b
     assert a.arm.mass != c.arm.mass and a.wrist_bias != c.wrist_bias
-    zero = PlantRealism.drawn(5, JOINT_NAMES, model_error=0.0)
+    zero = PlantRealism.drawn(5, PUMA560, model_error=0.0)
     assert set(zero.arm.mass) == {1.0} and set(zero.arm.coulomb) == {1.0}
     with pytest.raises(ValueError, match="model_error"):
-        PlantRealism.drawn(5, JOINT_NAMES, model_error=-0.1)
+        PlantRealism.drawn(5, PUMA560, model_error=-0.1)

@@ -11,12 +11,12 @@ import cosmos
 from cosmos.errors import UsageError
 from cosmos.realism import PlantRealism
 from cosmos.replay.verify import verify_log
+from cosmos.robots import PUMA560
 from cosmos.runlog.reader import read_log
 from cosmos.sweep.parameters import parse_varies
 from cosmos.sweep.results import SweepSpec
 from cosmos.sweep.variation import WorkcellVariation
 from cosmos.sweep.worker import RunTask, run_task
-from cosmos.workcell import JOINT_NAMES
 
 PROGRAM = "MOVE BY (0, 0, 20 mm)\n"
 
@@ -36,7 +36,7 @@ def test_a_run_is_on_the_realistic_plant_unless_ideal_and_replay_verify_remakes_
     meta_r, meta_i = realistic.record.metadata, ideal.record.metadata
     assert (meta_r["plant"], meta_i["plant"]) == ("realistic", "ideal")
     assert float(meta_r["model_error"]) == 0.05 and "model_error" not in meta_i
-    resolution = np.array(PlantRealism.drawn(4, JOINT_NAMES).encoder_resolution_rad)
+    resolution = np.array(PlantRealism.drawn(4, PUMA560).encoder_resolution_rad)
     assert whole_counts(realistic.record.state.q, resolution)  # the controller saw encoder counts
     assert not whole_counts(ideal.record.state.q, resolution)  # and here MuJoCo's qpos
     verification = verify_log(read_log(tmp_path / "r.mcap"))

@@ -29,7 +29,7 @@ from cosmos.realism.kernel import (
     WRENCH_GAIN,
     sense_step,
 )
-from cosmos.workcell import JOINT_NAMES
+from cosmos.robots import PUMA560
 
 GEAR_RATIOS = (-62.6111, 107.815, -53.7063, 76.0364, 71.923, 76.686)
 """G of the published drive table (shared/reference/puma560.md)."""
@@ -37,7 +37,7 @@ COUNTS_PER_MOTOR_REV = (1000, 800, 1000, 1000, 1000, 500)
 
 
 def realistic_plant(seed: int = 1) -> Plant:
-    return Plant(sensor_noise=SensorNoise(seed), realism=PlantRealism.drawn(seed, JOINT_NAMES))
+    return Plant(sensor_noise=SensorNoise(seed), realism=PlantRealism.drawn(seed, PUMA560))
 
 
 def drive(plant: Plant, steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -63,7 +63,7 @@ def drive(plant: Plant, steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray,
 def test_encoder_resolution_is_the_puma_s_counts_per_motor_revolution() -> None:
     """Catches a resolution in degrees or per motor turn, or a joint's count from another joint:
     one count times counts per motor revolution times |G| is a full turn."""
-    realism = PlantRealism.drawn(0, JOINT_NAMES)
+    realism = PlantRealism.drawn(0, PUMA560)
     turn = np.array(realism.encoder_resolution_rad) * np.array(COUNTS_PER_MOTOR_REV) * np.abs(GEAR_RATIOS)
     np.testing.assert_allclose(turn, 2 * math.pi, rtol=5e-5)
 
@@ -174,10 +174,26 @@ def test_sensing_kernel_matches_its_references() -> None:
 def test_realistic_sensor_at_rest_reads_the_true_wrench_plus_the_drawn_bias(seed: int) -> None:
     """Catches a filter that starts from zero (a 200 Hz transient read as a touch), and a bias
     that is not the drawn one or not added."""
-    realism = PlantRealism.drawn(seed, JOINT_NAMES)
+    realism = PlantRealism.drawn(seed, PUMA560)
     plant = Plant(realism=realism)
     reference = Plant(edit_spec=realism.arm.apply_to_spec)  # the same arm, read exactly
     np.testing.assert_allclose(
         plant.read_wrench_sensor(), reference.read_wrench_sensor() + np.array(realism.wrist_bias), atol=1e-12
     )
     assert np.linalg.norm(realism.wrist_bias[:3]) > 1e-4
+
+
+def test_one_count_speed_is_the_observers_l1_norm_stepped() -> None:
+    """The stepped observer's answer to half a count: the continuous bound ``omega delta / e`` as
+    the step shrinks, 6.5 % above it at ``omega dt = 0.25`` (98.5 against 92.5, encoders.py).
+
+    Catches a dead band for the friction compensation (cosmos.osc.friction) taken from the
+    wrong norm (a whole count, or the continuous bound's 6.5 % short at 1 kHz), which let one
+    count's rounding through as motion."""
+    from cosmos.realism.encoders import one_count_speed_rad_s, quantisation_bound
+
+    omega, resolution = 2.0 * math.pi * 40.0, np.array((1.0e-4, 1.64e-4))
+    fine = one_count_speed_rad_s(omega, 1e-6, resolution)
+    np.testing.assert_allclose(fine, quantisation_bound(omega, resolution), rtol=2e-3)
+    stepped = one_count_speed_rad_s(omega, 0.25 / omega, resolution)
+    np.testing.assert_allclose(stepped / quantisation_bound(omega, resolution), 98.5 / 92.5, rtol=2e-3)

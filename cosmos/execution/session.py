@@ -23,7 +23,7 @@ from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant, SensorNoise
 from cosmos.realism.plant_realism import PlantRealism, ideal_metadata
 from cosmos.robot_model import build_robot_model
-from cosmos.robots import DEFAULT_ROBOT, PUMA560, Robot
+from cosmos.robots import DEFAULT_ROBOT, Robot
 from cosmos.runlog.arm_scene import arm_entities
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import DEFAULT_GAINS, Runtime
@@ -67,7 +67,7 @@ class Session:
             the default 0.05, :mod:`cosmos.realism.arm_error`).
         robot: The arm (the program's ``ROBOT``; the PUMA 560 by default); recorded in the
             log's metadata (``robot``, ``joints``, ``model``, ``scene``). The realistic plant
-            is the PUMA's (its published friction and encoders): the Panda runs the ideal one.
+            is drawn for it (its published friction and its encoders, :class:`Robot`).
         tool: The hand on the flange (the program's ``TOOL``): the scene's peg, or the gripper
             mounted below the wrist sensor (:mod:`cosmos.hand`); recorded in the log's
             metadata (``tool``).
@@ -100,11 +100,11 @@ class Session:
             if model_error is None:
                 model_error = variation.model_error
         realism = None
-        if not ideal and robot is PUMA560:
+        if not ideal:
             realism = (
-                PlantRealism.drawn(seed, robot.joint_names)
+                PlantRealism.drawn(seed, robot)
                 if model_error is None
-                else PlantRealism.drawn(seed, robot.joint_names, model_error)
+                else PlantRealism.drawn(seed, robot, model_error)
             )
         plant_metadata = ideal_metadata() if realism is None else realism.metadata()
         self.robot = robot

@@ -5,7 +5,7 @@ Coulomb friction of the order of a newton metre, enough to stall a slow
 motion or a light push. The servo adds, per joint, the friction torque in the
 direction the joint is moving or, from rest, is being told to move::
 
-    intent   = (qd + Jbar (L a + xd_c)) / v_c                    (Jbar: eq. 28)
+    intent   = (dz(qd) + Jbar (L a + xd_c)) / v_c                (Jbar: eq. 28)
     target   = Gamma_c(sign intent) clip(intent, -1, 1)
     Gamma_f <- Gamma_f + beta (target - Gamma_f)                  (once per servo tick)
 
@@ -13,9 +13,18 @@ direction the joint is moving or, from rest, is being told to move::
 so that ``Jbar L a`` is the joint speed the command is about to produce;
 ``xd_c`` is an operational speed commanded outright (a tracked trajectory's
 ``xd_d`` on the motion axes, an admittance speed, a push at its speed limit),
-so that a slow joint is not left to stick. ``v_c`` is the joint speed at which
-the full friction torque is compensated (a linear ramp below it avoids
-chattering at rest), ``Gamma_c(+)`` and ``Gamma_c(-)`` are the joint's friction
+so that a slow joint is not left to stick. ``dz(qd) = sign(qd) max(|qd| - d, 0)``
+drops a dead band ``d`` per joint from the sensed speed: on a plant read by encoders,
+the velocity observer's answer to one count's rounding (7e-3 to 1.6e-2 rad/s on the PUMA,
+:func:`cosmos.realism.encoders.one_count_speed_rad_s`), so that the rounding alone, at
+rest, does not ask for the friction torque (with ``v_c`` below that noise it asked
+for all of it, and the arm dithered within one count at 1-1.8e-3 rad/s after
+eq. 38 had stopped it). It applies in a hold in free space (HOLD, WAIT, POSTURE), where
+the noise is all the motion there is; 0 where the speed is read exactly and in every
+segment that moves or pushes, where that noise is a welcome dither (with the band, a held
+10 N push rang between 6.5 and 13.3 N, and a MOVE TO's arrival changed the next slide's
+push). ``v_c`` is the joint speed at which the full friction torque is compensated
+(a linear ramp below it avoids chattering at rest), ``Gamma_c(+)`` and ``Gamma_c(-)`` are the joint's friction
 turning positively and negatively (the PUMA's published drive table differs by up to a
 factor of 2.6 between the two: compensating their mean leaves 3 N m on joint 2
 unanswered), and the first-order low-pass ``beta = dt / tau`` keeps a
@@ -39,6 +48,7 @@ def friction_intent(
     commanded_speed: FloatArray,
     lookahead_s: float,
     full_speed_rad_s: float,
+    dead_band_rad_s: FloatArray | float = 0.0,
 ) -> FloatArray:
     """The joints' intended motion, scaled so that +-1 asks for the full friction torque.
 
@@ -50,12 +60,15 @@ def friction_intent(
             (zeros where none is). # (6,)
         lookahead_s: L, how far ahead the commanded acceleration counts, in [s].
         full_speed_rad_s: v_c, the joint speed at which the full torque is compensated, in [rad/s].
+        dead_band_rad_s: d, the sensed speed's noise per joint, in [rad/s]. # (n,) or scalar
 
     Returns:
-        ``(qd + Jbar (L a + xd_c)) / v_c``, unclipped. # (n,)
+        ``(dz(qd) + Jbar (L a + xd_c)) / v_c``, unclipped. # (n,)
     """
     operational = lookahead_s * np.asarray(acceleration) + np.asarray(commanded_speed)
-    return (np.asarray(qd) + np.asarray(jbar).dot(operational)) / full_speed_rad_s
+    qd = np.asarray(qd, dtype=float)
+    beyond = np.sign(qd) * np.maximum(np.abs(qd) - np.asarray(dead_band_rad_s), 0.0)
+    return (beyond + np.asarray(jbar).dot(operational)) / full_speed_rad_s
 
 
 def coulomb_compensation(

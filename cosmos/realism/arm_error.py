@@ -1,9 +1,10 @@
 """How the real arm differs from the published one the controller knows: model error.
 
-The controller's model (:mod:`cosmos.robot_model`) is the published PUMA 560
-(``shared/reference/puma560.md``). A real arm of the type is not: its links carry
-cables and covers, its drives' friction changes with temperature and wear. The realistic
-plant is the published arm changed by an :class:`ArmError` drawn from the run's seed:
+The controller's model (:mod:`cosmos.robot_model`) is the published arm (the PUMA 560 of
+``shared/reference/puma560.md``, or the Panda's published model). A real arm of the type is
+not: its links carry cables and covers, its drives' friction changes with temperature and
+wear. The realistic plant is the published arm changed by an :class:`ArmError` drawn from
+the run's seed:
 
 * each moving link's mass, and separately its inertia about its centre of mass, scaled
   by ``1 + s u`` (``u`` uniform in [-1, 1], ``s`` the model-error scale: 0.05 by default,
@@ -11,10 +12,12 @@ plant is the published arm changed by an :class:`ArmError` drawn from the run's 
 * each drive's rotor inertia (``armature``) scaled the same way;
 * each drive's viscous friction, and its Coulomb friction, scaled by ``1 + 2 s u``
   (friction is known less well than mass: up to 10 % by default);
-* Coulomb friction with the published asymmetry (:data:`PUMA560_COULOMB_NM`): MuJoCo's
+* Coulomb friction with the published asymmetry where the arm has one
+  (:attr:`cosmos.robots.Robot.coulomb_by_direction_nm`, the PUMA's drive table): MuJoCo's
   ``frictionloss`` holds the two directions' mean, the plant adds the rest
   (:func:`asymmetry_torque`); the controller compensates the published values by
-  direction (:mod:`cosmos.osc.friction`), so what it misses is the drawn error.
+  direction (:mod:`cosmos.osc.friction`), so what it misses is the drawn error. An arm
+  without (the Panda) keeps its model file's symmetric ``frictionloss``, scaled.
 
 The scale is ``--vary model_error=...`` in a sweep. With ``s = 0`` the arm's masses and
 friction levels are the published ones, the asymmetry stays.
@@ -22,19 +25,13 @@ friction levels are the published ones, the asymmetry stays.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
 from cosmos.osc._types import FloatArray
-from cosmos.robots import PUMA560
-from cosmos.robots import PUMA560_COULOMB_NM as PUMA560_COULOMB_BY_JOINT
-
-PUMA560_COULOMB_NM = dict(zip(PUMA560.joint_names, PUMA560_COULOMB_BY_JOINT, strict=True))
-"""The PUMA 560's published Coulomb friction by direction (:data:`cosmos.robots.PUMA560_COULOMB_NM`),
-by joint name."""
+from cosmos.robots import Robot
 
 DEFAULT_SCALE = 0.05
 """Default model-error scale ``s``: link masses, inertias, rotor inertias within 5 %."""
@@ -72,16 +69,17 @@ class ArmError:
     coulomb_negative_nm: tuple[float | None, ...]
 
     @classmethod
-    def drawn(cls, rng: np.random.Generator, scale: float, joints: Sequence[str]) -> ArmError:
-        """An arm drawn with ``rng`` at model-error scale ``scale`` (module docstring)."""
-        n = len(joints)
+    def drawn(cls, rng: np.random.Generator, scale: float, robot: Robot) -> ArmError:
+        """An arm of ``robot``'s type drawn with ``rng`` at model-error scale ``scale`` (module docstring)."""
+        joints, n = robot.joint_names, robot.dof
 
         def factors(spread: float) -> tuple[float, ...]:
             return tuple(float(f) for f in 1.0 + spread * rng.uniform(-1.0, 1.0, n))
 
         mass, inertia, armature = factors(scale), factors(scale), factors(scale)
         viscous, coulomb = factors(FRICTION_SCALE * scale), factors(FRICTION_SCALE * scale)
-        published = [PUMA560_COULOMB_NM.get(name) for name in joints]
+        by_direction = robot.coulomb_by_direction_nm
+        published = [None] * n if by_direction is None else list(by_direction)
         return cls(
             joints=tuple(joints),
             mass=mass,

@@ -11,14 +11,14 @@ values are in the metadata too (``plant_realism``), for people.
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from cosmos.realism.arm_error import DEFAULT_SCALE, ArmError
-from cosmos.realism.encoders import OBSERVER_HZ, encoder_resolution_rad
+from cosmos.realism.encoders import OBSERVER_HZ, encoder_resolution_rad, one_count_speed_rad_s
 from cosmos.realism.wrist_sensor import CUTOFF_HZ, drawn_bias
+from cosmos.robots import Robot
 
 REALISM_STREAM = 19
 """The spawn key of the arm error's random stream (the issue that asked for it)."""
@@ -52,8 +52,11 @@ class PlantRealism:
     wrist_bias: Wrench
 
     @classmethod
-    def drawn(cls, seed: int, joints: Sequence[str], model_error: float = DEFAULT_SCALE) -> PlantRealism:
-        """The realistic plant of a run with this seed (module docstring).
+    def drawn(cls, seed: int, robot: Robot, model_error: float = DEFAULT_SCALE) -> PlantRealism:
+        """The realistic plant of a run of ``robot`` with this seed (module docstring).
+
+        Its published friction by direction and its encoders come from ``robot``
+        (:class:`cosmos.robots.Robot`).
 
         Raises:
             ValueError: If ``model_error`` is negative or not finite.
@@ -61,17 +64,25 @@ class PlantRealism:
         if not (np.isfinite(model_error) and model_error >= 0.0):
             raise ValueError(f"model_error must be a finite number >= 0; got {model_error!r}")
         rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(REALISM_STREAM,)))
-        arm = ArmError.drawn(rng, model_error, joints)
+        arm = ArmError.drawn(rng, model_error, robot)
         bias = drawn_bias(rng)
         return cls(
             seed=seed,
             model_error=float(model_error),
             arm=arm,
-            encoder_resolution_rad=tuple(float(r) for r in encoder_resolution_rad(joints)),
+            encoder_resolution_rad=tuple(float(r) for r in encoder_resolution_rad(robot)),
             observer_hz=OBSERVER_HZ,
             wrist_cutoff_hz=CUTOFF_HZ,
             wrist_bias=bias,
         )
+
+    def one_count_speed_rad_s(self, dt_s: float) -> np.ndarray:
+        """The velocity observer's largest answer to one count's rounding [rad/s]. # (n,).
+
+        Stepped every ``dt_s`` (:func:`cosmos.realism.encoders.one_count_speed_rad_s`).
+        """
+        omega = 2.0 * np.pi * self.observer_hz
+        return one_count_speed_rad_s(omega, dt_s, np.asarray(self.encoder_resolution_rad))
 
     def metadata(self) -> dict[str, str]:
         """The log's metadata of this plant: what remakes it and, for people, what was drawn."""

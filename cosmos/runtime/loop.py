@@ -27,7 +27,7 @@ from cosmos.runtime.kernels.commands import environment_wrench_into
 from cosmos.runtime.null_space import LinkField
 from cosmos.runtime.parameters import ParameterLevel
 from cosmos.runtime.rates import Rates
-from cosmos.runtime.rotation_plan import RotationPlan, plan_rotation
+from cosmos.runtime.rotation_plan import RotationPlan, plan_rotation, ranges_for_goal
 from cosmos.runtime.servo import ServoGains, ServoLevel
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -94,6 +94,11 @@ def _compensated_coulomb(robot: RobotModel, plant: Plant) -> tuple[FloatArray, F
     return robot.coulomb_positive_nm, robot.coulomb_negative_nm
 
 
+def _speed_noise(plant: Plant) -> FloatArray | None:
+    """The sensed joint speed's noise (the observer's answer to one encoder count) [rad/s], None if exact."""
+    return None if plant.realism is None else plant.realism.one_count_speed_rad_s(plant.dt_s)
+
+
 class Runtime:
     """A controller (parameter + servo levels) closed around a plant."""
 
@@ -118,6 +123,7 @@ class Runtime:
             1.0 / rates.servo_hz,
             self._tool_weight_z_n,
             joint_limits=(robot.q_lower_rad, robot.q_upper_rad),
+            speed_noise_rad_s=_speed_noise(plant),
         )
         self.recorder = recorder
         self._live = plant.live_signals()
@@ -200,12 +206,16 @@ class Runtime:
 
         A goal motion first has its way round chosen (:func:`plan_rotation`): the
         shortest rotation unless the joints' ranges forbid it; :attr:`rotation_plan`
-        keeps the choice, and the joint that stops it if none is free.
+        keeps the choice, and the joint that stops it if none is free. The protective
+        zones near the joints' limits (the task's limit projection, the joint-limit field)
+        start no nearer than the goal's configuration, or, for any other segment, the
+        configuration it starts from (:func:`ranges_for_goal`).
         """
         rotation_error = None
         self.rotation_plan = None
+        ev = self.evaluation
+        goal_q: FloatArray | None = ev.q
         if setpoint.mode is MotionMode.GOAL:
-            ev = self.evaluation
             plan = plan_rotation(
                 self.robot,
                 ev.q,
@@ -216,7 +226,10 @@ class Runtime:
             )
             self.rotation_plan = plan
             rotation_error = -plan.rotation_vector
-        self.servo.set_setpoint(setpoint, rotation_error)
+            goal_q = None if plan.blocked_by is not None else plan.goal_q
+        robot, rho_0 = self.robot, self.parameters.limit_field.rho_0_rad
+        self.parameters.field_ranges = ranges_for_goal(robot.q_lower_rad, robot.q_upper_rad, goal_q, rho_0)
+        self.servo.set_setpoint(setpoint, rotation_error, goal_q)
 
     def _sense_wrench(self) -> FloatArray:
         ev = self.evaluation

@@ -111,7 +111,10 @@ class ParameterLevel:
         self._robot = robot
         self._model = robot.model
         data = self._data = robot.model.createData()
-        self._limit_field = limit_field
+        self.limit_field = limit_field
+        self.field_ranges = (robot.q_lower_rad, robot.q_upper_rad)
+        """The joint ranges the joint-limit field repels from: the arm's, or as a goal widens them
+        (:func:`cosmos.runtime.rotation_plan.ranges_for_goal`), [rad]. # 2 x (n,)"""
         # The sensor, the flange and the tool point are fixed on the last link: their offsets are
         # constant in tool axes.
         frames = robot.model.frames
@@ -141,13 +144,11 @@ class ParameterLevel:
 
     def _joint_limit_torque(self, q: FloatArray, margin_rad: float) -> FloatArray:
         """Section 6's joint-limit repulsion; zero (and cheap) when every joint is far from its limits."""
-        field = self._limit_field
+        field = self.limit_field
         if margin_rad >= field.rho_0_rad:
             return self._no_torque
-        robot = self._robot
-        return joint_limit_torque(
-            q, robot.q_lower_rad, robot.q_upper_rad, field.rho_0_rad, field.eta, field.torque_cap_nm
-        )
+        lower, upper = self.field_ranges
+        return joint_limit_torque(q, lower, upper, field.rho_0_rad, field.eta, field.torque_cap_nm)
 
     def evaluate(self, q: FloatArray, qd: FloatArray) -> Evaluation:
         """Evaluate the placements, J, A, A^-1, b, g and h = Jdot qd at ``(q, qd)``."""

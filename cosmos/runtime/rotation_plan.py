@@ -66,11 +66,14 @@ class RotationPlan:
         blocked_by: The joint that stops the shortest rotation when no way round
             keeps the joints in range, else None.
         long_way: True when the long way round was chosen.
+        goal_q: The configuration the followed path ends in (the goal's, by the arm's
+            kinematic model), in [rad]. # (n,)
     """
 
     rotation_vector: FloatArray
     blocked_by: JointAtLimit | None
     long_way: bool
+    goal_q: FloatArray
 
 
 def first_joint_past_limits(robot: RobotModel, q: FloatArray, margin_rad: float = 0.0) -> JointAtLimit | None:
@@ -91,8 +94,13 @@ def _follow(
     displacement: FloatArray,
     rotation_vector: FloatArray,
     margin_rad: float,
-) -> JointAtLimit | None:
-    """Follow the path with closed-loop IK; the joint it would push past a limit, or None."""
+) -> tuple[JointAtLimit | None, FloatArray]:
+    """Follow the path with closed-loop IK.
+
+    Returns:
+        The joint it would push past a limit (or None), and the configuration where it
+        stopped (the path's end if none). # (n,)
+    """
     model, data, frame = robot.model, robot.model.createData(), robot.tool_frame
     steps = max(
         1,
@@ -114,8 +122,26 @@ def _follow(
             q = q + jacobian.T.dot(np.linalg.solve(jjt, error))
         hit = first_joint_past_limits(robot, q, margin_rad)
         if hit is not None and (already is None or hit.joint != already.joint):
-            return hit
-    return None
+            return hit, q
+    return None, q
+
+
+def ranges_for_goal(
+    lower: FloatArray, upper: FloatArray, goal_q: FloatArray | None, margin_rad: float
+) -> tuple[FloatArray, FloatArray]:
+    """The joint ranges widened so that the goal's configuration keeps ``margin_rad`` from each end.
+
+    A protective zone near a limit (the task's joint-limit projection, the joint-limit potential)
+    that reaches the goal itself stops the motion short of it: a MOVE TO whose goal had joint 3
+    7 deg from its limit stopped 1-2 mm short. Widened, the zone starts at the goal and still
+    guards the range beyond it. None: the arm's ranges.
+
+    Returns:
+        ``(min(lower, q_g - m), max(upper, q_g + m))``, in [rad]. # 2 x (n,)
+    """
+    if goal_q is None:
+        return lower, upper
+    return np.minimum(lower, goal_q - margin_rad), np.maximum(upper, goal_q + margin_rad)
 
 
 def plan_rotation(
@@ -143,12 +169,13 @@ def plan_rotation(
     """
     shortest = so3_log(goal_rotation.dot(rotation.T))
     displacement = np.asarray(goal_position, dtype=float) - position
-    blocked = _follow(robot, q, position, rotation, displacement, shortest, margin_rad)
+    blocked, end = _follow(robot, q, position, rotation, displacement, shortest, margin_rad)
     if blocked is None:
-        return RotationPlan(shortest, None, False)
+        return RotationPlan(shortest, None, False, end)
     angle = float(np.linalg.norm(shortest))
     if angle > math.radians(1.0):
         long_way = shortest * (1.0 - 2.0 * math.pi / angle)
-        if _follow(robot, q, position, rotation, displacement, long_way, margin_rad) is None:
-            return RotationPlan(long_way, None, True)
-    return RotationPlan(shortest, blocked, False)
+        stopped, long_end = _follow(robot, q, position, rotation, displacement, long_way, margin_rad)
+        if stopped is None:
+            return RotationPlan(long_way, None, True, long_end)
+    return RotationPlan(shortest, blocked, False, end)

@@ -29,9 +29,10 @@ from cosmos.robot_model import GRAVITY
 from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
 from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
-from cosmos.runtime.kernels.parameter import refold
+from cosmos.runtime.kernels.parameter import LIMITS_OFFSET, refold
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
 from cosmos.runtime.parameters import Evaluation
+from cosmos.runtime.rotation_plan import ranges_for_goal
 from cosmos.runtime.servo_gains import ServoGains as ServoGains  # the servo's gains, named here too
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -79,6 +80,7 @@ class ServoLevel:
         policy: SingularityPolicy = DEFAULT_POLICY,
         joint_limits: tuple[FloatArray, FloatArray] | None = None,
         absorption: AbsorptionPolicy = DEFAULT_ABSORPTION,
+        speed_noise_rad_s: FloatArray | None = None,
     ):
         """Set up the buffers.
 
@@ -94,6 +96,8 @@ class ServoLevel:
                 LIMIT_PROJECTION_MARGIN_RAD of one that the goal drives it into gives up
                 the rotation that needs it (cosmos.osc.limits.joint_limit_task_projection).
             absorption: When the potentials act through the task's null space only.
+            speed_noise_rad_s: The sensed joint speed's noise, which the friction's intent
+                ignores (:mod:`cosmos.osc.friction`), in [rad/s]; None: read exactly. # (n,)
         """
         self.gains = gains
         self._fold_constants = np.array(
@@ -115,6 +119,7 @@ class ServoLevel:
                     (LIMIT_PROJECTION_MARGIN_RAD, LIMIT_PROJECTION_WHOLE_RAD),
                 )
             )
+        self._joint_limits: FloatArray | None = None  # the arm's ranges, as _limits_for_goal widens them
         self._viscous = np.array(viscous, dtype=float)
         n = self._dof = len(self._viscous)
         # One flat workspace holds every block the kernel reads and writes (servo_tick_live).
@@ -148,6 +153,8 @@ class ServoLevel:
         # Rows of w = max(6, n): task-space rows use six entries, joint-space rows n (kernels.servo).
         self._vectors = workspace[vectors:matrices].reshape((kernel.VECTORS, w))
         self._vectors[kernel.COULOMB_NM, :n], self._vectors[kernel.COULOMB_NEGATIVE_NM, :n] = coulomb
+        if speed_noise_rad_s is not None:
+            self._vectors[kernel.COULOMB_DEAD_BAND, :n] = speed_noise_rad_s
         self._vectors[kernel.TORQUE_MAX, :n] = torque_limits
         self._matrices = workspace[matrices:jacobian].reshape((kernel.MATRICES, 6, 6))
         self._jacobian = workspace[jacobian:jbar].reshape((6, n))
@@ -250,7 +257,12 @@ class ServoLevel:
         """Omega and Omega_bar of the current segment, world axes."""
         return self._selection
 
-    def set_setpoint(self, setpoint: ServoSetpoint, rotation_error: FloatArray | None = None) -> None:
+    def set_setpoint(
+        self,
+        setpoint: ServoSetpoint,
+        rotation_error: FloatArray | None = None,
+        goal_q: FloatArray | None = None,
+    ) -> None:
         """Start a segment; the force integral restarts when the selection changes.
 
         Args:
@@ -258,7 +270,10 @@ class ServoLevel:
             rotation_error: The orientation error ``x - x_d`` to start from, world, in [rad]
                 (:mod:`cosmos.runtime.rotation_plan`: norm above pi to turn the long way
                 round); None for the shortest rotation. # (3,)
+            goal_q: The goal's configuration, where a planned path within the joints' ranges
+                ends (:mod:`cosmos.runtime.rotation_plan`), in [rad]; None: none planned. # (n,)
         """
+        self._limits_for_goal(goal_q)
         previous = self._setpoint
         state = self._state
         if previous is None or (
@@ -323,6 +338,22 @@ class ServoLevel:
         """Take a new parameter evaluation (the lower-rate level's output)."""
         self._evaluation = evaluation
         self._refold()
+
+    def _limits_for_goal(self, goal_q: FloatArray | None) -> None:
+        """Set the joint ranges the task's limit projection sees.
+
+        The arm's, widened for a goal within the projection's margin of a limit
+        (:func:`cosmos.runtime.rotation_plan.ranges_for_goal`).
+        """
+        constants, n = self._fold_constants, self._dof
+        if constants.shape[0] <= LIMITS_OFFSET:
+            return
+        if self._joint_limits is None:
+            self._joint_limits = constants[LIMITS_OFFSET : LIMITS_OFFSET + 2 * n].copy()
+        ranges = self._joint_limits[:n], self._joint_limits[n:]
+        lower, upper = ranges_for_goal(*ranges, goal_q, LIMIT_PROJECTION_MARGIN_RAD)
+        constants[LIMITS_OFFSET : LIMITS_OFFSET + n] = lower
+        constants[LIMITS_OFFSET + n : LIMITS_OFFSET + 2 * n] = upper
 
     def _refold(self) -> None:
         ev, sp, sel = self._evaluation, self._setpoint, self._servo_selection

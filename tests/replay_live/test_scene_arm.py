@@ -14,8 +14,8 @@ from replay_live_logs import PROGRAM, run_to_log
 from cosmos.obstacles import obstacle_scene_xml
 from cosmos.plant import Plant
 from cosmos.realism.encoders import encoder_resolution_rad
+from cosmos.robots import PUMA560
 from cosmos.runlog.foxglove import ARM_FRAMES
-from cosmos.workcell import JOINT_NAMES
 from tests import foxglove_proto
 
 
@@ -46,7 +46,7 @@ def _rotation(q: dict) -> np.ndarray:
 
 REACH_M = 1.0
 """Longer than any lever from a joint axis to a link geom of the PUMA (its reach is under 0.9 m)."""
-TOLERANCE_M = 1e-5 + REACH_M * float(encoder_resolution_rad(JOINT_NAMES).sum()) / 2
+TOLERANCE_M = 1e-5 + REACH_M * float(encoder_resolution_rad(PUMA560).sum()) / 2
 """/tf is the arm's true pose, the state's q the encoders' (realistic plant: within half a count
 of it), so MuJoCo placed at that q may be off by sum(half a count x lever): 0.32 mm at most."""
 

@@ -130,17 +130,13 @@ def test_eq_38_null_space_damping_stops_the_self_motion(tmp_path: Path, ideal: b
     assert offset[later].max() < 0.1e-3, f"{offset[-1] * 1e3:.2f} mm off its hold"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="traced: the Coulomb compensation's ramp (coulomb_velocity_rad_s = 0.01 rad/s) is below "
-    "the observer's answer to one encoder count (0.011-0.016 rad/s), so the rounding alone asks "
-    "for the full friction torque and the arm dithers within one count at 1.0-1.6e-3 rad/s; a "
-    "0.05 rad/s ramp brings it to 1.5e-4 but lets POSTURE move the tool 2.5 mm",
-)
 def test_eq_38_the_realistic_arm_itself_stops(tmp_path: Path) -> None:
     """Eq. 38 on the realistic arm itself, read from MuJoCo's own qvel (what no sensor logs):
     2 s after the kick the true null-space speed is below 1e-3 rad/s. Catches a limit cycle
-    below the encoders' resolution, which the logged test above cannot see."""
+    below the encoders' resolution, which the logged test above cannot see: the friction
+    compensation taking the observer's answer to one count's rounding (up to 1.6e-2 rad/s)
+    for motion and asking for the full friction torque (its ramp ends at 1e-2 rad/s), which
+    kept the arm dithering within one count at 1.0-1.8e-3 rad/s."""
     truth: list[tuple[float, np.ndarray, np.ndarray]] = []
 
     def kick_and_watch(session: Session, report: Progress) -> None:

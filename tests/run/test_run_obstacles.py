@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import NOT_TRACED, on_both_plants, run_in_process, write_program
+from run_support import BOTH_PLANTS, run_in_process, write_program
 
 from cosmos.runlog.reader import read_log
 
@@ -33,16 +33,15 @@ MOVE TO (300 mm, -150 mm, 457 mm) TIMEOUT 20 s
 """
 
 
-@pytest.mark.parametrize(
-    "ideal",
-    on_both_plants(
-        "the MOVE TO round the ball stops 1.1 mm and 3.4 deg from its goal and fails after 2 s "
-        "without progress (nothing in free space integrates the error away), also without the "
-        "friction asymmetry in the plant",
-        NOT_TRACED,
-    ),
-)
+@pytest.mark.parametrize("ideal", BOTH_PLANTS)
 def test_the_arm_goes_round_a_ball_and_the_log_shows_it(tmp_path: Path, ideal: bool) -> None:
+    """The MOVE TO round the ball arrives (done: within 1 mm and 1 deg) without a collision.
+
+    Its goal has joint 3 7 deg from its limit of -225 deg, inside the task's joint-limit
+    projection (17 deg) and the joint-limit field (8.6 deg): catches those zones reaching the
+    goal itself, where the task gave up the last of its error and the field pushed back (it
+    stopped 0.3-2.8 mm and up to 3.4 deg short on the realistic plant, depending on the seed,
+    and failed after 2 s without progress)."""
     run = run_in_process(write_program(tmp_path, "avoid", AVOID), tmp_path / "avoid.mcap", ideal)
     assert run.returncode == 0, run.describe()
     record = read_log(tmp_path / "avoid.mcap")

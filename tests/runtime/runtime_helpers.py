@@ -12,10 +12,10 @@ import numpy as np
 from cosmos.plant import Plant, SensorNoise
 from cosmos.realism import PlantRealism
 from cosmos.robot_model import RobotModel, build_robot_model
+from cosmos.robots import PUMA560
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
-from cosmos.workcell import JOINT_NAMES
 
 ROBOT = build_robot_model()
 
@@ -30,7 +30,7 @@ def plant_for_tests(ideal: bool = False, seed: int = 0, robot: RobotModel | None
         return Plant(robot.description.scene_xml)
     if ideal:
         return Plant()
-    return Plant(sensor_noise=SensorNoise(seed), realism=PlantRealism.drawn(seed, JOINT_NAMES))
+    return Plant(sensor_noise=SensorNoise(seed), realism=PlantRealism.drawn(seed, PUMA560))
 
 
 def runtime_at(

@@ -160,21 +160,25 @@ def _friction_inputs(rng: np.random.Generator) -> tuple[np.ndarray, ...]:
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_coulomb_compensation_is_its_reference(seed: int) -> None:
-    """The kernel's ``(qd + L Jbar (a + xd_c / L)) / v_c`` equals the reference's ``qd + Jbar (L a + xd_c)``.
+    """The kernel's ``(dz(qd) + L Jbar (a + xd_c / L)) / v_c`` equals the reference's
+    ``dz(qd) + Jbar (L a + xd_c)``, with a dead band ``d`` per joint (some joints' speeds
+    inside it, some beyond it on either side).
 
     Catches the look-ahead applied to the commanded speed too, the clip on the torque instead
-    of the intent, the low-pass's blend reversed, or the torque not receiving the result."""
+    of the intent, the low-pass's blend reversed, the torque not receiving the result, and the
+    dead band clipping the speed instead of shifting it (or ignoring its sign)."""
     rng = np.random.default_rng(seed)
     qd, jbar, acceleration, speed, positive_nm, negative_nm, previous = _friction_inputs(rng)
     lookahead_s, full_speed, blend = 0.02, float(rng.uniform(0.005, 0.05)), float(rng.uniform(0.01, 1.0))
-    intent = friction_intent(qd, jbar, acceleration, speed, lookahead_s, full_speed)
+    dead_band = rng.uniform(0.0, 0.03, 6)
+    intent = friction_intent(qd, jbar, acceleration, speed, lookahead_s, full_speed, dead_band)
     expected = coulomb_compensation(previous, positive_nm, negative_nm, intent, blend)
     torque, coulomb = rng.normal(0.0, 10.0, 6), previous.copy()
     torque_before = torque.copy()
     kernel_acceleration = acceleration + speed / lookahead_s  # as servo_tick passes it
     ck.coulomb_compensation_into(
         torque, coulomb, qd, lookahead_s * jbar, kernel_acceleration, positive_nm, negative_nm,
-        1.0 / full_speed, blend,
+        dead_band, False, 1.0 / full_speed, blend,
     )  # fmt: skip
     _close(coulomb, expected)
     _close(torque, torque_before + expected)
@@ -190,13 +194,13 @@ def test_coulomb_compensation_at_the_clip_by_direction() -> None:
     qd = np.array((1.0, -1.0, 1.0, -1.0, 1.0, -1.0))  # 100 x v_c
     zero = np.zeros(6)
     coulomb, torque = zero.copy(), zero.copy()
-    ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, positive_nm, negative_nm, 100.0, 1.0)
+    levels = (positive_nm, negative_nm)
+    ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, *levels, zero, False, 100.0, 1.0)
     intent = friction_intent(qd, np.eye(6), zero, zero, 1.0, 0.01)
     _close(coulomb, coulomb_compensation(zero, positive_nm, negative_nm, intent, 1.0))
     _close(coulomb, np.where(qd > 0, positive_nm, -negative_nm))
     previous = coulomb.copy()
-    levels = (positive_nm, negative_nm)
-    ck.coulomb_compensation_into(torque, coulomb, zero, np.eye(6), zero, *levels, 100.0, 0.25)
+    ck.coulomb_compensation_into(torque, coulomb, zero, np.eye(6), zero, *levels, zero, False, 100.0, 0.25)
     _close(coulomb, 0.75 * previous)
     _close(coulomb, coulomb_compensation(previous, positive_nm, negative_nm, zero, 0.25))
 
@@ -334,3 +338,26 @@ def test_tilt_window_is_its_reference(seed: int) -> None:
         assert turned_back == pytest.approx(-20.0 * (size - window) * size, rel=1e-9)
     else:
         assert np.array_equal(got, speed)
+
+
+def test_coulomb_compensation_ignores_the_encoders_noise() -> None:
+    """In a hold a sensed speed within the dead band asks for no friction torque; beyond it, for
+    what the excess asks (a joint at d + v_c/2 gets half its level; at -(d + 2 v_c) all of
+    -Gamma_c(-)); in a segment that moves or pushes the whole sensed speed counts (a dither).
+
+    Catches the encoders' one-count noise (the velocity observer's 1.6e-2 rad/s on the PUMA's
+    joint 6, above the 1e-2 rad/s ramp) asking for the full friction torque at rest: the arm
+    dithered within one count after eq. 38 had stopped it; and the band applied under force
+    control, where the stuck joints made a held 10 N push ring between 6.5 and 13.3 N."""
+    positive_nm, negative_nm = np.full(6, 2.0), np.full(6, 4.0)
+    dead_band, full_speed = np.full(6, 0.016), 0.01
+    qd = np.array((0.015, -0.015, 0.016 + 0.005, -(0.016 + 0.02), 0.0, 0.03))
+    zero = np.zeros(6)
+    coulomb, torque = zero.copy(), zero.copy()
+    levels = (positive_nm, negative_nm)
+    ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, *levels, dead_band, False, 100.0, 1.0)
+    _close(coulomb, np.array((0.0, 0.0, 1.0, -4.0, 0.0, 2.0)))
+    intent = friction_intent(qd, np.eye(6), zero, zero, 1.0, full_speed, dead_band)
+    _close(intent, np.array((0.0, 0.0, 0.5, -2.0, 0.0, 1.4)))
+    ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, *levels, dead_band, True, 100.0, 1.0)
+    _close(coulomb, np.array((2.0, -4.0, 2.0, -4.0, 0.0, 2.0)))

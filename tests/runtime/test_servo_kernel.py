@@ -412,6 +412,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     vectors[sk.COULOMB_NM] = rng.uniform(1.0, 8.0, 6)
     # The levels differ by direction, as the PUMA's published ones (no draw: the cases' inputs stay).
     vectors[sk.COULOMB_NEGATIVE_NM] = 0.6 * vectors[sk.COULOMB_NM]
+    vectors[sk.COULOMB_DEAD_BAND] = 0.01 * (1.0 + np.arange(6)) / 6  # the encoders' noise, no draw
     vectors[sk.TORQUE_MAX] = 1e6  # replaced below when the case saturates
 
     matrices = np.zeros((sk.MATRICES, 6, 6))
@@ -661,8 +662,16 @@ def _finish_tick(
     """Coulomb compensation toward ``qd + Jbar (L a + xd_c)`` (low-passed) and the saturation about g."""
     vec, st = inputs.vectors, inputs.state
     commanded = np.zeros(6) if speed is None else speed
+    sc = inputs.scalars
+    moving = bool(sc[sk.MODE] != sk.MODE_HOLD or sc[sk.HAS_FORCE] or sc[sk.ADMITTANCE])
     intent = friction_intent(
-        inputs.qd, inputs.dynamics.jbar, acceleration, commanded, LOOKAHEAD_S, 1.0 / INTENT_SCALE
+        inputs.qd,
+        inputs.dynamics.jbar,
+        acceleration,
+        commanded,
+        LOOKAHEAD_S,
+        1.0 / INTENT_SCALE,
+        0.0 if moving else vec[sk.COULOMB_DEAD_BAND],  # the encoders' noise: a dither there
     )
     coulomb = coulomb_compensation(
         st[sk.COULOMB], vec[sk.COULOMB_NM], vec[sk.COULOMB_NEGATIVE_NM], intent, COULOMB_BLEND

@@ -97,6 +97,8 @@ def coulomb_compensation_into(
     acceleration: FloatArray,
     positive_nm: FloatArray,
     negative_nm: FloatArray,
+    dead_band: FloatArray,
+    moving: bool,
     intent_scale: float,
     blend: float,
 ) -> None:
@@ -110,6 +112,10 @@ def coulomb_compensation_into(
         acceleration: ``a + xd_c / L``, world. # (6,)
         positive_nm: Gamma_c(+), in [N m]. # (n,)
         negative_nm: Gamma_c(-), in [N m]. # (n,)
+        dead_band: d, the sensed speed's noise, dropped from ``|qd|`` in a hold, in [rad/s]. # (n,)
+        moving: The segment moves the tool or pushes (a goal, a trajectory, force-controlled
+            or compliant axes): the noise is kept, a dither against the stiction that would
+            hold a push off its goal; False in a hold, where the noise is all the motion there is.
         intent_scale: ``1 / v_c``, in [s/rad].
         blend: beta, in [0, 1].
     """
@@ -117,7 +123,14 @@ def coulomb_compensation_into(
         acc = 0.0
         for k in range(6):
             acc += jbar_lookahead[i, k] * acceleration[k]
-        intent = (qd[i] + acc) * intent_scale
+        speed, band = qd[i], 0.0 if moving else dead_band[i]
+        if speed > band:
+            speed -= band
+        elif speed < -band:
+            speed += band
+        else:
+            speed = 0.0
+        intent = (speed + acc) * intent_scale
         level = positive_nm[i] if intent > 0.0 else negative_nm[i]
         target = level * min(max(intent, -1.0), 1.0)
         coulomb[i] += blend * (target - coulomb[i])

@@ -66,15 +66,17 @@ MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, 
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
 # task-space rows (wrenches, twists, gains) use their first six entries, the joint-space rows
-# (EVALUATION_Q, GRAVITY, COULOMB_NM, TORQUE_MAX, COULOMB_NEGATIVE_NM; COULOMB, TORQUE) their
-# first n. COULOMB_NM is the Coulomb friction turning positively, COULOMB_NEGATIVE_NM negatively.
+# (EVALUATION_Q, GRAVITY, COULOMB_NM, TORQUE_MAX, COULOMB_NEGATIVE_NM, COULOMB_DEAD_BAND; COULOMB,
+# TORQUE) their first n. COULOMB_NM is the Coulomb friction turning positively, COULOMB_NEGATIVE_NM
+# negatively; COULOMB_DEAD_BAND the sensed speed's noise the friction's intent ignores [rad/s].
 
 # ``vectors``. REFERENCE_*: ``x_e - x_d`` at the evaluation (tracking: at this
 # tick's trajectory sample), ``xd_d`` and ``xdd_d``. SENSOR_OFFSETS: tool point then tool
 # centre of mass, minus the sensor origin, world, [m].
 KP, KV, FORCE_WORLD, FORCE_START, REFERENCE_ERROR, REFERENCE_VELOCITY, REFERENCE_ACCELERATION = range(7)
 EVALUATION_Q, GRAVITY, SENSOR_OFFSETS, COULOMB_NM, TORQUE_MAX, COULOMB_NEGATIVE_NM = range(7, 13)
-VECTORS = 13
+COULOMB_DEAD_BAND = 13
+VECTORS = 14
 
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3). The Jacobian J (6, n), the
 # look-ahead ``L Jbar P`` (n, 6) and the task's null space ``N^T`` (n, n) are blocks of their own.
@@ -349,6 +351,8 @@ def servo_tick(
         acceleration,
         vectors[COULOMB_NM, :n],
         vectors[COULOMB_NEGATIVE_NM, :n],
+        vectors[COULOMB_DEAD_BAND, :n],
+        mode != MODE_HOLD or scalars[HAS_FORCE] != 0.0 or scalars[ADMITTANCE] != 0.0,
         scalars[INTENT_SCALE],
         scalars[COULOMB_BLEND],
     )
