@@ -92,6 +92,28 @@ def _speed_limited(desired: list[float], max_speed: float, max_angular_speed: fl
     return [nu * vx, nu * vy, nu * vz, nu_w * wx, nu_w * wy, nu_w * wz]
 
 
+def ramped_speed_limit(limit: float, start_speed: float, acceleration: float, elapsed_s: float) -> float:
+    """Eq. 21's V_max from rest, ramped: ``min(V_max, v_0 + a t)``.
+
+    Eq. 20-21 as the seed writes them command ``kv (nu xd_d - xd)``: from rest, far from
+    the goal, a step of ``kv V_max`` (10 m/s^2 at 0.25 m/s with kv = 40, twice the arms'
+    declared 5 m/s^2; 5-6 N m at the drives within 3 ms). With the limit ramped at the
+    arm's acceleration ``a`` from the speed ``v_0`` the tool had when the motion began, a
+    unit mass at rest follows ``xd = a (t - (1 - e^{-kv t}) / kv)`` and is commanded
+    ``a (1 - e^{-kv t})``: never more than ``a``, rising from zero.
+
+    Args:
+        limit: V_max, in [m/s] (or [rad/s]).
+        start_speed: v_0, the speed when the motion began, in the same unit.
+        acceleration: a, in [m/s^2] (or [rad/s^2]).
+        elapsed_s: t, time since the motion began, in [s].
+
+    Returns:
+        The speed limit now.
+    """
+    return min(limit, start_speed + acceleration * max(elapsed_s, 0.0))
+
+
 def goal_velocity(
     error: FloatArray, kp: Gain, kv: Gain, max_speed: float, max_angular_speed: float
 ) -> FloatArray:

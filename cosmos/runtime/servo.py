@@ -313,6 +313,11 @@ class ServoLevel:
             self.gains.push_speed_aim * setpoint.max_speed if setpoint.limit_push_speed else 0.0
         )
         scalars[kernel.MAX_ANGULAR_SPEED] = setpoint.max_angular_speed
+        scalars[kernel.GOAL_ACCELERATION] = setpoint.acceleration
+        scalars[kernel.GOAL_ANGULAR_ACCELERATION] = setpoint.angular_acceleration
+        moving = self.last_velocity  # the goal motion's speed limits ramp up from the tool's speeds
+        scalars[kernel.GOAL_START_SPEED] = float(np.linalg.norm(moving[:3]))
+        scalars[kernel.GOAL_START_ANGULAR_SPEED] = float(np.linalg.norm(moving[3:]))
         scalars[kernel.START_S] = setpoint.start_s
         scalars[kernel.TRAJECTORY_END_S] = setpoint.start_s + (
             setpoint.trajectory.duration_s if setpoint.trajectory is not None else 0.0

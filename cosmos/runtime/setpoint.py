@@ -7,6 +7,7 @@ from enum import Enum
 
 import numpy as np
 
+from cosmos.capabilities import ARM_CAPABILITY
 from cosmos.osc.motion import PoseTrajectory
 from cosmos.osc.search import SearchTrajectory
 
@@ -50,6 +51,10 @@ class ServoSetpoint:
         start_s: Simulated time at which the segment began, in [s].
         max_speed: Speed limit V_max of eq. 21, in [m/s].
         max_angular_speed: Its rotational counterpart, in [rad/s].
+        acceleration: The acceleration at which a goal motion's speed limit ramps up from
+            the tool's speed at its start (:func:`cosmos.osc.motion.ramped_speed_limit`),
+            in [m/s^2].
+        angular_acceleration: Its rotational counterpart, in [rad/s^2].
         kp_task: Unit-mass position gains per task axis, in [1/s^2]. # (6,)
         kv_task: Velocity gains per task axis, in [1/s]. # (6,)
         trajectory: The timed trajectory in TRAJECTORY mode (an INSERT's search pattern too).
@@ -72,6 +77,8 @@ class ServoSetpoint:
     start_s: float = 0.0
     max_speed: float = 0.25
     max_angular_speed: float = DEFAULT_MAX_ANGULAR_SPEED
+    acceleration: float = ARM_CAPABILITY.tool_acceleration_mps2
+    angular_acceleration: float = ARM_CAPABILITY.angular_acceleration_rad_s2
     kp_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KP))
     kv_task: FloatArray = field(default_factory=lambda: _gains(DEFAULT_KV))
     trajectory: PoseTrajectory | SearchTrajectory | None = None

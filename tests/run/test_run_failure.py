@@ -88,12 +88,18 @@ def test_log_has_the_failed_event(failing_run: ProgramRun) -> None:
 
 
 def test_arm_holds_after_the_failure(failing_run: ProgramRun) -> None:
-    """After the failure the arm holds a safe pose: it does not move on, nor fall."""
+    """After the failure the arm holds a safe pose: it does not move on, nor fall.
+
+    The speed is the tool's travel over 50 ms: the logged velocity on the realistic plant
+    is the encoders' observer's, which answers a single count (0.1 mm at the tool) with a
+    flicker of up to 8 mm/s."""
     timed_out_t = failing_run.events("start", FAILING_LINE)[0].t + 1.5
     state = failing_run.log.state
     after = state.t >= timed_out_t + 0.1  # 0.1 s to stop from the 20 mm/s approach
     assert np.any(after), "the log ends before the failure"
-    speed_mps = np.linalg.norm(state.v[after, :3], axis=1)
+    t, x = state.t[after], state.x[after, :3]
+    window = int(np.searchsorted(t, t[0] + 0.05))
+    speed_mps = np.linalg.norm(x[window:] - x[:-window], axis=1) / (t[window:] - t[:-window])
     assert float(speed_mps.max()) < 0.005
     assert float(np.ptp(state.x[after], axis=0).max()) < 1e-3
 

@@ -19,7 +19,7 @@ from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.held_push import held_push, touch_damping
 from cosmos.osc.limits import saturate_torque
-from cosmos.osc.motion import goal_command, integrate_motion_error, tracking_command
+from cosmos.osc.motion import goal_command, integrate_motion_error, ramped_speed_limit, tracking_command
 from cosmos.osc.orientation import so3_exp
 from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import (
@@ -368,6 +368,9 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.HAS_FORCE] = float(case.force)
     scalars[sk.MAX_SPEED] = case.max_speed
     scalars[sk.MAX_ANGULAR_SPEED] = 1.0
+    # A goal motion's limits ramp up from these (within the cases' 0-0.2 s for some of them).
+    scalars[sk.GOAL_ACCELERATION], scalars[sk.GOAL_ANGULAR_ACCELERATION] = 0.5, 5.0
+    scalars[sk.GOAL_START_SPEED], scalars[sk.GOAL_START_ANGULAR_SPEED] = 0.02, 0.3
     scalars[sk.K_VF] = FORCE_GAINS.k_vf
     scalars[sk.FORCE_SPEED_KV] = 40.0
     scalars[sk.PUSH_SPEED] = 0.0 if case.held else case.max_speed
@@ -518,7 +521,16 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     rotation = block_rotation(mat[sk.ROTATION_TASK, :3, :3])
     error_task, velocity_task = rotation.T @ error, rotation.T @ velocity
     if sc[sk.MODE] == sk.MODE_GOAL:
-        speeds = sc[sk.MAX_SPEED], sc[sk.MAX_ANGULAR_SPEED]
+        since = inputs.t_s - sc[sk.START_S]
+        speeds = (
+            ramped_speed_limit(sc[sk.MAX_SPEED], sc[sk.GOAL_START_SPEED], sc[sk.GOAL_ACCELERATION], since),
+            ramped_speed_limit(
+                sc[sk.MAX_ANGULAR_SPEED],
+                sc[sk.GOAL_START_ANGULAR_SPEED],
+                sc[sk.GOAL_ANGULAR_ACCELERATION],
+                since,
+            ),
+        )
         motion_task = goal_command(error_task, velocity_task, kp, kv, *speeds)
     elif sc[sk.MODE] == sk.MODE_TRAJECTORY:
         velocity_d_task, accel_d_task = rotation.T @ velocity_d, rotation.T @ accel_d

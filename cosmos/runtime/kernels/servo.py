@@ -61,7 +61,8 @@ ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, 
 K_VF, FORCE_SPEED_KV, PUSH_SPEED, FORCE_SPEED_KI, FORCE_SPEED_INTEGRAL_LIMIT = range(21, 26)
 MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(26, 30)
 TILT_WINDOW = 36  # an INSERT's compliant rotations: the window [rad] and the stop's rate [1/s]
-SCALARS = 38  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
+GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(38, 42)
+SCALARS = 42  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -153,6 +154,12 @@ def servo_tick(
     velocity_desired = vectors[REFERENCE_VELOCITY, :6]
     acceleration_desired = vectors[REFERENCE_ACCELERATION, :6]
     max_speed, max_angular_speed = scalars[MAX_SPEED], scalars[MAX_ANGULAR_SPEED]
+    if mode == MODE_GOAL:  # eq. 21's limits ramp up from the start's speeds (osc.motion.ramped_speed_limit)
+        since = max(t_s - scalars[START_S], 0.0)
+        max_speed = min(max_speed, scalars[GOAL_START_SPEED] + scalars[GOAL_ACCELERATION] * since)
+        max_angular_speed = min(
+            max_angular_speed, scalars[GOAL_START_ANGULAR_SPEED] + scalars[GOAL_ANGULAR_ACCELERATION] * since
+        )
     admittance = False
     if scalars[ADMITTANCE] != 0.0:
         # Compliant moment axes give way to contact moments: from the first contact force
