@@ -26,6 +26,7 @@ from cosmos.osc.null_space import DEFAULT_ABSORPTION, AbsorptionPolicy
 from cosmos.osc.orientation import pose_error
 from cosmos.plant import LiveSignals
 from cosmos.robot_model import GRAVITY
+from cosmos.runtime.goal_line import goal_line, kept_line
 from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
 from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
@@ -168,6 +169,7 @@ class ServoLevel:
         self._servo_selection: Selection | None = None  # moment axes counted as motion (admittance)
         self._field_torque = np.zeros(n)
         self._field = LinkField(self._field_torque, self._field_torque)
+        self._goal_line = np.zeros(3)  # a goal motion's line (cosmos.runtime.goal_line)
         self.null_space = NullSpaceTerms(gains.posture_kp, absorption)  # its dimension, the links' share
         self._joints = n
         self._correction = np.zeros(n)  # column 18: the raw potentials plus the null space's
@@ -234,6 +236,7 @@ class ServoLevel:
         self._stacked[:, 18] += torque - self._field_torque
         self._field, self._field_torque = field, torque
         self._reshape()
+        self._vectors[kernel.GOAL_LINE, :3] = kept_line(self._goal_line, field, self.null_space)
 
     @property
     def null_space_t(self) -> FloatArray:
@@ -328,6 +331,10 @@ class ServoLevel:
         vectors[kernel.FORCE_WORLD, :6] = setpoint.force_world
         vectors[kernel.FORCE_START, :6] = setpoint.force_start_world
         vectors[kernel.REFERENCE_VELOCITY : kernel.REFERENCE_ACCELERATION + 1] = 0.0
+        start = None if self._evaluation is None else self._evaluation.position
+        self._goal_line = goal_line(start, setpoint.position, setpoint.mode is MotionMode.GOAL)
+        vectors[kernel.GOAL_LINE] = 0.0
+        vectors[kernel.GOAL_LINE, :3] = kept_line(self._goal_line, self._field, self.null_space)
         # refold unwraps the orientation error against the row's content: the way round to start.
         vectors[kernel.REFERENCE_ERROR, 3:6] = 0.0 if rotation_error is None else rotation_error
         self._matrices[kernel.ROTATION_TASK, :3, :3] = setpoint.rotation_task_to_world

@@ -97,6 +97,9 @@ def test_matvec_is_the_matrix_product() -> None:
 # --- unit_mass_command_into --------------------------------------------------------------------
 
 
+NO_LINE = np.zeros(3)
+
+
 def _command(*args: object) -> np.ndarray:
     out = np.full(6, np.nan)  # every component must be written
     commands.unit_mass_command_into(out, *args)
@@ -127,7 +130,7 @@ def test_goal_command_matches_eq_20_21(linear_binds: bool, angular_binds: bool) 
     max_angular_speed = 0.3 * angular if angular_binds else 1.5 * angular
     expected = goal_command(error, velocity, kp, kv, max_speed, max_angular_speed)
     got = _command(
-        sk.MODE_GOAL, error, velocity, np.zeros(6), np.zeros(6), kp, kv, max_speed, max_angular_speed
+        sk.MODE_GOAL, error, velocity, np.zeros(6), np.zeros(6), kp, kv, max_speed, max_angular_speed, NO_LINE
     )
     assert_close(got, expected)
     # The case does what it says: the limited desired velocity has the limit's norm.
@@ -136,13 +139,37 @@ def test_goal_command_matches_eq_20_21(linear_binds: bool, angular_binds: bool) 
     assert np.isclose(np.linalg.norm(limited[3:]), max_angular_speed) == angular_binds
 
 
+@pytest.mark.parametrize("binds", [False, True])
+def test_goal_command_keeps_to_its_line(binds: bool) -> None:
+    """Off its line, far from the goal, the translation's desired speed has the limit's norm and
+    its part across the line is ``(kp/kv)`` times the deviation, as a hold's would be; near the
+    goal (the limit not binding) the line changes nothing. Catches eq. 21's nu scaling the
+    correction across the line by ``V_max / |x_d - x|`` (the realistic Panda sagged 2.4 mm off a
+    0.4 m line), the line taken in the wrong frame, and the reference and kernel differing."""
+    rng = np.random.default_rng(31 + binds)
+    kp, kv = np.full(6, 400.0), np.full(6, 40.0)
+    line = np.array((0.0, 1.0, 0.0))
+    error = np.array((0.002, -0.3 if binds else -0.003, -0.001, 0.0, 0.0, 0.0))  # 2 mm, 1 mm off
+    velocity = rng.normal(0.0, 0.05, 6)
+    expected = goal_command(error, velocity, kp, kv, 0.25, 1.0, line=line)
+    got = _command(sk.MODE_GOAL, error, velocity, np.zeros(6), np.zeros(6), kp, kv, 0.25, 1.0, line)
+    assert_close(got, expected)
+    desired = got / kv + velocity
+    across = desired[:3] - desired[:3].dot(line) * line
+    assert_close(across, -(kp[:3] / kv[:3]) * (error[:3] - error[:3].dot(line) * line))
+    if binds:
+        assert np.isclose(np.linalg.norm(desired[:3]), 0.25)
+    else:
+        assert_close(got, goal_command(error, velocity, kp, kv, 0.25, 1.0))
+
+
 def test_trajectory_command_matches_eq_19() -> None:
     """Catches a dropped feed-forward xdd_d or a velocity error taken without xd_d."""
     rng = np.random.default_rng(21)
     kp, kv = _gains(rng)
     error, velocity, velocity_d, accel_d = (rng.normal(0.0, 0.3, 6) for _ in range(4))
     expected = tracking_command(error, velocity, velocity_d, accel_d, kp, kv)
-    got = _command(sk.MODE_TRAJECTORY, error, velocity, velocity_d, accel_d, kp, kv, 0.1, 0.1)
+    got = _command(sk.MODE_TRAJECTORY, error, velocity, velocity_d, accel_d, kp, kv, 0.1, 0.1, NO_LINE)
     assert_close(got, expected)
 
 
@@ -151,7 +178,7 @@ def test_hold_command_is_a_spring_and_damper() -> None:
     rng = np.random.default_rng(22)
     kp, kv = _gains(rng)
     error, velocity, velocity_d, accel_d = (rng.normal(0.0, 0.3, 6) for _ in range(4))
-    got = _command(sk.MODE_HOLD, error, velocity, velocity_d, accel_d, kp, kv, 1e-3, 1e-3)
+    got = _command(sk.MODE_HOLD, error, velocity, velocity_d, accel_d, kp, kv, 1e-3, 1e-3, NO_LINE)
     assert_close(got, -kp * error - kv * velocity)
 
 
@@ -417,6 +444,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     vectors[sk.COULOMB_NEGATIVE_NM] = 0.6 * vectors[sk.COULOMB_NM]
     vectors[sk.COULOMB_DEAD_BAND] = 0.01 * (1.0 + np.arange(6)) / 6  # the encoders' noise, no draw
     vectors[sk.TORQUE_MAX] = 1e6  # replaced below when the case saturates
+    vectors[sk.GOAL_LINE, :3] = (0.6, 0.0, 0.8)  # a goal motion's line (no draw: the cases' inputs stay)
 
     matrices = np.zeros((sk.MATRICES, 6, 6))
     matrices[sk.FORCE_TO_ACCELERATION] = dynamics.lambda_inv @ sel.omega_bar
@@ -531,7 +559,8 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
                 since,
             ),
         )
-        motion_task = goal_command(error_task, velocity_task, kp, kv, *speeds)
+        line = rotation.T @ np.concatenate((vec[sk.GOAL_LINE, :3], np.zeros(3)))
+        motion_task = goal_command(error_task, velocity_task, kp, kv, *speeds, line=line[:3])
     elif sc[sk.MODE] == sk.MODE_TRAJECTORY:
         velocity_d_task, accel_d_task = rotation.T @ velocity_d, rotation.T @ accel_d
         motion_task = tracking_command(error_task, velocity_task, velocity_d_task, accel_d_task, kp, kv)

@@ -63,12 +63,15 @@ def unit_mass_command_into(
     kv: FloatArray,
     max_speed: float,
     max_angular_speed: float,
+    line: FloatArray,
 ) -> None:
     """F*_m of a unit mass, into ``command``. # (6,).
 
-    Eq. 20-21 (GOAL, :func:`cosmos.osc.motion.goal_command`), eq. 19 (TRAJECTORY,
-    :func:`cosmos.osc.motion.tracking_command`) or eq. 19 with x_d fixed (HOLD); gains
-    are per axis of the frame ``error`` and ``velocity`` are written in.
+    Eq. 20-21 (GOAL, :func:`cosmos.osc.motion.goal_command`, the translation kept on
+    ``line`` by :func:`cosmos.osc.motion.on_the_line`, # (3,) in the same frame, zeros:
+    none), eq. 19 (TRAJECTORY, :func:`cosmos.osc.motion.tracking_command`) or eq. 19 with
+    x_d fixed (HOLD); gains are per axis of the frame ``error`` and ``velocity`` are
+    written in.
     """
     if mode == MODE_GOAL:
         # Eq. 21's nu, applied to the linear and the angular part separately.
@@ -77,6 +80,17 @@ def unit_mass_command_into(
             d1 = -kp[o + 1] / kv[o + 1] * error[o + 1]
             d2 = -kp[o + 2] / kv[o + 2] * error[o + 2]
             norm = math.sqrt(d0**2 + d1**2 + d2**2)
+            if norm > limit and o == 0 and (line[0] != 0.0 or line[1] != 0.0 or line[2] != 0.0):
+                along = d0 * line[0] + d1 * line[1] + d2 * line[2]
+                a0, a1, a2 = d0 - along * line[0], d1 - along * line[1], d2 - along * line[2]
+                width = math.sqrt(a0**2 + a1**2 + a2**2)
+                if width >= limit:  # (a zero limit, at the start of the speed's ramp, included)
+                    scale = limit / width if width > 0.0 else 0.0
+                    d0, d1, d2 = a0 * scale, a1 * scale, a2 * scale
+                else:
+                    rest = math.copysign(math.sqrt(limit**2 - width**2), along)
+                    d0, d1, d2 = a0 + rest * line[0], a1 + rest * line[1], a2 + rest * line[2]
+                norm = limit
             nu = 1.0 if norm <= limit else limit / norm
             command[o] = kv[o] * (nu * d0 - velocity[o])
             command[o + 1] = kv[o + 1] * (nu * d1 - velocity[o + 1])

@@ -77,7 +77,8 @@ MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, 
 KP, KV, FORCE_WORLD, FORCE_START, REFERENCE_ERROR, REFERENCE_VELOCITY, REFERENCE_ACCELERATION = range(7)
 EVALUATION_Q, GRAVITY, SENSOR_OFFSETS, COULOMB_NM, TORQUE_MAX, COULOMB_NEGATIVE_NM = range(7, 13)
 COULOMB_DEAD_BAND = 13
-VECTORS = 14
+GOAL_LINE = 14  # a goal motion's unit line from its start to its goal, world (zeros: none)
+VECTORS = 15
 
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3). The Jacobian J (6, n), the
 # look-ahead ``L Jbar P`` (n, 6) and the task's null space ``N^T`` (n, n) are blocks of their own.
@@ -190,6 +191,7 @@ def servo_tick(
             kv,
             max_speed,
             max_angular_speed,
+            vectors[GOAL_LINE, :3],
         )
     else:  # per-axis gains are along the task frame's axes
         r = matrices[ROTATION_TASK]
@@ -205,6 +207,7 @@ def servo_tick(
             kv,
             max_speed,
             max_angular_speed,
+            rotate_blocks(r, vectors[GOAL_LINE, :6], True)[:3],
         )
         motion = rotate_blocks(r, motion_task, False)
     if scalars[HAS_FORCE] == 0.0:  # a motion into something (cosmos.osc.held_push.touch_damping)
