@@ -45,15 +45,26 @@ class JointAtLimit:
     Attributes:
         joint: Joint number, 1-based (as the PUMA's documentation counts).
         limit_rad: The limit it reaches, in [rad].
+        other_wrist_rad: Joints 4, 5 and 6 of another configuration of the wrist in which the
+            goal's tool pose is within every range (:func:`other_wrists`), in [rad]; None if
+            there is none. # (3,)
     """
 
     joint: int
     limit_rad: float
+    other_wrist_rad: tuple[float, float, float] | None = None
 
     @property
     def message(self) -> str:
-        """``joint 6 at its limit of 266 deg``."""
-        return f"joint {self.joint} at its limit of {math.degrees(self.limit_rad):.0f} deg"
+        """``joint 6 at its limit of 266 deg``, and the wrist configuration the goal needs."""
+        said = f"joint {self.joint} at its limit of {math.degrees(self.limit_rad):.0f} deg"
+        if self.other_wrist_rad is None:
+            return said
+        q4, q5, q6 = (math.degrees(value) for value in self.other_wrist_rad)
+        return (
+            f"{said}; the goal is within range in another configuration of the wrist (joints 4, 5, 6 "
+            f"at {q4:.0f}, {q5:.0f}, {q6:.0f} deg there), which a motion does not turn into"
+        )
 
 
 @dataclass(frozen=True)
@@ -84,6 +95,37 @@ def first_joint_past_limits(robot: RobotModel, q: FloatArray, margin_rad: float 
         if value > upper - margin_rad:
             return JointAtLimit(i + 1, float(upper))
     return None
+
+
+def other_wrists(robot: RobotModel, q: FloatArray, margin_rad: float = LIMIT_MARGIN_RAD) -> list[FloatArray]:
+    """The wrist's other configurations for the tool pose at ``q``, ``margin_rad`` inside the ranges.
+
+    A spherical wrist reaches every orientation twice, ``(q4 + pi, -q5, q6 + pi)``, and a
+    joint whose range exceeds a turn (the PUMA's joint 6, +-266 deg) at ``q6 +- 2 pi`` too.
+    Each is checked with the kinematic model (the same tool pose within 1e-9): an arm
+    without such a wrist (the Panda's is offset) has none.
+
+    Returns:
+        The configurations, in [rad]. # list of (n,)
+    """
+    if len(q) != 6:
+        return []
+    model, data, frame = robot.model, robot.model.createData(), robot.tool_frame
+    pin.framesForwardKinematics(model, data, np.asarray(q, dtype=float))
+    pose = data.oMf[frame].homogeneous.copy()
+    found = []
+    for flip, turns_6 in ((False, (2.0, -2.0)), (True, (1.0, -1.0, 3.0, -3.0))):
+        for turn_4 in (math.pi, -math.pi) if flip else (0.0,):
+            for turn_6 in turns_6:
+                other = np.array(q, dtype=float)
+                other[3], other[5] = q[3] + turn_4, q[5] + turn_6 * math.pi
+                other[4] = -q[4] if flip else q[4]
+                if first_joint_past_limits(robot, other, margin_rad) is not None:
+                    continue
+                pin.framesForwardKinematics(model, data, other)
+                if np.allclose(data.oMf[frame].homogeneous, pose, atol=1e-9):
+                    found.append(other)
+    return found
 
 
 def _follow(
@@ -178,4 +220,10 @@ def plan_rotation(
         stopped, long_end = _follow(robot, q, position, rotation, displacement, long_way, margin_rad)
         if stopped is None:
             return RotationPlan(long_way, None, True, long_end)
+    # The goal may lie within the ranges in another configuration of the wrist, which no MOVE
+    # turns into (the flip passes the wrist singularity, q5 = 0): the message says which.
+    _, unbounded = _follow(robot, q, position, rotation, displacement, shortest, -math.inf)
+    for other in other_wrists(robot, unbounded, margin_rad):
+        blocked = JointAtLimit(blocked.joint, blocked.limit_rad, (other[3], other[4], other[5]))
+        break
     return RotationPlan(shortest, blocked, False, end)

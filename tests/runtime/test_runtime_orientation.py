@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import math
 
+import mujoco
 import numpy as np
 
 from cosmos.osc.orientation import rpy_to_matrix, so3_exp, so3_log, unwrap_rotation_vector
 from cosmos.runtime.blockers import BlockerKind, progress_blockers
 from cosmos.runtime.kernels.parameter import unwrapped_rotation_error
+from cosmos.runtime.rotation_plan import _follow, plan_rotation
 from cosmos.runtime.servo import LIMIT_PROJECTION_MARGIN_RAD
 from cosmos.runtime.setpoint import DEFAULT_MAX_ANGULAR_SPEED, MotionMode, ServoSetpoint
 from tests.runtime.runtime_helpers import ROBOT, run_for, runtime_at
@@ -65,7 +67,9 @@ def test_a_goal_blocked_by_joint_6_is_named() -> None:
     _goal(runtime, rpy_to_matrix(165.0 * DEG, -30.0 * DEG, 0.0))
     plan = runtime.rotation_plan
     assert plan is not None and plan.blocked_by is not None
-    assert plan.blocked_by.joint == 6 and plan.blocked_by.message == "joint 6 at its limit of 266 deg"
+    assert plan.blocked_by.joint == 6 and plan.blocked_by.message.startswith(
+        "joint 6 at its limit of 266 deg; "
+    )
     run_for(runtime, 2.0)
     q6 = float(runtime.plant.data.qpos[5])
     assert q6 > ROBOT.q_upper_rad[5] - LIMIT_PROJECTION_MARGIN_RAD, f"joint 6 at {math.degrees(q6):.1f} deg"
@@ -90,3 +94,39 @@ def test_unwrapped_rotation_error_kernel_matches_the_reference() -> None:
         other = log * (1.0 - 2.0 * math.pi / np.linalg.norm(log))
         nearer = min((log, other), key=lambda v: float(np.sum((v - previous) ** 2)))
         np.testing.assert_allclose(expected, nearer, atol=1e-12)
+
+
+def test_a_goal_blocked_in_one_wrist_configuration_names_the_other() -> None:
+    """RPY (165, -30, 0) from tool down: both ways round run joint 6 into its limit, and the
+    message names the wrist configuration in which the goal is within every range. Checked
+    with MuJoCo's own kinematics (not the controller's Pinocchio model): joints 1-3 where the
+    unbounded path ends and joints 4-6 as named put the tool at the goal pose, each joint inside
+    its range. Catches a blocked goal named only by the joint it hits (the user cannot tell
+    which configuration would do), and a configuration named that is not the goal's."""
+    runtime = runtime_at(Q_NEAR)
+    _goal(runtime, rpy_to_matrix(math.pi, 0.0, 0.0))
+    run_for(runtime, 1.0)
+    goal = rpy_to_matrix(165.0 * DEG, -30.0 * DEG, 0.0)
+    ev = runtime.evaluation
+    plan = plan_rotation(ROBOT, ev.q, ev.position, ev.rotation_tool_to_world, POINT, goal)
+    blocked = plan.blocked_by
+    assert blocked is not None and blocked.other_wrist_rad is not None, plan
+    q4, q5, q6 = (round(math.degrees(v)) for v in blocked.other_wrist_rad)
+    assert blocked.message.endswith(
+        f"in another configuration of the wrist (joints 4, 5, 6 at {q4}, {q5}, {q6} deg there), "
+        "which a motion does not turn into"
+    ), blocked.message
+    shortest = so3_log(goal @ ev.rotation_tool_to_world.T)
+    _, unbounded = _follow(
+        ROBOT, ev.q, ev.position, ev.rotation_tool_to_world, POINT - ev.position, shortest, -math.inf
+    )
+    q = np.concatenate((unbounded[:3], blocked.other_wrist_rad))
+    assert np.all(ROBOT.q_lower_rad < q) and np.all(q < ROBOT.q_upper_rad), np.degrees(q)
+    plant = runtime.plant
+    data = mujoco.MjData(plant.model)
+    data.qpos[:6] = q
+    mujoco.mj_kinematics(plant.model, data)
+    site = data.site("tool")
+    assert np.linalg.norm(site.xpos - POINT) < 1e-3, site.xpos
+    angle = float(np.linalg.norm(so3_log(site.xmat.reshape(3, 3) @ goal.T)))
+    assert angle < 0.5 * DEG, f"{math.degrees(angle):.2f} deg from the goal orientation"
