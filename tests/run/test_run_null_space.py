@@ -178,7 +178,7 @@ WAIT 2.5 s
 """
 
 
-@pytest.mark.parametrize("ideal", on_both_plants("the tool moves 1.14 mm (limit 1 mm)", MODEL_ERROR))
+@pytest.mark.parametrize("ideal", on_both_plants("the tool moves 1.21 mm (limit 1 mm)", MODEL_ERROR))
 def test_posture_moves_the_arm_and_not_the_tool(tmp_path: Path, ideal: bool) -> None:
     """POSTURE in the null space: with the tool held still (position task), the arm turns toward
     the posture (joint 6 by 30 deg, joint 4 some way: the PUMA's 3-D null space cannot take
@@ -208,7 +208,7 @@ WAIT 3 s
 
 
 @pytest.mark.parametrize(
-    "ideal", on_both_plants("projected, the tool moves 1.23 mm (limit 1 mm)", MODEL_ERROR)
+    "ideal", on_both_plants("projected, the tool moves 1.45 mm (limit 1 mm)", MODEL_ERROR)
 )
 def test_a_ball_at_the_forearm_moves_the_tool_less_through_the_null_space(
     tmp_path: Path, ideal: bool
