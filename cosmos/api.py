@@ -96,11 +96,12 @@ def check(program: ProgramArg, *, name: str | None = None, robot: str | None = N
         UsageError: The file cannot be read.
     """
     from cosmos.lang import compile_program
+    from cosmos.runtime.foresight import with_foreseen_limits
     from cosmos.workcell import fixture_frames
 
     source, file = read_program(program, name)
     try:
-        return compile_program(source, file, fixture_frames(), robot=robot)
+        return with_foreseen_limits(compile_program(source, file, fixture_frames(), robot=robot))
     except CosmosError as error:
         raise error.with_source(source) from None
 

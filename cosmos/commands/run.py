@@ -20,6 +20,7 @@ from cosmos.plan import Plan
 from cosmos.robots import robot_named
 from cosmos.runlog.output import check_output
 from cosmos.runlog.writer import unused_log_path
+from cosmos.runtime.foresight import with_foreseen_limits
 from cosmos.runtime.rates import Rates
 from cosmos.workcell import fixture_frames
 
@@ -30,7 +31,7 @@ if TYPE_CHECKING:
 def compile_file(path: Path, robot: str | None = None) -> Plan:
     """Parse, check and compile a program file (for the arm ``robot`` if given); warnings go to stderr."""
     source = read_program(path)
-    plan = compile_program(source, str(path), fixture_frames(), robot=robot)
+    plan = with_foreseen_limits(compile_program(source, str(path), fixture_frames(), robot=robot))
     for warning in plan.warnings:
         click.echo(warning.render(source), err=True)
     return plan

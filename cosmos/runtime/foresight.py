@@ -1,0 +1,111 @@
+"""Joint limits a program runs into, foreseen from its text: home pose and static goals.
+
+A program starts at home; a ``MOVE TO`` with a fixed goal, or a ``MOVE BY`` from a known
+pose, that ends where it was sent leaves the arm where the runtime's own plan
+(:func:`cosmos.runtime.rotation_plan.plan_rotation`, inverse kinematics along the
+tool's path) puts it. Where that plan is stopped by a joint's limit both ways round,
+the run will fail there; the checker says so as a warning at the statement
+(``MOVE TO: joint 6 would reach its limit of 266 deg ...``), with the wrist
+configuration in which the goal is within range if there is one. After anything whose
+end is not known (a contact, a slide, an UNTIL, a POSTURE) nothing more is foreseen.
+
+The kinematics (Pinocchio, the arm's model) load on the first program with a static
+goal, once per arm. ``cosmos check``, ``cosmos run`` and :func:`cosmos.check` add these
+warnings to the compiled plan's (:func:`with_foreseen_limits`): the language below does
+not know the arm's kinematics.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from typing import Any
+
+import numpy as np
+
+from cosmos import plan
+
+
+@functools.cache
+def _arm(robot_name: str) -> tuple[Any, np.ndarray]:
+    """The controller's model of the arm and its home configuration (loaded once)."""
+    from cosmos.robot_model import build_robot_model
+    from cosmos.robots import ROBOTS
+    from cosmos.workcell import home_q
+
+    robot = ROBOTS[robot_name]
+    return build_robot_model(robot), np.array(home_q(robot))
+
+
+def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
+    """``compiled`` with a warning for each goal motion a joint's limit will stop (sorted in)."""
+    found = foreseeable_joint_limits(compiled.steps, compiled.robot)
+    if not found:
+        return compiled
+    warnings = sorted((*compiled.warnings, *found), key=lambda w: (w.span.line, w.span.column))
+    return dataclasses.replace(compiled, warnings=tuple(warnings))
+
+
+def foreseeable_joint_limits(steps: tuple[plan.Step, ...], robot_name: str) -> list[plan.Diagnostic]:
+    """Warnings for the goal motions a joint's limit will stop, where the program says where the arm is.
+
+    Args:
+        steps: The compiled plan's steps.
+        robot_name: The program's arm (``ROBOTS`` key).
+
+    Returns:
+        One diagnostic per foreseen stop, at its statement.
+    """
+    if not any(_is_static_move(step) for step in steps):
+        return []
+    import pinocchio as pin
+
+    from cosmos.runtime.rotation_plan import plan_rotation
+
+    model, q = _arm(robot_name)
+    data = model.model.createData()
+    known: np.ndarray | None = q
+    found: list[plan.Diagnostic] = []
+    for step in steps:
+        if not isinstance(step, plan.Segment):
+            continue
+        holds_everything = bool(np.all(step.motion_axes)) and step.until is None
+        if step.kind is plan.SegmentKind.WAIT and holds_everything:
+            continue
+        if known is None or step.kind is not plan.SegmentKind.MOVE or not holds_everything:
+            known = None
+            continue
+        pin.framesForwardKinematics(model.model, data, known)
+        pose = data.oMf[model.tool_frame]
+        position, rotation = pose.translation.copy(), pose.rotation.copy()
+        target = step.target
+        if isinstance(target, plan.AbsoluteTarget):
+            goal_position = np.asarray(target.position_world, dtype=float)
+            goal_rotation = rotation if target.rotation_world is None else np.asarray(target.rotation_world)
+        elif isinstance(target, plan.RelativeTarget):
+            goal_position, goal_rotation = position + np.asarray(target.offset_world), rotation
+        else:
+            known = None
+            continue
+        route = plan_rotation(model, known, position, rotation, goal_position, goal_rotation)
+        if route.blocked_by is not None:
+            found.append(
+                plan.Diagnostic(f"{_keyword(step)}: {_foreseen(route.blocked_by.message)}", step.span)
+            )
+            known = None
+            continue
+        known = route.goal_q
+    return found
+
+
+def _is_static_move(step: plan.Step) -> bool:
+    return isinstance(step, plan.Segment) and step.kind is plan.SegmentKind.MOVE
+
+
+def _keyword(step: plan.Segment) -> str:
+    return "MOVE TO" if isinstance(step.target, plan.AbsoluteTarget) else "MOVE BY"
+
+
+def _foreseen(message: str) -> str:
+    """``joint 6 at its limit of 266 deg`` as a foresight: ``joint 6 would reach its limit ...``."""
+    return message.replace(" at its limit of ", " would reach its limit of ", 1) + " (from the home pose)"
