@@ -30,7 +30,6 @@ from cosmos.errors import CosmosError, UsageError
 from cosmos.lang import compile_program, read_program
 from cosmos.lang.compile.state import FrameLike
 from cosmos.robots import ROBOTS
-from cosmos.runtime.foresight import with_foreseen_limits
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -101,7 +100,6 @@ def check_program(
         compiled = compile_program(
             source, str(program), load_fixtures() if fixtures is None else fixtures, robot=robot
         )
-        compiled = with_foreseen_limits(compiled)  # joint limits foreseen from the text
     except CosmosError as error:
         if not as_json:
             raise

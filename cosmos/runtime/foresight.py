@@ -10,9 +10,10 @@ configuration in which the goal is within range if there is one. After anything 
 end is not known (a contact, a slide, an UNTIL, a POSTURE) nothing more is foreseen.
 
 The kinematics (Pinocchio, the arm's model) load on the first program with a static
-goal, once per arm. ``cosmos check``, ``cosmos run`` and :func:`cosmos.check` add these
-warnings to the compiled plan's (:func:`with_foreseen_limits`): the language below does
-not know the arm's kinematics.
+goal, once per arm. ``cosmos run`` and :func:`cosmos.check` add these warnings to the
+compiled plan's (:func:`with_foreseen_limits`): the language below does not know the
+arm's kinematics. ``cosmos check`` does not: it keeps MuJoCo unloaded for a fast start
+(``tests/test_fixture_cache.py``).
 """
 
 from __future__ import annotations
