@@ -25,7 +25,7 @@ import numpy as np
 
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rotation_plan import JointAtLimit
-from cosmos.runtime.servo import LIMIT_PROJECTION_MARGIN_RAD
+from cosmos.runtime.servo_gains import LIMIT_PROJECTION_MARGIN_RAD
 
 FloatArray = np.ndarray
 

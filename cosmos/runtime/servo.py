@@ -34,35 +34,17 @@ from cosmos.runtime.kernels.parameter import LIMITS_OFFSET, refold
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.rotation_plan import ranges_for_goal
+from cosmos.runtime.servo_gains import (
+    HELD_PUSH_RATE_S,
+    LIMIT_PROJECTION_MARGIN_RAD,
+    LIMIT_PROJECTION_WHOLE_RAD,
+    held_push_at,
+)
 from cosmos.runtime.servo_gains import ServoGains as ServoGains  # the servo's gains, named here too
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 FloatArray = np.ndarray
 
-
-HELD_PUSH_RATE_S = 0.001
-"""The servo period the held push's gains are given for; a slower servo scales them down."""
-
-
-def held_push_at(gains: tuple[float, float, float, float], servo_dt_s: float) -> tuple[float, ...]:
-    """The held push's ``(k_fh, k_ih, k_vh, limit)`` for a servo period.
-
-    Its damping is near ``1 / dt`` at 1 kHz (a touch stopped within a tick or two) and its
-    integral fast: each gain scaled by ``min(1, HELD_PUSH_RATE_S / dt)`` keeps ``k_vh dt``,
-    ``k_ih dt`` and the contact's loop gain what they are at 1 kHz (at 225 Hz unscaled, the
-    loop rang up to 160 N on a 10 N CONTACT). The bound on the integral stays.
-    """
-    scale = min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
-    k_fh, k_ih, k_vh, limit = gains
-    return (k_fh * scale, k_ih * scale, k_vh * scale, limit)
-
-
-LIMIT_PROJECTION_MARGIN_RAD = 0.30
-"""Distance from a joint limit at which the task starts giving up what needs that joint [rad]."""
-LIMIT_PROJECTION_WHOLE_RAD = 0.15
-"""... and wholly gives it up [rad]: where the joint-limit field begins
-(cosmos.runtime.parameters.JointLimitField.rho_0_rad), so the task never pushes a joint
-against the field (the fight ran the tool 50 mm off its line)."""
 
 _MODES = {MotionMode.HOLD: kernel.MODE_HOLD, MotionMode.GOAL: kernel.MODE_GOAL}
 
@@ -111,15 +93,9 @@ class ServoLevel:
                 policy.length_scale_m,
             )
         )
-        if joint_limits is not None:
-            self._fold_constants = np.concatenate(
-                (
-                    self._fold_constants,
-                    joint_limits[0],
-                    joint_limits[1],
-                    (LIMIT_PROJECTION_MARGIN_RAD, LIMIT_PROJECTION_WHOLE_RAD),
-                )
-            )
+        if joint_limits is not None:  # then the limit projection's margins (kernels.parameter)
+            margins = (LIMIT_PROJECTION_MARGIN_RAD, LIMIT_PROJECTION_WHOLE_RAD)
+            self._fold_constants = np.concatenate((self._fold_constants, *joint_limits, margins))
         self._joint_limits: FloatArray | None = None  # the arm's ranges, as _limits_for_goal widens them
         self._viscous = np.array(viscous, dtype=float)
         n = self._dof = len(self._viscous)
@@ -171,7 +147,6 @@ class ServoLevel:
         self._field = LinkField(self._field_torque, self._field_torque)
         self._goal_line = np.zeros(3)  # a goal motion's line (cosmos.runtime.goal_line)
         self.null_space = NullSpaceTerms(gains.posture_kp, absorption)  # its dimension, the links' share
-        self._joints = n
         self._correction = np.zeros(n)  # column 18: the raw potentials plus the null space's
         # (n, 19 + n): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
@@ -246,7 +221,7 @@ class ServoLevel:
     def _reshape(self) -> None:
         """Shape the held potentials (and add the posture) through the null space, if there is one."""
         ev, sp, used = self._evaluation, self._setpoint, self._correction.any()
-        if ev is None or sp is None or not (sp.orientation_free or self._joints > 6 or used):
+        if ev is None or sp is None or not (sp.orientation_free or self._dof > 6 or used):
             return  # no null space to use: it takes ORIENTATION FREE or more than six joints
         limit_margin, nst, field = float(ev.values[LIMIT_MARGIN]), self.null_space_t, self._field
         correction = self.null_space.correction(

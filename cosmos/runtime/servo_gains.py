@@ -92,3 +92,28 @@ class ServoGains:
     touch_damping: float = 200.0
     insert_tilt_window: tuple[float, float] = (0.1745, 20.0)
     posture_kp: float = 100.0
+
+
+HELD_PUSH_RATE_S = 0.001
+"""The servo period the held push's gains are given for; a slower servo scales them down."""
+
+
+def held_push_at(gains: tuple[float, float, float, float], servo_dt_s: float) -> tuple[float, ...]:
+    """The held push's ``(k_fh, k_ih, k_vh, limit)`` for a servo period.
+
+    Its damping is near ``1 / dt`` at 1 kHz (a touch stopped within a tick or two) and its
+    integral fast: each gain scaled by ``min(1, HELD_PUSH_RATE_S / dt)`` keeps ``k_vh dt``,
+    ``k_ih dt`` and the contact's loop gain what they are at 1 kHz (at 225 Hz unscaled, the
+    loop rang up to 160 N on a 10 N CONTACT). The bound on the integral stays.
+    """
+    scale = min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
+    k_fh, k_ih, k_vh, limit = gains
+    return (k_fh * scale, k_ih * scale, k_vh * scale, limit)
+
+
+LIMIT_PROJECTION_MARGIN_RAD = 0.30
+"""Distance from a joint limit at which the task starts giving up what needs that joint [rad]."""
+LIMIT_PROJECTION_WHOLE_RAD = 0.15
+"""... and wholly gives it up [rad]: where the joint-limit field begins
+(cosmos.runtime.parameters.JointLimitField.rho_0_rad), so the task never pushes a joint
+against the field (the fight ran the tool 50 mm off its line)."""

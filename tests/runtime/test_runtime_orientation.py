@@ -14,7 +14,7 @@ from cosmos.osc.orientation import rpy_to_matrix, so3_exp, so3_log, unwrap_rotat
 from cosmos.runtime.blockers import BlockerKind, progress_blockers
 from cosmos.runtime.kernels.parameter import unwrapped_rotation_error
 from cosmos.runtime.rotation_plan import _follow, plan_rotation
-from cosmos.runtime.servo import LIMIT_PROJECTION_MARGIN_RAD
+from cosmos.runtime.servo_gains import LIMIT_PROJECTION_MARGIN_RAD
 from cosmos.runtime.setpoint import DEFAULT_MAX_ANGULAR_SPEED, MotionMode, ServoSetpoint
 from tests.runtime.runtime_helpers import ROBOT, run_for, runtime_at
 
