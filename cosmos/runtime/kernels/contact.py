@@ -138,6 +138,23 @@ def coulomb_compensation_into(
 
 
 @kernel
+def push_axis(force_goal: FloatArray, force_to_acceleration: FloatArray) -> tuple[float, float, float, float]:
+    """A push's direction ``n`` (F_d's force, normalised) and ``n^T Lambda^-1 Omega_bar n``.
+
+    The inverse of the tool's mass along the push; all zeros when F_d has no force.
+    """
+    push = math.sqrt(force_goal[0] ** 2 + force_goal[1] ** 2 + force_goal[2] ** 2)
+    if not push > 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    n0, n1, n2 = force_goal[0] / push, force_goal[1] / push, force_goal[2] / push
+    f2a = force_to_acceleration
+    inverse_mass = 0.0
+    for i, ni in ((0, n0), (1, n1), (2, n2)):
+        inverse_mass += ni * (f2a[i, 0] * n0 + f2a[i, 1] * n1 + f2a[i, 2] * n2)
+    return n0, n1, n2, inverse_mass
+
+
+@kernel
 def speed_limited_push_into(
     feedback: FloatArray,
     force_goal: FloatArray,
@@ -172,14 +189,7 @@ def speed_limited_push_into(
         ``(limited, n^T xd, speed_integral)``: whether the cap bound, the speed along the
         push and the updated integral (unchanged unless the cap bound).
     """
-    push = math.sqrt(force_goal[0] ** 2 + force_goal[1] ** 2 + force_goal[2] ** 2)
-    if not push > 0.0:
-        return False, 0.0, speed_integral
-    n0, n1, n2 = force_goal[0] / push, force_goal[1] / push, force_goal[2] / push
-    f2a = force_to_acceleration
-    inverse_mass = 0.0
-    for i, ni in ((0, n0), (1, n1), (2, n2)):
-        inverse_mass += ni * (f2a[i, 0] * n0 + f2a[i, 1] * n1 + f2a[i, 2] * n2)
+    n0, n1, n2, inverse_mass = push_axis(force_goal, force_to_acceleration)
     if not inverse_mass > 0.0:
         return False, 0.0, speed_integral
     along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
@@ -228,14 +238,7 @@ def held_push_into(
     Returns:
         The updated integral, in [N s].
     """
-    push = math.sqrt(force_goal[0] ** 2 + force_goal[1] ** 2 + force_goal[2] ** 2)
-    if not push > 0.0:
-        return integral
-    n0, n1, n2 = force_goal[0] / push, force_goal[1] / push, force_goal[2] / push
-    f2a = force_to_acceleration
-    inverse_mass = 0.0
-    for i, ni in ((0, n0), (1, n1), (2, n2)):
-        inverse_mass += ni * (f2a[i, 0] * n0 + f2a[i, 1] * n1 + f2a[i, 2] * n2)
+    n0, n1, n2, inverse_mass = push_axis(force_goal, force_to_acceleration)
     if not inverse_mass > 0.0:
         return integral
     error = n0 * (setpoint[0] - force_sensed[0]) + n1 * (setpoint[1] - force_sensed[1])
