@@ -234,6 +234,8 @@ class Quantity(enum.Enum):
     """Decisions only: the tool point's coordinate along ``direction_world`` from ``origin_world`` [m]."""
     DISTANCE_FROM = "distance_from"
     """Decisions only: distance of the tool point from ``origin_world`` [m]."""
+    FINGER_FORCE = "finger_force"
+    """The grip: the smaller of the gripper's two pad forces, as their sensors read them [N]."""
 
 
 class CompareOp(enum.Enum):
@@ -321,7 +323,11 @@ Condition = Comparison | AllOf | AnyOf | LastOutcome
 
 
 def condition_holds(
-    condition: Condition, force_world: FloatArray, torque_world: FloatArray, distance_m: float
+    condition: Condition,
+    force_world: FloatArray,
+    torque_world: FloatArray,
+    distance_m: float,
+    grip_n: float = 0.0,
 ) -> bool:
     """Evaluate a stop condition on measured values.
 
@@ -330,11 +336,12 @@ def condition_holds(
         force_world: Force the tool applies to the environment [N], world, (3,).
         torque_world: Moment the tool applies to the environment [N m], world, (3,).
         distance_m: Distance of the tool point from the statement's start [m].
+        grip_n: The smaller of the gripper's pad forces [N] (FINGER FORCE; 0 without the gripper).
     """
     if isinstance(condition, AllOf):
-        return all(condition_holds(t, force_world, torque_world, distance_m) for t in condition.terms)
+        return all(condition_holds(t, force_world, torque_world, distance_m, grip_n) for t in condition.terms)
     if isinstance(condition, AnyOf):
-        return any(condition_holds(t, force_world, torque_world, distance_m) for t in condition.terms)
+        return any(condition_holds(t, force_world, torque_world, distance_m, grip_n) for t in condition.terms)
     if isinstance(condition, LastOutcome):  # the compiler keeps LAST out of UNTIL
         raise ValueError(f"{condition.text} is read by IF and WHILE, not by a stop condition")
     quantity = condition.quantity
@@ -347,6 +354,8 @@ def condition_holds(
         measured = float(force_world.dot(condition.direction_world))  # type: ignore[arg-type]
     elif quantity is Quantity.TORQUE_ABOUT:
         measured = float(torque_world.dot(condition.direction_world))  # type: ignore[arg-type]
+    elif quantity is Quantity.FINGER_FORCE:
+        measured = grip_n
     else:
         measured = distance_m
     return condition.op.holds(measured, condition.value)

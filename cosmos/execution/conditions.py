@@ -17,6 +17,7 @@ _UNITS = {
     Quantity.TORQUE: (1.0, "N m", 2),
     Quantity.TORQUE_ABOUT: (1.0, "N m", 2),
     Quantity.DISTANCE: (1e3, "mm", 1),
+    Quantity.FINGER_FORCE: (1.0, "N", 1),
 }
 
 
@@ -28,8 +29,19 @@ def condition_text(condition: Condition) -> str:
     return "(" + joiner.join(condition_text(term) for term in condition.terms) + ")"
 
 
-def _value(comparison: Comparison, force: FloatArray, torque: FloatArray, distance_m: float) -> float:
+def reads_grip(condition: Condition) -> bool:
+    """Whether the condition reads the gripper's pads (FINGER FORCE)."""
+    if isinstance(condition, LastOutcome):
+        return False
+    return any(term.quantity is Quantity.FINGER_FORCE for term in _terms(condition))
+
+
+def _value(
+    comparison: Comparison, force: FloatArray, torque: FloatArray, distance_m: float, grip_n: float
+) -> float:
     quantity = comparison.quantity
+    if quantity is Quantity.FINGER_FORCE:
+        return grip_n
     if quantity is Quantity.FORCE:
         return math.hypot(*force.tolist())
     if quantity is Quantity.TORQUE:
@@ -41,13 +53,18 @@ def _value(comparison: Comparison, force: FloatArray, torque: FloatArray, distan
     return distance_m
 
 
-def measured_text(condition: Condition, force: FloatArray, torque: FloatArray, distance_m: float) -> str:
-    """What each term of a condition measured: ``4.6 N``, or ``DISTANCE 20.3 mm, FORCE 0.4 N``."""
+def measured_text(
+    condition: Condition, force: FloatArray, torque: FloatArray, distance_m: float, grip_n: float = 0.0
+) -> str:
+    """What each term of a condition measured: ``4.6 N``, or ``DISTANCE 20.3 mm, FORCE 0.4 N``.
+
+    ``grip_n`` is the FINGER FORCE read this tick (the smaller pad force) [N].
+    """
     terms = _terms(condition)
     parts = []
     for term in terms:
         scale, unit, digits = _UNITS[term.quantity]
-        value = f"{_value(term, force, torque, distance_m) * scale:.{digits}f} {unit}"
+        value = f"{_value(term, force, torque, distance_m, grip_n) * scale:.{digits}f} {unit}"
         parts.append(value if len(terms) == 1 else f"{term.text.partition(term.op.value)[0].strip()} {value}")
     return ", ".join(parts)
 

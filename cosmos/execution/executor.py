@@ -152,7 +152,7 @@ class Executor:
     def senses(self) -> Senses:
         """The wrist's force and moment (world) and the measured tool point, now."""
         wrench = self.runtime.wrench
-        return Senses(wrench[:3].copy(), wrench[3:].copy(), self.meter.position.copy())
+        return Senses(wrench[:3].copy(), wrench[3:].copy(), self.meter.position.copy(), self.hand.grip_n())
 
     def note(self, kind: str, step: Step, reason: str) -> None:
         """Write an event about ``step`` to the log."""
@@ -259,8 +259,8 @@ class Executor:
         # rewritten in place by the servo and the physics.
         data = rt.plant.data
         tick, check, judge = rt.tick, supervisor.check, monitor.check
-        wrench, torque, position = rt.wrench, rt.servo.torque, meter.position
-        snapshot = Snapshot(data.time, position, meter.rotation, rt.servo.last_velocity, wrench)
+        wrench, torque, position, grip = rt.wrench, rt.servo.torque, meter.position, self.hand.grip_n
+        snapshot = Snapshot(data.time, position, meter.rotation, rt.servo.last_velocity, wrench, grip)
         last_goal = len(goals) - 1
         progress, progress_every = self.progress, self.progress_every
         field_watch = FieldOnToolWatch()

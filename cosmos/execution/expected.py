@@ -26,6 +26,10 @@ CONTACT_FORCE_MARGIN_N = 30.0
 (impacts on touching, a force loop's overshoot)."""
 
 
+_NOT_THE_WRIST = (Quantity.DISTANCE, Quantity.FINGER_FORCE)
+"""Terms that do not read the wrist sensor: they expect no contact of the tool."""
+
+
 def has_force_term(condition: Condition | None) -> tuple[bool, float]:
     """Whether an UNTIL compares a force or moment, and its largest threshold [N or N m]."""
     if condition is None:
@@ -36,7 +40,7 @@ def has_force_term(condition: Condition | None) -> tuple[bool, float]:
             has, value = has_force_term(term)
             found, largest = found or has, max(largest, value)
         return found, largest
-    if isinstance(condition, LastOutcome) or condition.quantity is Quantity.DISTANCE:
+    if isinstance(condition, LastOutcome) or condition.quantity in _NOT_THE_WRIST:
         return False, 0.0
     return True, abs(condition.value)
 

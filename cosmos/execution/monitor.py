@@ -17,7 +17,7 @@ from enum import Enum
 import numpy as np
 
 from cosmos.execution.arrival import GoalError, goal_error
-from cosmos.execution.conditions import condition_text, measured_text
+from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.lang.check.limits import MAX_DURATION_S
 from cosmos.osc.orientation import unwrap_rotation_vector
@@ -80,6 +80,8 @@ class Snapshot:
         rotation: Measured tool orientation, tool to world. # (3, 3)
         velocity: Tool twist ``J qd`` from the encoders, in [m/s, rad/s]. # (6,)
         wrench: Wrench the tool applies to the environment (wrist sensor), in [N, N m]. # (6,)
+        grip: Reads the gripper's pads now: the smaller of their forces [N] (FINGER FORCE);
+            called only by a segment whose UNTIL reads it.
     """
 
     t_s: float
@@ -87,6 +89,7 @@ class Snapshot:
     rotation: FloatArray
     velocity: FloatArray
     wrench: FloatArray
+    grip: Callable[[], float] = lambda: 0.0
 
 
 def _norm3(v: FloatArray) -> float:
@@ -142,6 +145,7 @@ class SegmentMonitor:
         self.statement_start_s = statement_start_s
         self.statement_start_position = statement_start_position
         self.timed_until_s = timed_until_s
+        self._reads_grip = segment.until is not None and reads_grip(segment.until)
         self._settled_since: float | None = None
         self._ticks = 0
         self.turn_long_way = False
@@ -200,8 +204,9 @@ class SegmentMonitor:
         if seg.until is not None:
             force = snap.wrench[:3]
             distance = _norm3(snap.position - self.statement_start_position)
-            if condition_holds(seg.until, force, snap.wrench[3:], distance):
-                measured = measured_text(seg.until, force, snap.wrench[3:], distance)
+            grip = snap.grip() if self._reads_grip else 0.0  # read once: the value told is the one that fired
+            if condition_holds(seg.until, force, snap.wrench[3:], distance, grip):
+                measured = measured_text(seg.until, force, snap.wrench[3:], distance, grip)
                 return Outcome(
                     Verdict.STOPPED, f"UNTIL {condition_text(seg.until)}: {measured} at {snap.t_s:.2f} s"
                 )

@@ -56,11 +56,13 @@ class Senses:
         force_world: Force the tool applies to the environment [N], world. # (3,)
         torque_world: Moment the tool applies [N m], world. # (3,)
         position_world: The tool point [m], world. # (3,)
+        grip_n: The smaller of the gripper's pad forces [N] (FINGER FORCE); 0 without the gripper.
     """
 
     force_world: FloatArray
     torque_world: FloatArray
     position_world: FloatArray
+    grip_n: float = 0.0
 
 
 class HandSteps(Protocol):
@@ -70,6 +72,10 @@ class HandSteps(Protocol):
         """Run the step; returns what it did. ``fail(reason)`` logs a failure and raises."""
         ...
 
+    def grip_n(self) -> float:
+        """The smaller of the pads' forces as their sensors read them now [N] (FINGER FORCE)."""
+        ...
+
 
 class _NoHand:
     """The hand of a workcell without the gripper: every hand step fails."""
@@ -77,6 +83,9 @@ class _NoHand:
     def apply(self, step: HandStep, fail: Callable[[str], None]) -> str:
         fail("needs the gripper: this run's tool is the peg (TOOL GRIPPER)")
         raise AssertionError  # fail() raises
+
+    def grip_n(self) -> float:
+        return 0.0  # no pads (the compiler refuses FINGER FORCE without TOOL GRIPPER)
 
 
 NO_HAND: HandSteps = _NoHand()
@@ -131,6 +140,7 @@ _UNITS = {
     Quantity.TORQUE_ABOUT: (1.0, "N m"),
     Quantity.POSITION_ALONG: (1e3, "mm"),
     Quantity.DISTANCE_FROM: (1e3, "mm"),
+    Quantity.FINGER_FORCE: (1.0, "N"),
 }
 """How a value read is written in the log: scale from SI and unit."""
 _ENDED = {None: "was done", Ending.FAILED: "failed", Ending.STOPPED: "ended on its UNTIL"}
@@ -270,6 +280,8 @@ def _holds(condition: Condition, senses: Senses, last: Ending | None, readings: 
 def measure(comparison: Comparison, senses: Senses) -> float:
     """The value a decision's comparison reads, in SI (N, N m, m)."""
     quantity = comparison.quantity
+    if quantity is Quantity.FINGER_FORCE:
+        return senses.grip_n
     if quantity is Quantity.FORCE:
         return float(np.linalg.norm(senses.force_world))
     if quantity is Quantity.TORQUE:

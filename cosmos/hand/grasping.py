@@ -125,6 +125,10 @@ class Hand:
         """The gripper's drive and pad sensors."""
         return self._fingers
 
+    def grip_n(self) -> float:
+        """FINGER FORCE: the smaller of the pads' forces as their sensors read them now [N]."""
+        return self._fingers.read().grip_force_n
+
     def apply(self, step: HandStep, fail: Callable[[str], None]) -> str:
         """Run a GRASP or RELEASE; returns what it did, for the log's ``done`` event.
 

@@ -126,12 +126,13 @@ class AxisRef:
 
 
 class Sensed(enum.Enum):
-    """What a condition measures (POSITION only in IF and WHILE)."""
+    """What a condition measures (POSITION only in IF and WHILE; FINGER FORCE only with TOOL GRIPPER)."""
 
     FORCE = "FORCE"
     TORQUE = "TORQUE"
     DISTANCE = "DISTANCE"
     POSITION = "POSITION"
+    FINGER = "FINGER FORCE"
 
 
 @dataclass(frozen=True)

@@ -26,6 +26,7 @@ from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.decisions import compile_decision, decision_frame
+from cosmos.lang.compile.motion.conditions import require_gripper
 from cosmos.lang.compile.state import CompileState, HeldContact
 
 DEFAULT_MAX_PASSES = 100
@@ -41,6 +42,7 @@ def compile_if(run: CompileContext, statement: ast.IfBlock, state: CompileState)
     evaluator = run.evaluator_for(state)
     frame = decision_frame(statement.clauses, evaluator, run.text_of)
     condition = compile_decision(statement.condition, frame, evaluator, run.text_of)
+    require_gripper(condition, state.tool)
     then_steps, then_state = run.block(statement.then_body, state)
     else_steps, else_state = run.block(statement.else_body, _carried(state, then_state))
     otherwise = "its ELSE branch" if statement.else_span is not None else "the way past it (no ELSE)"
@@ -64,6 +66,7 @@ def compile_while(run: CompileContext, statement: ast.WhileBlock, state: Compile
     evaluator = run.evaluator_for(state)
     frame = decision_frame(statement.clauses, evaluator, run.text_of)
     condition = compile_decision(statement.condition, frame, evaluator, run.text_of)
+    require_gripper(condition, state.tool)
     max_passes = DEFAULT_MAX_PASSES
     for clause in statement.clauses:
         if isinstance(clause, ast.ValueClause) and clause.kind is ast.ClauseKind.MAX:

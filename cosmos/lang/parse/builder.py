@@ -273,6 +273,8 @@ class _Builder(Transformer):
         return ast.Comparison(sensed, direction, op.value, value, span_between(first, last))
 
     def sensed(self, children: list[Any]) -> tuple[Token, ast.Sensed, ast.Direction | None]:
+        if children[0].type == "FINGER":  # FINGER FORCE: the grip the pads feel, no axis
+            return children[0], ast.Sensed.FINGER, None
         direction = children[1] if len(children) > 1 else None
         if isinstance(direction, ast.AxisRef):  # POSITION X: the coordinate along +X
             direction = ast.Direction(direction.axis, 1, direction.span)

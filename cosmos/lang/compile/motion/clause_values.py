@@ -18,7 +18,12 @@ from cosmos.lang import ast, units
 from cosmos.lang.compile.motion.axes import vector_text
 from cosmos.lang.compile.motion.base import MotionBuilderBase
 from cosmos.lang.compile.motion.clauses import Clauses
-from cosmos.lang.compile.motion.conditions import comparisons, compile_condition, holds_at_start
+from cosmos.lang.compile.motion.conditions import (
+    comparisons,
+    compile_condition,
+    holds_at_start,
+    require_gripper,
+)
 from cosmos.lang.compile.state import WORLD, TaskFrame
 from cosmos.lang.evaluate.values import BindingKind, FrameValue, Scalar
 from cosmos.rotations import IDENTITY
@@ -104,6 +109,7 @@ class ClauseValues(MotionBuilderBase):
         if clauses.until is None:
             return None
         condition = compile_condition(clauses.until.condition, frame, self.evaluator, self.text_of)
+        require_gripper(condition, self.state.tool)
         if heading_world is not None:
             self._warn_force_sign(condition, heading_world)
         early = holds_at_start(condition, force_expected)

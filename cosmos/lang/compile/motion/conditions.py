@@ -6,6 +6,7 @@ from collections.abc import Callable
 
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
+from cosmos.hand.tool import Tool
 from cosmos.lang import ast, units
 from cosmos.lang.check import limits
 from cosmos.lang.compile.state import TaskFrame
@@ -18,8 +19,9 @@ _QUANTITY_DIM = {
     plan.Quantity.TORQUE: units.TORQUE,
     plan.Quantity.TORQUE_ABOUT: units.TORQUE,
     plan.Quantity.DISTANCE: units.LENGTH,
+    plan.Quantity.FINGER_FORCE: units.FORCE,
 }
-_MAGNITUDES = (plan.Quantity.FORCE, plan.Quantity.TORQUE, plan.Quantity.DISTANCE)
+_MAGNITUDES = (plan.Quantity.FORCE, plan.Quantity.TORQUE, plan.Quantity.DISTANCE, plan.Quantity.FINGER_FORCE)
 _OPS = {op.value: op for op in plan.CompareOp}
 """CompareOp by its text (``plan.CompareOp(text)`` for the texts the grammar gives)."""
 _DISTANCE = plan.Quantity.DISTANCE
@@ -29,6 +31,8 @@ _FORCE_ALONG = plan.Quantity.FORCE_ALONG
 _TORQUE_ABOUT = plan.Quantity.TORQUE_ABOUT
 _SENSED_DISTANCE = ast.Sensed.DISTANCE
 _SENSED_FORCE = ast.Sensed.FORCE
+_SENSED_FINGER = ast.Sensed.FINGER
+_FINGER_FORCE = plan.Quantity.FINGER_FORCE
 _BELOW = (plan.CompareOp.LT, plan.CompareOp.LE)
 _NUMBER = ast.Number
 
@@ -91,6 +95,8 @@ def _quantity(condition: ast.Comparison, frame: TaskFrame) -> tuple[plan.Quantit
     sensed = condition.sensed
     if sensed is _SENSED_DISTANCE:
         return _DISTANCE, None
+    if sensed is _SENSED_FINGER:
+        return _FINGER_FORCE, None
     if direction is None:
         if sensed is _SENSED_FORCE:
             return _FORCE, None
@@ -117,15 +123,36 @@ def _check_magnitude(
     if below and value <= 0:
         raise ProgramError(
             f"{name} {op.value} {value:g} can never hold: {name} is a magnitude, never below 0"
-            + (f"; to test a component write {name} Z {op.value} ..." if name != "DISTANCE" else ""),
+            + (f"; to test a component write {name} Z {op.value} ..." if name in _COMPONENTS else ""),
             condition.span,
         )
     if not below and value < 0:
         raise ProgramError(
             f"{name} {op.value} {value:g} always holds: {name} is a magnitude, never below 0"
-            + (f"; to test a component write {name} Z {op.value} ..." if name != "DISTANCE" else ""),
+            + (f"; to test a component write {name} Z {op.value} ..." if name in _COMPONENTS else ""),
             condition.span,
         )
+
+
+_COMPONENTS = ("FORCE", "TORQUE")
+"""The magnitudes that have components (FORCE Z, TORQUE RZ)."""
+
+
+def require_gripper(condition: plan.Condition, tool: str) -> None:
+    """FINGER FORCE reads the gripper's pads: refuse it when the hand is the peg.
+
+    Raises:
+        ProgramError: At the first FINGER FORCE, when ``tool`` is not the gripper.
+    """
+    if tool == Tool.GRIPPER.value:
+        return
+    for comparison in comparisons(condition):
+        if comparison.quantity is _FINGER_FORCE:
+            raise ProgramError(
+                "FINGER FORCE reads the gripper's finger pads, and this program's tool is the peg; "
+                "choose the gripper first with TOOL GRIPPER",
+                comparison.span,
+            )
 
 
 def comparisons(condition: plan.Condition) -> list[plan.Comparison]:
