@@ -95,6 +95,11 @@ class Fingers:
         qpos = self._data.qpos
         return float(qpos[self._finger_qpos[0]] + qpos[self._finger_qpos[1]])
 
+    def positions_m(self) -> tuple[float, float]:
+        """Each pad's distance from the gripper's centre plane, left then right [m] (the slides' encoders)."""
+        qpos = self._data.qpos
+        return float(qpos[self._finger_qpos[0]]), float(qpos[self._finger_qpos[1]])
+
     def read(self) -> FingerReading:
         """The opening and the pads' forces, each force with the sensor's bias and noise."""
         forces = self.filtered + self._bias + self._rng.normal(0.0, FORCE_NOISE_STD_N, size=2)

@@ -1,17 +1,20 @@
-"""The gripper in the run log: ``/cosmos/hand``, its opening, pad forces and what it holds.
+"""The gripper in the run log: its fields of ``/cosmos/state``, and ``/cosmos/hand``.
 
-A channel of its own rather than fields of ``/cosmos/state``: the state's format (and the
-compiled path that writes it every sample) stays that of every log before the gripper, and
-a log without a gripper has no such channel. Written with every 5th state sample, as
-``/tf`` is (50 Hz at the default 250 Hz state rate). Fields (SI units): ``t`` [s],
-``opening`` between the pads [m], ``force_left`` and ``force_right`` as the pad sensors read
-them [N], ``held``: the held object's name or "".
+Every state sample of a gripper's log has ``fingers`` (each pad's distance from the
+gripper's centre plane [m]) and ``finger_force`` (the pads' forces as their sensors read
+them [N]); a log without the gripper has neither (metadata ``fingers`` absent), so its state
+is that of every log before the gripper. ``/cosmos/hand`` stays: it alone says what the hand
+holds, and replay poses the fingers from it. Written with every 5th state sample, as
+``/tf`` is (50 Hz at the default 250 Hz state rate), from the same reading as that sample's
+state. Fields (SI units): ``t`` [s], ``opening`` between the pads [m], ``force_left`` and
+``force_right`` as the pad sensors read them [N], ``held``: the held object's name or "".
 """
 
 from __future__ import annotations
 
 import json
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any, Final
 
 import numpy as np
@@ -42,7 +45,10 @@ HAND_SCHEMA: Final[dict[str, Any]] = {
 
 
 class HandRunLog(RunLog):
-    """A run log with the gripper's channel, ``/cosmos/hand`` (module docstring)."""
+    """A run log with the gripper's state fields and its channel, ``/cosmos/hand`` (module docstring)."""
+
+    def __init__(self, path: Path | str, **options: Any) -> None:
+        super().__init__(path, fingers=True, **options)
 
     def hand_channel(self) -> Callable[[float, bytes], None]:
         """The channel: returns ``write(t_s, message_bytes)``."""
@@ -78,11 +84,14 @@ class HandRecorder(LogRecorder):
         wrench: np.ndarray,
         twist: np.ndarray,
     ) -> None:
-        """One state sample (:meth:`LogRecorder.record`); the hand with every 5th."""
+        """One state sample (:meth:`LogRecorder.record`) with the fingers; the hand with every 5th."""
+        fingers = self._fingers
+        reading = fingers.read()
+        left_m, right_m = fingers.positions_m()
+        self.log.fingers(left_m, right_m, reading.force_left_n, reading.force_right_n)
         super().record(t_s, q, qd, tau, wrench, twist)
         self._samples += 1
         if self._samples % TRANSFORM_EVERY == 1:
-            reading = self._fingers.read()
             message = {
                 "t": round(t_s, 9),
                 "opening": round(reading.opening_m, 6),

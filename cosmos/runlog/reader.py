@@ -81,6 +81,8 @@ class StateSeries:
     wrench: np.ndarray  # (n, 6) applied by the tool, world, [N] then [N m]
     segment: np.ndarray  # (n,) int
     line: np.ndarray  # (n,) int
+    fingers: np.ndarray | None = None  # (n, 2) each pad from the gripper's centre [m]; None: no gripper
+    finger_force: np.ndarray | None = None  # (n, 2) the pads' forces, left and right [N]; None: no gripper
 
     def __len__(self) -> int:
         return int(self.t.shape[0])
@@ -213,7 +215,9 @@ def run_record(path: Path, contents: McapContents) -> RunRecord:
         source_name=source_name,
         segments=tuple(sorted(segments, key=lambda s: s.t)),
         events=tuple(sorted(events, key=lambda e: e.t)),
-        state=_state(path, by_topic.get(STATE_TOPIC, []), _joints(path, metadata)),
+        state=_state(
+            path, by_topic.get(STATE_TOPIC, []), _joints(path, metadata), metadata.get("fingers") == "2"
+        ),
         message_counts={topic: len(data) for topic, data in by_topic.items()},
         truncated=not contents.complete,
         readable_bytes=contents.readable_bytes,
@@ -347,13 +351,13 @@ def _joints(path: Path, metadata: Mapping[str, str]) -> int:
     return int(text)
 
 
-def _state(path: Path, data: Sequence[bytes], joints: int) -> StateSeries:
+def _state(path: Path, data: Sequence[bytes], joints: int, fingers: bool) -> StateSeries:
     if len(data) > limits.MAX_MESSAGES:
         raise CosmosError(f"{path}: more than {limits.MAX_MESSAGES:,} {STATE_TOPIC} messages")
-    t, rows, labels = validate.state_arrays(_where(path, STATE_TOPIC), data, joints)
+    t, rows, labels = validate.state_arrays(_where(path, STATE_TOPIC), data, joints, fingers)
     order = np.argsort(t, kind="stable")
     columns, start = {}, 0
-    for name, n in state_vectors(joints):
+    for name, n in state_vectors(joints, fingers):
         columns[name] = _read_only(np.ascontiguousarray(rows[order, start : start + n]))
         start += n
     return StateSeries(

@@ -37,12 +37,17 @@ DEFAULT_JOINTS: Final = 6
 """The arm's number of joints in a log that does not say (the PUMA 560's: logs before the Panda)."""
 
 
-def state_vectors(joints: int = DEFAULT_JOINTS) -> tuple[tuple[str, int], ...]:
+FINGER_VECTORS: Final = (("fingers", 2), ("finger_force", 2))
+"""The gripper's fields of a state message (metadata ``fingers``: TOOL GRIPPER), after the arm's."""
+
+
+def state_vectors(joints: int = DEFAULT_JOINTS, fingers: bool = False) -> tuple[tuple[str, int], ...]:
     """The vector fields of a state message, in message order, with their lengths.
 
-    ``q``, ``qd`` and ``tau`` have one entry per joint of the arm (metadata ``joints``).
+    ``q``, ``qd`` and ``tau`` have one entry per joint of the arm (metadata ``joints``);
+    with ``fingers`` (a gripper's log), :data:`FINGER_VECTORS` follow the wrench.
     """
-    return (
+    arm = (
         ("q", joints),
         ("qd", joints),
         ("tau", joints),
@@ -51,11 +56,12 @@ def state_vectors(joints: int = DEFAULT_JOINTS) -> tuple[tuple[str, int], ...]:
         ("v", 6),
         ("wrench", 6),
     )
+    return arm + FINGER_VECTORS if fingers else arm
 
 
-def state_width(joints: int = DEFAULT_JOINTS) -> int:
-    """Numbers in a state message besides t: 3 joints + 19 (37 for six joints)."""
-    return sum(n for _, n in state_vectors(joints))
+def state_width(joints: int = DEFAULT_JOINTS, fingers: bool = False) -> int:
+    """Numbers in a state message besides t: 3 joints + 19 (37 for six joints), + 4 with the fingers."""
+    return sum(n for _, n in state_vectors(joints, fingers))
 
 
 STATE_VECTORS: Final = state_vectors()
@@ -158,18 +164,25 @@ _STATE_DESCRIPTIONS: Final = {
         "force fx fy fz [N] then moment mx my mz [N m] that the tool applies to the "
         "environment, world axes, moment about the tool point"
     ),
+    "fingers": (
+        "the gripper's fingers, left then right: each pad's distance from the gripper's "
+        "centre plane [m] (the opening between the pads is their sum); only with TOOL GRIPPER"
+    ),
+    "finger_force": (
+        "normal force on the left then the right pad, as their sensors read them [N]; only with TOOL GRIPPER"
+    ),
 }
 
 
-def state_schema(joints: int = DEFAULT_JOINTS) -> dict[str, Any]:
-    """The state message's schema for an arm of ``joints`` joints."""
+def state_schema(joints: int = DEFAULT_JOINTS, fingers: bool = False) -> dict[str, Any]:
+    """The state message's schema for an arm of ``joints`` joints (and the gripper's, if ``fingers``)."""
     return _object(
         STATE_SCHEMA_NAME,
         "Arm and tool state sampled at the state rate (metadata state_hz). A value that is "
         "not finite (the controller diverged) is written as null.",
         {
             "t": _number("simulated time since the start of the run [s]"),
-            **{name: _vector(n, _STATE_DESCRIPTIONS[name]) for name, n in state_vectors(joints)},
+            **{name: _vector(n, _STATE_DESCRIPTIONS[name]) for name, n in state_vectors(joints, fingers)},
             "segment": _integer("index of the segment being executed (see /cosmos/segment)"),
             "line": _integer("source line of the statement being executed (0: none)"),
         },

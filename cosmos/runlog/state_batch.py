@@ -40,23 +40,24 @@ when it lands during a flush. As long as that allows: each flush closes a chunk,
 
 
 @functools.cache
-def state_template(joints: int) -> str:
+def state_template(joints: int, fingers: bool = False) -> str:
     """JSON text of a state message, as a format string: its definition.
 
     Vector components are written as integers with a fixed exponent (125730e-6 is
     0.125730): plain JSON, and much cheaper to format than floats. The compiled
     kernels write it (cosmos.runlog.text_kernel).
     """
+    vectors = state_vectors(joints, fingers)
     return (
         '{"t":%.9f,'
-        + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in state_vectors(joints))
+        + ",".join(f'"{name}":[' + ",".join(["%de-6"] * n) + "]" for name, n in vectors)
         + ',"segment":%d,"line":%d}'
     )
 
 
 @functools.cache
-def _state_text(joints: int) -> Template:
-    return Template.from_format(state_template(joints).replace("%.9f", "%d"))  # t: first hole
+def _state_text(joints: int, fingers: bool) -> Template:
+    return Template.from_format(state_template(joints, fingers).replace("%.9f", "%d"))  # t: first hole
 
 
 class StateBatches:
@@ -81,6 +82,7 @@ class StateBatches:
         tf: FrameTransformsChannel,
         frames: Sequence[str],
         joints: int = DEFAULT_JOINTS,
+        fingers: bool = False,
     ) -> None:
         """Set up the kernels and staging arrays.
 
@@ -89,10 +91,12 @@ class StateBatches:
             tf: The ``/tf`` channel (protobuf ``foxglove.FrameTransforms``).
             frames: Child frames of :meth:`transforms`, in the order poses are given.
             joints: The arm's number of joints (entries of q, qd and tau).
+            fingers: The state has the gripper's fields (:meth:`fingers` stages them).
         """
         self._joints = joints
-        self._state_template = state_template(joints)
-        self._state_text = _state_text(joints)
+        self._fingers = fingers
+        self._state_template = state_template(joints, fingers)
+        self._state_text = _state_text(joints, fingers)
         # Rust-side log calls of the channels (the Python wrapper re-checks the type per message).
         self._log_state = state.base.log
         self._log_tf = tf.log
@@ -108,6 +112,8 @@ class StateBatches:
 
         # State samples wait here and are encoded _BATCH at a time.
         self._rows = np.empty((_BATCH, state_width(joints)))  # (batch, 3 joints + 19)
+        # The gripper's fields wait apart (the staging kernel reads the joints from the rows' width).
+        self._finger_rows = np.zeros((_BATCH, state_width(joints, fingers) - state_width(joints)))
         self._times = np.empty(_BATCH)  # (batch,) s
         self._labels = np.empty((_BATCH, 2), dtype=np.int64)  # (batch, 2): segment, line
         self._pending = 0
@@ -122,6 +128,18 @@ class StateBatches:
         self._text = np.empty(0, dtype=np.uint8)  # JSON text of a batch, grown as needed
         self._ros2: Ros2Channels | None = None  # the ROS 2 channels, if logged
         self._pacer: Pacer | None = None  # real-time pacing and live hand-over (cosmos.runlog.live)
+
+    def fingers(self, left_m: float, right_m: float, force_left_n: float, force_right_n: float) -> None:
+        """The gripper's fields of the next state sample (call just before :meth:`state`).
+
+        Args:
+            left_m: The left pad's distance from the gripper's centre plane [m].
+            right_m: The right pad's [m].
+            force_left_n: The left pad's normal force, as its sensor reads it [N].
+            force_right_n: The right pad's [N].
+        """
+        row = self._finger_rows[self._pending]
+        row[0], row[1], row[2], row[3] = left_m, right_m, force_left_n, force_right_n
 
     def state(
         self,
@@ -185,9 +203,10 @@ class StateBatches:
         if len(self._text) < size:
             self._text = np.empty(2 * size, dtype=np.uint8)
         text = self._text
+        rows = np.hstack((self._rows, self._finger_rows)) if self._fingers else self._rows
         end = self._render_states(
             text,
-            self._rows,
+            rows,
             self._times,
             self._labels,
             n,
@@ -213,7 +232,7 @@ class StateBatches:
             if status[i] == STATE_WRITTEN:
                 log_state(blob[offsets[i] : offsets[i + 1]], t_ns, None)
             else:
-                log_state(self._python_state_text(i, status[i]), t_ns, None)
+                log_state(self._python_state_text(rows[i], float(self._times[i]), i, status[i]), t_ns, None)
             if ros2 is not None:
                 ros2.state(t_ns, self._rows[i])
             while tf_next < m and tf_ns[tf_next] <= t_ns:
@@ -228,9 +247,8 @@ class StateBatches:
             t_ns = max(t_ns, tf_ns[k])
         self._last_ns = t_ns
 
-    def _python_state_text(self, i: int, status: int) -> bytes:
-        """State message of row ``i`` that the kernel left to Python (see ``render_states``)."""
-        t, row = float(self._times[i]), self._rows[i]
+    def _python_state_text(self, row: np.ndarray, t: float, i: int, status: int) -> bytes:
+        """State message of ``row`` (staged row ``i``) that the kernel left to Python (``render_states``)."""
         segment, line = self._labels[i].tolist()
         if status == STATE_NOT_EXACT:
             return self._state_json(t, row, segment, line).encode()
@@ -242,7 +260,7 @@ class StateBatches:
         values = [round(v, 6) if np.isfinite(v) else None for v in row.tolist()]
         message: dict[str, Any] = {"t": t}
         start = 0
-        for name, n in state_vectors(self._joints):
+        for name, n in state_vectors(self._joints, self._fingers):
             message[name] = values[start : start + n]
             start += n
         message["segment"] = segment

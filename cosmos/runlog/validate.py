@@ -177,11 +177,13 @@ def records(
     return out
 
 
-def state_row(m: Json, joints: int = DEFAULT_JOINTS) -> tuple[float, list[float], int, int]:
-    """Time, the 3 joints + 19 vector components (null as NaN), segment and line of one state message."""
+def state_row(
+    m: Json, joints: int = DEFAULT_JOINTS, fingers: bool = False
+) -> tuple[float, list[float], int, int]:
+    """Time, the 3 joints + 19 vector components (+ 4 of the fingers; null as NaN), segment and line."""
     t = time(m)
     row: list[float] = []
-    for name, n in state_vectors(joints):
+    for name, n in state_vectors(joints, fingers):
         row += vector(m, name, (n,), nulls=True)
     return t, row, count(m, "segment", limits.MAX_SEGMENT), count(m, "line", limits.MAX_LINE)
 
@@ -189,10 +191,10 @@ def state_row(m: Json, joints: int = DEFAULT_JOINTS) -> tuple[float, list[float]
 StateArrays = tuple[np.ndarray, np.ndarray, np.ndarray]  # t (n,), rows (n, 3 joints + 19), labels (n, 2)
 
 
-def _bulk(messages: list[Any], joints: int) -> StateArrays | None:
+def _bulk(messages: list[Any], joints: int, fingers: bool) -> StateArrays | None:
     """The arrays of a batch of decoded state messages if all pass the bulk check, else None."""
     n = len(messages)
-    vectors = state_vectors(joints)
+    vectors = state_vectors(joints, fingers)
     if not all(type(m) is dict for m in messages):
         return None
     try:
@@ -206,7 +208,7 @@ def _bulk(messages: list[Any], joints: int) -> StateArrays | None:
     for column, (_, size) in zip(columns, vectors, strict=True):
         if column.shape != (n, size) or column.dtype.kind not in "fi":
             return None
-    rows = np.concatenate(columns, axis=1).astype(float) if n else np.empty((0, state_width(joints)))
+    rows = np.concatenate(columns, axis=1).astype(float) if n else np.empty((0, state_width(joints, fingers)))
     t = t.astype(float)
     if not (np.isfinite(rows).all() and np.isfinite(t).all()):
         return None
@@ -221,12 +223,15 @@ def _bulk(messages: list[Any], joints: int) -> StateArrays | None:
     return t, rows, labels.astype(np.int64)
 
 
-def _one_by_one(where: Callable[[int], str], first: int, data: Sequence[bytes], joints: int) -> StateArrays:
+def _one_by_one(
+    where: Callable[[int], str], first: int, data: Sequence[bytes], joints: int, fingers: bool
+) -> StateArrays:
     n = len(data)
-    t, rows, labels = np.empty(n), np.empty((n, state_width(joints))), np.empty((n, 2), dtype=np.int64)
+    width = state_width(joints, fingers)
+    t, rows, labels = np.empty(n), np.empty((n, width)), np.empty((n, 2), dtype=np.int64)
     for k, item in enumerate(data):
         try:
-            t[k], rows[k], *label = state_row(decode(item), joints)
+            t[k], rows[k], *label = state_row(decode(item), joints, fingers)
         except Invalid as error:
             raise CosmosError(f"{where(first + k)}: {error}") from None
         labels[k] = label
@@ -234,11 +239,12 @@ def _one_by_one(where: Callable[[int], str], first: int, data: Sequence[bytes], 
 
 
 def state_arrays(
-    where: Callable[[int], str], data: Sequence[bytes], joints: int = DEFAULT_JOINTS
+    where: Callable[[int], str], data: Sequence[bytes], joints: int = DEFAULT_JOINTS, fingers: bool = False
 ) -> StateArrays:
     """Times [s], vector rows and (segment, line) labels of every state message, in file order.
 
-    ``joints`` is the arm's number of joints (the log's metadata ``joints``).
+    ``joints`` is the arm's number of joints (the log's metadata ``joints``); ``fingers``: the
+    messages have the gripper's fields (metadata ``fingers``).
 
     Raises:
         CosmosError: Naming the first message that fails, and why.
@@ -251,13 +257,13 @@ def state_arrays(
             blob = b"[" + b",".join(batch) + b"]"
             if not any(word in blob for word in _NON_JSON):
                 try:
-                    arrays = _bulk(json.loads(blob), joints)
+                    arrays = _bulk(json.loads(blob), joints, fingers)
                 except (ValueError, RecursionError):
                     arrays = None
                 if arrays is not None and len(arrays[0]) != len(batch):
                     arrays = None  # a message held more than one value (``1],[2``)
-        parts.append(arrays if arrays is not None else _one_by_one(where, first + 1, batch, joints))
+        parts.append(arrays if arrays is not None else _one_by_one(where, first + 1, batch, joints, fingers))
     if not parts:
-        return np.empty(0), np.empty((0, state_width(joints))), np.empty((0, 2), dtype=np.int64)
+        return np.empty(0), np.empty((0, state_width(joints, fingers))), np.empty((0, 2), dtype=np.int64)
     t_parts, row_parts, label_parts = zip(*parts, strict=True)
     return np.concatenate(t_parts), np.concatenate(row_parts), np.concatenate(label_parts)

@@ -100,6 +100,8 @@ class RunLog(StateBatches):
             (:mod:`cosmos.runlog.ros2`); None: not written.
         joints: The arm's number of joints: entries of q, qd and tau in ``/cosmos/state``,
             recorded in the metadata (``joints``).
+        fingers: ``/cosmos/state`` has the gripper's fields (``fingers``, ``finger_force``),
+            recorded in the metadata (``fingers``: 2).
 
     Raises:
         UsageError: If the file cannot be created, naming it and the reason.
@@ -124,6 +126,7 @@ class RunLog(StateBatches):
         make_parents: bool = True,
         ros2_joints: Sequence[str] | None = None,
         joints: int = DEFAULT_JOINTS,
+        fingers: bool = False,
     ):
         self.path = Path(path)
         self.program = program
@@ -151,7 +154,7 @@ class RunLog(StateBatches):
         self._flush_due = flush_every_s
 
         channel = self._json_channel
-        self._state = channel(STATE_TOPIC, STATE_SCHEMA_NAME, state_schema(joints))
+        self._state = channel(STATE_TOPIC, STATE_SCHEMA_NAME, state_schema(joints, fingers))
         self._segment = channel(SEGMENT_TOPIC, SEGMENT_SCHEMA_NAME, SEGMENT_SCHEMA)
         self._event = channel(EVENT_TOPIC, EVENT_SCHEMA_NAME, EVENT_SCHEMA)
         # Foxglove's well-known messages: the SDK's typed channels encode protobuf (official schemas).
@@ -160,7 +163,7 @@ class RunLog(StateBatches):
         self._scene = SceneUpdateChannel(foxglove.SCENE_TOPIC, context=context)
         self._log = LogChannel(foxglove.LOG_TOPIC, context=context)
         self._typed_channels = (self._tf, self._scene, self._log)
-        self._open_batches(self._state, self._tf, frames, joints)
+        self._open_batches(self._state, self._tf, frames, joints, fingers)
         if ros2_joints is not None:
             self._ros2 = Ros2Channels(context, ros2_joints)
         self._shown: dict[str, Any] = {}  # the scene's entities by id (a live view repeats them)
@@ -174,7 +177,7 @@ class RunLog(StateBatches):
             state_hz=state_hz,
             model=model,
             seed=seed,
-            metadata={"joints": str(joints), **(metadata or {})},
+            metadata={"joints": str(joints), **({"fingers": "2"} if fingers else {}), **(metadata or {})},
         )
         self._writer.write_metadata(METADATA_NAME, record)
         if source is not None:
