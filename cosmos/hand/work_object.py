@@ -85,3 +85,36 @@ SHIPPED_PEG = WorkObject(
 )
 """The peg of ``TOOL GRIPPER``'s workcell, standing chamfered end down in its holder next to the
 hole; its frame (the centre of that end, z down) goes where a program MOVEs or INSERTs it."""
+
+TABLE_TOP_Z_M = 0.20
+"""The table top (``cosmos/models/*/scene.xml``, ``table_top``) [m]."""
+
+
+def _block(
+    name: str, size_m: tuple[float, float, float], mass_kg: float, xy_m: tuple[float, float]
+) -> WorkObject:
+    half = (size_m[0] / 2, size_m[1] / 2, size_m[2] / 2)
+    return WorkObject(
+        name=name,
+        shape=ObjectShape.BOX,
+        half_extents_m=half,
+        mass_kg=mass_kg,
+        position_m=(xy_m[0], xy_m[1], TABLE_TOP_Z_M + half[2]),
+        quat_wxyz=(0.0, 1.0, 0.0, 0.0),  # z down, as an OBJECT declared AT table: its base is its frame
+        base_in_body_m=(0.0, 0.0, half[2]),
+    )
+
+
+SHIPPED_BLOCKS = (
+    _block("block_a", (0.040, 0.030, 0.050), 0.5, (0.44, 0.02)),
+    _block("block_b", (0.030, 0.030, 0.030), 0.2, (0.44, 0.10)),
+    _block("block_c", (0.060, 0.040, 0.040), 1.0, (0.44, 0.18)),
+)
+"""The blocks of ``TOOL GRIPPER``'s workcell, standing on the table in a row along y at
+x 440 mm, 160 mm and more from the hole, the peg's holder and the table point (off the
+shipped programs' paths): ``block_a`` 40 x 30 x 50 mm 0.5 kg (pick_and_place.cos's block),
+``block_b`` a 30 mm cube of 0.2 kg, ``block_c`` 60 x 40 x 40 mm 1 kg; the first size is along
+x, the last the height. Each frame is the centre of its base, z down (the table's axes)."""
+
+SHIPPED_OBJECTS = (SHIPPED_PEG, *SHIPPED_BLOCKS)
+"""The objects ``TOOL GRIPPER``'s workcell comes with: the peg in its holder, the blocks."""

@@ -99,9 +99,7 @@ class RunLog(StateBatches):
         ros2_joints: The arm's joint names, to also write the ROS 2 channels
             (:mod:`cosmos.runlog.ros2`); None: not written.
         joints: The arm's number of joints: entries of q, qd and tau in ``/cosmos/state``,
-            recorded in the metadata (``joints``).
-        fingers: ``/cosmos/state`` has the gripper's fields (``fingers``, ``finger_force``),
-            recorded in the metadata (``fingers``: 2).
+            recorded in the metadata (``joints``); ``fingers``: the gripper's fields too (metadata).
 
     Raises:
         UsageError: If the file cannot be created, naming it and the reason.

@@ -29,7 +29,7 @@ def test_playback_puts_the_block_and_fingers_where_the_run_had_them(tmp_path: Pa
     gripper = gripper_workcell(record)
     assert gripper is not None
     edit, objects = gripper
-    assert [o.name for o in objects] == ["peg", "block"]
+    assert [o.name for o in objects] == ["peg", "block_a", "block_b", "block_c", "block"]
     plant = Plant(PUMA560.scene_xml, edit_spec=edit)
     assert plant.fingers is not None
     timeline = BodyTimeline(record, objects)

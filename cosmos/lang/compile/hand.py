@@ -17,7 +17,14 @@ import numpy as np
 from cosmos import plan
 from cosmos.errors import ProgramError, Span
 from cosmos.hand.tool import DEFAULT_GRIP_FORCE_N, GRIPPER, Tool, gripper_of, tool_named
-from cosmos.hand.work_object import DEFAULT_OBJECT_FRICTION, SHIPPED_PEG, ObjectShape, WorkObject
+from cosmos.hand.work_object import (
+    DEFAULT_OBJECT_FRICTION,
+    SHIPPED_BLOCKS,
+    SHIPPED_OBJECTS,
+    SHIPPED_PEG,
+    ObjectShape,
+    WorkObject,
+)
 from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.state import CompileState
@@ -37,6 +44,11 @@ SMALLEST_SIZE_M = 0.005
 LARGEST_SIZE_M = 0.30
 """Its largest edge [m]."""
 _EPS_M = 1e-3
+_SHIPPED = SHIPPED_OBJECTS
+_SHIPPED_TEXT = {
+    SHIPPED_PEG.name: " (the gripper's workcell has it: the peg in its holder)",
+    **{b.name: " (the gripper's workcell has it: one of its blocks)" for b in SHIPPED_BLOCKS},
+}
 
 
 def compile_tool(run: CompileContext, statement: ast.ChooseTool, state: CompileState) -> CompileState:
@@ -48,10 +60,12 @@ def compile_tool(run: CompileContext, statement: ast.ChooseTool, state: CompileS
             f"TOOL {statement.name.name}: no such tool; the workcell has {names}", statement.name.span
         )
     _before_motion(state, statement.span, "TOOL")
-    if tool is Tool.GRIPPER and state.tool != Tool.GRIPPER.value:
-        # The gripper's workcell: the peg in its holder beside the hole comes with it.
-        return replace(state, tool=tool.value, objects=(SHIPPED_PEG, *state.objects))
-    return replace(state, tool=tool.value, objects=tuple(o for o in state.objects if o is not SHIPPED_PEG))
+    if tool is Tool.GRIPPER:
+        if state.tool == Tool.GRIPPER.value:  # chosen already (twice, or a REPL's --tool gripper)
+            return state
+        # The gripper's workcell: the peg in its holder beside the hole, and the blocks, come with it.
+        return replace(state, tool=tool.value, objects=(*_SHIPPED, *state.objects))
+    return replace(state, tool=tool.value, objects=tuple(o for o in state.objects if o not in _SHIPPED))
 
 
 def compile_object(run: CompileContext, statement: ast.DeclareObject, state: CompileState) -> CompileState:
@@ -59,9 +73,7 @@ def compile_object(run: CompileContext, statement: ast.DeclareObject, state: Com
     _before_motion(state, statement.span, "OBJECT")
     name = statement.name
     if any(item.name.casefold() == name.key for item in state.objects):
-        shipped = (
-            " (the gripper's workcell has it: the peg in its holder)" if name.key == SHIPPED_PEG.name else ""
-        )
+        shipped = _SHIPPED_TEXT.get(name.key, "")
         raise ProgramError(f"an object named '{name.name}' is already in the workcell{shipped}", name.span)
     shape = ObjectShape(statement.shape.lower())  # the grammar allows BOX and CYLINDER
     clauses = {c.kind: c for c in statement.clauses if isinstance(c, ast.ValueClause)}

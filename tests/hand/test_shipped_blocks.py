@@ -1,0 +1,62 @@
+"""The blocks of TOOL GRIPPER's workcell: where the docs put them, at rest, and graspable."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cosmos.errors import ProgramError
+from cosmos.lang import compile_program
+from cosmos.workcell import fixture_frames
+from tests.hand.gripper_support import tf_last_pose
+from tests.run.run_support import run_in_process, write_program
+
+TABLE_TOP_Z_M = 0.20
+BLOCKS = {  # docs/language.md, "The gripper's workcell": base centre x, y [m], height [m]
+    "block_a": (0.44, 0.02, 0.050),
+    "block_b": (0.44, 0.10, 0.030),
+    "block_c": (0.44, 0.18, 0.040),
+}
+PICK_B = """TOOL GRIPPER
+SPEED 0.2 m/s
+MOVE TO table + (-160 mm, 250 mm, 100 mm)
+MOVE TO table + (-160 mm, 250 mm, 12.5 mm) SPEED 50 mm/s
+GRASP block_b FORCE 30 N WIDTH 30 mm
+MOVE BY (0, 0, 50 mm) SPEED 0.1 m/s
+"""
+
+
+def test_the_gripper_workcell_has_the_blocks() -> None:
+    """Catches: blocks missing from TOOL GRIPPER's workcell, or left in a TOOL PEG one."""
+    names = [o.name for o in compile_program("TOOL GRIPPER\n", "t.cos", fixture_frames()).objects]
+    assert names == ["peg", *BLOCKS]
+    assert compile_program("MOVE BY (0, 0, 10 mm)\n", "t.cos", fixture_frames()).objects == ()
+    with pytest.raises(ProgramError, match="one of its blocks"):
+        compile_program(
+            "TOOL GRIPPER\nOBJECT block_a BOX SIZE (40 mm, 30 mm, 50 mm) MASS 0.5 kg AT table\n",
+            "t.cos",
+            fixture_frames(),
+        )
+
+
+@pytest.mark.parametrize("ideal", [False, True], ids=["realistic", "ideal"])
+def test_block_b_is_picked_and_the_others_stay(tmp_path: Path, ideal: bool) -> None:
+    """GRASP block_b where the docs put it lifts it 50 mm; block_a and block_c stay where the docs
+    say, upright on the table (MuJoCo's body poses on /tf).
+
+    Catches: a block placed elsewhere than documented (the GRASP closes on nothing), a block
+    that starts in the table or above it (it sinks or falls and moves), blocks on the arm's way.
+    """
+    log = tmp_path / "b.mcap"
+    run = run_in_process(write_program(tmp_path, "b", PICK_B), log, ideal=ideal)
+    assert run.returncode == 0, run.describe()
+    for name, (x, y, height) in BLOCKS.items():
+        position, quat = tf_last_pose(log, name)
+        lift = 0.050 if name == "block_b" else 0.0
+        expected = np.array([x, y, TABLE_TOP_Z_M + height / 2 + lift])
+        tolerance = 0.003 if name == "block_b" else 0.001
+        assert np.linalg.norm(position - expected) < tolerance, (name, position - expected)
+        if name != "block_b":
+            assert abs(abs(float(quat[1])) - 1.0) < 1e-3, (name, quat)  # z down, as placed: upright
