@@ -147,11 +147,18 @@ def check(program: Path, as_json: bool, full: bool, robot: str | None) -> None:
     default=None,
     help="The arm to drive (default: puma560).",
 )
-def repl(log_path: Path | None, force: bool, robot: str | None) -> None:
+@click.option(
+    "--tool",
+    type=click.Choice(["peg", "gripper"], case_sensitive=False),
+    default="peg",
+    show_default=True,
+    help="The hand on the flange for the whole session (a session's TOOL cannot change it).",
+)
+def repl(log_path: Path | None, force: bool, robot: str | None, tool: str) -> None:
     """Interactive session on a live simulated arm."""
     from cosmos.commands.repl import run_repl
 
-    _finish(run_repl(log_path, force, robot))
+    _finish(run_repl(log_path, force, robot, tool))
 
 
 @cli.command()

@@ -6,6 +6,7 @@ import sys
 from datetime import UTC, datetime
 from pathlib import Path
 
+from cosmos.hand.tool import Tool
 from cosmos.repl.app import ReplApp
 from cosmos.robots import DEFAULT_ROBOT, robot_named
 from cosmos.runlog.output import check_output, unused_log_path
@@ -14,7 +15,7 @@ DEFAULT_PROGRAM = Path("repl.cos")
 """Names the default log: ``logs/repl-<UTC time>.mcap``."""
 
 
-def run_repl(log_path: Path | None, force: bool = False, robot: str | None = None) -> int:
+def run_repl(log_path: Path | None, force: bool = False, robot: str | None = None, tool: str = "peg") -> int:
     """Run a REPL session on the terminal (or on lines piped to stdin); return the exit status.
 
     The log follows ``cosmos run``'s rules (:mod:`cosmos.runlog.output`): an existing
@@ -26,4 +27,5 @@ def run_repl(log_path: Path | None, force: bool = False, robot: str | None = Non
     make_parents = log_path is None
     log_path = log_path or unused_log_path(DEFAULT_PROGRAM, datetime.now(UTC))
     check_output(log_path, what="the log", force=force, make_parents=make_parents)
-    return ReplApp(log_path, sys.stdout, robot=robot_named(robot or DEFAULT_ROBOT.name)).run()
+    arm = robot_named(robot or DEFAULT_ROBOT.name)
+    return ReplApp(log_path, sys.stdout, robot=arm, tool=Tool(tool.lower())).run()

@@ -22,6 +22,8 @@ from prompt_toolkit.output import Output
 from cosmos import __version__
 from cosmos.errors import UsageError
 from cosmos.execution.session import Session
+from cosmos.hand.tool import Tool
+from cosmos.hand.work_object import SHIPPED_OBJECTS
 from cosmos.repl.engine import ReplEngine
 from cosmos.repl.loop import run_loop
 from cosmos.repl.output import Printer, Tone
@@ -44,6 +46,9 @@ class ReplApp:
         output: Screen output for the prompt (None: the terminal).
         history: Input history; None: the file of :func:`history_path`.
         stdin: Read when there is no terminal (None: ``sys.stdin``).
+        robot: The arm.
+        tool: The hand, for the whole session (``--tool``): the gripper's workcell has its
+            peg and blocks.
 
     Raises:
         UsageError: The log file cannot be created.
@@ -58,6 +63,7 @@ class ReplApp:
         history: History | None = None,
         stdin: TextIO | None = None,
         robot: Robot = DEFAULT_ROBOT,
+        tool: Tool = Tool.PEG,
     ):
         interactive = input is not None or _is_terminal(stdin or sys.stdin)
         self.printer = Printer(stream, color=interactive and _is_terminal(stream))
@@ -66,7 +72,8 @@ class ReplApp:
                 "starting the arm (a first run compiles the controller: up to a minute)", Tone.NOTE
             )
         try:
-            session = Session(REPL_FILE, None, log_path, Rates(), robot=robot)
+            objects = SHIPPED_OBJECTS if tool is Tool.GRIPPER else ()
+            session = Session(REPL_FILE, None, log_path, Rates(), robot=robot, tool=tool, objects=objects)
         except OSError as error:
             raise UsageError(f"cannot write the log {log_path}: {error.strerror or error}") from None
         self.engine = ReplEngine(session, self.printer, show_progress=input is None and interactive)

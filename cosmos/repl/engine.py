@@ -21,8 +21,10 @@ from cosmos.errors import CosmosError, ProgramError, Span, UsageError
 from cosmos.execution.executor import Executor, Interrupted
 from cosmos.execution.monitor import statement_head
 from cosmos.execution.session import Session
+from cosmos.hand.tool import Tool
+from cosmos.hand.work_object import SHIPPED_OBJECTS
 from cosmos.lang import Compiler, StatementResult, ast, parse_program, read_program
-from cosmos.lang.compile.state import frozen_map
+from cosmos.lang.compile.state import CompileState, frozen_map
 from cosmos.plan import Diagnostic, Plan, RemoveObstacle, Segment, Step
 from cosmos.repl.names import changed_names, describe_value
 from cosmos.repl.output import Printer, Tone
@@ -58,6 +60,8 @@ class ReplEngine:
         # The session's arm is chosen: a ROBOT input must name it.
         self.compiler = Compiler(fixture_frames(session.robot), robot=session.robot.name)
         self.state = self.compiler.initial_state()
+        if session.tool is Tool.GRIPPER:  # its workcell as TOOL GRIPPER makes it in a program
+            self.state = dataclasses.replace(self.state, tool=session.tool.value, objects=SHIPPED_OBJECTS)
         self.transcript = Transcript()
 
     @property
@@ -132,6 +136,7 @@ class ReplEngine:
         try:
             for statement in program.statements:
                 result = self.compiler.compile_statement(statement, state, source)
+                self._fixed_workcell(state, result.state, statement.span)
                 results.append(result)
                 state = result.state
         except ProgramError:
@@ -140,6 +145,25 @@ class ReplEngine:
         for result in results if warn else ():
             self._warn(result.warnings, source)
         return results
+
+    def _fixed_workcell(self, before: CompileState, after: CompileState, span: Span) -> None:
+        """The session's plant was built when it started: TOOL and OBJECT cannot change it.
+
+        Raises:
+            ProgramError: At a TOOL that names another hand, or an OBJECT.
+        """
+        if after.tool != before.tool:
+            raise ProgramError(
+                f"TOOL must be chosen when the session starts: cosmos repl --tool {after.tool} "
+                f"(this session's hand is the {before.tool})",
+                span,
+            )
+        if after.objects != before.objects:
+            raise ProgramError(
+                "OBJECT declares the workcell a run starts with, and this session's was built when it "
+                "started; declare it in a program and cosmos run it",
+                span,
+            )
 
     def _warn(self, warnings: tuple[Diagnostic, ...], source: str) -> None:
         for warning in warnings:
