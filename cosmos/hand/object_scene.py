@@ -33,7 +33,15 @@ _GEOM = {ObjectShape.BOX: mujoco.mjtGeom.mjGEOM_BOX, ObjectShape.CYLINDER: mujoc
 
 
 def add_objects(spec: mujoco.MjSpec, objects: Sequence[WorkObject]) -> None:
-    """Append each object to the scene's world body as a free body (module docstring)."""
+    """Append each object to the scene's world body as a free body (module docstring).
+
+    With objects the workcell has more than one kinematic tree, so MuJoCo's islands (off in
+    the scenes: one tree is one island) and sleep are turned on: an object at rest on the
+    table sleeps (no contacts, no solver rows) until something awake touches it.
+    """
+    if objects:
+        spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_ISLAND)
+        spec.option.enableflags |= int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     for item in objects:
         body = spec.worldbody.add_body(name=item.name, pos=item.position_m, quat=item.quat_wxyz)
         body.add_freejoint(name=f"{item.name}_free")
