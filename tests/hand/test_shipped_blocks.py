@@ -60,3 +60,27 @@ def test_block_b_is_picked_and_the_others_stay(tmp_path: Path, ideal: bool) -> N
         assert np.linalg.norm(position - expected) < tolerance, (name, position - expected)
         if name != "block_b":
             assert abs(abs(float(quat[1])) - 1.0) < 1e-3, (name, quat)  # z down, as placed: upright
+
+
+def test_blocks_at_rest_sleep(tmp_path: Path) -> None:
+    """After the arm has held 0.5 s, MuJoCo has put every resting block to sleep: its tree
+    asleep and none of its contacts in the step (MuJoCo's own data).
+
+    Catches: islands or sleep off in a workcell with objects (the blocks' twelve contacts with
+    the table then cost every tick about as much as the rest of the physics step).
+    """
+    import mujoco
+
+    from cosmos.hand.work_object import SHIPPED_OBJECTS
+    from tests.hand.gripper_support import gripper_session
+
+    with gripper_session(tmp_path, ideal=False, objects=SHIPPED_OBJECTS) as session:
+        session.executor.hold(0.5)
+        model, data = session.plant.model, session.plant.data
+        for name in BLOCKS:
+            body = model.body(name).id
+            assert data.tree_asleep[model.body_treeid[body]] >= 0, name
+            geom = model.geom(f"{name}_geom").id
+            touching = [c for c in data.contact[: data.ncon] if geom in (c.geom1, c.geom2)]
+            assert touching == [], name
+        assert model.opt.enableflags & int(mujoco.mjtEnableBit.mjENBL_SLEEP)
