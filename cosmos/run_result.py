@@ -199,8 +199,12 @@ def run_from_record(record: RunRecord) -> Run:
 def _same_state(a: RunRecord, b: RunRecord) -> bool:
     import numpy as np
 
-    names = [f.name for f in fields(a.state)]
-    return all(np.array_equal(getattr(a.state, n), getattr(b.state, n), equal_nan=True) for n in names)
+    def same(x: np.ndarray | None, y: np.ndarray | None) -> bool:
+        if x is None or y is None:  # the fingers' fields: None without the gripper
+            return x is y
+        return bool(np.array_equal(x, y, equal_nan=True))
+
+    return all(same(getattr(a.state, f.name), getattr(b.state, f.name)) for f in fields(a.state))
 
 
 def _outcome(record: RunRecord) -> Failure | None:
