@@ -119,10 +119,10 @@ class ServoLevel:
         scalars[kernel.K_VF] = gains.force.k_vf
         scalars[kernel.FORCE_SPEED_KV] = gains.force_speed_kv
         scalars[kernel.FORCE_SPEED_KI] = gains.force_speed_ki
-        scalars[kernel.MOTION_KI] = gains.motion_ki
-        scalars[kernel.MOTION_INTEGRAL_LIMIT] = gains.motion_integral_limit_ms
+        scalars[kernel.MOTION_KI : kernel.MOTION_KI + 2] = gains.motion_ki, gains.motion_integral_limit_ms
         scalars[kernel.TILT_WINDOW : kernel.TILT_WINDOW + 2] = gains.insert_tilt_window
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
+        scalars[kernel.GOAL_INTEGRAL : kernel.GOAL_INTEGRAL + 5] = gains.goal_integral
         scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass
         scalars[kernel.HELD_PUSH + 6] = gains.touch_damping * min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
         scalars[kernel.FORCE_SPEED_INTEGRAL_LIMIT] = gains.force_speed_integral_limit_m

@@ -43,6 +43,12 @@ class ServoGains:
             ``kp kv`` (16,000 at the defaults), the third-order loop's stability bound.
         motion_integral_limit_ms: Anti-windup bound on that integral, per axis, in [m s]
             (``motion_ki`` times it, 8 m/s^2, is the most it adds to F*).
+        goal_integral: A free goal motion's integral action on its translation error
+            (:func:`cosmos.osc.motion.integrate_goal_error`): ``(k_i [1/s^3], limit [m s],
+            band [m], slow [m/s], quiet [N])``; it grows only within ``band`` of the goal, slower
+            than ``slow`` and pushing less than ``quiet``. ``k_i = 1000`` keeps the third-order
+            loop ``s^3 + kv s^2 + kp s + k_i`` overdamped (roots -26, -10, -3.8 /s at the
+            defaults); ``k_i`` times the limit is the most it adds to F*, in [m/s^2].
         held_push: A push held against a surface (no speed cap: CONTACT, SLIDE, WAIT in
             contact; once the touch is felt: in free space it would crawl at 1 mm/s), along
             itself (:func:`cosmos.osc.held_push.held_push`): ``(k_fh, k_ih, k_vh, limit)``,
@@ -88,6 +94,7 @@ class ServoGains:
     motion_ki: float = 2000.0
     motion_integral_limit_ms: float = 0.004
     held_push: tuple[float, float, float, float] = (0.4, 288.0, 50.0, 0.2)
+    goal_integral: tuple[float, float, float, float, float] = (1000.0, 0.003, 0.003, 0.005, 2.0)
     touch_n: float = 8.0
     touch_damping: float = 200.0
     insert_tilt_window: tuple[float, float] = (0.1745, 20.0)

@@ -19,7 +19,13 @@ from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.held_push import held_push, touch_damping
 from cosmos.osc.limits import saturate_torque
-from cosmos.osc.motion import goal_command, integrate_motion_error, ramped_speed_limit, tracking_command
+from cosmos.osc.motion import (
+    goal_command,
+    integrate_goal_error,
+    integrate_motion_error,
+    ramped_speed_limit,
+    tracking_command,
+)
 from cosmos.osc.orientation import so3_exp
 from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import (
@@ -286,6 +292,8 @@ TICK_CASES = {
     "with a held push, a slide": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY, held=True),
     "trajectory, motion only": TickCase(False, 3.0, False, 0.5, mode=sk.MODE_TRAJECTORY, force=False),
     "trajectory in contact (a slide)": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY),
+    "a free goal motion near its goal": TickCase(False, 0.3, True, 2.0, force=False, tangent_n=0.3),
+    "a free goal motion pushing something": TickCase(False, 0.3, True, 2.0, force=False),
     "hold, motion only": TickCase(True, 3.0, False, 0.5, saturate=True, mode=sk.MODE_HOLD, force=False),
     "admittance, first contact": TickCase(False, 3.0, False, 0.6, admittance=True),
     "admittance, speed bounded": TickCase(True, 2.0, True, 1.2, admittance=True, admittance_max_speed=0.05),
@@ -304,6 +312,9 @@ HELD_PUSH_GAINS = (0.4, 288.0, 50.0, 0.2)
 TILT_WINDOW = (0.005, 20.0)
 """An INSERT's tilt window [rad] and its stop's rate [1/s]: narrow, so that the cases' rotation
 errors (about 0.01 rad) reach beyond it."""
+GOAL_INTEGRAL = (1000.0, 0.004, 0.05, 1.0, 2.0)
+"""A free goal motion's (k_i, limit, band, slow, quiet): a band and a speed wide enough for the
+cases' centimetre errors; 2 N quiet, above the near-goal case's push and below the other's."""
 XI_Q = 20.0
 LOOKAHEAD_S = 0.02
 DT_S = 1e-3
@@ -409,6 +420,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.FORCE_SPEED_INTEGRAL_LIMIT] = 0.002
     scalars[sk.MOTION_KI] = 2000.0
     scalars[sk.MOTION_INTEGRAL_LIMIT] = 0.004
+    scalars[sk.GOAL_INTEGRAL : sk.GOAL_INTEGRAL + 5] = GOAL_INTEGRAL
     scalars[sk.START_S] = start_s
     scalars[sk.RAMP_S] = ramp_s
     scalars[sk.K_F] = FORCE_GAINS.k_f
@@ -592,11 +604,18 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         speed = speed + speed_a
     extra = {sk.MOMENT_FILTERED: moment} if sc[sk.ADMITTANCE] else {}
     if not sc[sk.HAS_FORCE]:  # every axis motion-controlled: no force loop, latch and integral kept
+        motion_integral = st[sk.MOTION_INTEGRAL].copy()
+        if sc[sk.MODE] == sk.MODE_GOAL and sc[sk.UNIFORM] and not sc[sk.ADMITTANCE]:  # near its goal
+            gate = sc[sk.GOAL_INTEGRAL + 1 : sk.GOAL_INTEGRAL + 5]
+            motion_integral[:3] = integrate_goal_error(
+                motion_integral[:3], error, velocity, wrench, DT_S, (gate[0], gate[1], gate[2], gate[3])
+            )
+            motion = motion - np.concatenate((sc[sk.GOAL_INTEGRAL] * motion_integral[:3], np.zeros(3)))
         torque = unified_torque(dyn, sel, motion, np.zeros(6)) + inputs.held
         torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
         return _finish_tick(
             inputs, wrench, state_error, velocity, displacement, motion, torque,
-            speed=speed, admitting=admitting, extra=extra,
+            motion_integral=motion_integral, speed=speed, admitting=admitting, extra=extra,
         )  # fmt: skip
 
     # Figure 2's force loop: integral latched on the first push.
@@ -861,3 +880,28 @@ def test_admittance_cases_exercise_what_they_claim(name: str) -> None:
     plain = _reference_tick(inputs).rows[sk.TORQUE]
     changed = np.max(np.abs(plain - reference.rows[sk.TORQUE])) > 1e-6
     assert changed == reference.admitting
+
+
+@pytest.mark.parametrize("name", ["a free goal motion near its goal", "a free goal motion pushing something"])
+def test_goal_integral_cases_exercise_what_they_claim(name: str) -> None:
+    """Guards the free goal motion's cases: near its goal in free space the translation integral
+    grows (by the error times dt) and changes the torque; pushing more than the gate's quiet force it
+    is held. Catches a kernel whose goal integral never runs (the comparison above would then pass
+    on an integral both sides leave alone) or that winds up against something in the way."""
+    case = TICK_CASES[name]
+    inputs = _tick_inputs(case, seed=sorted(TICK_CASES).index(name) + 100)
+    reference = _reference_tick(inputs)
+    before = inputs.state[sk.MOTION_INTEGRAL, :3]
+    grown = reference.rows[sk.MOTION_INTEGRAL][:3] - before
+    quiet = case.tangent_n < GOAL_INTEGRAL[4]
+    if quiet:
+        error = (
+            inputs.vectors[sk.REFERENCE_ERROR, :3]
+            + (inputs.jacobian @ (inputs.q - inputs.vectors[sk.EVALUATION_Q]))[:3]
+        )
+        assert_close(grown, error * DT_S)
+    else:
+        assert np.array_equal(grown, np.zeros(3))
+    inputs.scalars[sk.GOAL_INTEGRAL] = 0.0
+    plain = _reference_tick(inputs).rows[sk.TORQUE]
+    assert np.max(np.abs(plain - reference.rows[sk.TORQUE])) > 1e-6  # the held integral acts too

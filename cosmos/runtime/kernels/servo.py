@@ -62,7 +62,8 @@ K_VF, FORCE_SPEED_KV, PUSH_SPEED, FORCE_SPEED_KI, FORCE_SPEED_INTEGRAL_LIMIT = r
 MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(26, 30)
 TILT_WINDOW = 36  # an INSERT's compliant rotations: the window [rad] and the stop's rate [1/s]
 GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(38, 42)
-SCALARS = 42  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
+GOAL_INTEGRAL = 42  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
+SCALARS = 47  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -89,7 +90,7 @@ MATRICES = 6
 
 # Rows of the servo's state and outputs (``state``, (STATE_ROWS, w)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
-MOTION_INTEGRAL = 9  # integral of the motion axes' position error in contact (translation), [m s]
+MOTION_INTEGRAL = 9  # integral of the translation error: a slide's in contact, a goal's near it [m s]
 STATE_ROWS = 10
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
@@ -212,6 +213,19 @@ def servo_tick(
         motion = rotate_blocks(r, motion_task, False)
     if scalars[HAS_FORCE] == 0.0:  # a motion into something (cosmos.osc.held_push.touch_damping)
         touch_damping_into(motion, wrench, velocity, scalars[HELD_PUSH + 4 : HELD_PUSH + 7])
+    if mode == MODE_GOAL and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0:
+        # A free goal motion near its goal: eq. 20-21 plus integral action on the translation
+        # error (cosmos.osc.motion.integrate_goal_error): a steady model error would hold the
+        # tool Lambda^-1 f / kp, a millimetre, short of its goal.
+        goal_integral, gate = state[MOTION_INTEGRAL, :3], scalars[GOAL_INTEGRAL + 1 : GOAL_INTEGRAL + 5]
+        e2 = error[0] ** 2 + error[1] ** 2 + error[2] ** 2
+        v2 = velocity[0] ** 2 + velocity[1] ** 2 + velocity[2] ** 2
+        f2 = wrench[0] ** 2 + wrench[1] ** 2 + wrench[2] ** 2
+        if e2 < gate[1] ** 2 and v2 < gate[2] ** 2 and f2 < gate[3] ** 2:
+            for i in range(3):
+                goal_integral[i] = min(max(goal_integral[i] + error[i] * scalars[DT_S], -gate[0]), gate[0])
+        for i in range(3):
+            motion[i] -= scalars[GOAL_INTEGRAL] * goal_integral[i]
     feedback = work[FEEDBACK]
     feedback[:] = 0.0
     # Operational speed commanded outright, world: a tracked trajectory's xd_d on the motion
@@ -267,13 +281,23 @@ def servo_tick(
             # A SLIDE whose reference has stopped: eq. 19 plus integral action on the motion axes'
             # translation error (cosmos.osc.motion.integrate_motion_error): static friction would
             # hold the tool f / (Lambda kp), millimetres, short of its goal.
+            # Its part pushing the tool on past its goal is dropped first.
             motion_integral, bound = state[MOTION_INTEGRAL, :6], scalars[MOTION_INTEGRAL_LIMIT]
             ki, dt = scalars[MOTION_KI], scalars[DT_S]
+            along = np.empty(3)
             for i in range(3):
-                along = error[i]
+                along[i] = error[i]
                 for k in range(3):
-                    along -= omega_bar[i, k] * error[k]
-                motion_integral[i] = min(max(motion_integral[i] + along * dt, -bound), bound)
+                    along[i] -= omega_bar[i, k] * error[k]
+            past = (
+                along[0] * motion_integral[0] + along[1] * motion_integral[1] + along[2] * motion_integral[2]
+            )
+            if past < 0.0:
+                past /= along[0] ** 2 + along[1] ** 2 + along[2] ** 2
+            for i in range(3):
+                if past < 0.0:
+                    motion_integral[i] -= past * along[i]
+                motion_integral[i] = min(max(motion_integral[i] + along[i] * dt, -bound), bound)
                 motion[i] -= ki * motion_integral[i]
                 acceleration[i] -= ki * motion_integral[i]
         integral = state[INTEGRAL, :6]
