@@ -39,12 +39,12 @@ class ServoGains:
             SPEED 30 on the realistic plant (12.5 % over); 0.90 at 30.9 mm/s.
         motion_ki: Integral gain on the motion axes' translation error in contact, once a
             tracked trajectory's reference has stopped
-            (:func:`cosmos.osc.motion.integrate_motion_error`), in [1/s^3]; below
+            (:func:`cosmos.osc.integral_action.integrate_motion_error`), in [1/s^3]; below
             ``kp kv`` (16,000 at the defaults), the third-order loop's stability bound.
         motion_integral_limit_ms: Anti-windup bound on that integral, per axis, in [m s]
             (``motion_ki`` times it, 8 m/s^2, is the most it adds to F*).
         goal_integral: A free goal motion's integral action on its translation error
-            (:func:`cosmos.osc.motion.integrate_goal_error`): ``(k_i [1/s^3], limit [m s],
+            (:func:`cosmos.osc.integral_action.integrate_goal_error`): ``(k_i [1/s^3], limit [m s],
             band [m], slow [m/s], quiet [N])``; it grows only within ``band`` of the goal, slower
             than ``slow`` and pushing less than ``quiet``. ``k_i = 1000`` keeps the third-order
             loop ``s^3 + kv s^2 + kp s + k_i`` overdamped (roots -26, -10, -3.8 /s at the

@@ -60,7 +60,7 @@ def test_ten_seeds_from_lateral_errors_up_to_2_mm(tmp_path: Path) -> None:
     """From 2 mm off the hole's axis in ten directions (seeds 0-9, realistic plant): 10 of 10 inserted 25 mm.
 
     On the realistic plant, each seed drawing its own model error: before the free goal motion's
-    integral action (cosmos.osc.motion.integrate_goal_error) seed 9's first MOVE TO, with the
+    integral action (cosmos.osc.integral_action.integrate_goal_error) seed 9's first MOVE TO, with the
     heavier hand (1.175 kg against the peg's 0.66 kg), stopped 1.1 mm short of its goal and
     failed "no progress" before the peg ever reached the hole. (The ideal plant's ten pass too;
     test_grasp_and_insert_puts_the_peg_25_mm_into_the_hole runs on both.)

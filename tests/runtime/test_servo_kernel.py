@@ -18,14 +18,9 @@ from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operati
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.held_push import held_push, touch_damping
+from cosmos.osc.integral_action import integrate_goal_error, integrate_motion_error
 from cosmos.osc.limits import saturate_torque
-from cosmos.osc.motion import (
-    goal_command,
-    integrate_goal_error,
-    integrate_motion_error,
-    ramped_speed_limit,
-    tracking_command,
-)
+from cosmos.osc.motion import goal_command, ramped_speed_limit, tracking_command
 from cosmos.osc.orientation import so3_exp
 from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import (

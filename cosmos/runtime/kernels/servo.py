@@ -11,7 +11,7 @@ force error with its anti-windup clamp, eq. 17-18 and Figure 2,
 integral action only once :func:`cosmos.osc.contact.touch_latched`), a push held to
 its SPEED (:func:`cosmos.osc.unified.speed_limited_push`) or at a surface
 (:func:`cosmos.osc.held_push.held_push`), a slide's integral action
-(:func:`cosmos.osc.motion.integrate_motion_error`) or, on compliant moment axes in
+(:func:`cosmos.osc.integral_action.integrate_motion_error`) or, on compliant moment axes in
 contact, admittance control (:mod:`cosmos.osc.admittance`; an INSERT's within its tilt
 window, :mod:`cosmos.osc.tilt_window`), eq. 29's single product
 with the folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction
@@ -215,7 +215,7 @@ def servo_tick(
         touch_damping_into(motion, wrench, velocity, scalars[HELD_PUSH + 4 : HELD_PUSH + 7])
     if mode == MODE_GOAL and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0:
         # A free goal motion near its goal: eq. 20-21 plus integral action on the translation
-        # error (cosmos.osc.motion.integrate_goal_error): a steady model error would hold the
+        # error (cosmos.osc.integral_action.integrate_goal_error): a steady model error would hold the
         # tool Lambda^-1 f / kp, a millimetre, short of its goal.
         goal_integral, gate = state[MOTION_INTEGRAL, :3], scalars[GOAL_INTEGRAL + 1 : GOAL_INTEGRAL + 5]
         e2 = error[0] ** 2 + error[1] ** 2 + error[2] ** 2
@@ -279,7 +279,7 @@ def servo_tick(
             flags[TOUCHING] = 1.0
         if flags[TOUCHING] != 0.0 and mode == MODE_TRAJECTORY and t_s >= scalars[TRAJECTORY_END_S]:
             # A SLIDE whose reference has stopped: eq. 19 plus integral action on the motion axes'
-            # translation error (cosmos.osc.motion.integrate_motion_error): static friction would
+            # translation error (cosmos.osc.integral_action.integrate_motion_error): static friction would
             # hold the tool f / (Lambda kp), millimetres, short of its goal.
             # Its part pushing the tool on past its goal is dropped first.
             motion_integral, bound = state[MOTION_INTEGRAL, :6], scalars[MOTION_INTEGRAL_LIMIT]

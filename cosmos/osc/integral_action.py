@@ -1,0 +1,87 @@
+"""Integral action on the translation error of the unit-mass end effector (added to seed eq. 19-21).
+
+Eq. 19 and eq. 20-21 are a spring and a damper about the goal: a steady force the
+controller's model does not hold (friction along a surface, a link heavier than
+modelled) is balanced only by a steady error ``Lambda^-1 f / kp``, and a joint's static
+friction then holds the arm there. These integrals add ``- k_i integral(e_p) dt`` to
+F*_m where that error would otherwise stay: a slide's once its reference has stopped
+(:func:`integrate_motion_error`), a free goal motion's near its goal
+(:func:`integrate_goal_error`). The compiled servo tick
+(:mod:`cosmos.runtime.kernels.servo`) runs the same arithmetic.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cosmos.osc._types import FloatArray
+
+
+def integrate_motion_error(
+    integral: FloatArray, error: FloatArray, omega_bar: FloatArray, dt_s: float, limit: float
+) -> FloatArray:
+    """One step of the integral action on the motion axes' translation error, in contact.
+
+    Eq. 19 (or 20-21) with ``- k_i integral(Omega e_p) dt`` added to F*_m: along a
+    surface the friction (a table's 0.3 x 30 N) is a steady force that the
+    position loop alone balances only with a steady error (``f / (Lambda kp)``,
+    millimetres) and that static friction then holds short of the goal. The
+    integral grows until it beats the friction; each component is clamped to
+    ``+-limit`` (anti-windup), and it restarts with every segment. Once the tool has
+    passed its goal (error and integral pointing apart: the integral pushes it on), the
+    integral's part along the error is dropped first: wound up on the lag a slide's tool
+    still has when its reference stops (the friction's millimetres), the integral carried
+    the tool 1.2 mm past its goal, where friction held it.
+
+    Args:
+        integral: The integral so far, world, in [m s]. # (3,)
+        error: ``x - x_d``, world, in [m] then [rad]. # (6,)
+        omega_bar: Force-controlled projector (its translation block is used). # (6, 6)
+        dt_s: Servo period, in [s].
+        limit: Clamp per component, in [m s].
+
+    Returns:
+        The new integral. # (3,)
+    """
+    along = error[:3] - omega_bar[:3, :3].dot(error[:3])
+    past = float(along.dot(integral))
+    kept = integral - (past / float(along.dot(along))) * along if past < 0.0 else integral
+    return np.clip(kept + along * dt_s, -limit, limit)
+
+
+def integrate_goal_error(
+    integral: FloatArray,
+    error: FloatArray,
+    velocity: FloatArray,
+    force: FloatArray,
+    dt_s: float,
+    gate: tuple[float, float, float, float],
+) -> FloatArray:
+    """One step of the integral action on a free goal motion's translation error, near its goal.
+
+    Eq. 20-21 near the goal are ``-kp e - kv xd``: a steady force the model does not know
+    (a link or a held tool a few per cent heavier than modelled, a joint's friction above
+    its compensation) is balanced only by a steady error ``Lambda^-1 f / kp`` (1 mm for
+    2 m/s^2 of unmodelled acceleration at kp = 400), and static friction holds the arm
+    there. Adding ``- k_i integral(e_p) dt`` to F*_m removes it; the integral grows only
+    where the tool is within ``band`` of its goal, slower than ``slow`` and feels no push
+    over ``quiet`` (in free space: the motion's own approach, which eq. 20-21 bring in
+    without overshoot, and a motion blocked by something are left as they were), is
+    clamped to ``+-limit`` per component (anti-windup) and restarts with every segment.
+
+    Args:
+        integral: The integral so far, world, in [m s]. # (3,)
+        error: ``x - x_d``, world, in [m] then [rad]. # (6,)
+        velocity: Tool twist, world, in [m/s] then [rad/s]. # (6,)
+        force: The wrench the tool applies, world, in [N] then [N m]. # (6,)
+        dt_s: Servo period, in [s].
+        gate: ``(limit [m s], band [m], slow [m/s], quiet [N])``.
+
+    Returns:
+        The new integral. # (3,)
+    """
+    limit, band, slow, quiet = gate
+    near = float(np.linalg.norm(error[:3])) < band and float(np.linalg.norm(velocity[:3])) < slow
+    if not (near and float(np.linalg.norm(force[:3])) < quiet):
+        return np.array(integral, dtype=float)
+    return np.clip(integral + np.asarray(error[:3]) * dt_s, -limit, limit)
