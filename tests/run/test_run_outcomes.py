@@ -158,7 +158,7 @@ def test_an_until_that_fired_shows_the_value_that_fired_it(tmp_path: Path) -> No
     assert kind == "stopped", reason
     assert reason.startswith("UNTIL FORCE > 4 N: ") and "TIMEOUT" not in reason, reason
     fired_n = float(reason.split(": ")[1].split(" N")[0])
-    assert fired_n > 4.0
+    assert fired_n >= 4.0  # the reason prints it to 0.1 N: a firing at 4.04 N reads 4.0
     row = next(r for r in statement_timeline(run.log) if r.line == 2)
     assert row.peak_force > 4.0, row.peak_force  # the sample at the firing is the stopped line's
     assert run.log.state.line[int(np.searchsorted(run.log.state.t, t - 1e-9))] == 2
