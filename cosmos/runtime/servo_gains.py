@@ -56,7 +56,8 @@ class ServoGains:
             [1/s] and the integral's anti-windup bound [N s] (``k_ih`` times it, 58 N, the
             most it adds). Measured on the slide grid (tests/run/slide_grid.py) with the
             flat-ended peg, realistic plant: these gains on the table's 1.5 mm ramp, 52 of 54
-            (ideal plant 54); ``k_vh`` 100/s (on a 1 mm ramp) 49: the 5 N slides at 5 mm/s
+            (53 with the goal and slide integrals as they are now; ideal plant 54); ``k_vh``
+            100/s (on a 1 mm ramp) 49: the 5 N slides at 5 mm/s
             keep 87-94 % within 15 %, the damping passing the velocity observer's
             quantisation noise, and 200/s worse; ``k_ih`` 150/s: 5 N at 50 mm/s along -Y
             falls to 70 % on both plants; ``k_fh = k_ih = 0``: the 5 N slides at 50 mm/s
