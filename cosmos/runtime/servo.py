@@ -118,14 +118,12 @@ class ServoLevel:
         scalars[kernel.LOOKAHEAD_S] = gains.coulomb_lookahead_s
         scalars[kernel.K_VF] = gains.force.k_vf
         scalars[kernel.FORCE_SPEED_KV] = gains.force_speed_kv
-        scalars[kernel.FORCE_SPEED_KI] = gains.force_speed_ki
         scalars[kernel.MOTION_KI : kernel.MOTION_KI + 2] = gains.motion_ki, gains.motion_integral_limit_ms
         scalars[kernel.TILT_WINDOW : kernel.TILT_WINDOW + 2] = gains.insert_tilt_window
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
         scalars[kernel.GOAL_INTEGRAL : kernel.GOAL_INTEGRAL + 5] = gains.goal_integral
         scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass
         scalars[kernel.HELD_PUSH + 6] = gains.touch_damping * min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
-        scalars[kernel.FORCE_SPEED_INTEGRAL_LIMIT] = gains.force_speed_integral_limit_m
         self._scalars = scalars
         # Rows of w = max(6, n): task-space rows use six entries, joint-space rows n (kernels.servo).
         self._vectors = workspace[vectors:matrices].reshape((kernel.VECTORS, w))
@@ -272,7 +270,6 @@ class ServoLevel:
         state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]  # both task rows: w long, six used
         state[kernel.FLAGS, kernel.TOUCHING] = 0.0  # latched by the first push felt on a force axis
         state[kernel.FLAGS, kernel.ADMITTING] = 0.0  # latched by the first contact force
-        state[kernel.FLAGS, kernel.PUSH_SPEED_INTEGRAL] = 0.0
         state[kernel.FLAGS, kernel.REACHED] = 0.0
         state[kernel.FLAGS, kernel.HELD_INTEGRAL] = 0.0
         state[kernel.MOTION_INTEGRAL] = 0.0

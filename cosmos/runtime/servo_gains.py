@@ -29,8 +29,6 @@ class ServoGains:
         moment_filter_s: Time constant of the low-pass on the sensed moment there, [s].
         force_speed_kv: Velocity gain that holds a force-controlled push to the segment's
             speed limit (:func:`cosmos.osc.unified.speed_limited_push`), in [1/s].
-        force_speed_ki: Its integral gain (on the speed error while the cap binds), [1/s^2].
-        force_speed_integral_limit_m: Anti-windup bound on that integral, in [m].
         push_speed_aim: The capped push aims at this fraction of the speed limit: as the
             contact's friction changes (a chamfer, the hole's walls) its speed swings by up to
             a millimetre per second (INSERT at 5-30 mm/s), and the limit is a limit. On the
@@ -89,8 +87,6 @@ class ServoGains:
     admittance_kv: float = 40.0
     moment_filter_s: float = 0.02
     force_speed_kv: float = 300.0
-    force_speed_ki: float = 4000.0
-    force_speed_integral_limit_m: float = 0.0005
     push_speed_aim: float = 0.90
     motion_ki: float = 2000.0
     motion_integral_limit_ms: float = 0.004

@@ -209,8 +209,7 @@ def test_coulomb_compensation_at_the_clip_by_direction() -> None:
 def test_speed_limited_push_is_its_reference(seed: int) -> None:
     """The push's speed cap against cosmos.osc.unified.speed_limited_push, binding on odd seeds.
 
-    Catches the cap applied off the push's direction, the sensed force left out of the allowance,
-    the integral growing while the cap does not bind."""
+    Catches the cap applied off the push's direction, the sensed force left out of the allowance."""
     rng = np.random.default_rng(seed)
     goal = np.concatenate((rng.normal(0.0, 10.0, 3), rng.normal(0.0, 0.5, 3)))
     n = goal[:3] / np.linalg.norm(goal[:3])
@@ -218,35 +217,32 @@ def test_speed_limited_push_is_its_reference(seed: int) -> None:
     force_to_acceleration = np.linalg.inv(m @ m.T + 3.0 * np.eye(6)) @ _omega_bar(rng)
     force_to_acceleration[:3, :3] = np.eye(3) * rng.uniform(0.1, 1.0)  # a push the arm can make
     sensed, velocity = rng.normal(0.0, 5.0, 6), rng.normal(0.0, 0.05, 6)
-    max_speed, kv, k_vf, ki = float(rng.uniform(0.005, 0.05)), 40.0, 30.0, 1000.0
-    integral, dt_s, limit = float(rng.uniform(-0.0019, 0.0019)), 1e-3, 0.002
+    max_speed, kv, k_vf = float(rng.uniform(0.005, 0.05)), 40.0, 30.0
     feedback = rng.normal(0.0, 5.0, 6)
     # Put the asked push 50 N above (odd seeds) or below (even) the reference's allowance.
     inverse_mass = float(n @ force_to_acceleration[:3, :3] @ n)
     along = float(n @ velocity[:3])
-    allowed = float(n @ sensed[:3]) + (kv * (max_speed - along) + k_vf * along + ki * integral) / inverse_mass
+    allowed = float(n @ sensed[:3]) + (kv * (max_speed - along) + k_vf * along) / inverse_mass
     feedback[:3] += (allowed - float(n @ feedback[:3]) + (50.0 if seed % 2 else -50.0)) * n
-    args = (goal, sensed, velocity, force_to_acceleration, max_speed, kv, k_vf, ki, integral, dt_s, limit)
-    expected, limited, expected_integral = speed_limited_push(feedback, *args)
+    args = (goal, sensed, velocity, force_to_acceleration, max_speed, kv, k_vf)
+    expected, limited = speed_limited_push(feedback, *args)
     got = feedback.copy()
-    got_limited, got_along, got_integral = ck.speed_limited_push_into(got, *args)
+    got_limited, got_along = ck.speed_limited_push_into(got, *args)
     assert got_limited == limited == bool(seed % 2)
     _close(got, expected)
-    assert got_integral == pytest.approx(expected_integral, rel=1e-12, abs=1e-15)
     assert got_along == pytest.approx(along, rel=1e-12, abs=1e-15)
-    assert abs(got_integral) <= limit
 
 
 def test_speed_limited_push_without_a_push_leaves_the_feedback() -> None:
-    """No translation in F_d (a pure moment setpoint): nothing to cap, nothing integrated."""
+    """No translation in F_d (a pure moment setpoint): nothing to cap."""
     feedback = np.arange(6.0)
     goal = np.array((0.0, 0.0, 0.0, 0.3, 0.0, 0.0))
-    args = (goal, np.zeros(6), np.zeros(6), np.eye(6), 0.01, 40.0, 30.0, 1000.0, 0.001, 1e-3, 0.002)
+    args = (goal, np.zeros(6), np.zeros(6), np.eye(6), 0.01, 40.0, 30.0)
     got = feedback.copy()
-    assert ck.speed_limited_push_into(got, *args) == (False, 0.0, 0.001)
+    assert ck.speed_limited_push_into(got, *args) == (False, 0.0)
     assert np.array_equal(got, feedback)
-    expected, limited, integral = speed_limited_push(feedback, *args)
-    assert not limited and integral == 0.001 and np.array_equal(expected, feedback)
+    expected, limited = speed_limited_push(feedback, *args)
+    assert not limited and np.array_equal(expected, feedback)
 
 
 @pytest.mark.parametrize("seed", SEEDS)

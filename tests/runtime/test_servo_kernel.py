@@ -411,8 +411,6 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.HELD_PUSH + 4] = 2.0  # the touch's force [N], below the cases' pushes
     scalars[sk.HELD_PUSH + 5] = TOOL_MASS_KG
     scalars[sk.HELD_PUSH + 6] = 200.0  # the touch's damping [1/s]
-    scalars[sk.FORCE_SPEED_KI] = 1000.0
-    scalars[sk.FORCE_SPEED_INTEGRAL_LIMIT] = 0.002
     scalars[sk.MOTION_KI] = 2000.0
     scalars[sk.MOTION_INTEGRAL_LIMIT] = 0.004
     scalars[sk.GOAL_INTEGRAL : sk.GOAL_INTEGRAL + 5] = GOAL_INTEGRAL
@@ -465,7 +463,6 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     state[sk.FLAGS] = 0.0
     state[sk.FLAGS, sk.TOUCHING] = float(case.touching)
     state[sk.FLAGS, sk.REACHED] = float(case.touching)  # in contact: the push has reached its goal
-    state[sk.FLAGS, sk.PUSH_SPEED_INTEGRAL] = 0.001 * float(case.max_speed < 0.01)
     state[sk.FLAGS, sk.HELD_INTEGRAL] = 0.05
     if case.integral_at_limit:
         # Along the force axis, its largest world component 1 mN s short of the clamp, on the
@@ -632,7 +629,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     feedback = force_feedback(setpoint, wrench, integral, FORCE_GAINS)
     limited = False
     if sc[sk.PUSH_SPEED] > 0.0:
-        feedback, limited, _ = speed_limited_push(
+        feedback, limited = speed_limited_push(
             feedback,
             vec[sk.FORCE_WORLD],
             wrench,
@@ -641,10 +638,6 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
             sc[sk.PUSH_SPEED],
             sc[sk.FORCE_SPEED_KV],
             FORCE_GAINS.k_vf,
-            sc[sk.FORCE_SPEED_KI],
-            st[sk.FLAGS, sk.PUSH_SPEED_INTEGRAL],
-            DT_S,
-            sc[sk.FORCE_SPEED_INTEGRAL_LIMIT],
         )
     else:  # a push held against a surface
         gains = tuple(float(g) * touching for g in sc[sk.HELD_PUSH : sk.HELD_PUSH + 4])  # once touching

@@ -164,11 +164,7 @@ def speed_limited_push_into(
     max_speed: float,
     kv: float,
     k_vf: float,
-    ki: float,
-    speed_integral: float,
-    dt_s: float,
-    integral_limit: float,
-) -> tuple[bool, float, float]:
+) -> tuple[bool, float]:
     """:func:`cosmos.osc.unified.speed_limited_push`, the cap applied to ``feedback`` in place.
 
     Args:
@@ -180,32 +176,25 @@ def speed_limited_push_into(
         max_speed: V_max, in [m/s].
         kv: Velocity gain of the speed servo, in [1/s].
         k_vf: The force axes' damping gain, in [1/s].
-        ki: Integral gain of the speed servo, in [1/s^2].
-        speed_integral: Its integral so far, in [m].
-        dt_s: Servo period, in [s].
-        integral_limit: Anti-windup bound on the integral, in [m].
 
     Returns:
-        ``(limited, n^T xd, speed_integral)``: whether the cap bound, the speed along the
-        push and the updated integral (unchanged unless the cap bound).
+        ``(limited, n^T xd)``: whether the cap bound and the speed along the push.
     """
     n0, n1, n2, inverse_mass = push_axis(force_goal, force_to_acceleration)
     if not inverse_mass > 0.0:
-        return False, 0.0, speed_integral
+        return False, 0.0
     along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
     allowed = (n0 * force_sensed[0] + n1 * force_sensed[1] + n2 * force_sensed[2]) + (
         kv * (max_speed - along) + k_vf * along
     ) / inverse_mass
-    allowed += ki * speed_integral / inverse_mass
     asked = n0 * feedback[0] + n1 * feedback[1] + n2 * feedback[2]
     if not asked > allowed:
-        return False, along, speed_integral
-    grown = speed_integral + (max_speed - along) * dt_s
+        return False, along
     cut = allowed - asked
     feedback[0] += cut * n0
     feedback[1] += cut * n1
     feedback[2] += cut * n2
-    return True, along, min(max(grown, -integral_limit), integral_limit)
+    return True, along
 
 
 @kernel

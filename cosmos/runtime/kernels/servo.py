@@ -58,12 +58,12 @@ MODE, UNIFORM, HAS_FORCE, MAX_SPEED, MAX_ANGULAR_SPEED, START_S, RAMP_S = range(
 K_F, K_I, INTEGRAL_LIMIT, CONTACT_THRESHOLD_N, DT_S = range(7, 12)
 INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(12, 15)
 ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, LOOKAHEAD_S = range(15, 21)
-K_VF, FORCE_SPEED_KV, PUSH_SPEED, FORCE_SPEED_KI, FORCE_SPEED_INTEGRAL_LIMIT = range(21, 26)
-MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(26, 30)
-TILT_WINDOW = 36  # an INSERT's compliant rotations: the window [rad] and the stop's rate [1/s]
-GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(38, 42)
-GOAL_INTEGRAL = 42  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
-SCALARS = 47  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
+K_VF, FORCE_SPEED_KV, PUSH_SPEED = range(21, 24)
+MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(24, 28)
+TILT_WINDOW = 34  # an INSERT's compliant rotations: the window [rad] and the stop's rate [1/s]
+GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(36, 40)
+GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
+SCALARS = 45  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -94,8 +94,7 @@ MOTION_INTEGRAL = 9  # integral of the translation error: a slide's in contact, 
 STATE_ROWS = 10
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
-PUSH_SPEED_INTEGRAL = 2  # column of FLAGS: integral of a capped push's speed error this segment, [m]
-REACHED, HELD_INTEGRAL = 3, 4  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
+REACHED, HELD_INTEGRAL = 2, 3  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
 
 # Rows of a tick's work array (servo_tick).
 MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
@@ -325,22 +324,10 @@ def servo_tick(
                 feedback, goal, setpoint, wrench, velocity, f2a, held, flags[HELD_INTEGRAL], gate, dt
             )
         else:
-            limited, along, speed_integral = speed_limited_push_into(
-                feedback,
-                goal,
-                wrench,
-                velocity,
-                f2a,
-                push_speed,
-                scalars[FORCE_SPEED_KV],
-                scalars[K_VF],
-                scalars[FORCE_SPEED_KI],
-                flags[PUSH_SPEED_INTEGRAL],
-                scalars[DT_S],
-                scalars[FORCE_SPEED_INTEGRAL_LIMIT],
+            limited, along = speed_limited_push_into(
+                feedback, goal, wrench, velocity, f2a, push_speed, scalars[FORCE_SPEED_KV], scalars[K_VF]
             )
             if limited:
-                flags[PUSH_SPEED_INTEGRAL] = speed_integral
                 # At its speed limit the push is a velocity command: friction is compensated
                 # toward it, as toward a tracked trajectory's xd_d (the joints would stick;
                 # its own motion along n is not taken out of the intent then).
