@@ -230,3 +230,55 @@ def test_declared_signatures_compile_at_the_first_call_and_once(monkeypatch: pyt
     assert len(declared.signatures) == 1 and declared.signatures[0] == (any_vector,)
     with pytest.raises(TypeError):
         declared(np.arange(4))  # integers do not convert to the declared float64 array
+
+
+def test_a_kernel_declared_beside_is_compiled_by_a_helper_and_loaded_here(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """On a first run the servo tick (a third of the compile time) is compiled by a helper process
+    while this one compiles the kernels needed before it. Catches no helper started, a helper that
+    writes somewhere this process does not look (it would compile the kernel again here), and this
+    process not waiting for the helper (it would compile the kernel itself meanwhile)."""
+    from cosmos.jit import beside
+
+    directory = tmp_path / "cache" / "kernels" / cache.cache_key()
+    directory.mkdir(parents=True)
+    source = tmp_path / "src"
+    source.mkdir()
+    (source / "beside_probe.py").write_text(
+        "from numba.core import types\n\nfrom cosmos.jit import kernel\n\n\n"
+        "@kernel(types.float64(types.float64), beside=True)\n"
+        "def doubled(x):\n    return 2.0 * x\n",
+        encoding="utf-8",
+    )
+    monkeypatch.setattr(cache, "kernel_directory", lambda: directory)
+    monkeypatch.setattr(beside, "_registered", [])
+    monkeypatch.setattr(beside, "_helpers", {})
+    monkeypatch.syspath_prepend(str(source))
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(source), os.environ.get("PYTHONPATH", "")]))
+    monkeypatch.setenv("COSMOS_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.delenv(beside.HELPER_ENV, raising=False)
+    monkeypatch.delitem(sys.modules, "beside_probe", raising=False)
+    import beside_probe  # type: ignore[import-not-found]
+
+    compiled_here: list[str] = []
+
+    class Listener(event.Listener):
+        def on_start(self, ev: event.Event) -> None:
+            compiled_here.append(ev.data["dispatcher"].py_func.__name__)
+
+        def on_end(self, ev: event.Event) -> None:
+            pass
+
+    listener = Listener()
+    event.register("numba:compile", listener)
+    try:
+        beside.start(directory)
+        assert beside.started() == 1
+        assert beside_probe.doubled(3.0) == 6.0  # waits for the helper, then loads its work
+    finally:
+        event.unregister("numba:compile", listener)
+        sys.modules.pop("beside_probe", None)
+    assert "doubled" not in compiled_here
+    assert sum(beside_probe.doubled._cache_hits.values()) == 1
+    assert beside.started() == 0

@@ -10,7 +10,8 @@ Python or from another kernel) instead of at import: a kernel that only other
 kernels call is compiled into them, and a run whose kernels are cached never
 loads it on its own. Any call whose arguments convert to a declared signature
 (a C-contiguous array to an any-layout one, a writable one to a read-only one, a
-literal to its type) uses it: no second compilation.
+literal to its type) uses it: no second compilation. ``beside=True`` compiles it,
+on a first run, in a second process beside this one (:mod:`cosmos.jit.beside`).
 
 ``@kernel(read_only=("name", ...))`` compiles the named array arguments as
 read-only whatever the caller passes: numba compiles a kernel again for every
@@ -28,6 +29,7 @@ from typing import Any
 import numba
 from numba.core import sigutils, types
 
+from cosmos.jit import beside as helpers
 from cosmos.jit import cache as kernel_cache
 from cosmos.jit import notice
 from cosmos.jit.cache import KernelCache, kernel_directory
@@ -35,6 +37,7 @@ from cosmos.jit.cache import KernelCache, kernel_directory
 __all__ = ["KernelCache", "kernel", "kernel_directory"]
 
 _NOTICE = notice.install(str(kernel_directory() or "no cache"))
+_NOTICE.on_first_compile = lambda: helpers.start(kernel_directory())
 _warned: list[bool] = []
 
 
@@ -87,11 +90,15 @@ def _compile_declared(dispatcher: Any, signatures: tuple[Any, ...]) -> None:
     """
     compile_types = dispatcher.compile
 
-    def compile(signature: Any) -> Any:
+    def compile_declared() -> None:
         if dispatcher._can_compile:
+            helpers.wait_for(dispatcher)  # a helper may be compiling it into the cache
             for declared in signatures:
                 compile_types(declared)
             dispatcher.disable_compile()
+
+    def compile(signature: Any) -> Any:
+        compile_declared()
         asked, _ = sigutils.normalize_signature(signature)
         typing = dispatcher.typingctx
         for declared in signatures:
@@ -103,10 +110,12 @@ def _compile_declared(dispatcher: Any, signatures: tuple[Any, ...]) -> None:
         raise TypeError(f"{dispatcher.py_func.__name__}: no declared signature takes {asked}")
 
     dispatcher.compile = compile
+    dispatcher.compile_declared = compile_declared
 
 
 def _compiled(function: Callable[..., Any], signatures: tuple[Any, ...], options: dict[str, Any]) -> Any:
     read_only = tuple(options.pop("read_only", ()))
+    compile_beside = bool(options.pop("beside", False))
     dispatcher = numba.njit(**options)(function)
     if read_only:
         _compile_read_only(dispatcher, function, read_only)
@@ -116,6 +125,8 @@ def _compiled(function: Callable[..., Any], signatures: tuple[Any, ...], options
         dispatcher._cache = cache  # what njit(cache=True) sets, with cosmos's locator
     if signatures:
         _compile_declared(dispatcher, signatures)
+        if compile_beside:
+            helpers.register(dispatcher)
     return dispatcher
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 import atexit
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from numba.core import event
@@ -63,6 +64,8 @@ class CompileNotice(event.Listener):
         self.depth = 0
         self.top_started = 0.0
         self.seconds = 0.0
+        self.on_first_compile: Callable[[], None] | None = None
+        """Called once, when this process first compiles (a first run: helpers can start)."""
 
     def on_start(self, ev: event.Event) -> None:
         """A kernel starts compiling: name its group the first time."""
@@ -72,6 +75,8 @@ class CompileNotice(event.Listener):
         group = group_of(ev.data["dispatcher"].py_func.__module__)
         if group is None or group.name in self.announced:
             return
+        if not self.announced and self.on_first_compile is not None:
+            self.on_first_compile()
         if not self.announced:
             self.started = self.reported = time.perf_counter()
             if self.summary_at_exit:

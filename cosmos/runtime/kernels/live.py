@@ -10,6 +10,7 @@ offsets :func:`workspace_layout` gives for an arm of n joints.
 from __future__ import annotations
 
 import numpy as np
+from numba.core import types
 
 from cosmos.jit import kernel
 from cosmos.runtime.kernels.servo import MATRICES, SCALARS, STATE_ROWS, TORQUE, VECTORS, servo_tick
@@ -40,7 +41,25 @@ def workspace_layout(n: int) -> tuple[int, int, int, int, int, int, int, int, in
     return vectors, matrices, jacobian, jbar_lookahead, stacked, state, sensed, sensed + SENSED_ROWS * w, w
 
 
-@kernel
+_SIGNAL = types.Array(types.float64, 1, "C", readonly=True)  # the plant's live buffers (read-only views)
+_BUFFER = types.Array(types.float64, 1, "C")
+
+
+# Declared (the types the servo level passes, so one compilation serves every arm): on a first run
+# this, the longest kernel to compile, is compiled in a second process beside the others.
+@kernel(
+    types.void(
+        types.float64,
+        _SIGNAL,
+        _SIGNAL,
+        _SIGNAL,
+        types.Array(types.float64, 2, "C", readonly=True),
+        types.int64,
+        _BUFFER,
+        _BUFFER,
+    ),
+    beside=True,
+)
 def servo_tick_live(
     t_s: float,
     positions: FloatArray,
