@@ -9,8 +9,11 @@ the run's first compilation; the helper writes it to the shared kernel cache
 while this process compiles the kernels needed before it, and this process,
 when it first calls the kernel, waits for the helper and loads it from the
 cache (or compiles it itself if the helper failed). On a machine with a second
-core free the first run is shorter by the helper's share; without a cache
-directory, or inside a helper, nothing is started.
+core free the first run is shorter by the helper's share; with no core free it
+is not (at a load average of 5 on 2 cores: 35-41 s wall with a helper, 34-35 s
+without, the helper's imports costing 2 s of CPU), so a helper is started only
+when the load average leaves a core free. Without a cache directory, or inside a
+helper, nothing is started.
 """
 
 from __future__ import annotations
@@ -41,7 +44,7 @@ def start(directory: object) -> None:
     Args:
         directory: The kernel cache directory (None: no cache to share, nothing is started).
     """
-    if directory is None or os.environ.get(HELPER_ENV):
+    if directory is None or os.environ.get(HELPER_ENV) or not core_free():
         return
     for dispatcher in _registered:
         if dispatcher.signatures or id(dispatcher) in _helpers or _cached(dispatcher):
@@ -57,6 +60,16 @@ def start(directory: object) -> None:
             )
         except OSError:  # no process to be had: this one compiles it
             continue
+
+
+def core_free() -> bool:
+    """Whether a core is free for a helper: more cores than the load average (of the last minute) uses."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    try:
+        load = os.getloadavg()[0]
+    except OSError:  # not known: assume busy
+        return False
+    return cores >= 2 and load <= cores - 1
 
 
 def _cached(dispatcher: Any) -> bool:
