@@ -26,7 +26,7 @@ from typing import Any
 
 HELPER_ENV = "COSMOS_JIT_HELPER"
 """Set in a helper process: it starts no helper of its own."""
-WAIT_S = 900.0
+WAIT_S = 300.0
 """Longest wait for a helper before compiling here instead [s]."""
 
 _registered: list[Any] = []
