@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.osc._types import FloatArray
+from cosmos.osc.unified import push_axis
 
 
 def held_push(
@@ -60,11 +61,7 @@ def held_push(
     Returns:
         ``(F_fb, integral)``: the feedback with the held push's terms, the updated integral.
     """
-    push = float(np.linalg.norm(force_goal[:3]))
-    if push == 0.0:
-        return feedback, integral
-    n = force_goal[:3] / push
-    inverse_mass = float(n.dot(lambda_inv_omega_bar[:3, :3]).dot(n))
+    n, inverse_mass = push_axis(force_goal, lambda_inv_omega_bar)
     if not inverse_mass > 0.0:
         return feedback, integral
     k_fh, k_ih, k_vh, limit = gains

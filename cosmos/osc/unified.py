@@ -274,6 +274,18 @@ def servo_torque(
     return servo.stacked.dot(np.concatenate((motion_command, force_feedback, velocity, _ONE)))
 
 
+def push_axis(force_goal: FloatArray, lambda_inv_omega_bar: FloatArray) -> tuple[FloatArray, float]:
+    """A push's direction ``n = F_d / |F_d|`` (translation) and ``n^T Lambda^-1 Omega_bar n``.
+
+    The inverse of the tool's mass along the push; ``(0, 0)`` when F_d has no force.
+    """
+    push = float(np.linalg.norm(force_goal[:3]))
+    if push == 0.0:
+        return np.zeros(3), 0.0
+    n = force_goal[:3] / push
+    return n, float(n.dot(lambda_inv_omega_bar[:3, :3]).dot(n))
+
+
 def speed_limited_push(
     feedback: FloatArray,
     force_goal: FloatArray,
@@ -318,11 +330,7 @@ def speed_limited_push(
     Returns:
         ``(F_fb, limited)``: the capped feedback and whether the cap bound.
     """
-    push = float(np.linalg.norm(force_goal[:3]))
-    if push == 0.0:
-        return feedback, False
-    n = force_goal[:3] / push
-    inverse_mass = float(n.dot(lambda_inv_omega_bar[:3, :3]).dot(n))
+    n, inverse_mass = push_axis(force_goal, lambda_inv_omega_bar)
     if not inverse_mass > 0.0:
         return feedback, False
     along = float(n.dot(velocity[:3]))

@@ -139,7 +139,7 @@ def coulomb_compensation_into(
 
 @kernel
 def push_axis(force_goal: FloatArray, force_to_acceleration: FloatArray) -> tuple[float, float, float, float]:
-    """A push's direction ``n`` (F_d's force, normalised) and ``n^T Lambda^-1 Omega_bar n``.
+    """:func:`cosmos.osc.unified.push_axis`: a push's direction ``n`` and ``n^T Lambda^-1 Omega_bar n``.
 
     The inverse of the tool's mass along the push; all zeros when F_d has no force.
     """
