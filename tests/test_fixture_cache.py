@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from cosmos.commands import fixture_cache
+from cosmos.runtime import foresight_cache
 from cosmos.workcell import fixture_frames
 
 
@@ -56,8 +57,10 @@ def test_a_changed_scene_gets_another_file(tmp_path: Path) -> None:
 
 
 def test_check_does_not_load_the_simulator(cache_dir: Path, tmp_path: Path) -> None:
-    """Catches `cosmos check` importing MuJoCo again (0.3 s of its start-up) once the frames are cached."""
+    """Catches `cosmos check` importing MuJoCo again (0.3 s of its start-up) once the frames are cached,
+    and the foresight (joint limits, goals inside fixtures) loading it for the arm's kinematics."""
     fixture_cache.fixture_frames()
+    foresight_cache.load_workcell("puma560")
     program = tmp_path / "p.cos"
     program.write_text("MOVE TO hole + (0, 0, 50 mm)\n")
     code = (

@@ -1,7 +1,9 @@
 """``cosmos check PROGRAM [--json] [--full]``: parse, check and compile; print the plan.
 
 Exit status 0 when the program compiles (warnings are printed on stderr and do
-not change it); a syntax or check error raises a :class:`ProgramError`, which
+not change it; they include what :func:`cosmos.runtime.foresight.with_foreseen_limits`
+foresees, as ``cosmos run`` prints them: a joint limit in the way, a goal inside a
+fixture); a syntax or check error raises a :class:`ProgramError`, which
 the command line renders on stderr with exit status 1.
 
 Printing costs what the plan is worth: a plan of up to :data:`SCREEN_STEPS`
@@ -30,6 +32,7 @@ from cosmos.errors import CosmosError, UsageError
 from cosmos.lang import compile_program, read_program
 from cosmos.lang.compile.state import FrameLike
 from cosmos.robots import ROBOTS
+from cosmos.runtime.foresight import with_foreseen_limits
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -100,6 +103,7 @@ def check_program(
         compiled = compile_program(
             source, str(program), load_fixtures() if fixtures is None else fixtures, robot=robot
         )
+        compiled = with_foreseen_limits(compiled)
     except CosmosError as error:
         if not as_json:
             raise

@@ -9,38 +9,36 @@ the run will fail there; the checker says so as a warning at the statement
 configuration in which the goal is within range if there is one. After anything whose
 end is not known (a contact, a slide, an UNTIL, a POSTURE) nothing more is foreseen.
 
-The kinematics (Pinocchio, the arm's model) load on the first program with a static
-goal, once per arm. ``cosmos run`` and :func:`cosmos.check` add these warnings to the
-compiled plan's (:func:`with_foreseen_limits`): the language below does not know the
-arm's kinematics. ``cosmos check`` does not: it keeps MuJoCo unloaded for a fast start
-(``tests/test_fixture_cache.py``).
+:func:`with_foreseen_limits` adds these warnings to the compiled plan's, and those of goals
+inside a fixture (:mod:`cosmos.runtime.goals_in_fixtures`): the language below does not know
+the arm's kinematics nor the workcell's solids. ``cosmos check``, ``cosmos run`` and
+:func:`cosmos.check` all add them. The kinematics (Pinocchio, the arm's model) and the solids
+come from the user cache (:mod:`cosmos.runtime.foresight_cache`), so a check does not load
+MuJoCo (``tests/test_fixture_cache.py``); Pinocchio is imported only for a program with a
+static goal.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import functools
-from typing import Any
 
 import numpy as np
 
 from cosmos import plan
-
-
-@functools.cache
-def _arm(robot_name: str) -> tuple[Any, np.ndarray]:
-    """The controller's model of the arm and its home configuration (loaded once)."""
-    from cosmos.robot_model import build_robot_model
-    from cosmos.robots import ROBOTS
-    from cosmos.workcell import home_q
-
-    robot = ROBOTS[robot_name]
-    return build_robot_model(robot), np.array(home_q(robot))
+from cosmos.runtime import foresight_cache
+from cosmos.runtime.goals_in_fixtures import Pose, goals_inside_fixtures
 
 
 def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
-    """``compiled`` with a warning for each goal motion a joint's limit will stop (sorted in)."""
+    """``compiled`` with a warning for each goal motion a joint's limit will stop or a fixture holds.
+
+    The goals inside a fixture are :func:`cosmos.runtime.goals_in_fixtures.goals_inside_fixtures`'s.
+    The warnings are sorted in by place.
+    """
     found = foreseeable_joint_limits(compiled.steps, compiled.robot)
+    cell = foresight_cache.workcell(compiled.robot)
+    home = Pose(cell.home_tool_position, cell.home_tool_rotation)
+    found += goals_inside_fixtures(compiled.steps, cell.solids, home, cell.tool_length_m)
     if not found:
         return compiled
     warnings = sorted((*compiled.warnings, *found), key=lambda w: (w.span.line, w.span.column))
@@ -63,9 +61,9 @@ def foreseeable_joint_limits(steps: tuple[plan.Step, ...], robot_name: str) -> l
 
     from cosmos.runtime.rotation_plan import plan_rotation
 
-    model, q = _arm(robot_name)
+    model = foresight_cache.kinematics(robot_name)
     data = model.model.createData()
-    known: np.ndarray | None = q
+    known: np.ndarray | None = np.array(model.home_q)
     found: list[plan.Diagnostic] = []
     for step in steps:
         if not isinstance(step, plan.Segment):

@@ -19,14 +19,32 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 import pinocchio as pin
 
 from cosmos.osc.orientation import so3_exp, so3_log
-from cosmos.robot_model import RobotModel
 
 FloatArray = np.ndarray
+
+
+class Kinematics(Protocol):
+    """What this module reads of the arm.
+
+    A :class:`cosmos.robot_model.RobotModel`, or the checker's
+    :class:`cosmos.runtime.foresight_cache.ArmKinematics` (no MuJoCo to load).
+    """
+
+    @property
+    def model(self) -> pin.Model: ...  # noqa: D102
+    @property
+    def tool_frame(self) -> int: ...  # noqa: D102
+    @property
+    def q_lower_rad(self) -> FloatArray: ...  # noqa: D102
+    @property
+    def q_upper_rad(self) -> FloatArray: ...  # noqa: D102
+
 
 STEP_RAD = 0.03
 """Largest rotation between two points of the predicted path [rad]."""
@@ -87,7 +105,7 @@ class RotationPlan:
     goal_q: FloatArray
 
 
-def first_joint_past_limits(robot: RobotModel, q: FloatArray, margin_rad: float = 0.0) -> JointAtLimit | None:
+def first_joint_past_limits(robot: Kinematics, q: FloatArray, margin_rad: float = 0.0) -> JointAtLimit | None:
     """The first joint within ``margin_rad`` of (or past) a limit at ``q``, else None."""
     for i, (value, lower, upper) in enumerate(zip(q, robot.q_lower_rad, robot.q_upper_rad, strict=True)):
         if value < lower + margin_rad:
@@ -97,7 +115,7 @@ def first_joint_past_limits(robot: RobotModel, q: FloatArray, margin_rad: float 
     return None
 
 
-def other_wrists(robot: RobotModel, q: FloatArray, margin_rad: float = LIMIT_MARGIN_RAD) -> list[FloatArray]:
+def other_wrists(robot: Kinematics, q: FloatArray, margin_rad: float = LIMIT_MARGIN_RAD) -> list[FloatArray]:
     """The wrist's other configurations for the tool pose at ``q``, ``margin_rad`` inside the ranges.
 
     A spherical wrist reaches every orientation twice, ``(q4 + pi, -q5, q6 + pi)``, and a
@@ -129,7 +147,7 @@ def other_wrists(robot: RobotModel, q: FloatArray, margin_rad: float = LIMIT_MAR
 
 
 def _follow(
-    robot: RobotModel,
+    robot: Kinematics,
     q_start: FloatArray,
     position: FloatArray,
     rotation: FloatArray,
@@ -187,7 +205,7 @@ def ranges_for_goal(
 
 
 def plan_rotation(
-    robot: RobotModel,
+    robot: Kinematics,
     q: FloatArray,
     position: FloatArray,
     rotation: FloatArray,

@@ -1,0 +1,274 @@
+"""What the checker's foresight needs of an arm and its workcell, kept in the user cache.
+
+The foresight (:mod:`cosmos.runtime.foresight`) needs the arm's kinematics (the
+controller's Pinocchio model, which :func:`cosmos.robot_model.build_robot_model` builds
+from the arm's MJCF with MuJoCo's help: 0.3 s and MuJoCo's import), its home
+configuration and tool pose (the scene's ``home`` keyframe), and the fixtures' solids
+(the world geoms of the scene). ``cosmos check`` would pay that on every start; so the
+first check (or run) on a machine computes them and keeps them in the user cache
+(:mod:`cosmos.user_cache`), as :mod:`cosmos.commands.fixture_cache` keeps the fixture
+frames: one JSON file per arm, named by a hash of the arm's model files, MuJoCo's and
+Pinocchio's versions and the source of the code that derives them. The Pinocchio model
+is kept as Pinocchio's own text serialisation (``Model.saveToString``, read back by
+``loadFromString``: no pickle, nothing in the file is run). Reading it back costs
+Pinocchio's import and a millisecond, not MuJoCo. A file that cannot be read or written
+only means computing them again.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+import tempfile
+from dataclasses import dataclass
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cosmos.robots import ROBOTS, Robot
+from cosmos.runtime.fixture_solids import FixtureSolid, SolidShape
+from cosmos.user_cache import user_cache_root
+
+_ROOT = Path(__file__).resolve().parents[1]
+DERIVING_CODE = (
+    _ROOT / "robot_model.py",
+    _ROOT / "workcell.py",
+    _ROOT / "plant_scene.py",
+    _ROOT / "robots.py",
+    Path(__file__).resolve(),
+)
+"""The source files whose code derives what is cached (a change to them changes the file's name)."""
+_SHAPES = {shape.value: shape for shape in SolidShape}
+
+
+@dataclass(frozen=True)
+class ArmKinematics:
+    """The arm as :func:`cosmos.runtime.rotation_plan.plan_rotation` needs it (the peg on its flange).
+
+    Attributes:
+        model: The controller's Pinocchio model (``RobotModel.model``).
+        tool_frame: Frame id of the tool point in ``model``.
+        q_lower_rad: Lower joint limits [rad], read-only. # (n,)
+        q_upper_rad: Upper joint limits [rad], read-only. # (n,)
+        home_q: The scene's home configuration [rad], read-only. # (n,)
+    """
+
+    model: Any
+    tool_frame: int
+    q_lower_rad: np.ndarray
+    q_upper_rad: np.ndarray
+    home_q: np.ndarray
+
+
+@dataclass(frozen=True)
+class Workcell:
+    """The arm's workcell as the checker sees it.
+
+    Attributes:
+        home_tool_position: The tool point at home, world [m], read-only. # (3,)
+        home_tool_rotation: The tool's orientation at home (tool to world), read-only. # (3, 3)
+        tool_length_m: From the tool point back to the flange along the tool's axis [m].
+        solids: The fixtures' solids: the scene's world geoms that the tool can touch.
+        model_text: The controller's Pinocchio model, serialised (:func:`kinematics` reads it).
+        tool_frame: Frame id of the tool point in that model.
+        home_q: The scene's home configuration [rad], read-only. # (n,)
+    """
+
+    home_tool_position: np.ndarray
+    home_tool_rotation: np.ndarray
+    tool_length_m: float
+    solids: tuple[FixtureSolid, ...]
+    model_text: str
+    tool_frame: int
+    home_q: np.ndarray
+
+
+def _read_only(values: object, shape: tuple[int, ...] | None = None) -> np.ndarray:
+    array = np.array(values, dtype=float)
+    if shape is not None:
+        array = array.reshape(shape)
+    if not np.all(np.isfinite(array)):
+        raise ValueError("a value that is not finite")
+    array.setflags(write=False)
+    return array
+
+
+def _version(package: str) -> str:
+    try:
+        return metadata.version(package)
+    except metadata.PackageNotFoundError:
+        return "none"
+
+
+def digest(robot: Robot) -> str:
+    """A hash of the arm's model files, MuJoCo's and Pinocchio's versions and the deriving code."""
+    hashed = hashlib.sha256(f"{robot.name}\0{_version('mujoco')}\0{_version('pin')}".encode())
+    files = [p for p in sorted(robot.model_dir.rglob("*")) if p.is_file()]
+    for path in (*files, *DERIVING_CODE):
+        hashed.update(path.name.encode() + b"\0" + path.read_bytes())
+    return hashed.hexdigest()[:32]
+
+
+def cache_file(robot: Robot) -> Path:
+    """Where the arm's workcell is kept."""
+    return user_cache_root() / "foresight" / f"{robot.name}-{digest(robot)}.json"
+
+
+def _to_json(cell: Workcell) -> str:
+    return json.dumps(
+        {
+            "home_tool_position": cell.home_tool_position.tolist(),
+            "home_tool_rotation": cell.home_tool_rotation.tolist(),
+            "tool_length_m": cell.tool_length_m,
+            "solids": [
+                {
+                    "fixture": s.fixture,
+                    "geom": s.geom,
+                    "shape": s.shape.value,
+                    "center": s.center.tolist(),
+                    "rotation": s.rotation.tolist(),
+                    "size": s.size.tolist(),
+                }
+                for s in cell.solids
+            ],
+            "model": cell.model_text,
+            "tool_frame": cell.tool_frame,
+            "home_q": cell.home_q.tolist(),
+        }
+    )
+
+
+def _from_json(text: str) -> Workcell:
+    entries = json.loads(text)
+    solids = tuple(
+        FixtureSolid(
+            fixture=str(s["fixture"]),
+            geom=str(s["geom"]),
+            shape=SolidShape(s["shape"]),
+            center=_read_only(s["center"], (3,)),
+            rotation=_read_only(s["rotation"], (3, 3)),
+            size=_read_only(s["size"], (3,)),
+        )
+        for s in entries["solids"]
+    )
+    if not isinstance(entries["model"], str) or not entries["model"]:
+        raise ValueError("no model")
+    return Workcell(
+        home_tool_position=_read_only(entries["home_tool_position"], (3,)),
+        home_tool_rotation=_read_only(entries["home_tool_rotation"], (3, 3)),
+        tool_length_m=float(entries["tool_length_m"]),
+        solids=solids,
+        model_text=entries["model"],
+        tool_frame=int(entries["tool_frame"]),
+        home_q=_read_only(entries["home_q"]),
+    )
+
+
+def _write(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(temporary, path)  # whole or absent, whatever runs beside it
+    except OSError:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def from_scene(robot: Robot) -> Workcell:
+    """The arm's workcell computed from its model files (MuJoCo and Pinocchio)."""
+    import mujoco
+
+    from cosmos.plant_scene import geom_owners
+    from cosmos.robot_model import build_robot_model
+    from cosmos.workcell import FIXTURE_NAMES, HOME_KEY, TOOL_SITE, home_q, scene_spec, tool_spec
+
+    spec = scene_spec(robot.scene_xml, robot=robot.name)
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY))
+    mujoco.mj_kinematics(model, data)
+    owners = geom_owners(spec, model)
+    # A fixture is called by the language's frame on it (the site ``hole`` is in ``hole_fixture``).
+    called = {owners[g]: owners[g] for g in range(model.ngeom)}
+    for name in FIXTURE_NAMES:
+        site = model.site(name)
+        frame = next((s.frame for s in spec.sites if s.name == name), None)
+        while frame is not None and not frame.name:
+            frame = frame.frame
+        if int(site.bodyid[0]) == 0 and frame is not None:
+            called[frame.name] = name
+    solids = []
+    for g in range(model.ngeom):
+        kind = mujoco.mjtGeom(int(model.geom_type[g])).name.removeprefix("mjGEOM_").lower()
+        touchable = model.geom_contype[g] != 0 or model.geom_conaffinity[g] != 0
+        if int(model.geom_bodyid[g]) != 0 or not touchable or kind not in _SHAPES:
+            continue
+        name = model.geom(g).name or f"geom {g}"
+        fixture = called[owners[g]] if owners[g] != "world" else name
+        solids.append(
+            FixtureSolid(
+                fixture=fixture,
+                geom=name,
+                shape=_SHAPES[kind],
+                center=_read_only(data.geom_xpos[g], (3,)),
+                rotation=_read_only(data.geom_xmat[g], (3, 3)),
+                size=_read_only(model.geom_size[g], (3,)),
+            )
+        )
+    arm = build_robot_model(robot)
+    tool = model.site(TOOL_SITE).id
+    return Workcell(
+        home_tool_position=_read_only(data.site_xpos[tool], (3,)),
+        home_tool_rotation=_read_only(data.site_xmat[tool], (3, 3)),
+        tool_length_m=float(np.linalg.norm(tool_spec(robot).tool_position_in_flange)),
+        solids=tuple(solids),
+        model_text=arm.model.saveToString(),
+        tool_frame=int(arm.tool_frame),
+        home_q=_read_only(home_q(robot)),
+    )
+
+
+def load_workcell(robot_name: str) -> Workcell:
+    """The arm's workcell: from the cache file, else from its model files (then kept in the file)."""
+    robot = ROBOTS[robot_name]
+    path = cache_file(robot)
+    try:
+        return _from_json(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        pass
+    cell = from_scene(robot)
+    try:
+        _write(path, _to_json(cell))
+    except OSError:
+        pass  # a read-only cache: computed again next time
+    return cell
+
+
+workcell = functools.cache(load_workcell)
+"""The arm's workcell (:func:`load_workcell`, once per process and arm)."""
+
+
+@functools.cache
+def kinematics(robot_name: str) -> ArmKinematics:
+    """The arm's kinematics for the foresight of joint limits (Pinocchio, read from the cache)."""
+    import pinocchio as pin
+
+    cell = workcell(robot_name)
+    model = pin.Model()
+    try:
+        model.loadFromString(cell.model_text)
+    except RuntimeError:  # a damaged model in a file that read as JSON: built again
+        model.loadFromString(from_scene(ROBOTS[robot_name]).model_text)
+    return ArmKinematics(
+        model=model,
+        tool_frame=cell.tool_frame,
+        q_lower_rad=_read_only(model.lowerPositionLimit),
+        q_upper_rad=_read_only(model.upperPositionLimit),
+        home_q=cell.home_q,
+    )

@@ -1,0 +1,184 @@
+"""Goals inside a fixture, foreseen from a program's text.
+
+``MOVE TO table + (0, 0, -30 mm)`` (the frame's z points into the table: 30 mm *above* it
+is ``(0, 0, -30 mm)``, below it ``(0, 0, 30 mm)``) is an easy slip; the run finds it only
+when the tool meets the table, as a protective stop. Where a motion's goal is known from
+the text, the checker says so at the statement:
+
+    MOVE TO: the goal is 30.0 mm inside the fixture 'table' (below its top at z = 200.0 mm);
+    the run will stop at the touch
+
+A goal is known for a ``MOVE TO`` (and each VIA point), and for a ``MOVE BY`` from a pose
+the program fixes (from home through MOVEs that end where they were sent, as
+:mod:`cosmos.runtime.foresight` follows them). The goal is inside when the tool point, or a
+point of the tool's axis back to the flange where the goal's orientation is known, lies
+deeper inside a fixture's solid (:mod:`cosmos.runtime.fixture_solids`) than the motion's
+position tolerance: the arm cannot then end within it. Statements meant to touch are not
+judged (CONTACT, SLIDE, INSERT, a MOVE with an UNTIL or with axes under force control), nor
+is the hole's bore, which is no solid.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from cosmos import plan
+from cosmos.runtime.fixture_solids import FixtureSolid, signed_distances, top_above
+
+AXIS_STEP_M = 0.005
+"""Spacing of the points of the tool's axis that are tested [m]."""
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Where the program leaves the tool, as far as its text says.
+
+    Attributes:
+        position: The tool point, world [m], or None if not known. # (3,)
+        rotation: The tool's orientation (tool to world), or None if not known. # (3, 3)
+    """
+
+    position: np.ndarray | None
+    rotation: np.ndarray | None
+
+
+UNKNOWN = Pose(None, None)
+
+
+@dataclass(frozen=True)
+class Inside:
+    """A point found inside a fixture.
+
+    Attributes:
+        fixture: The fixture's name.
+        depth_m: How far the point lies below the fixture's top, straight above it [m].
+        top_z_m: The z of that top [m].
+        along_axis_m: 0 for the tool point; else how far back along the tool's axis the
+            point is [m].
+    """
+
+    fixture: str
+    depth_m: float
+    top_z_m: float
+    along_axis_m: float
+
+
+def goals_inside_fixtures(
+    steps: tuple[plan.Step, ...],
+    solids: tuple[FixtureSolid, ...],
+    home: Pose,
+    tool_length_m: float,
+) -> list[plan.Diagnostic]:
+    """Warnings for the motions whose goal the text fixes inside a fixture.
+
+    Args:
+        steps: The compiled plan's steps.
+        solids: The workcell's fixture solids.
+        home: The tool's pose at home, where the program starts.
+        tool_length_m: From the tool point back to the flange [m].
+
+    Returns:
+        One diagnostic per such goal (each statement once), at its statement.
+    """
+    found: dict[tuple[int, int, str], plan.Diagnostic] = {}
+    for diagnostic in _walk(steps, solids, home, tool_length_m):
+        found.setdefault((diagnostic.span.line, diagnostic.span.column, diagnostic.message), diagnostic)
+    return list(found.values())
+
+
+def _walk(
+    steps: tuple[plan.Step, ...], solids: tuple[FixtureSolid, ...], pose: Pose, tool_length_m: float
+) -> Iterator[plan.Diagnostic]:
+    """The warnings of ``steps``, run from ``pose``.
+
+    A block's first steps start where the program is when it is reached; after a block
+    (which may or may not run, or stop anywhere) the pose is not known.
+    """
+    for step in steps:
+        if isinstance(step, plan.Branch):
+            yield from _walk(step.then_steps, solids, pose, tool_length_m)
+            yield from _walk(step.else_steps, solids, pose, tool_length_m)
+            pose = UNKNOWN
+        elif isinstance(step, plan.Loop | plan.Attempt):
+            yield from _walk(step.body, solids, pose, tool_length_m)
+            if isinstance(step, plan.Attempt):
+                yield from _walk(step.handler, solids, UNKNOWN, tool_length_m)
+            pose = UNKNOWN
+        elif isinstance(step, plan.Segment):
+            diagnostic, pose = _segment(step, solids, pose, tool_length_m)
+            if diagnostic is not None:
+                yield diagnostic
+
+
+def _segment(
+    step: plan.Segment, solids: tuple[FixtureSolid, ...], pose: Pose, tool_length_m: float
+) -> tuple[plan.Diagnostic | None, Pose]:
+    """The warning for one segment, if any, and the pose it leaves."""
+    holds_everything = bool(np.all(step.motion_axes)) and step.until is None
+    if step.kind is plan.SegmentKind.WAIT and holds_everything:
+        return None, pose
+    target = step.target
+    if step.kind is not plan.SegmentKind.MOVE or not holds_everything or target is None:
+        return None, UNKNOWN  # meant to touch, or stopped by a condition: its end is not known
+    if isinstance(target, plan.AbsoluteTarget):
+        position: np.ndarray | None = np.asarray(target.position_world, dtype=float)
+        rotation = pose.rotation if target.rotation_world is None else np.asarray(target.rotation_world)
+    else:
+        position = None if pose.position is None else pose.position + np.asarray(target.offset_world)
+        rotation = pose.rotation
+    end = Pose(position, None if step.orientation_free else rotation)
+    tolerance = step.completion.position_tolerance_m if isinstance(step.completion, plan.GoalReached) else 0.0
+    keyword = "MOVE TO" if isinstance(target, plan.AbsoluteTarget) else "MOVE BY"
+    for number, via in enumerate(step.via, start=1):
+        via_point = np.asarray(via.position_world, dtype=float)
+        hit = point_inside(solids, via_point, None, 0.0, step.via_radius_m or tolerance)
+        if hit is not None:
+            return plan.Diagnostic(f"{keyword}: {_said(hit, f'VIA point {number}')}", step.span), end
+    if position is None:
+        return None, end
+    hit = point_inside(solids, position, end.rotation, tool_length_m, tolerance)
+    if hit is None:
+        return None, end
+    return plan.Diagnostic(f"{keyword}: {_said(hit, 'goal')}", step.span), end
+
+
+def point_inside(
+    solids: tuple[FixtureSolid, ...],
+    position: np.ndarray,
+    rotation: np.ndarray | None,
+    tool_length_m: float,
+    tolerance_m: float,
+) -> Inside | None:
+    """The fixture the tool at this pose lies in deeper than ``tolerance_m``, or None.
+
+    The tool point is tested, then (when ``rotation`` is known) the points of the tool's
+    axis back to the flange every :data:`AXIS_STEP_M`.
+    """
+    count = int(tool_length_m / AXIS_STEP_M) if rotation is not None else 0
+    backs = np.arange(count + 1) * AXIS_STEP_M
+    axis = np.zeros(3) if rotation is None else rotation[:, 2]
+    points = position[None, :] - backs[:, None] * axis[None, :]  # (count + 1, 3)
+    distances = signed_distances(solids, points)  # (count + 1, len(solids))
+    for k in range(count + 1):
+        deepest = int(np.argmin(distances[k]))
+        if -distances[k, deepest] <= tolerance_m:
+            continue
+        name = solids[deepest].fixture
+        top = top_above(tuple(s for s in solids if s.fixture == name), points[k])
+        return Inside(name, top - float(points[k, 2]), top, float(backs[k]))
+    return None
+
+
+def _said(hit: Inside, what: str) -> str:
+    """``the goal is 30.0 mm inside the fixture 'table' (below its top at z = 200.0 mm); ...``."""
+    if hit.along_axis_m == 0.0:
+        subject = f"the {what} is"
+    else:
+        subject = f"at the {what} the tool, {hit.along_axis_m * 1e3:.0f} mm back from its tool point, is"
+    return (
+        f"{subject} {hit.depth_m * 1e3:.1f} mm inside the fixture '{hit.fixture}' "
+        f"(below its top at z = {hit.top_z_m * 1e3:.1f} mm); the run will stop at the touch"
+    )
