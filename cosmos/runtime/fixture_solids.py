@@ -117,10 +117,15 @@ def top_above(solids: tuple[FixtureSolid, ...], point: FloatArray) -> float:
     a leg under the table's top); the last step is halved back to the top.
     """
     inside = np.array(point, dtype=float)
-    step = max(depth_inside(solids, inside), SEAM_STEP_M)
-    while depth_inside(solids, inside + step * UP) > 0.0:
-        inside = inside + step * UP
+    while True:
         step = max(depth_inside(solids, inside), SEAM_STEP_M)
+        ahead = inside + step * UP
+        if depth_inside(solids, ahead) > 0.0:
+            inside = ahead
+        elif depth_inside(solids, ahead + SEAM_STEP_M * UP) > 0.0:  # on a seam: solid beyond it
+            inside = ahead + SEAM_STEP_M * UP
+        else:
+            break
     while step > EXIT_TOLERANCE_M:  # the top is within (inside, inside + step]
         step /= 2.0
         if depth_inside(solids, inside + step * UP) > 0.0:

@@ -12,10 +12,11 @@ A goal is known for a ``MOVE TO`` (and each VIA point), and for a ``MOVE BY`` fr
 the program fixes (from home through MOVEs that end where they were sent, as
 :mod:`cosmos.runtime.foresight` follows them). The goal is inside when the tool point, or a
 point of the tool's axis back to the flange where the goal's orientation is known, lies
-deeper inside a fixture's solid (:mod:`cosmos.runtime.fixture_solids`) than the motion's
-position tolerance: the arm cannot then end within it. Statements meant to touch are not
-judged (CONTACT, SLIDE, INSERT, a MOVE with an UNTIL or with axes under force control), nor
-is the hole's bore, which is no solid.
+inside a fixture's solid (:mod:`cosmos.runtime.fixture_solids`) by more than
+:data:`DEEPER_THAN_M`: a MOVE that touches a fixture is stopped. A VIA point is inside when it
+is deeper than the distance at which it counts as passed: the tool must then touch. Statements
+meant to touch are not judged (CONTACT, SLIDE, INSERT, a MOVE with an UNTIL or with axes under
+force control), nor is the hole's bore, which is no solid.
 """
 
 from __future__ import annotations
@@ -30,6 +31,10 @@ from cosmos.runtime.fixture_solids import FixtureSolid, signed_distances, top_ab
 
 AXIS_STEP_M = 0.005
 """Spacing of the points of the tool's axis that are tested [m]."""
+DEEPER_THAN_M = 1e-4
+"""A goal deeper than this inside a fixture is warned of [m]. Any touch of a fixture stops a
+MOVE (a protective stop: ``MOVE TO table + (0, 0, -0.5 mm)`` stops at 0.1 N); a goal on the
+surface (``MOVE TO table``) arrives."""
 
 
 @dataclass(frozen=True)
@@ -130,16 +135,15 @@ def _segment(
         position = None if pose.position is None else pose.position + np.asarray(target.offset_world)
         rotation = pose.rotation
     end = Pose(position, None if step.orientation_free else rotation)
-    tolerance = step.completion.position_tolerance_m if isinstance(step.completion, plan.GoalReached) else 0.0
     keyword = "MOVE TO" if isinstance(target, plan.AbsoluteTarget) else "MOVE BY"
     for number, via in enumerate(step.via, start=1):
         via_point = np.asarray(via.position_world, dtype=float)
-        hit = point_inside(solids, via_point, None, 0.0, step.via_radius_m or tolerance)
+        hit = point_inside(solids, via_point, None, 0.0, step.via_radius_m or DEEPER_THAN_M)
         if hit is not None:
             return plan.Diagnostic(f"{keyword}: {_said(hit, f'VIA point {number}')}", step.span), end
     if position is None:
         return None, end
-    hit = point_inside(solids, position, end.rotation, tool_length_m, tolerance)
+    hit = point_inside(solids, position, end.rotation, tool_length_m, DEEPER_THAN_M)
     if hit is None:
         return None, end
     return plan.Diagnostic(f"{keyword}: {_said(hit, 'goal')}", step.span), end
@@ -152,24 +156,29 @@ def point_inside(
     tool_length_m: float,
     tolerance_m: float,
 ) -> Inside | None:
-    """The fixture the tool at this pose lies in deeper than ``tolerance_m``, or None.
+    """Where the tool at this pose lies inside a fixture deeper than ``tolerance_m``, or None.
 
     The tool point is tested, then (when ``rotation`` is known) the points of the tool's
-    axis back to the flange every :data:`AXIS_STEP_M`.
+    axis back to the flange every :data:`AXIS_STEP_M`: the tool point if it is inside, else
+    the axis's point deepest below its fixture's top.
     """
     count = int(tool_length_m / AXIS_STEP_M) if rotation is not None else 0
     backs = np.arange(count + 1) * AXIS_STEP_M
     axis = np.zeros(3) if rotation is None else rotation[:, 2]
     points = position[None, :] - backs[:, None] * axis[None, :]  # (count + 1, 3)
     distances = signed_distances(solids, points)  # (count + 1, len(solids))
+    found: Inside | None = None
     for k in range(count + 1):
         deepest = int(np.argmin(distances[k]))
         if -distances[k, deepest] <= tolerance_m:
             continue
         name = solids[deepest].fixture
         top = top_above(tuple(s for s in solids if s.fixture == name), points[k])
-        return Inside(name, top - float(points[k, 2]), top, float(backs[k]))
-    return None
+        if found is None or top - points[k, 2] > found.depth_m:
+            found = Inside(name, top - float(points[k, 2]), top, float(backs[k]))
+        if k == 0:
+            break  # the tool point itself: its goal is what the statement says
+    return found
 
 
 def _said(hit: Inside, what: str) -> str:
@@ -177,7 +186,8 @@ def _said(hit: Inside, what: str) -> str:
     if hit.along_axis_m == 0.0:
         subject = f"the {what} is"
     else:
-        subject = f"at the {what} the tool, {hit.along_axis_m * 1e3:.0f} mm back from its tool point, is"
+        back_mm = hit.along_axis_m * 1e3
+        subject = f"at the {what} the tool's axis, {back_mm:.0f} mm back from the tool point, is"
     return (
         f"{subject} {hit.depth_m * 1e3:.1f} mm inside the fixture '{hit.fixture}' "
         f"(below its top at z = {hit.top_z_m * 1e3:.1f} mm); the run will stop at the touch"

@@ -1,0 +1,127 @@
+"""``cosmos check`` prints what ``cosmos run`` foresees (joint limits, goals inside a fixture),
+from a user cache that spares it MuJoCo."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from click.testing import CliRunner
+
+from cosmos.cli import cli
+from cosmos.robot_model import build_robot_model
+from cosmos.robots import ROBOTS
+from cosmos.runtime import foresight_cache
+from cosmos.workcell import home_q
+
+PROGRAM = """\
+MOVE TO (600 mm, -150 mm, 350 mm) RPY (165 deg, -30 deg, 0)
+MOVE TO table + (0, 0, -30 mm)
+"""
+
+
+@pytest.fixture()
+def program(tmp_path: Path) -> Path:
+    path = tmp_path / "slips.cos"
+    path.write_text(PROGRAM)
+    return path
+
+
+def test_check_prints_the_runs_foreseen_warnings(program: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``cosmos check`` prints the joint limit that stops line 1 and the goal inside the table on
+    line 2, in ``file:line:col`` form, word for word as ``cosmos run`` prints them before it starts.
+    Catches the check command leaving out what only the run foresaw (it printed neither)."""
+    from cosmos.commands.run import compile_file
+
+    result = CliRunner().invoke(cli, ["check", str(program)])
+    assert result.exit_code == 0, result.output
+    compile_file(program)
+    printed_by_run = capsys.readouterr().err
+    assert result.stderr == printed_by_run
+    lines = [line for line in result.stderr.splitlines() if ": warning: " in line]
+    assert lines[0].startswith(f"{program}:1:1: warning: MOVE TO: joint 6 would reach its limit of 266 deg")
+    assert lines[1] == (
+        f"{program}:2:1: warning: MOVE TO: the goal is 30.0 mm inside the fixture 'table' "
+        "(below its top at z = 200.0 mm); the run will stop at the touch"
+    )
+
+
+def test_check_json_carries_them(program: Path) -> None:
+    """``cosmos check --json`` lists both warnings with their line and column. Catches the JSON
+    plan written from the plan before the foresight was added."""
+    result = CliRunner().invoke(cli, ["check", "--json", str(program)])
+    assert result.exit_code == 0, result.output
+    warnings = json.loads(result.stdout)["warnings"]
+    assert [(w["line"], w["column"]) for w in warnings] == [(1, 1), (2, 1)]
+    assert warnings[0]["message"].startswith("MOVE TO: joint 6 would reach its limit of 266 deg")
+    assert warnings[1]["message"].startswith("MOVE TO: the goal is 30.0 mm inside the fixture 'table'")
+
+
+@pytest.fixture()
+def cache_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.setenv("COSMOS_CACHE_DIR", str(tmp_path))
+    return tmp_path
+
+
+@pytest.mark.parametrize("robot", ["puma560", "panda"])
+def test_cached_kinematics_are_the_controllers(cache_dir: Path, robot: str) -> None:
+    """The arm's kinematics read back from the cache file put the tool where the controller's model
+    (built from the MJCF) puts it, at random configurations, with the same joint ranges and home.
+    Catches a model serialised without its tool frame, or read back as another arm's."""
+    foresight_cache.load_workcell(robot)  # computed, written
+    assert foresight_cache.cache_file(ROBOTS[robot]).is_file()
+    cell = foresight_cache.load_workcell(robot)  # read back
+    cached = pin.Model()
+    cached.loadFromString(cell.model_text)
+    built = build_robot_model(ROBOTS[robot])
+    np.testing.assert_array_equal(cell.home_q, home_q(ROBOTS[robot]))
+    np.testing.assert_array_equal(cached.lowerPositionLimit, built.q_lower_rad)
+    np.testing.assert_array_equal(cached.upperPositionLimit, built.q_upper_rad)
+    data = cached.createData()
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        q = rng.uniform(built.q_lower_rad, built.q_upper_rad)
+        pin.framesForwardKinematics(cached, data, q)
+        pin.framesForwardKinematics(built.model, built.data, q)
+        np.testing.assert_allclose(
+            data.oMf[cell.tool_frame].homogeneous, built.data.oMf[built.tool_frame].homogeneous, atol=1e-12
+        )
+
+
+def test_a_damaged_cache_file_is_computed_again(cache_dir: Path) -> None:
+    """A truncated file, a file of another shape and one whose model text is damaged are all
+    computed again. Catches a bad cache making check fail with a traceback."""
+    path = foresight_cache.cache_file(ROBOTS["puma560"])
+    path.parent.mkdir(parents=True)
+    good = foresight_cache.from_scene(ROBOTS["puma560"])
+    for damage in ('{"solids": [', "[]", '{"solids": [], "model": 3}'):
+        path.write_text(damage)
+        cell = foresight_cache.load_workcell("puma560")
+        assert len(cell.solids) == len(good.solids)
+    text = json.loads(path.read_text())
+    text["model"] = "22 serialization::archive garbage"
+    path.write_text(json.dumps(text))
+    foresight_cache.kinematics.cache_clear()
+    foresight_cache.workcell.cache_clear()
+    try:
+        model = foresight_cache.kinematics("puma560").model
+        assert model.nq == 6
+    finally:
+        foresight_cache.kinematics.cache_clear()
+        foresight_cache.workcell.cache_clear()
+
+
+def test_the_file_is_named_by_the_code_that_derives_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A change to the code that builds the kinematics or reads the solids names another file.
+    Catches a cache that keeps an old tool frame after the model-building code changed."""
+    code = tmp_path / "robot_model.py"
+    code.write_text("a = 1\n")
+    monkeypatch.setattr(foresight_cache, "DERIVING_CODE", (code,))
+    before = foresight_cache.digest(ROBOTS["puma560"])
+    code.write_text("a = 2\n")
+    assert foresight_cache.digest(ROBOTS["puma560"]) != before
