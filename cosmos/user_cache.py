@@ -3,11 +3,13 @@
 ``$COSMOS_CACHE_DIR`` if set, else the platform's user cache directory:
 ``$XDG_CACHE_HOME/cosmos`` or ``~/.cache/cosmos`` on Linux, ``~/Library/Caches/cosmos``
 on macOS, ``%LOCALAPPDATA%/cosmos/Cache`` on Windows. Imports nothing heavy, so
-commands that need no simulator (``cosmos check``) can use it.
+commands that need no simulator (``cosmos check``) can use it. :func:`package_stamp` names
+a cache file after the installed packages its content depends on.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import sys
 from pathlib import Path
@@ -28,3 +30,18 @@ def user_cache_root() -> Path:
         return Path.home() / "Library" / "Caches" / "cosmos"
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base).expanduser() / "cosmos"
+
+
+def package_stamp(package: str) -> str:
+    """What tells an installed package's versions apart, for naming cache files.
+
+    Its location and its ``__init__``'s size and modification time (installing, upgrading or
+    reinstalling writes it anew); ``"none"`` if it is not installed. Cheaper than asking
+    ``importlib.metadata`` for the version (which imports the ``email`` package and scans every
+    path entry: 20 ms of a 0.35 s check).
+    """
+    spec = importlib.util.find_spec(package)
+    if spec is None or spec.origin is None:
+        return "none"
+    stat = os.stat(spec.origin)
+    return f"{spec.origin}:{stat.st_size}:{stat.st_mtime_ns}"

@@ -70,3 +70,21 @@ def test_check_does_not_load_the_simulator(cache_dir: Path, tmp_path: Path) -> N
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "False"
+
+
+def test_a_reinstalled_package_gets_another_stamp(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Catches cache files named without the installed MuJoCo or Pinocchio (an upgrade rewrites the
+    package's files; frames or kinematics from the old one would be read back)."""
+    import os
+
+    from cosmos.user_cache import package_stamp
+
+    package = tmp_path / "stamped_pkg"
+    package.mkdir()
+    (package / "__init__.py").write_text("VERSION = 1\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    before = package_stamp("stamped_pkg")
+    (package / "__init__.py").write_text("VERSION = 22\n")
+    os.utime(package / "__init__.py", ns=(1, 1))
+    assert package_stamp("stamped_pkg") != before
+    assert package_stamp("no_such_package_here") == "none"

@@ -5,8 +5,9 @@ scene and reads its sites, which costs a check importing MuJoCo and compiling
 the workcell (0.3 s, more than the rest of a short check). So the first check
 on a machine computes them that way and keeps them in the user cache
 (:mod:`cosmos.user_cache`), in a file named by a hash of the model files and
-MuJoCo's version; later checks read that file. A changed scene gets another
-file; a cache that cannot be read or written only means computing them again.
+MuJoCo's installation (:func:`cosmos.user_cache.package_stamp`); later checks read
+that file. A changed scene gets another file; a cache that cannot be read or written
+only means computing them again.
 """
 
 from __future__ import annotations
@@ -16,12 +17,11 @@ import json
 import os
 import tempfile
 from dataclasses import dataclass
-from importlib import metadata
 from pathlib import Path
 
 import numpy as np
 
-from cosmos.user_cache import user_cache_root
+from cosmos.user_cache import package_stamp, user_cache_root
 
 MODEL_DIR = Path(__file__).resolve().parents[1] / "models" / "puma560"
 """The workcell's model files (``cosmos.workcell.MODEL_DIR``, which imports MuJoCo)."""
@@ -43,12 +43,9 @@ class CachedFrame:
 
 
 def model_digest(model_dir: Path = MODEL_DIR) -> str:
-    """A hash of every model file and of MuJoCo's version: what the frames depend on."""
+    """A hash of every model file and of MuJoCo's installation: what the frames depend on."""
     digest = hashlib.sha256()
-    try:
-        digest.update(metadata.version("mujoco").encode())
-    except metadata.PackageNotFoundError:
-        digest.update(b"no mujoco")
+    digest.update(package_stamp("mujoco").encode())
     for path in sorted(model_dir.rglob("*")):
         if path.is_file():
             digest.update(str(path.relative_to(model_dir)).encode() + b"\0" + path.read_bytes())

@@ -8,11 +8,14 @@ configuration and tool pose (the scene's ``home`` keyframe), and the fixtures' s
 first check (or run) on a machine computes them and keeps them in the user cache
 (:mod:`cosmos.user_cache`), as :mod:`cosmos.commands.fixture_cache` keeps the fixture
 frames: one JSON file per arm, named by a hash of the arm's model files, MuJoCo's and
-Pinocchio's versions and the source of the code that derives them. The Pinocchio model
+Pinocchio's installations (:func:`cosmos.user_cache.package_stamp`) and the source of the code
+that derives them. The Pinocchio model
 is kept as Pinocchio's own text serialisation (``Model.saveToString``, read back by
 ``loadFromString``: no pickle, nothing in the file is run). Reading it back costs
 Pinocchio's import and a millisecond, not MuJoCo. A file that cannot be read or written
-only means computing them again.
+only means computing them again. What the foresight of joint limits found for a chain of
+goals is kept beside it (:func:`foreseen`), so that checking a program again does not even
+import Pinocchio.
 """
 
 from __future__ import annotations
@@ -23,7 +26,6 @@ import json
 import os
 import tempfile
 from dataclasses import dataclass
-from importlib import metadata
 from pathlib import Path
 from typing import Any
 
@@ -31,7 +33,7 @@ import numpy as np
 
 from cosmos.robots import ROBOTS, Robot
 from cosmos.runtime.fixture_solids import FixtureSolid, SolidShape
-from cosmos.user_cache import user_cache_root
+from cosmos.user_cache import package_stamp, user_cache_root
 
 _ROOT = Path(__file__).resolve().parents[1]
 DERIVING_CODE = (
@@ -39,6 +41,9 @@ DERIVING_CODE = (
     _ROOT / "workcell.py",
     _ROOT / "plant_scene.py",
     _ROOT / "robots.py",
+    _ROOT / "osc" / "orientation.py",
+    _ROOT / "runtime" / "rotation_plan.py",
+    _ROOT / "runtime" / "foresight.py",
     Path(__file__).resolve(),
 )
 """The source files whose code derives what is cached (a change to them changes the file's name)."""
@@ -97,25 +102,50 @@ def _read_only(values: object, shape: tuple[int, ...] | None = None) -> np.ndarr
     return array
 
 
-def _version(package: str) -> str:
-    try:
-        return metadata.version(package)
-    except metadata.PackageNotFoundError:
-        return "none"
-
-
 def digest(robot: Robot) -> str:
-    """A hash of the arm's model files, MuJoCo's and Pinocchio's versions and the deriving code."""
-    hashed = hashlib.sha256(f"{robot.name}\0{_version('mujoco')}\0{_version('pin')}".encode())
+    """A hash of the arm's model files, MuJoCo's and Pinocchio's installations and the deriving code."""
+    stamps = f"{robot.name}\0{package_stamp('mujoco')}\0{package_stamp('pinocchio')}"
+    hashed = hashlib.sha256(stamps.encode())
     files = [p for p in sorted(robot.model_dir.rglob("*")) if p.is_file()]
     for path in (*files, *DERIVING_CODE):
         hashed.update(path.name.encode() + b"\0" + path.read_bytes())
     return hashed.hexdigest()[:32]
 
 
+@functools.cache
+def _digest_of(robot_name: str) -> str:
+    return digest(ROBOTS[robot_name])
+
+
 def cache_file(robot: Robot) -> Path:
     """Where the arm's workcell is kept."""
     return user_cache_root() / "foresight" / f"{robot.name}-{digest(robot)}.json"
+
+
+def _foreseen_file(robot_name: str, key: bytes) -> Path:
+    chain = hashlib.sha256(key).hexdigest()[:32]
+    return user_cache_root() / "foresight" / f"{robot_name}-{_digest_of(robot_name)}" / f"{chain}.json"
+
+
+def foreseen(robot_name: str, key: bytes) -> list[tuple[int, str]] | None:
+    """What the foresight of joint limits found for a chain of goals (``key``), if kept; else None.
+
+    Kept per arm and workcell (a file per chain, in a directory named like the workcell's file):
+    a list of (step index, message).
+    """
+    try:
+        entries = json.loads(_foreseen_file(robot_name, key).read_text(encoding="utf-8"))
+        return [(int(index), str(message)) for index, message in entries]
+    except (OSError, ValueError, TypeError):
+        return None
+
+
+def keep_foreseen(robot_name: str, key: bytes, found: list[tuple[int, str]]) -> None:
+    """Keep what the foresight found for ``key`` (a cache that cannot be written keeps nothing)."""
+    try:
+        _write(_foreseen_file(robot_name, key), json.dumps(found))
+    except OSError:
+        pass
 
 
 def _to_json(cell: Workcell) -> str:

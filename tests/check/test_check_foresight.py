@@ -4,6 +4,8 @@ from a user cache that spares it MuJoCo."""
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -125,3 +127,35 @@ def test_the_file_is_named_by_the_code_that_derives_it(
     before = foresight_cache.digest(ROBOTS["puma560"])
     code.write_text("a = 2\n")
     assert foresight_cache.digest(ROBOTS["puma560"]) != before
+
+
+def test_a_program_checked_again_does_not_import_pinocchio(cache_dir: Path, program: Path) -> None:
+    """Checked a second time, a program's joint-limit foresight is read from the user cache: the
+    same warnings, without importing Pinocchio (or MuJoCo). Catches the kept result not being used
+    (60 ms of every check), or being another chain's (warnings at the wrong statements)."""
+    code = (
+        "import sys; from pathlib import Path; "
+        "from cosmos.lang import compile_program; from cosmos.commands.fixture_cache import fixture_frames; "
+        "from cosmos.runtime.foresight import with_foreseen_limits; "
+        f"p = Path({str(program)!r}); "
+        "plan = with_foreseen_limits(compile_program(p.read_text(), str(p), fixture_frames())); "
+        "print([(w.span.line, w.message) for w in plan.warnings]); "
+        "print('pinocchio' in sys.modules, 'mujoco' in sys.modules)"
+    )
+    first = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    again = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    warnings, loaded = again.stdout.splitlines()
+    assert warnings == first.stdout.splitlines()[0]
+    assert "(1, 'MOVE TO: joint 6 would reach its limit of 266 deg" in warnings
+    assert loaded == "False False"
+
+
+def test_a_block_ends_what_is_foreseen() -> None:
+    """After an IF (whose branch may move the arm) the same tilt is not foreseen, as after a
+    CONTACT. Catches the foresight following on from the pose before the block."""
+    from cosmos.api import check
+
+    tilt = "MOVE TO (0.55, 0.0, 0.4) RPY (165 deg, -30 deg, 0)\n"
+    assert any("would reach its limit" in w.message for w in check(tilt).warnings)
+    after_if = "MOVE TO (0.55, 0.0, 0.4)\nIF FORCE > 3 N\n  MOVE BY (0, 0, 50 mm)\nEND\n" + tilt
+    assert not [w for w in check(after_if).warnings if "would reach its limit" in w.message]
