@@ -35,8 +35,8 @@ def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
     The goals inside a fixture are :func:`cosmos.runtime.goals_in_fixtures.goals_inside_fixtures`'s.
     The warnings are sorted in by place.
     """
-    found = foreseeable_joint_limits(compiled.steps, compiled.robot)
-    cell = foresight_cache.workcell(compiled.robot)
+    found = foreseeable_joint_limits(compiled.steps, compiled.robot, compiled.tool)
+    cell = foresight_cache.workcell(compiled.robot, compiled.tool)
     home = Pose(cell.home_tool_position, cell.home_tool_rotation)
     found += goals_inside_fixtures(compiled.steps, cell.solids, home, cell.tool_length_m)
     if not found:
@@ -45,7 +45,9 @@ def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
     return dataclasses.replace(compiled, warnings=tuple(warnings))
 
 
-def foreseeable_joint_limits(steps: tuple[plan.Step, ...], robot_name: str) -> list[plan.Diagnostic]:
+def foreseeable_joint_limits(
+    steps: tuple[plan.Step, ...], robot_name: str, tool: str = "peg"
+) -> list[plan.Diagnostic]:
     """Warnings for the goal motions a joint's limit will stop, where the program says where the arm is.
 
     What a chain of goals foresees is kept in the user cache
@@ -55,6 +57,7 @@ def foreseeable_joint_limits(steps: tuple[plan.Step, ...], robot_name: str) -> l
     Args:
         steps: The compiled plan's steps.
         robot_name: The program's arm (``ROBOTS`` key).
+        tool: The program's tool (``Tool`` value): its tool point is the one that moves.
 
     Returns:
         One diagnostic per foreseen stop, at its statement.
@@ -62,10 +65,10 @@ def foreseeable_joint_limits(steps: tuple[plan.Step, ...], robot_name: str) -> l
     if not any(_is_static_move(step) for step in steps):
         return []
     key = _chain_key(steps)
-    kept = foresight_cache.foreseen(robot_name, key)
+    kept = foresight_cache.foreseen(robot_name, tool, key)
     if kept is None or not all(0 <= index < len(steps) for index, _ in kept):
-        kept = _follow_from_home(steps, robot_name)
-        foresight_cache.keep_foreseen(robot_name, key, kept)
+        kept = _follow_from_home(steps, robot_name, tool)
+        foresight_cache.keep_foreseen(robot_name, tool, key, kept)
     return [plan.Diagnostic(message, steps[index].span) for index, message in kept]
 
 
@@ -88,13 +91,13 @@ def _chain_key(steps: tuple[plan.Step, ...]) -> bytes:
     return b"|".join(parts)
 
 
-def _follow_from_home(steps: tuple[plan.Step, ...], robot_name: str) -> list[tuple[int, str]]:
+def _follow_from_home(steps: tuple[plan.Step, ...], robot_name: str, tool: str) -> list[tuple[int, str]]:
     """The stops the runtime's rotation plan foresees: (index in ``steps``, message) each."""
     import pinocchio as pin
 
     from cosmos.runtime.rotation_plan import plan_rotation
 
-    model = foresight_cache.kinematics(robot_name)
+    model = foresight_cache.kinematics(robot_name, tool)
     data = model.model.createData()
     known: np.ndarray | None = np.array(model.home_q)
     found: list[tuple[int, str]] = []

@@ -41,6 +41,7 @@ DERIVING_CODE = (
     _ROOT / "workcell.py",
     _ROOT / "plant_scene.py",
     _ROOT / "robots.py",
+    _ROOT / "hand" / "gripper_scene.py",
     _ROOT / "osc" / "orientation.py",
     _ROOT / "runtime" / "rotation_plan.py",
     _ROOT / "runtime" / "foresight.py",
@@ -117,33 +118,34 @@ def _digest_of(robot_name: str) -> str:
     return digest(ROBOTS[robot_name])
 
 
-def cache_file(robot: Robot) -> Path:
-    """Where the arm's workcell is kept."""
-    return user_cache_root() / "foresight" / f"{robot.name}-{digest(robot)}.json"
+def cache_file(robot: Robot, tool: str = "peg") -> Path:
+    """Where the arm's workcell with ``tool`` (``Tool`` value) is kept."""
+    return user_cache_root() / "foresight" / f"{robot.name}-{tool}-{digest(robot)}.json"
 
 
-def _foreseen_file(robot_name: str, key: bytes) -> Path:
+def _foreseen_file(robot_name: str, tool: str, key: bytes) -> Path:
     chain = hashlib.sha256(key).hexdigest()[:32]
-    return user_cache_root() / "foresight" / f"{robot_name}-{_digest_of(robot_name)}" / f"{chain}.json"
+    kept = f"{robot_name}-{tool}-{_digest_of(robot_name)}"
+    return user_cache_root() / "foresight" / kept / f"{chain}.json"
 
 
-def foreseen(robot_name: str, key: bytes) -> list[tuple[int, str]] | None:
+def foreseen(robot_name: str, tool: str, key: bytes) -> list[tuple[int, str]] | None:
     """What the foresight of joint limits found for a chain of goals (``key``), if kept; else None.
 
     Kept per arm and workcell (a file per chain, in a directory named like the workcell's file):
     a list of (step index, message).
     """
     try:
-        entries = json.loads(_foreseen_file(robot_name, key).read_text(encoding="utf-8"))
+        entries = json.loads(_foreseen_file(robot_name, tool, key).read_text(encoding="utf-8"))
         return [(int(index), str(message)) for index, message in entries]
     except (OSError, ValueError, TypeError):
         return None
 
 
-def keep_foreseen(robot_name: str, key: bytes, found: list[tuple[int, str]]) -> None:
+def keep_foreseen(robot_name: str, tool: str, key: bytes, found: list[tuple[int, str]]) -> None:
     """Keep what the foresight found for ``key`` (a cache that cannot be written keeps nothing)."""
     try:
-        _write(_foreseen_file(robot_name, key), json.dumps(found))
+        _write(_foreseen_file(robot_name, tool, key), json.dumps(found))
     except OSError:
         pass
 
@@ -210,15 +212,17 @@ def _write(path: Path, text: str) -> None:
         raise
 
 
-def from_scene(robot: Robot) -> Workcell:
-    """The arm's workcell computed from its model files (MuJoCo and Pinocchio)."""
+def from_scene(robot: Robot, tool: str = "peg") -> Workcell:
+    """The arm's workcell with ``tool`` computed from its model files (MuJoCo and Pinocchio)."""
     import mujoco
 
+    from cosmos.hand.tool import Tool
     from cosmos.plant_scene import geom_owners
     from cosmos.robot_model import build_robot_model
     from cosmos.workcell import FIXTURE_NAMES, HOME_KEY, TOOL_SITE, home_q, scene_spec, tool_spec
 
-    spec = scene_spec(robot.scene_xml, robot=robot.name)
+    hand = Tool(tool)
+    spec = scene_spec(robot.scene_xml, hand, robot.name)
     model = spec.compile()
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY))
@@ -251,12 +255,12 @@ def from_scene(robot: Robot) -> Workcell:
                 size=_read_only(model.geom_size[g], (3,)),
             )
         )
-    arm = build_robot_model(robot)
-    tool = model.site(TOOL_SITE).id
+    arm = build_robot_model(robot, hand)
+    point = model.site(TOOL_SITE).id
     return Workcell(
-        home_tool_position=_read_only(data.site_xpos[tool], (3,)),
-        home_tool_rotation=_read_only(data.site_xmat[tool], (3, 3)),
-        tool_length_m=float(np.linalg.norm(tool_spec(robot).tool_position_in_flange)),
+        home_tool_position=_read_only(data.site_xpos[point], (3,)),
+        home_tool_rotation=_read_only(data.site_xmat[point], (3, 3)),
+        tool_length_m=float(np.linalg.norm(tool_spec(robot, hand).tool_position_in_flange)),
         solids=tuple(solids),
         model_text=arm.model.saveToString(),
         tool_frame=int(arm.tool_frame),
@@ -264,15 +268,15 @@ def from_scene(robot: Robot) -> Workcell:
     )
 
 
-def load_workcell(robot_name: str) -> Workcell:
-    """The arm's workcell: from the cache file, else from its model files (then kept in the file)."""
+def load_workcell(robot_name: str, tool: str = "peg") -> Workcell:
+    """The arm's workcell with ``tool``: from the cache file, else from its model files (then kept)."""
     robot = ROBOTS[robot_name]
-    path = cache_file(robot)
+    path = cache_file(robot, tool)
     try:
         return _from_json(path.read_text(encoding="utf-8"))
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         pass
-    cell = from_scene(robot)
+    cell = from_scene(robot, tool)
     try:
         _write(path, _to_json(cell))
     except OSError:
@@ -285,16 +289,16 @@ workcell = functools.cache(load_workcell)
 
 
 @functools.cache
-def kinematics(robot_name: str) -> ArmKinematics:
-    """The arm's kinematics for the foresight of joint limits (Pinocchio, read from the cache)."""
+def kinematics(robot_name: str, tool: str = "peg") -> ArmKinematics:
+    """The arm's kinematics with ``tool`` for the foresight of joint limits (Pinocchio, from the cache)."""
     import pinocchio as pin
 
-    cell = workcell(robot_name)
+    cell = workcell(robot_name, tool)
     model = pin.Model()
     try:
         model.loadFromString(cell.model_text)
     except RuntimeError:  # a damaged model in a file that read as JSON: built again
-        model.loadFromString(from_scene(ROBOTS[robot_name]).model_text)
+        model.loadFromString(from_scene(ROBOTS[robot_name], tool).model_text)
     return ArmKinematics(
         model=model,
         tool_frame=cell.tool_frame,

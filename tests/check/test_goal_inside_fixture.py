@@ -206,3 +206,27 @@ def test_shipped_programs_get_no_new_warning(program: Path) -> None:
     source = program.read_text()
     compiled = compile_program(source, str(program), fixture_frames())
     assert [w.message for w in cosmos.check(program).warnings] == [w.message for w in compiled.warnings]
+
+
+@pytest.mark.parametrize("robot", ["puma560", "panda"])
+def test_a_move_by_from_home_starts_where_the_programs_tool_is(robot: str) -> None:
+    """``TOOL GRIPPER`` then ``MOVE BY`` from home: the goal is the gripper's tool point at the
+    home keyframe (as MuJoCo places it with the gripper mounted) plus the offset, and the warning's
+    depth is that goal's below the table's top. Catches the peg's home used for every tool (the
+    Panda's gripper point is 45 mm lower than its peg's: a goal 20 mm inside passed as 25 mm above)."""
+    import mujoco
+
+    from cosmos.hand.tool import Tool
+    from cosmos.robots import ROBOTS
+    from cosmos.workcell import scene_spec
+
+    model = scene_spec(ROBOTS[robot].scene_xml, Tool.GRIPPER, robot).compile()
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("home").id)
+    mujoco.mj_kinematics(model, data)
+    home = data.site("tool").xpos.copy()
+    top, _ = mujoco_probe.top_at(float(home[0]), float(home[1]), robot)
+    drop_mm = round((home[2] - top + 0.02) * 1e3)
+    found = inside_warnings(f"ROBOT {robot}\nTOOL GRIPPER\nMOVE BY (0, 0, -{drop_mm} mm)\n")
+    assert [(at, m.group(5)) for at, m in found] == [(3, "table")]
+    assert float(found[0][1].group(4)) == pytest.approx((top - (home[2] - drop_mm / 1e3)) * 1e3, abs=0.051)
