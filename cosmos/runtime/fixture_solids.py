@@ -101,6 +101,26 @@ def _in_shape(shape: SolidShape, local: FloatArray, sizes: FloatArray) -> FloatA
     return outside + np.minimum(excess.max(axis=-1), 0.0)
 
 
+def bounds(solids: tuple[FixtureSolid, ...]) -> tuple[FloatArray, FloatArray]:
+    """Each solid's bounding box along the world's axes: lower and upper corners [m], (k, 3) each."""
+    if not solids:
+        return np.empty((0, 3)), np.empty((0, 3))
+    half = []
+    for solid in solids:
+        radius, length = float(solid.size[0]), float(solid.size[1])
+        if solid.shape is SolidShape.BOX:
+            extent = solid.size
+        elif solid.shape is SolidShape.SPHERE:
+            extent = np.full(3, radius)
+        else:  # a cylinder or a capsule along its z axis
+            extent = np.array(
+                (radius, radius, length + (radius if solid.shape is SolidShape.CAPSULE else 0.0))
+            )
+        half.append(np.abs(solid.rotation) @ extent)
+    centers = np.array([solid.center for solid in solids])
+    return centers - np.array(half), centers + np.array(half)
+
+
 def depth_inside(solids: tuple[FixtureSolid, ...], point: FloatArray) -> float:
     """How deep ``point`` lies inside the deepest of ``solids`` [m]: 0 if it is inside none."""
     if not solids:

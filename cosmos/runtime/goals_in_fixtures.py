@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cosmos import plan
-from cosmos.runtime.fixture_solids import FixtureSolid, signed_distances, top_above
+from cosmos.runtime.fixture_solids import FixtureSolid, bounds, signed_distances, top_above
 
 AXIS_STEP_M = 0.005
 """Spacing of the points of the tool's axis that are tested [m]."""
@@ -51,6 +51,21 @@ class Pose:
 
 
 UNKNOWN = Pose(None, None)
+
+
+@dataclass(frozen=True)
+class _Solids:
+    """The workcell's solids with their bounding boxes (:func:`bounds`), for a quick first look.
+
+    Attributes:
+        all: The solids.
+        lower: Lower corners of their boxes, world [m]. # (k, 3)
+        upper: Upper corners. # (k, 3)
+    """
+
+    all: tuple[FixtureSolid, ...]
+    lower: np.ndarray
+    upper: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -89,13 +104,13 @@ def goals_inside_fixtures(
         One diagnostic per such goal (each statement once), at its statement.
     """
     found: dict[tuple[int, int, str], plan.Diagnostic] = {}
-    for diagnostic in _walk(steps, solids, home, tool_length_m):
+    for diagnostic in _walk(steps, _Solids(solids, *bounds(solids)), home, tool_length_m):
         found.setdefault((diagnostic.span.line, diagnostic.span.column, diagnostic.message), diagnostic)
     return list(found.values())
 
 
 def _walk(
-    steps: tuple[plan.Step, ...], solids: tuple[FixtureSolid, ...], pose: Pose, tool_length_m: float
+    steps: tuple[plan.Step, ...], solids: _Solids, pose: Pose, tool_length_m: float
 ) -> Iterator[plan.Diagnostic]:
     """The warnings of ``steps``, run from ``pose``.
 
@@ -119,7 +134,7 @@ def _walk(
 
 
 def _segment(
-    step: plan.Segment, solids: tuple[FixtureSolid, ...], pose: Pose, tool_length_m: float
+    step: plan.Segment, solids: _Solids, pose: Pose, tool_length_m: float
 ) -> tuple[plan.Diagnostic | None, Pose]:
     """The warning for one segment, if any, and the pose it leaves."""
     holds_everything = bool(np.all(step.motion_axes)) and step.until is None
@@ -150,7 +165,7 @@ def _segment(
 
 
 def point_inside(
-    solids: tuple[FixtureSolid, ...],
+    solids: _Solids,
     position: np.ndarray,
     rotation: np.ndarray | None,
     tool_length_m: float,
@@ -166,14 +181,22 @@ def point_inside(
     backs = np.arange(count + 1) * AXIS_STEP_M
     axis = np.zeros(3) if rotation is None else rotation[:, 2]
     points = position[None, :] - backs[:, None] * axis[None, :]  # (count + 1, 3)
-    distances = signed_distances(solids, points)  # (count + 1, len(solids))
+    near = np.all(
+        (solids.lower <= points.max(axis=0) + tolerance_m)
+        & (solids.upper >= points.min(axis=0) - tolerance_m),
+        axis=1,
+    )
+    if not near.any():
+        return None  # no solid's bounding box meets the points' (the goal is in free space)
+    candidates = tuple(solid for solid, close in zip(solids.all, near, strict=True) if close)
+    distances = signed_distances(candidates, points)  # (count + 1, len(candidates))
     found: Inside | None = None
     for k in range(count + 1):
         deepest = int(np.argmin(distances[k]))
         if -distances[k, deepest] <= tolerance_m:
             continue
-        name = solids[deepest].fixture
-        top = top_above(tuple(s for s in solids if s.fixture == name), points[k])
+        name = candidates[deepest].fixture
+        top = top_above(tuple(s for s in solids.all if s.fixture == name), points[k])
         if found is None or top - points[k, 2] > found.depth_m:
             found = Inside(name, top - float(points[k, 2]), top, float(backs[k]))
         if k == 0:

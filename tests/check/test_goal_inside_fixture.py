@@ -230,3 +230,26 @@ def test_a_move_by_from_home_starts_where_the_programs_tool_is(robot: str) -> No
     found = inside_warnings(f"ROBOT {robot}\nTOOL GRIPPER\nMOVE BY (0, 0, -{drop_mm} mm)\n")
     assert [(at, m.group(5)) for at, m in found] == [(3, "table")]
     assert float(found[0][1].group(4)) == pytest.approx((top - (home[2] - drop_mm / 1e3)) * 1e3, abs=0.051)
+
+
+def test_points_inside_are_found_past_the_bounding_boxes() -> None:
+    """At 600 random points of the workcell, ``point_inside`` finds a fixture exactly where MuJoCo
+    finds the point deeper than 0.1 mm inside one, and that fixture. Catches the first look by
+    bounding boxes skipping a solid that holds the point (the tilted plate's box taken unrotated, a
+    cylinder's length for its half length)."""
+    from cosmos.runtime.fixture_solids import bounds
+    from cosmos.runtime.goals_in_fixtures import DEEPER_THAN_M, _Solids, point_inside
+
+    solids = workcell("puma560").solids
+    packed = _Solids(solids, *bounds(solids))
+    rng = np.random.default_rng(11)
+    inside = 0
+    for point in rng.uniform((0.25, -0.7, -0.05), (1.0, 0.5, 0.32), size=(600, 3)):
+        distance, fixture = mujoco_probe.signed_distance(point)
+        found = point_inside(packed, point, None, 0.0, DEEPER_THAN_M)
+        if distance < -DEEPER_THAN_M - 1e-9:
+            assert found is not None and found.fixture == fixture, point
+            inside += 1
+        elif distance > -DEEPER_THAN_M + 1e-9:
+            assert found is None, point
+    assert inside > 50
