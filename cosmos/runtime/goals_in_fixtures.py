@@ -1,8 +1,9 @@
 """Goals inside a fixture, foreseen from a program's text.
 
-``MOVE TO table + (0, 0, -30 mm)`` (the frame's z points into the table: 30 mm *above* it
-is ``(0, 0, -30 mm)``, below it ``(0, 0, 30 mm)``) is an easy slip; the run finds it only
-when the tool meets the table, as a protective stop. Where a motion's goal is known from
+``MOVE TO table + (0, 0, -30 mm)`` (a frame plus a vector moves along the world's axes, while
+the table's frame points its z down into the table: ``-30 mm`` is down, into it) is an easy
+slip, as is a goal below the plate; the run finds it only when the tool meets the fixture, as a
+protective stop. Where a motion's goal is known from
 the text, the checker says so at the statement:
 
     MOVE TO: the goal is 30.0 mm inside the fixture 'table' (below its top at z = 200.0 mm);
@@ -54,7 +55,7 @@ UNKNOWN = Pose(None, None)
 
 
 @dataclass(frozen=True)
-class _Solids:
+class Solids:
     """The workcell's solids with their bounding boxes (:func:`bounds`), for a quick first look.
 
     Attributes:
@@ -104,13 +105,13 @@ def goals_inside_fixtures(
         One diagnostic per such goal (each statement once), at its statement.
     """
     found: dict[tuple[int, int, str], plan.Diagnostic] = {}
-    for diagnostic in _walk(steps, _Solids(solids, *bounds(solids)), home, tool_length_m):
+    for diagnostic in _walk(steps, Solids(solids, *bounds(solids)), home, tool_length_m):
         found.setdefault((diagnostic.span.line, diagnostic.span.column, diagnostic.message), diagnostic)
     return list(found.values())
 
 
 def _walk(
-    steps: tuple[plan.Step, ...], solids: _Solids, pose: Pose, tool_length_m: float
+    steps: tuple[plan.Step, ...], solids: Solids, pose: Pose, tool_length_m: float
 ) -> Iterator[plan.Diagnostic]:
     """The warnings of ``steps``, run from ``pose``.
 
@@ -134,7 +135,7 @@ def _walk(
 
 
 def _segment(
-    step: plan.Segment, solids: _Solids, pose: Pose, tool_length_m: float
+    step: plan.Segment, solids: Solids, pose: Pose, tool_length_m: float
 ) -> tuple[plan.Diagnostic | None, Pose]:
     """The warning for one segment, if any, and the pose it leaves."""
     holds_everything = bool(np.all(step.motion_axes)) and step.until is None
@@ -155,17 +156,17 @@ def _segment(
         via_point = np.asarray(via.position_world, dtype=float)
         hit = point_inside(solids, via_point, None, 0.0, step.via_radius_m or DEEPER_THAN_M)
         if hit is not None:
-            return plan.Diagnostic(f"{keyword}: {_said(hit, f'VIA point {number}')}", step.span), end
+            return plan.Diagnostic(_said(keyword, step, hit, f"VIA point {number}"), step.span), UNKNOWN
     if position is None:
         return None, end
     hit = point_inside(solids, position, end.rotation, tool_length_m, DEEPER_THAN_M)
     if hit is None:
         return None, end
-    return plan.Diagnostic(f"{keyword}: {_said(hit, 'goal')}", step.span), end
+    return plan.Diagnostic(_said(keyword, step, hit, "goal"), step.span), UNKNOWN  # the run stops there
 
 
 def point_inside(
-    solids: _Solids,
+    solids: Solids,
     position: np.ndarray,
     rotation: np.ndarray | None,
     tool_length_m: float,
@@ -204,14 +205,18 @@ def point_inside(
     return found
 
 
-def _said(hit: Inside, what: str) -> str:
-    """``the goal is 30.0 mm inside the fixture 'table' (below its top at z = 200.0 mm); ...``."""
+def _said(keyword: str, step: plan.Segment, hit: Inside, what: str) -> str:
+    """``MOVE TO: the goal is 30.0 mm inside the fixture 'table' (below its top at z = 200.0 mm); ...``.
+
+    A statement of a procedure or a loop says which call or pass (its context) first.
+    """
+    keyword += f": in {step.context}," if step.context else ":"
     if hit.along_axis_m == 0.0:
         subject = f"the {what} is"
     else:
         back_mm = hit.along_axis_m * 1e3
         subject = f"at the {what} the tool's axis, {back_mm:.0f} mm back from the tool point, is"
     return (
-        f"{subject} {hit.depth_m * 1e3:.1f} mm inside the fixture '{hit.fixture}' "
+        f"{keyword} {subject} {hit.depth_m * 1e3:.1f} mm inside the fixture '{hit.fixture}' "
         f"(below its top at z = {hit.top_z_m * 1e3:.1f} mm); the run will stop at the touch"
     )

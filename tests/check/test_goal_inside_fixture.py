@@ -15,9 +15,10 @@ from tests.check import mujoco_probe
 
 PROGRAMS = sorted((Path(__file__).resolve().parents[2] / "programs").glob("*.cos"))
 INSIDE = re.compile(
-    r"^(MOVE TO|MOVE BY): (?:the (goal|VIA point \d) is|at the goal the tool's axis, (\d+) mm back from the "
-    r"tool point, is) ([\d.]+) mm inside the fixture '(\w+)' \(below its top at z = (-?[\d.]+) mm\); "
-    r"the run will stop at the touch$"
+    r"^(?P<keyword>MOVE TO|MOVE BY):(?: in (?P<context>[^,]+),)? "
+    r"(?:the (?P<what>goal|VIA point \d) is|at the goal the tool's axis, (?P<back>\d+) mm back from the "
+    r"tool point, is) (?P<depth>[\d.]+) mm inside the fixture '(?P<fixture>\w+)' "
+    r"\(below its top at z = (?P<top>-?[\d.]+) mm\); the run will stop at the touch$"
 )
 
 
@@ -115,10 +116,10 @@ def test_a_goal_inside_a_fixture_is_warned_with_mujocos_depth(
     found = inside_warnings(source)
     assert [at for at, _ in found] == [line], found
     match = found[0][1]
-    assert match.group(2) == "goal"
-    assert match.group(5) == fixture
-    assert float(match.group(6)) == pytest.approx(top * 1e3, abs=0.051)
-    assert float(match.group(4)) == pytest.approx((top - goal[2]) * 1e3, abs=0.051)
+    assert match["what"] == "goal"
+    assert match["fixture"] == fixture
+    assert float(match["top"]) == pytest.approx(top * 1e3, abs=0.051)
+    assert float(match["depth"]) == pytest.approx((top - goal[2]) * 1e3, abs=0.051)
 
 
 def test_a_via_point_deeper_than_it_is_passed_is_warned() -> None:
@@ -127,9 +128,9 @@ def test_a_via_point_deeper_than_it_is_passed_is_warned() -> None:
     like goals (a warning for a via the tool never reaches)."""
     deep = "MOVE TO (0.6, -0.15, 0.3) VIA (0.6, -0.15, 0.17)\n"
     found = inside_warnings(deep)
-    assert [(at, m.group(2), m.group(5)) for at, m in found] == [(1, "VIA point 1", "table")]
+    assert [(at, m["what"], m["fixture"]) for at, m in found] == [(1, "VIA point 1", "table")]
     top, _ = mujoco_probe.top_at(0.6, -0.15)
-    assert float(found[0][1].group(4)) == pytest.approx((top - 0.17) * 1e3, abs=0.051)
+    assert float(found[0][1]["depth"]) == pytest.approx((top - 0.17) * 1e3, abs=0.051)
     assert not inside_warnings("MOVE TO (0.6, -0.15, 0.3) VIA (0.6, -0.15, 0.195)\n")
 
 
@@ -141,10 +142,10 @@ def test_the_tools_axis_inside_a_fixture_is_warned() -> None:
     found = inside_warnings("MOVE TO table + (0, 0, 50 mm) RPY (0, 0, 0)\n")
     assert len(found) == 1
     match = found[0][1]
-    back_m, depth_m = int(match.group(3)) / 1e3, float(match.group(4)) / 1e3
+    back_m, depth_m = int(match["back"]) / 1e3, float(match["depth"]) / 1e3
     point = _table((0, 0, 0.05 - back_m))  # the tool's z is the world's
     distance, fixture = mujoco_probe.signed_distance(point)
-    assert distance < 0.0 and fixture == match.group(5) == "table"
+    assert distance < 0.0 and fixture == match["fixture"] == "table"
     top, _ = mujoco_probe.top_at(float(point[0]), float(point[1]))
     assert depth_m == pytest.approx(top - point[2], abs=5.1e-5)
     assert not inside_warnings("MOVE TO table + (0, 0, 50 mm)\n")  # pointing down: the axis is above
@@ -228,8 +229,8 @@ def test_a_move_by_from_home_starts_where_the_programs_tool_is(robot: str) -> No
     top, _ = mujoco_probe.top_at(float(home[0]), float(home[1]), robot)
     drop_mm = round((home[2] - top + 0.02) * 1e3)
     found = inside_warnings(f"ROBOT {robot}\nTOOL GRIPPER\nMOVE BY (0, 0, -{drop_mm} mm)\n")
-    assert [(at, m.group(5)) for at, m in found] == [(3, "table")]
-    assert float(found[0][1].group(4)) == pytest.approx((top - (home[2] - drop_mm / 1e3)) * 1e3, abs=0.051)
+    assert [(at, m["fixture"]) for at, m in found] == [(3, "table")]
+    assert float(found[0][1]["depth"]) == pytest.approx((top - (home[2] - drop_mm / 1e3)) * 1e3, abs=0.051)
 
 
 def test_points_inside_are_found_past_the_bounding_boxes() -> None:
@@ -238,10 +239,10 @@ def test_points_inside_are_found_past_the_bounding_boxes() -> None:
     bounding boxes skipping a solid that holds the point (the tilted plate's box taken unrotated, a
     cylinder's length for its half length)."""
     from cosmos.runtime.fixture_solids import bounds
-    from cosmos.runtime.goals_in_fixtures import DEEPER_THAN_M, _Solids, point_inside
+    from cosmos.runtime.goals_in_fixtures import DEEPER_THAN_M, Solids, point_inside
 
     solids = workcell("puma560").solids
-    packed = _Solids(solids, *bounds(solids))
+    packed = Solids(solids, *bounds(solids))
     rng = np.random.default_rng(11)
     inside = 0
     for point in rng.uniform((0.25, -0.7, -0.05), (1.0, 0.5, 0.32), size=(600, 3)):
@@ -253,3 +254,15 @@ def test_points_inside_are_found_past_the_bounding_boxes() -> None:
         elif distance > -DEEPER_THAN_M + 1e-9:
             assert found is None, point
     assert inside > 50
+
+
+def test_a_loop_is_warned_once_at_the_pass_that_goes_in() -> None:
+    """``REPEAT 5`` of ``MOVE BY (0, 0, -30 mm)`` from 100 mm above the table: the fourth pass's
+    goal is 20 mm inside (as MuJoCo's ray finds the top), and the run stops there, so one warning,
+    naming the pass. Catches a warning per pass after the first stop (the later goals are never
+    reached), and a warning that does not say which pass."""
+    found = inside_warnings("MOVE TO table + (0, 0, 100 mm)\nREPEAT 5\n  MOVE BY (0, 0, -30 mm)\nEND\n")
+    assert [(at, m["context"]) for at, m in found] == [(3, "REPEAT pass 4 of 5 at line 2")]
+    top, _ = mujoco_probe.top_at(*mujoco_probe.site("table")[0][:2])
+    goal_z = mujoco_probe.site("table")[0][2] + 0.1 - 4 * 0.03
+    assert float(found[0][1]["depth"]) == pytest.approx((top - goal_z) * 1e3, abs=0.051)
