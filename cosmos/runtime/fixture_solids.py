@@ -51,6 +51,7 @@ class FixtureSolid:
         center: Its centre, world [m], read-only. # (3,)
         rotation: Its axes in the world (solid to world), read-only. # (3, 3)
         size: MuJoCo's ``size`` [m] (:class:`SolidShape`), read-only. # (3,)
+        obstacle: True for an obstacle a program adds (``OBSTACLE``; ``fixture`` is its name).
     """
 
     fixture: str
@@ -59,6 +60,7 @@ class FixtureSolid:
     center: FloatArray
     rotation: FloatArray
     size: FloatArray
+    obstacle: bool = False
 
 
 def signed_distances(solids: tuple[FixtureSolid, ...], points: FloatArray) -> FloatArray:

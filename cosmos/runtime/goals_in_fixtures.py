@@ -18,6 +18,11 @@ inside a fixture's solid (:mod:`cosmos.runtime.fixture_solids`) by more than
 is deeper than the distance at which it counts as passed: the tool must then touch. Statements
 meant to touch are not judged (CONTACT, SLIDE, INSERT, a MOVE with an UNTIL or with axes under
 force control), nor is the hole's bore, which is no solid.
+
+An obstacle the program adds (``OBSTACLE``, not MOVING, not a PLANE) is a solid too from its
+statement on (until ``OBSTACLE REMOVE``; one added in a block only within it): a goal inside it
+is warned the same way, ending "the run will stop short of it" (its field holds the tool off:
+the MOVE fails "stuck in a local minimum of the potential field", or at the touch).
 """
 
 from __future__ import annotations
@@ -28,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cosmos import plan
-from cosmos.runtime.fixture_solids import FixtureSolid, bounds, signed_distances, top_above
+from cosmos.runtime.fixture_solids import FixtureSolid, SolidShape, bounds, signed_distances, top_above
 
 AXIS_STEP_M = 0.005
 """Spacing of the points of the tool's axis that are tested [m]."""
@@ -74,7 +79,8 @@ class Inside:
     """A point found inside a fixture.
 
     Attributes:
-        fixture: The fixture's name.
+        fixture: The fixture's (or obstacle's) name.
+        obstacle: True for an obstacle the program added (``OBSTACLE``).
         depth_m: How far the point lies below the fixture's top, straight above it [m].
         top_z_m: The z of that top [m].
         along_axis_m: 0 for the tool point; else how far back along the tool's axis the
@@ -82,6 +88,7 @@ class Inside:
     """
 
     fixture: str
+    obstacle: bool
     depth_m: float
     top_z_m: float
     along_axis_m: float
@@ -104,10 +111,37 @@ def goals_inside_fixtures(
     Returns:
         One diagnostic per such goal (each statement once), at its statement.
     """
-    found: dict[tuple[int, int, str], plan.Diagnostic] = {}
-    for diagnostic in _walk(steps, Solids(solids, *bounds(solids)), home, tool_length_m):
-        found.setdefault((diagnostic.span.line, diagnostic.span.column, diagnostic.message), diagnostic)
+    found: dict[tuple[int, int], plan.Diagnostic] = {}
+    for diagnostic in _walk(steps, packed(solids), home, tool_length_m):
+        found.setdefault((diagnostic.span.line, diagnostic.span.column), diagnostic)
     return list(found.values())
+
+
+def packed(solids: tuple[FixtureSolid, ...]) -> Solids:
+    """``solids`` with their bounding boxes."""
+    return Solids(solids, *bounds(solids))
+
+
+def obstacle_solid(step: plan.AddObstacle) -> FixtureSolid | None:
+    """The solid an ``OBSTACLE`` adds, if it stays where it is put and has an inside (not a PLANE).
+
+    MuJoCo's ``size`` of it: a box's half edges, a cylinder's radius and half height (its
+    ``position_world`` is the middle of its axis), a sphere's radius.
+    """
+    if np.any(np.asarray(step.velocity_world_mps) != 0.0):
+        return None
+    radius, height, edges = step.radius_m, step.height_m, step.size_m
+    if step.shape is plan.ObstacleShape.SPHERE and radius is not None:
+        shape, size = SolidShape.SPHERE, np.array((radius, 0.0, 0.0))
+    elif step.shape is plan.ObstacleShape.CYLINDER and radius is not None and height is not None:
+        shape, size = SolidShape.CYLINDER, np.array((radius, height / 2.0, 0.0))
+    elif step.shape is plan.ObstacleShape.BOX and edges is not None:
+        shape, size = SolidShape.BOX, np.asarray(edges, dtype=float) / 2.0
+    else:
+        return None
+    center = np.asarray(step.position_world, dtype=float)
+    rotation = np.asarray(step.rotation_world, dtype=float)
+    return FixtureSolid(step.name, step.name, shape, center, rotation, size, obstacle=True)
 
 
 def _walk(
@@ -119,7 +153,11 @@ def _walk(
     (which may or may not run, or stop anywhere) the pose is not known.
     """
     for step in steps:
-        if isinstance(step, plan.Branch):
+        if isinstance(step, plan.AddObstacle | plan.RemoveObstacle):  # in a block: only there
+            kept = tuple(s for s in solids.all if not (s.obstacle and s.fixture == step.name))
+            added = obstacle_solid(step) if isinstance(step, plan.AddObstacle) else None
+            solids = packed(kept if added is None else (*kept, added))
+        elif isinstance(step, plan.Branch):
             yield from _walk(step.then_steps, solids, pose, tool_length_m)
             yield from _walk(step.else_steps, solids, pose, tool_length_m)
             pose = UNKNOWN
@@ -196,10 +234,11 @@ def point_inside(
         deepest = int(np.argmin(distances[k]))
         if -distances[k, deepest] <= tolerance_m:
             continue
-        name = candidates[deepest].fixture
-        top = top_above(tuple(s for s in solids.all if s.fixture == name), points[k])
+        hit = candidates[deepest]
+        same = tuple(s for s in solids.all if (s.fixture, s.obstacle) == (hit.fixture, hit.obstacle))
+        top = top_above(same, points[k])
         if found is None or top - points[k, 2] > found.depth_m:
-            found = Inside(name, top - float(points[k, 2]), top, float(backs[k]))
+            found = Inside(hit.fixture, hit.obstacle, top - float(points[k, 2]), top, float(backs[k]))
         if k == 0:
             break  # the tool point itself: its goal is what the statement says
     return found
@@ -217,6 +256,8 @@ def _said(keyword: str, step: plan.Segment, hit: Inside, what: str) -> str:
         back_mm = hit.along_axis_m * 1e3
         subject = f"at the {what} the tool's axis, {back_mm:.0f} mm back from the tool point, is"
     return (
-        f"{keyword} {subject} {hit.depth_m * 1e3:.1f} mm inside the fixture '{hit.fixture}' "
-        f"(below its top at z = {hit.top_z_m * 1e3:.1f} mm); the run will stop at the touch"
+        f"{keyword} {subject} {hit.depth_m * 1e3:.1f} mm inside the "
+        f"{'obstacle' if hit.obstacle else 'fixture'} '{hit.fixture}' "
+        f"(below its top at z = {hit.top_z_m * 1e3:.1f} mm); the run will stop "
+        + ("short of it" if hit.obstacle else "at the touch")
     )

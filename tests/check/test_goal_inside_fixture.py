@@ -17,8 +17,8 @@ PROGRAMS = sorted((Path(__file__).resolve().parents[2] / "programs").glob("*.cos
 INSIDE = re.compile(
     r"^(?P<keyword>MOVE TO|MOVE BY):(?: in (?P<context>[^,]+),)? "
     r"(?:the (?P<what>goal|VIA point \d) is|at the goal the tool's axis, (?P<back>\d+) mm back from the "
-    r"tool point, is) (?P<depth>[\d.]+) mm inside the fixture '(?P<fixture>\w+)' "
-    r"\(below its top at z = (?P<top>-?[\d.]+) mm\); the run will stop at the touch$"
+    r"tool point, is) (?P<depth>[\d.]+) mm inside the (?P<kind>fixture|obstacle) '(?P<fixture>\w+)' "
+    r"\(below its top at z = (?P<top>-?[\d.]+) mm\); the run will stop (?P<ending>at the touch|short of it)$"
 )
 
 
@@ -26,7 +26,7 @@ def inside_warnings(source: str) -> list[tuple[int, re.Match[str]]]:
     """The goal-inside-a-fixture warnings of ``source``: (line, the message matched)."""
     found = []
     for warning in cosmos.check(source).warnings:
-        if "inside the fixture" in warning.message:
+        if " mm inside the " in warning.message:
             match = INSIDE.match(warning.message)
             assert match is not None, warning.message
             found.append((warning.span.line, match))
@@ -116,7 +116,7 @@ def test_a_goal_inside_a_fixture_is_warned_with_mujocos_depth(
     found = inside_warnings(source)
     assert [at for at, _ in found] == [line], found
     match = found[0][1]
-    assert match["what"] == "goal"
+    assert (match["what"], match["kind"], match["ending"]) == ("goal", "fixture", "at the touch")
     assert match["fixture"] == fixture
     assert float(match["top"]) == pytest.approx(top * 1e3, abs=0.051)
     assert float(match["depth"]) == pytest.approx((top - goal[2]) * 1e3, abs=0.051)
