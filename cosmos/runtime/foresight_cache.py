@@ -48,6 +48,8 @@ DERIVING_CODE = (
     Path(__file__).resolve(),
 )
 """The source files whose code derives what is cached (a change to them changes the file's name)."""
+KEPT_CHAINS = 1000
+"""Chains of goals whose foresight is kept per arm and tool (a few hundred bytes each)."""
 _SHAPES = {shape.value: shape for shape in SolidShape}
 
 
@@ -143,9 +145,17 @@ def foreseen(robot_name: str, tool: str, key: bytes) -> list[tuple[int, str]] | 
 
 
 def keep_foreseen(robot_name: str, tool: str, key: bytes, found: list[tuple[int, str]]) -> None:
-    """Keep what the foresight found for ``key`` (a cache that cannot be written keeps nothing)."""
+    """Keep what the foresight found for ``key`` (a cache that cannot be written keeps nothing).
+
+    At most :data:`KEPT_CHAINS` chains are kept per arm and tool: beyond, the oldest written go.
+    """
+    path = _foreseen_file(robot_name, tool, key)
     try:
-        _write(_foreseen_file(robot_name, tool, key), json.dumps(found))
+        _write(path, json.dumps(found))
+        others = [file for file in path.parent.glob("*.json") if file != path]
+        others.sort(key=lambda file: file.stat().st_mtime_ns)
+        for old in others[: max(0, len(others) + 1 - KEPT_CHAINS)]:
+            old.unlink(missing_ok=True)
     except OSError:
         pass
 

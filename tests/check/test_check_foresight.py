@@ -159,3 +159,14 @@ def test_a_block_ends_what_is_foreseen() -> None:
     assert any("would reach its limit" in w.message for w in check(tilt).warnings)
     after_if = "MOVE TO (0.55, 0.0, 0.4)\nIF FORCE > 3 N\n  MOVE BY (0, 0, 50 mm)\nEND\n" + tilt
     assert not [w for w in check(after_if).warnings if "would reach its limit" in w.message]
+
+
+def test_the_kept_chains_are_bounded(cache_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Beyond KEPT_CHAINS, the oldest kept chains are removed and the newest stay readable.
+    Catches a cache that grows with every program ever checked."""
+    monkeypatch.setattr(foresight_cache, "KEPT_CHAINS", 3)
+    for number in range(5):
+        foresight_cache.keep_foreseen("puma560", "peg", f"chain {number}".encode(), [(number, "m")])
+    folder = next(path for path in cache_dir.glob("foresight/*") if path.is_dir())
+    assert len(list(folder.glob("*.json"))) == 3
+    assert foresight_cache.foreseen("puma560", "peg", b"chain 4") == [(4, "m")]
