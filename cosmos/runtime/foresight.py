@@ -26,7 +26,7 @@ import numpy as np
 
 from cosmos import plan
 from cosmos.runtime import foresight_cache
-from cosmos.runtime.goals_in_fixtures import Pose, goals_inside_fixtures
+from cosmos.runtime.goals_in_fixtures import Pose, ToolShape, goals_inside_fixtures
 
 
 def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
@@ -38,7 +38,8 @@ def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
     found = foreseeable_joint_limits(compiled.steps, compiled.robot, compiled.tool)
     cell = foresight_cache.workcell(compiled.robot, compiled.tool)
     home = Pose(cell.home_tool_position, cell.home_tool_rotation)
-    found += goals_inside_fixtures(compiled.steps, cell.solids, home, cell.tool_length_m)
+    tool = ToolShape(cell.tool_length_m, cell.tool_sections)
+    found += goals_inside_fixtures(compiled.steps, cell.solids, home, tool)
     if not found:
         return compiled
     warnings = sorted((*compiled.warnings, *found), key=lambda w: (w.span.line, w.span.column))

@@ -79,7 +79,10 @@ class Workcell:
     Attributes:
         home_tool_position: The tool point at home, world [m], read-only. # (3,)
         home_tool_rotation: The tool's orientation at home (tool to world), read-only. # (3, 3)
-        tool_length_m: From the tool point back to the flange along the tool's axis [m].
+        tool_length_m: From the tool point back to the flange along the tool's axis, or to the
+            tool's far end if it reaches behind the flange [m].
+        tool_sections: The tool's cylinders on its axis (:class:`cosmos.runtime.goals_in_fixtures.ToolShape`):
+            from and to how far back from the tool point, and radius [m], each.
         solids: The fixtures' solids: the scene's world geoms that the tool can touch.
         model_text: The controller's Pinocchio model, serialised (:func:`kinematics` reads it).
         tool_frame: Frame id of the tool point in that model.
@@ -89,6 +92,7 @@ class Workcell:
     home_tool_position: np.ndarray
     home_tool_rotation: np.ndarray
     tool_length_m: float
+    tool_sections: tuple[tuple[float, float, float], ...]
     solids: tuple[FixtureSolid, ...]
     model_text: str
     tool_frame: int
@@ -113,6 +117,32 @@ def digest(robot: Robot) -> str:
     for path in (*files, *DERIVING_CODE):
         hashed.update(path.name.encode() + b"\0" + path.read_bytes())
     return hashed.hexdigest()[:32]
+
+
+def _tool_sections(model: Any, data: Any, point: int) -> tuple[tuple[float, float, float], ...]:
+    """The cylinders of the tool's body (and the bodies on it) centred on the tool's axis.
+
+    At the home pose, in the tool point's frame (z along the tool, away from the flange): each
+    as from and to how far back from the tool point, and radius [m].
+    """
+    import mujoco
+
+    tool = model.body("tool").id
+    origin, axes = data.site_xpos[point], data.site_xmat[point].reshape(3, 3)
+    sections = []
+    for geom in range(model.ngeom):
+        body = int(model.geom_bodyid[geom])
+        while body not in (0, tool):
+            body = int(model.body_parentid[body])
+        if body != tool or model.geom_type[geom] != mujoco.mjtGeom.mjGEOM_CYLINDER:
+            continue
+        centre = axes.T @ (data.geom_xpos[geom] - origin)
+        along = axes.T @ data.geom_xmat[geom].reshape(3, 3)[:, 2]
+        if np.hypot(centre[0], centre[1]) > 1e-9 or abs(abs(along[2]) - 1.0) > 1e-9:
+            continue  # off the axis, or across it
+        radius, half = float(model.geom_size[geom, 0]), float(model.geom_size[geom, 1])
+        sections.append((-float(centre[2]) - half, -float(centre[2]) + half, radius))
+    return tuple(sorted(sections))
 
 
 @functools.cache
@@ -166,6 +196,7 @@ def _to_json(cell: Workcell) -> str:
             "home_tool_position": cell.home_tool_position.tolist(),
             "home_tool_rotation": cell.home_tool_rotation.tolist(),
             "tool_length_m": cell.tool_length_m,
+            "tool_sections": [list(section) for section in cell.tool_sections],
             "solids": [
                 {
                     "fixture": s.fixture,
@@ -203,6 +234,9 @@ def _from_json(text: str) -> Workcell:
         home_tool_position=_read_only(entries["home_tool_position"], (3,)),
         home_tool_rotation=_read_only(entries["home_tool_rotation"], (3, 3)),
         tool_length_m=float(entries["tool_length_m"]),
+        tool_sections=tuple(
+            (float(start), float(end), float(radius)) for start, end, radius in entries["tool_sections"]
+        ),
         solids=solids,
         model_text=entries["model"],
         tool_frame=int(entries["tool_frame"]),
@@ -267,10 +301,15 @@ def from_scene(robot: Robot, tool: str = "peg") -> Workcell:
         )
     arm = build_robot_model(robot, hand)
     point = model.site(TOOL_SITE).id
+    sections = _tool_sections(model, data, point)
     return Workcell(
         home_tool_position=_read_only(data.site_xpos[point], (3,)),
         home_tool_rotation=_read_only(data.site_xmat[point], (3, 3)),
-        tool_length_m=float(np.linalg.norm(tool_spec(robot, hand).tool_position_in_flange)),
+        tool_length_m=max(
+            float(np.linalg.norm(tool_spec(robot, hand).tool_position_in_flange)),
+            max((end for _, end, _ in sections), default=0.0),
+        ),
+        tool_sections=sections,
         solids=tuple(solids),
         model_text=arm.model.saveToString(),
         tool_frame=int(arm.tool_frame),

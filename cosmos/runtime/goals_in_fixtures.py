@@ -14,7 +14,9 @@ the program fixes (from home through MOVEs that end where they were sent, as
 :mod:`cosmos.runtime.foresight` follows them). The goal is inside when the tool point, or a
 point of the tool's axis back to the flange where the goal's orientation is known, lies
 inside a fixture's solid (:mod:`cosmos.runtime.fixture_solids`) by more than
-:data:`DEEPER_THAN_M`: a MOVE that touches a fixture is stopped. A VIA point is inside when it
+:data:`DEEPER_THAN_M`, or the tool's side reaches into one that far (a ball inscribed in one of
+its round sections meets the solid: a peg off the bore's axis by more than the clearance): a
+MOVE that touches a fixture is stopped. A VIA point is inside when it
 is deeper than the distance at which it counts as passed: the tool must then touch. Statements
 meant to touch are not judged (CONTACT, SLIDE, INSERT, a MOVE with an UNTIL or with axes under
 force control), nor is the hole's bore, which is no solid.
@@ -41,6 +43,24 @@ DEEPER_THAN_M = 1e-4
 """A goal deeper than this inside a fixture is warned of [m]. Any touch of a fixture stops a
 MOVE (a protective stop: ``MOVE TO table + (0, 0, -0.5 mm)`` stops at 0.1 N); a goal on the
 surface (``MOVE TO table``) arrives."""
+
+
+@dataclass(frozen=True)
+class ToolShape:
+    """The tool along its axis, back from the tool point (its z axis points away from the flange).
+
+    Attributes:
+        length_m: From the tool point back to the flange [m].
+        sections: Its round parts on the axis (the peg, its collar, the sensor's housing): from
+            and to how far back from the tool point, and radius, each [m].
+    """
+
+    length_m: float
+    sections: tuple[tuple[float, float, float], ...] = ()
+
+
+POINT = ToolShape(0.0)
+"""A point: a VIA point's test."""
 
 
 @dataclass(frozen=True)
@@ -81,8 +101,9 @@ class Inside:
     Attributes:
         fixture: The fixture's (or obstacle's) name.
         obstacle: True for an obstacle the program added (``OBSTACLE``).
-        depth_m: How far the point lies below the fixture's top, straight above it [m].
-        top_z_m: The z of that top [m].
+        depth_m: How far the point lies below the fixture's top, straight above it; for the
+            tool's side, how far a ball inside the tool reaches into the fixture [m].
+        top_z_m: The z of that top [m]; None for the tool's side.
         along_axis_m: 0 for the tool point; else how far back along the tool's axis the
             point is [m].
     """
@@ -90,7 +111,7 @@ class Inside:
     fixture: str
     obstacle: bool
     depth_m: float
-    top_z_m: float
+    top_z_m: float | None
     along_axis_m: float
 
 
@@ -98,7 +119,7 @@ def goals_inside_fixtures(
     steps: tuple[plan.Step, ...],
     solids: tuple[FixtureSolid, ...],
     home: Pose,
-    tool_length_m: float,
+    tool: ToolShape,
 ) -> list[plan.Diagnostic]:
     """Warnings for the motions whose goal the text fixes inside a fixture.
 
@@ -106,13 +127,13 @@ def goals_inside_fixtures(
         steps: The compiled plan's steps.
         solids: The workcell's fixture solids.
         home: The tool's pose at home, where the program starts.
-        tool_length_m: From the tool point back to the flange [m].
+        tool: The tool's shape along its axis.
 
     Returns:
         One diagnostic per such goal (each statement once), at its statement.
     """
     found: dict[tuple[int, int], plan.Diagnostic] = {}
-    for diagnostic in _walk(steps, packed(solids), home, tool_length_m):
+    for diagnostic in _walk(steps, packed(solids), home, tool):
         found.setdefault((diagnostic.span.line, diagnostic.span.column), diagnostic)
     return list(found.values())
 
@@ -145,7 +166,7 @@ def obstacle_solid(step: plan.AddObstacle) -> FixtureSolid | None:
 
 
 def _walk(
-    steps: tuple[plan.Step, ...], solids: Solids, pose: Pose, tool_length_m: float
+    steps: tuple[plan.Step, ...], solids: Solids, pose: Pose, tool: ToolShape
 ) -> Iterator[plan.Diagnostic]:
     """The warnings of ``steps``, run from ``pose``.
 
@@ -158,22 +179,22 @@ def _walk(
             added = obstacle_solid(step) if isinstance(step, plan.AddObstacle) else None
             solids = packed(kept if added is None else (*kept, added))
         elif isinstance(step, plan.Branch):
-            yield from _walk(step.then_steps, solids, pose, tool_length_m)
-            yield from _walk(step.else_steps, solids, pose, tool_length_m)
+            yield from _walk(step.then_steps, solids, pose, tool)
+            yield from _walk(step.else_steps, solids, pose, tool)
             pose = UNKNOWN
         elif isinstance(step, plan.Loop | plan.Attempt):
-            yield from _walk(step.body, solids, pose, tool_length_m)
+            yield from _walk(step.body, solids, pose, tool)
             if isinstance(step, plan.Attempt):
-                yield from _walk(step.handler, solids, UNKNOWN, tool_length_m)
+                yield from _walk(step.handler, solids, UNKNOWN, tool)
             pose = UNKNOWN
         elif isinstance(step, plan.Segment):
-            diagnostic, pose = _segment(step, solids, pose, tool_length_m)
+            diagnostic, pose = _segment(step, solids, pose, tool)
             if diagnostic is not None:
                 yield diagnostic
 
 
 def _segment(
-    step: plan.Segment, solids: Solids, pose: Pose, tool_length_m: float
+    step: plan.Segment, solids: Solids, pose: Pose, tool: ToolShape
 ) -> tuple[plan.Diagnostic | None, Pose]:
     """The warning for one segment, if any, and the pose it leaves."""
     holds_everything = bool(np.all(step.motion_axes)) and step.until is None
@@ -192,12 +213,12 @@ def _segment(
     keyword = "MOVE TO" if isinstance(target, plan.AbsoluteTarget) else "MOVE BY"
     for number, via in enumerate(step.via, start=1):
         via_point = np.asarray(via.position_world, dtype=float)
-        hit = point_inside(solids, via_point, None, 0.0, step.via_radius_m or DEEPER_THAN_M)
+        hit = point_inside(solids, via_point, None, POINT, step.via_radius_m or DEEPER_THAN_M)
         if hit is not None:
             return plan.Diagnostic(_said(keyword, step, hit, f"VIA point {number}"), step.span), UNKNOWN
     if position is None:
         return None, end
-    hit = point_inside(solids, position, end.rotation, tool_length_m, DEEPER_THAN_M)
+    hit = point_inside(solids, position, end.rotation, tool, DEEPER_THAN_M)
     if hit is None:
         return None, end
     return plan.Diagnostic(_said(keyword, step, hit, "goal"), step.span), UNKNOWN  # the run stops there
@@ -207,30 +228,58 @@ def point_inside(
     solids: Solids,
     position: np.ndarray,
     rotation: np.ndarray | None,
-    tool_length_m: float,
+    tool: ToolShape,
     tolerance_m: float,
 ) -> Inside | None:
     """Where the tool at this pose lies inside a fixture deeper than ``tolerance_m``, or None.
 
-    The tool point is tested, then (when ``rotation`` is known) the points of the tool's
-    axis back to the flange every :data:`AXIS_STEP_M`: the tool point if it is inside, else
-    the axis's point deepest below its fixture's top.
+    The tool point is tested, then (when ``rotation`` is known) the points of the tool's axis
+    back to the flange every :data:`AXIS_STEP_M` (the axis's point deepest below its fixture's
+    top is said), then the tool's round sections: a ball inscribed in one (its radius, or half its
+    length if shorter) lies in the tool, so a ball that meets a solid is the tool's side in it.
     """
-    count = int(tool_length_m / AXIS_STEP_M) if rotation is not None else 0
+    count = int(tool.length_m / AXIS_STEP_M) if rotation is not None else 0
     backs = np.arange(count + 1) * AXIS_STEP_M
     axis = np.zeros(3) if rotation is None else rotation[:, 2]
     points = position[None, :] - backs[:, None] * axis[None, :]  # (count + 1, 3)
-    near = np.all(
-        (solids.lower <= points.max(axis=0) + tolerance_m)
-        & (solids.upper >= points.min(axis=0) - tolerance_m),
-        axis=1,
-    )
-    if not near.any():
-        return None  # no solid's bounding box meets the points' (the goal is in free space)
-    candidates = tuple(solid for solid, close in zip(solids.all, near, strict=True) if close)
-    distances = signed_distances(candidates, points)  # (count + 1, len(candidates))
+    candidates = _near(solids, points, 0.0)
+    if candidates:
+        found = _deepest_point(solids, candidates, points, backs, tolerance_m)
+        if found is not None:
+            return found
+    if rotation is None or not tool.sections:
+        return None
+    centres_back, radii = _balls(tool)
+    centres = position[None, :] - centres_back[:, None] * axis[None, :]  # (n, 3)
+    candidates = _near(solids, centres, float(radii.max()))
+    if not candidates:
+        return None
+    into = radii[:, None] - signed_distances(candidates, centres)  # (n, len(candidates))
+    ball, solid = np.unravel_index(int(np.argmax(into)), into.shape)
+    if into[ball, solid] <= tolerance_m:
+        return None
+    hit = candidates[solid]
+    return Inside(hit.fixture, hit.obstacle, float(into[ball, solid]), None, float(centres_back[ball]))
+
+
+def _near(solids: Solids, points: np.ndarray, margin_m: float) -> tuple[FixtureSolid, ...]:
+    """The solids whose bounding boxes come within ``margin_m`` of the points' bounding box."""
+    low, high = points.min(axis=0) - margin_m, points.max(axis=0) + margin_m
+    near = np.all((solids.lower <= high) & (solids.upper >= low), axis=1)
+    return tuple(solid for solid, close in zip(solids.all, near, strict=True) if close)
+
+
+def _deepest_point(
+    solids: Solids,
+    candidates: tuple[FixtureSolid, ...],
+    points: np.ndarray,
+    backs: np.ndarray,
+    tolerance_m: float,
+) -> Inside | None:
+    """The tool point if it is inside, else the axis's point deepest below its fixture's top."""
+    distances = signed_distances(candidates, points)  # (len(points), len(candidates))
     found: Inside | None = None
-    for k in range(count + 1):
+    for k in range(len(points)):
         deepest = int(np.argmin(distances[k]))
         if -distances[k, deepest] <= tolerance_m:
             continue
@@ -244,20 +293,37 @@ def point_inside(
     return found
 
 
+def _balls(tool: ToolShape) -> tuple[np.ndarray, np.ndarray]:
+    """Centres (how far back from the tool point [m]) and radii [m] of balls inside the tool."""
+    backs, radii = [], []
+    for start, end, radius in tool.sections:
+        inscribed = min(radius, (end - start) / 2.0)
+        first, last = start + inscribed, end - inscribed
+        centres = np.append(np.arange(first, last, AXIS_STEP_M), last)
+        backs.append(centres)
+        radii.append(np.full(len(centres), inscribed))
+    return np.concatenate(backs), np.concatenate(radii)
+
+
 def _said(keyword: str, step: plan.Segment, hit: Inside, what: str) -> str:
     """``MOVE TO: the goal is 30.0 mm inside the fixture 'table' (below its top at z = 200.0 mm); ...``.
 
     A statement of a procedure or a loop says which call or pass (its context) first.
     """
     keyword += f": in {step.context}," if step.context else ":"
+    named = f"{'obstacle' if hit.obstacle else 'fixture'} '{hit.fixture}'"
+    ending = "the run will stop " + ("short of it" if hit.obstacle else "at the touch")
+    back_mm = hit.along_axis_m * 1e3
+    if hit.top_z_m is None:
+        return (
+            f"{keyword} at the {what} the tool's side, {back_mm:.0f} mm back from the tool point, is "
+            f"{hit.depth_m * 1e3:.1f} mm into the {named}; {ending}"
+        )
     if hit.along_axis_m == 0.0:
         subject = f"the {what} is"
     else:
-        back_mm = hit.along_axis_m * 1e3
         subject = f"at the {what} the tool's axis, {back_mm:.0f} mm back from the tool point, is"
     return (
-        f"{keyword} {subject} {hit.depth_m * 1e3:.1f} mm inside the "
-        f"{'obstacle' if hit.obstacle else 'fixture'} '{hit.fixture}' "
-        f"(below its top at z = {hit.top_z_m * 1e3:.1f} mm); the run will stop "
-        + ("short of it" if hit.obstacle else "at the touch")
+        f"{keyword} {subject} {hit.depth_m * 1e3:.1f} mm inside the {named} "
+        f"(below its top at z = {hit.top_z_m * 1e3:.1f} mm); {ending}"
     )

@@ -22,12 +22,19 @@ INSIDE = re.compile(
 )
 
 
+SIDE = re.compile(
+    r"^(?P<keyword>MOVE TO|MOVE BY):(?: in (?P<context>[^,]+),)? at the (?P<what>goal) the tool's side, "
+    r"(?P<back>\d+) mm back from the tool point, is (?P<depth>[\d.]+) mm into the (?P<kind>fixture|obstacle) "
+    r"'(?P<fixture>\w+)'; the run will stop (?P<ending>at the touch|short of it)$"
+)
+
+
 def inside_warnings(source: str) -> list[tuple[int, re.Match[str]]]:
     """The goal-inside-a-fixture warnings of ``source``: (line, the message matched)."""
     found = []
     for warning in cosmos.check(source).warnings:
-        if " mm inside the " in warning.message:
-            match = INSIDE.match(warning.message)
+        if " mm inside the " in warning.message or " mm into the " in warning.message:
+            match = INSIDE.match(warning.message) or SIDE.match(warning.message)
             assert match is not None, warning.message
             found.append((warning.span.line, match))
     return found
