@@ -29,6 +29,7 @@ the MOVE fails "stuck in a local minimum of the potential field", or at the touc
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterator
 from dataclasses import dataclass
 
@@ -242,18 +243,16 @@ def point_inside(
     backs = np.arange(count + 1) * AXIS_STEP_M
     axis = np.zeros(3) if rotation is None else rotation[:, 2]
     points = position[None, :] - backs[:, None] * axis[None, :]  # (count + 1, 3)
-    candidates = _near(solids, points, 0.0)
-    if candidates:
-        found = _deepest_point(solids, candidates, points, backs, tolerance_m)
-        if found is not None:
-            return found
-    if rotation is None or not tool.sections:
-        return None
-    centres_back, radii = _balls(tool)
-    centres = position[None, :] - centres_back[:, None] * axis[None, :]  # (n, 3)
-    candidates = _near(solids, centres, float(radii.max()))
+    sides = rotation is not None and bool(tool.sections)
+    centres_back, radii = _balls(tool) if sides else (np.zeros(0), np.zeros(0))
+    # The balls' centres are on the axis, within its points' reach.
+    candidates = _near(solids, points, float(radii.max(initial=0.0)))
     if not candidates:
         return None
+    found = _deepest_point(solids, candidates, points, backs, tolerance_m)
+    if found is not None or not sides:
+        return found
+    centres = position[None, :] - centres_back[:, None] * axis[None, :]  # (n, 3)
     into = radii[:, None] - signed_distances(candidates, centres)  # (n, len(candidates))
     ball, solid = np.unravel_index(int(np.argmax(into)), into.shape)
     if into[ball, solid] <= tolerance_m:
@@ -293,6 +292,7 @@ def _deepest_point(
     return found
 
 
+@functools.cache
 def _balls(tool: ToolShape) -> tuple[np.ndarray, np.ndarray]:
     """Centres (how far back from the tool point [m]) and radii [m] of balls inside the tool."""
     backs, radii = [], []
@@ -302,7 +302,12 @@ def _balls(tool: ToolShape) -> tuple[np.ndarray, np.ndarray]:
         centres = np.append(np.arange(first, last, AXIS_STEP_M), last)
         backs.append(centres)
         radii.append(np.full(len(centres), inscribed))
-    return np.concatenate(backs), np.concatenate(radii)
+    return _read_only(np.concatenate(backs)), _read_only(np.concatenate(radii))
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
 
 
 def _said(keyword: str, step: plan.Segment, hit: Inside, what: str) -> str:
