@@ -7,15 +7,15 @@ tool's path) puts it. Where that plan is stopped by a joint's limit both ways ro
 the run will fail there; the checker says so as a warning at the statement
 (``MOVE TO: joint 6 would reach its limit of 266 deg ...``), with the wrist
 configuration in which the goal is within range if there is one. After anything whose
-end is not known (a contact, a slide, an UNTIL, a POSTURE) nothing more is foreseen.
+end is not known (a contact, a slide, an UNTIL, a POSTURE, a block) nothing more is foreseen.
 
 :func:`with_foreseen_limits` adds these warnings to the compiled plan's, and those of goals
 inside a fixture (:mod:`cosmos.runtime.goals_in_fixtures`): the language below does not know
 the arm's kinematics nor the workcell's solids. ``cosmos check``, ``cosmos run`` and
 :func:`cosmos.check` all add them. The kinematics (Pinocchio, the arm's model) and the solids
 come from the user cache (:mod:`cosmos.runtime.foresight_cache`), so a check does not load
-MuJoCo (``tests/test_fixture_cache.py``); Pinocchio is imported only for a program with a
-static goal.
+MuJoCo (``tests/test_fixture_cache.py``); Pinocchio is imported only for a chain of static
+goals not foreseen before (:func:`foreseeable_joint_limits`).
 """
 
 from __future__ import annotations
