@@ -312,6 +312,17 @@ def speed_limited_push(
     ``n^T F_fb`` is replaced by ``min(n^T F_fb, f_speed)``. Pressing at rest
     (``n^T xd = 0``) the cap is the sensed force plus ``m_n kv V_max`` above it, so
     it only binds while the force is rising faster than the contact can take.
+
+    While it binds, the push is a velocity command along n, and the force loop of the
+    compliant translations around it is dropped: their ``F_d`` is 0 (INSERT's COMPLY X Y),
+    so eq. 18's ``F_d + k_f (F_d - F_s) + k_i integral`` there is ``-k_f F_s + k_i integral``,
+    which adds 0.6 times the contact's own push (k_f = 0.6) and the integral's to the force
+    that moves the tool away from what it touches. On a slope (a chamfer) that motion
+    carries the tool down the slope, past the cap: a peg landing 2 mm off the hole's axis
+    peaked at 5.25-5.65 mm/s at SPEED 5 mm/s on the ideal plant, seeds 0-4 (the cap aims
+    at 4.5), while the capped push was pulling it back. Without it those axes keep eq.
+    18's damping ``-Lambda Omega_bar k_vf xd`` and yield to the contact as a damped free
+    body: 4.9-5.3 mm/s (tests/run/test_run_insert_speed.py); their integral is held.
     No integral action: one on the speed error (tried until 2026-11-24) wound up while
     the joints stuck below the friction compensation's ramp and overshot SPEED 5 mm/s by
     12 %; without it the push keeps slightly under its aim (27 mm at SPEED 20 mm/s in
@@ -328,7 +339,8 @@ def speed_limited_push(
         k_vf: The force axes' damping gain (eq. 18's F_a), in [1/s].
 
     Returns:
-        ``(F_fb, limited)``: the capped feedback and whether the cap bound.
+        ``(F_fb, limited)``: the capped feedback (its translation off n dropped) and whether
+        the cap bound.
     """
     n, inverse_mass = push_axis(force_goal, lambda_inv_omega_bar)
     if not inverse_mass > 0.0:
@@ -340,5 +352,5 @@ def speed_limited_push(
     if asked <= allowed:
         return feedback, False
     capped = feedback.copy()
-    capped[:3] += (allowed - asked) * n
+    capped[:3] = allowed * n
     return capped, True

@@ -15,6 +15,7 @@ from cosmos.osc.unified import (
     integrate_force_error,
     servo_matrices,
     servo_torque,
+    speed_limited_push,
     unified_torque,
 )
 
@@ -115,3 +116,29 @@ def test_force_integral_integrates_force_axes_only_and_clamps():
 def test_force_gains_reject_negative_values():
     with pytest.raises(ValueError, match="must be >= 0"):
         ForceGains(k_f=-1.0)
+
+
+def test_a_push_at_its_speed_limit_drops_the_compliant_translations_force_loop() -> None:
+    """Pushing down at its SPEED with X and Y compliant (INSERT), the tool on a chamfer that
+    pushes it sideways: once the cap binds, the feedback off the push is zero and its moment
+    untouched; below the cap it is eq. 18's as it was. Catches the compliant axes' force loop
+    (-k_f F_s + k_i integral) left running at the cap, which carried a peg down the chamfer
+    past SPEED 5 mm/s (5.65 mm/s on the ideal plant)."""
+    goal = np.array([0.0, 0.0, -15.0, 0.0, 0.0, 0.0])
+    sensed = np.array([2.0, -1.0, -3.0, 0.01, -0.02, 0.0])  # the chamfer's sideways push
+    integral = np.array([0.1, 0.05, 0.0, 0.0, 0.0, 0.0])
+    feedback = force_feedback(goal, sensed, integral, GAINS)
+    inverse_mass = np.eye(6) / 10.0  # 10 kg along every axis
+    moving = np.array([0.0, 0.0, -0.006, 0.0, 0.0, 0.0])  # 6 mm/s down, over a 4.5 mm/s aim
+    capped, limited = speed_limited_push(feedback, goal, sensed, moving, inverse_mass, 0.0045, 300.0, 30.0)
+    assert limited
+    allowed = 3.0 + 10.0 * (300.0 * (0.0045 - 0.006) + 30.0 * 0.006)  # n^T F_s + m_n (...)
+    np.testing.assert_allclose(capped[:3], [0.0, 0.0, -allowed], atol=1e-12)
+    np.testing.assert_array_equal(capped[3:], feedback[3:])
+    pressing = sensed + np.array([0.0, 0.0, -11.0, 0.0, 0.0, 0.0])  # at rest, 14 N felt
+    feedback = force_feedback(goal, pressing, integral, GAINS)  # asks 15.5 N, cap 27.5 N
+    uncapped, limited = speed_limited_push(
+        feedback, goal, pressing, np.zeros(6), inverse_mass, 0.0045, 300.0, 30.0
+    )
+    assert not limited
+    np.testing.assert_array_equal(uncapped, feedback)

@@ -12,6 +12,9 @@ sample of the velocity (6.1 mm/s once at SPEED 5 while the tool moves 0.001 mm m
 than at 5 mm/s); the limit is on the tool's motion, which the 5 ms travel measures.
 At SPEED 5 mm/s the joints stick and slip below the friction compensation's ramp: an
 integral on the push's speed error wound up meanwhile and overshot by 12 %; it is gone.
+Landing 2 mm off the axis, the peg slides down the chamfer: the compliant axes' force loop
+carried it down the slope past the cap (5.25-5.65 mm/s at SPEED 5 on the ideal plant, seeds
+0-4) until it was dropped while the cap binds (cosmos.osc.unified.speed_limited_push).
 """
 
 from __future__ import annotations
@@ -38,33 +41,40 @@ WINDOW_TICKS = 5
 
 REALISTIC_SLOW = pytest.mark.xfail(
     strict=True,
-    reason="realistic plant at SPEED 5 mm/s: peaks 6.75 mm/s (35 % over; 7.45 with the former speed "
-    "integral): the joints stick and slip below the friction compensation's ramp (not traced further)",
+    reason="realistic plant at SPEED 5 mm/s: peaks 6.40 mm/s (28 % over; 6.75 before the compliant "
+    "axes' force loop was dropped at the cap, 7.45 with the former speed integral): on the chamfer the "
+    "true speed rings at 30-40 Hz, +-2 mm/s, where the speed servo (kv 300/s on the tool's 10.8 kg) "
+    "meets the 40 Hz velocity observer's 8 ms lag and one-count noise; kv 80/s ends the ringing but "
+    "the slower cap lets the peg average 5.6 mm/s on the chamfer (peak 8.25 mm/s)",
 )
 
 
 @pytest.mark.parametrize(
-    ("speed_mmps", "ideal"),
+    ("speed_mmps", "ideal", "seed"),
     [
-        (None, True),
-        (10.0, True),
-        (30.0, True),
-        (5.0, True),
-        pytest.param(5.0, False, marks=REALISTIC_SLOW),
-        (30.0, False),
+        (None, True, 0),
+        (10.0, True, 0),
+        (30.0, True, 0),
+        (5.0, True, 0),
+        (5.0, True, 1),
+        pytest.param(5.0, False, 0, marks=REALISTIC_SLOW),
+        (30.0, False, 0),
     ],
 )
 def test_insert_peaks_within_ten_percent_of_its_speed(
-    tmp_path: Path, speed_mmps: float | None, ideal: bool
+    tmp_path: Path, speed_mmps: float | None, ideal: bool, seed: int
 ) -> None:
     """The peak downward speed of the INSERT (approach and insertion) within 10 % of the limit,
     the depth reached. Catches the push left uncapped on its force axis (55.6 mm/s at SPEED
-    10 mm/s, 80 mm/s in peg_in_hole.cos), an approach at the MOVE's speed, and a cap so tight
-    or so stuck in joint friction that the peg crawls or jams."""
+    10 mm/s, 80 mm/s in peg_in_hole.cos), an approach at the MOVE's speed, a cap so tight
+    or so stuck in joint friction that the peg crawls or jams, and (seed 1, the sensor's noise
+    drawn otherwise) the compliant axes carrying the peg down the chamfer past the cap (5.65
+    mm/s, 13 % over, while their force loop ran with the cap bound)."""
     clause = "" if speed_mmps is None else f" SPEED {speed_mmps:g} mm/s"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", cosmos.CosmosWarning)
-        run = cosmos.run(PROGRAM.format(speed=clause), log=tmp_path / "insert_speed.mcap", ideal=ideal)
+        log = tmp_path / "insert_speed.mcap"
+        run = cosmos.run(PROGRAM.format(speed=clause), log=log, ideal=ideal, seed=seed)
     assert run.ok, run.outcome
     limit = DEFAULT_INSERT_SPEED_MPS if speed_mmps is None else speed_mmps * 1e-3
     segments = [s for s in run.segments if s.line == INSERT_LINE]

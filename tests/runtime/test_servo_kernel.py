@@ -653,11 +653,10 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
             touching and reached,
             DT_S,
         )
-    if limited:  # friction compensated toward the speed limit; the integral does not grow along n
+    if limited:  # friction compensated toward the speed limit; the translations' integral held
         n = vec[sk.FORCE_WORLD, :3] / np.linalg.norm(vec[sk.FORCE_WORLD, :3])
         speed = speed + np.concatenate(((sc[sk.PUSH_SPEED] + n @ velocity[:3]) * n, np.zeros(3)))
-        grown = integral[:3] - st[sk.INTEGRAL, :3]
-        integral[:3] -= n * n.dot(grown)
+        integral[:3] = st[sk.INTEGRAL, :3]
     # Eq. 18's F_a, with the speed cap's cut of F_fb (zero unless it binds) carried over.
     uncapped = force_feedback(setpoint, wrench, integral_before_cap, FORCE_GAINS)
     f_a = force_command(

@@ -165,7 +165,7 @@ def speed_limited_push_into(
     kv: float,
     k_vf: float,
 ) -> tuple[bool, float]:
-    """:func:`cosmos.osc.unified.speed_limited_push`, the cap applied to ``feedback`` in place.
+    """:func:`cosmos.osc.unified.speed_limited_push`, applied to ``feedback`` in place.
 
     Args:
         feedback: F_fb in, capped along the push out, world, [N, N m]. # (6,)
@@ -190,10 +190,9 @@ def speed_limited_push_into(
     asked = n0 * feedback[0] + n1 * feedback[1] + n2 * feedback[2]
     if not asked > allowed:
         return False, along
-    cut = allowed - asked
-    feedback[0] += cut * n0
-    feedback[1] += cut * n1
-    feedback[2] += cut * n2
+    feedback[0] = allowed * n0  # the compliant translations' force loop dropped (the reference)
+    feedback[1] = allowed * n1
+    feedback[2] = allowed * n2
     return True, along
 
 

@@ -336,13 +336,8 @@ def servo_tick(
                 n0, n1, n2 = goal[0] / push, goal[1] / push, goal[2] / push
                 for i, ni in ((0, n0), (1, n1), (2, n2)):
                     commanded_speed[i] += (push_speed + along) * ni
-                if flags[TOUCHING] != 0.0:  # anti-windup: the integral does not grow along n
-                    grown = n0 * (integral[0] - previous_integral[0])
-                    grown += n1 * (integral[1] - previous_integral[1])
-                    grown += n2 * (integral[2] - previous_integral[2])
-                    integral[0] -= grown * n0
-                    integral[1] -= grown * n1
-                    integral[2] -= grown * n2
+                # Anti-windup: the translations' integral does not grow while unused.
+                integral[:3] = previous_integral[:3]
         if flags[TOUCHING] == 0.0:
             for i in range(6):
                 acc = 0.0
