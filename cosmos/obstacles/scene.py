@@ -13,8 +13,9 @@ Adding an obstacle takes a free slot and sets its geom's type, size, pose
 (``geom_pos``, ``geom_quat``; MuJoCo places world geoms from them every step)
 and the bounding volumes the collision phases use: ``geom_rbound``,
 ``geom_aabb``, and the world body's bounding-volume hierarchy (``bvh_aabb``:
-the slot's leaf and every node above it, refitted). Removing it parks the slot
-again. A ``MOVING`` obstacle is moved by :meth:`ObstacleScene.update`, which
+the slot's leaf and every node above it, refitted; the next :meth:`ObstacleScene.update`
+rebuilds the hierarchy's shape for the obstacles, :mod:`cosmos.obstacles.hierarchy`).
+Removing it parks the slot again. A ``MOVING`` obstacle is moved by :meth:`ObstacleScene.update`, which
 the executor calls every servo tick; its leaf is refitted every
 :data:`SWEEP_S` to the box it sweeps until the next refit, so the hierarchy
 always contains it without a refit per tick.
@@ -41,6 +42,7 @@ import numpy as np
 
 from cosmos.errors import CosmosError
 from cosmos.lang.check.limits import MAX_OBSTACLES
+from cosmos.obstacles.hierarchy import install, layout, world_leaves
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.plan import ObstacleShape
 from cosmos.plant import Plant
@@ -57,6 +59,7 @@ OBSTACLE_CONTYPE = 0
 OBSTACLE_CONAFFINITY = 6  # arm links (contype 2) and tool (contype 4)
 OBSTACLE_RGBA = (0.90, 0.35, 0.20, 0.6)
 _PARKED_Z_M = -50.0
+_MOVING, _PARKED = 1, 2  # groups of the world's hierarchy kept apart (cosmos.obstacles.hierarchy.layout)
 _PLANE_AABB = (0.0, 0.0, -5e9, 1e10, 1e10, 5e9)  # what MuJoCo's compiler gives a plane
 _GEOM_TYPE = {
     ObstacleShape.SPHERE: mujoco.mjtGeom.mjGEOM_SPHERE,
@@ -163,21 +166,16 @@ class ObstacleScene:
                 "Plant(cosmos.obstacles.obstacle_scene_xml())"
             )
         self._slot_name = [model.geom(g).name for g in self._slot_geom]
-        root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
+        self._leaf_geoms = world_leaves(model)  # the world tree's leaves (fixtures and slots)
         self._parent = np.full(model.nbvh, -1)
-        leaf_of: dict[int, int] = {}
-        for node in range(root, root + nodes):
-            children = [int(c) for c in model.bvh_child[node] if c >= 0]
-            for child in children:
-                self._parent[child] = node
-            if not children and model.bvh_nodeid[node] >= 0:
-                leaf_of[first + int(model.bvh_nodeid[node])] = node
-        self._leaf = [leaf_of[g] for g in self._slot_geom]
+        self._leaf: list[int] = []
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
         self._moving: list[tuple[np.ndarray, float, float, float, float, float, float, float]] = []
         self._moving_slots: list[tuple[int, Obstacle]] = []
         self._obstacles: tuple[Obstacle, ...] = ()
         self._refit_s = -np.inf
+        self._stale = False  # the hierarchy's shape is older than the obstacles (rebuilt by update)
+        self._index_tree()
 
     @property
     def capacity(self) -> int:
@@ -223,6 +221,7 @@ class ObstacleScene:
         self._place(slot, obstacle.position_at(now))
         self._track_moving()
         self._refit(slot, obstacle.position_at(now), obstacle.position_at(now + SWEEP_S))
+        self._stale = True
 
     def remove(self, name: str) -> Obstacle:
         """Take the obstacle ``name`` out of the workcell (its slot is parked) and return it.
@@ -238,10 +237,18 @@ class ObstacleScene:
         self._place(slot, parked)
         self._track_moving()
         self._refit(slot, parked, parked)
+        self._stale = True
         return obstacle
 
     def update(self, t_s: float) -> None:
-        """Move the ``MOVING`` obstacles to their positions at simulated time ``t_s`` (each servo tick)."""
+        """Move the ``MOVING`` obstacles to their positions at simulated time ``t_s`` (each servo tick).
+
+        The first update after obstacles were added or removed also rebuilds the world's
+        hierarchy for them (once for a program's many ``OBSTACLE`` statements; until then
+        the refitted one holds them: a refit keeps it valid, a rebuild makes it cheap).
+        """
+        if self._stale:
+            self._rebuild()
         for position, x, y, z, vx, vy, vz, added_s in self._moving:
             dt = t_s - added_s
             position[0] = x + vx * dt
@@ -275,6 +282,48 @@ class ObstacleScene:
 
     def _place(self, slot: int, position: np.ndarray) -> None:
         self._plant.model.geom_pos[self._slot_geom[slot]] = position
+
+    def _rebuild(self) -> None:
+        """Rebuild the world's hierarchy for where its geoms are now (:mod:`cosmos.obstacles.hierarchy`)."""
+        model = self._plant.model
+        root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
+        ids = model.bvh_nodeid[root : root + nodes]
+        is_leaf = (model.bvh_child[root : root + nodes] < 0).all(axis=1) & (ids >= 0)
+        first = int(model.body_geomadr[0])
+        box_of = {first + int(ids[k]): model.bvh_aabb[root + k].copy() for k in np.flatnonzero(is_leaf)}
+        geoms = self._leaf_geoms
+        slot_of = {geom: slot for slot, geom in enumerate(self._slot_geom)}
+        moving = {slot for slot, _ in self._moving_slots}
+        used = {slot for slot, _ in self._by_name.values()}
+        apart = np.array(
+            [
+                0
+                if g not in slot_of or (slot_of[g] in used and slot_of[g] not in moving)
+                else _MOVING
+                if slot_of[g] in used
+                else _PARKED
+                for g in geoms.tolist()
+            ]
+        )
+        tree = layout(np.array([box_of[g] for g in geoms.tolist()]), apart)
+        install(model, geoms, tree)
+        self._stale = False
+        self._index_tree()
+
+    def _index_tree(self) -> None:
+        """Each node's parent in the world's hierarchy, and each slot's leaf (what :meth:`_refit` walks)."""
+        model = self._plant.model
+        root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
+        self._parent[:] = -1
+        leaf_of: dict[int, int] = {}
+        first = int(model.body_geomadr[0])
+        for node in range(nodes):
+            children = [int(c) for c in model.bvh_child[root + node] if c >= 0]
+            for child in children:
+                self._parent[root + child] = root + node
+            if not children and model.bvh_nodeid[root + node] >= 0:
+                leaf_of[first + int(model.bvh_nodeid[root + node])] = root + node
+        self._leaf = [leaf_of[g] for g in self._slot_geom]
 
     def _refit(self, slot: int, start: np.ndarray, end: np.ndarray) -> None:
         """Fit the slot's leaf of the world's hierarchy to its geom swept from ``start`` to ``end``.

@@ -144,17 +144,15 @@ def test_the_world_hierarchy_holds_every_obstacle_as_it_moves() -> None:
     scene.add(box("drift", (0.7, 0.0, 0.4), (0.03, 0.03, 0.1), (-0.1, 0.0, 0.0)))
     scene.remove("tilted")
     scene.add(rotated)
-    root = int(model.body_bvhadr[0])
-    parent = {
-        int(c): n for n in range(root, root + int(model.body_bvhnum[0])) for c in model.bvh_child[n] if c >= 0
-    }
-    leaf = {
-        int(model.bvh_nodeid[n]) + int(model.body_geomadr[0]): n
-        for n in range(root, root + int(model.body_bvhnum[0]))
-        if model.bvh_child[n][0] < 0
-    }
+    root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
     for tick in range(int(3 * SWEEP_S / plant.dt_s)):
-        scene.update(plant.time_s)
+        scene.update(plant.time_s)  # the first one rebuilds the hierarchy: read its shape after it
+        parent = {int(c): n for n in range(root, root + nodes) for c in model.bvh_child[n] if c >= 0}
+        leaf = {
+            int(model.bvh_nodeid[n]) + int(model.body_geomadr[0]): n
+            for n in range(root, root + nodes)
+            if model.bvh_child[n][0] < 0
+        }
         mujoco.mj_kinematics(model, plant.data)
         for geom in (model.geom(f"obstacle_slot{i}").id for i in range(3)):
             low, high = _world_box(plant, geom)

@@ -1,0 +1,92 @@
+"""The world's rebuilt bounding-volume hierarchy: the contacts are MuJoCo's own, found without it."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from cosmos.bench.obstacles import crowded_scene
+from cosmos.obstacles import ObstacleScene, obstacle_scene_xml
+from cosmos.obstacles.hierarchy import layout, union
+from cosmos.obstacles.obstacle import sphere
+from cosmos.plant import Plant
+
+
+def _contacts(model: mujoco.MjModel, data: mujoco.MjData) -> list[tuple[object, ...]]:
+    """Every contact MuJoCo reports for the state in ``data``, in MuJoCo's order."""
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_collision(model, data)
+    return [
+        (int(c.geom1), int(c.geom2), float(c.dist), tuple(c.pos.tolist()), tuple(c.frame.tolist()))
+        for c in data.contact[: data.ncon]
+    ]
+
+
+def _crowded_plant(rebuild: bool) -> Plant:
+    """The workcell with the bench's fifty obstacles and one on the hole; the tree rebuilt or refitted."""
+    plant = Plant(obstacle_scene_xml())
+    scene = ObstacleScene(plant)
+    for obstacle in crowded_scene(50):
+        scene.add(obstacle)
+    scene.add(sphere("on_the_hole", (0.60, 0.15, 0.27), 0.02))
+    if rebuild:
+        scene.update(plant.time_s)  # the first update rebuilds the hierarchy
+    return plant
+
+
+def test_contacts_through_the_rebuilt_hierarchy_are_mujocos_own() -> None:
+    """Two independent contact lists for the arm in random poses among the bench's fifty obstacles (a
+    plane and a moving one among them) and the fixtures: (1) MuJoCo with its midphase disabled, where
+    every pair of geoms meets the bitmask and sphere tests and the narrow phase with no tree at all:
+    the rebuilt tree must find the same contacts (geoms, depth, point, frame); (2) the tree MuJoCo
+    compiled, only refitted as obstacles were placed: the rebuilt one must give the same list in the
+    same order, bit for bit (MuJoCo sorts a body pair's contacts by geom, whatever the tree's shape).
+    Catches a rebuilt node whose box misses a leaf, a leaf given another geom's id, or a tree written
+    over the wrong nodes: each drops or invents contacts."""
+    rebuilt, refitted = _crowded_plant(rebuild=True), _crowded_plant(rebuild=False)
+    model = rebuilt.model
+    assert not np.array_equal(model.bvh_child, refitted.model.bvh_child)  # the shapes do differ
+    midphase = int(mujoco.mjtDisableBit.mjDSBL_MIDPHASE)
+    low, high = model.jnt_range[:6].T
+    rng = np.random.default_rng(7)
+    touching = 0
+    for _ in range(300):
+        q = rng.uniform(low, high)
+        rebuilt.data.qpos[:6] = refitted.data.qpos[:6] = q
+        through_tree = _contacts(model, rebuilt.data)
+        assert through_tree == _contacts(refitted.model, refitted.data)
+        model.opt.disableflags |= midphase
+        without = _contacts(model, rebuilt.data)
+        model.opt.disableflags &= ~midphase
+        assert sorted(through_tree) == sorted(without)
+        touching += bool(without)
+    assert touching > 100  # the poses do touch things: the comparison is not of empty lists
+
+
+def test_every_node_holds_its_leaves_and_each_leaf_is_once_in_the_tree() -> None:
+    """A node's box must hold every box below it (else MuJoCo skips a pair that touches), and a tree
+    of n leaves must use each leaf once in 2n - 1 nodes (the world's node count). Catches an
+    off-by-one in the split, a group dropped when joined, or a box computed from the wrong members."""
+    rng = np.random.default_rng(3)
+    boxes = np.c_[rng.uniform(-1.0, 1.0, (40, 3)), rng.uniform(0.001, 0.3, (40, 3))]
+    boxes[5, 3:] = (1e10, 1e10, 5e9)  # a plane
+    apart = np.zeros(40, dtype=int)
+    apart[30:] = 2  # parked
+    apart[[3, 17]] = 1  # moving
+    tree = layout(boxes, apart)
+    assert len(tree.child) == 2 * 40 - 1
+    assert sorted(tree.leaf[tree.leaf >= 0].tolist()) == list(range(40))
+
+    def below(node: int) -> list[int]:
+        if tree.leaf[node] >= 0:
+            return [int(tree.leaf[node])]
+        return [leaf for child in tree.child[node] if child >= 0 for leaf in below(int(child))]
+
+    for node in range(len(tree.child)):
+        leaves = below(node)
+        np.testing.assert_array_equal(tree.box[node], union(boxes[leaves]))
+        if node > 0:
+            assert tree.depth[node] >= 1
+    # the groups stay apart: the parked leaves share a subtree with nothing else
+    root_children = [below(int(c)) for c in tree.child[0]]
+    assert sorted(root_children[1]) == list(range(30, 40))
