@@ -25,6 +25,7 @@ sorts each body pair's contacts by geom, so their order is too.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import IntEnum
 
 import mujoco
 import numpy as np
@@ -61,19 +62,34 @@ def union(boxes: np.ndarray) -> np.ndarray:
     return np.concatenate(((low + high) / 2.0, (high - low) / 2.0))
 
 
-def layout(boxes: np.ndarray, apart: np.ndarray) -> Tree:
-    """A tree over leaves with these ``boxes`` ``(n, 6)``, in groups: ``apart`` ``(n,)`` labels them.
+class Group(IntEnum):
+    """Leaves of the world's tree kept apart, each group in a subtree of its own."""
 
-    Leaves labelled 0 and bounded are split as MuJoCo's compiler would split them, but
-    by the surface-area heuristic (:func:`best_split`); unbounded leaves (planes) form
-    a group of their own, and so do the leaves of each other label. The groups hang
-    below the root one after the other, the label-0 group first.
+    OBSTACLE = 0  # a placed obstacle that does not move
+    MOVING = 1  # a MOVING obstacle: its box is refitted as it moves
+    UNBOUNDED = 2  # a plane (found by its box, whatever it was labelled)
+    FIXTURE = 3  # a geom of the compiled workcell (floor, table, fixtures)
+    PARKED = 4  # a free obstacle slot, far below the floor
+
+
+Nest = Group | tuple["Nest", "Nest"]
+
+NESTING: Nest = (((Group.OBSTACLE, Group.MOVING), Group.UNBOUNDED), (Group.FIXTURE, Group.PARKED))
+"""How the groups hang below the root. A link among obstacles reaches the fixtures' and the
+parked slots' subtree through one node, whose box (below the table's top and the floor) it
+leaves at once; the obstacles are not mixed with the floor, whose 4 m box would hold them all."""
+
+
+def layout(boxes: np.ndarray, groups: np.ndarray) -> Tree:
+    """A tree over leaves with these ``boxes`` ``(n, 6)`` in these :class:`Group` ``groups`` ``(n,)``.
+
+    The groups hang below the root as :data:`NESTING` says (an empty group is left
+    out); inside a group, the leaves are split as MuJoCo's compiler splits them, but
+    by the surface-area heuristic (:func:`best_split`).
     """
     count = len(boxes)
     unbounded = np.any(boxes[:, 3:] >= UNBOUNDED_HALF_M, axis=1)
-    labels = np.where(unbounded & (apart == 0), -1, apart)
-    others = [np.flatnonzero(labels == k) for k in np.unique(labels) if k != 0]
-    groups = [g for g in [np.flatnonzero(labels == 0), *others] if len(g)]
+    labels = np.where(unbounded, int(Group.UNBOUNDED), groups)
     child = np.full((2 * count - 1, 2), -1, dtype=np.int32)
     leaf = np.full(2 * count - 1, -1, dtype=np.int32)
     box = np.zeros((2 * count - 1, 6))
@@ -99,15 +115,23 @@ def layout(boxes: np.ndarray, apart: np.ndarray) -> Tree:
         child[index, 1] = split(ordered[half:], level + 1)
         return index
 
-    def join(parts: list[np.ndarray], level: int) -> int:
+    def members_of(nest: Nest) -> np.ndarray:
+        if isinstance(nest, Group):
+            return np.flatnonzero(labels == nest)
+        return np.concatenate([members_of(part) for part in nest])
+
+    def join(nest: Nest, level: int) -> int:
+        if isinstance(nest, Group):
+            return split(members_of(nest), level)
+        parts = [part for part in nest if len(members_of(part))]
         if len(parts) == 1:
-            return split(parts[0], level)
-        index = new_node(np.concatenate(parts), level)
-        child[index, 0] = join(parts[:-1], level + 1)
-        child[index, 1] = split(parts[-1], level + 1)
+            return join(parts[0], level)
+        index = new_node(members_of(nest), level)
+        child[index, 0] = join(parts[0], level + 1)
+        child[index, 1] = join(parts[1], level + 1)
         return index
 
-    join(groups, 0)
+    join(NESTING, 0)
     return Tree(child=child, leaf=leaf, box=box, depth=depth)
 
 

@@ -42,7 +42,7 @@ import numpy as np
 
 from cosmos.errors import CosmosError
 from cosmos.lang.check.limits import MAX_OBSTACLES
-from cosmos.obstacles.hierarchy import install, layout, world_leaves
+from cosmos.obstacles.hierarchy import Group, install, layout, world_leaves
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.plan import ObstacleShape
 from cosmos.plant import Plant
@@ -59,7 +59,6 @@ OBSTACLE_CONTYPE = 0
 OBSTACLE_CONAFFINITY = 6  # arm links (contype 2) and tool (contype 4)
 OBSTACLE_RGBA = (0.90, 0.35, 0.20, 0.6)
 _PARKED_Z_M = -50.0
-_MOVING, _PARKED = 1, 2  # groups of the world's hierarchy kept apart (cosmos.obstacles.hierarchy.layout)
 _PLANE_AABB = (0.0, 0.0, -5e9, 1e10, 1e10, 5e9)  # what MuJoCo's compiler gives a plane
 _GEOM_TYPE = {
     ObstacleShape.SPHERE: mujoco.mjtGeom.mjGEOM_SPHERE,
@@ -295,17 +294,19 @@ class ObstacleScene:
         slot_of = {geom: slot for slot, geom in enumerate(self._slot_geom)}
         moving = {slot for slot, _ in self._moving_slots}
         used = {slot for slot, _ in self._by_name.values()}
-        apart = np.array(
+        groups = np.array(
             [
-                0
-                if g not in slot_of or (slot_of[g] in used and slot_of[g] not in moving)
-                else _MOVING
-                if slot_of[g] in used
-                else _PARKED
+                Group.FIXTURE
+                if g not in slot_of
+                else Group.PARKED
+                if slot_of[g] not in used
+                else Group.MOVING
+                if slot_of[g] in moving
+                else Group.OBSTACLE
                 for g in geoms.tolist()
             ]
         )
-        tree = layout(np.array([box_of[g] for g in geoms.tolist()]), apart)
+        tree = layout(np.array([box_of[g] for g in geoms.tolist()]), groups)
         install(model, geoms, tree)
         self._stale = False
         self._index_tree()

@@ -7,7 +7,7 @@ import numpy as np
 
 from cosmos.bench.obstacles import crowded_scene
 from cosmos.obstacles import ObstacleScene, obstacle_scene_xml
-from cosmos.obstacles.hierarchy import layout, union
+from cosmos.obstacles.hierarchy import Group, layout, union
 from cosmos.obstacles.obstacle import sphere
 from cosmos.plant import Plant
 
@@ -70,10 +70,11 @@ def test_every_node_holds_its_leaves_and_each_leaf_is_once_in_the_tree() -> None
     rng = np.random.default_rng(3)
     boxes = np.c_[rng.uniform(-1.0, 1.0, (40, 3)), rng.uniform(0.001, 0.3, (40, 3))]
     boxes[5, 3:] = (1e10, 1e10, 5e9)  # a plane
-    apart = np.zeros(40, dtype=int)
-    apart[30:] = 2  # parked
-    apart[[3, 17]] = 1  # moving
-    tree = layout(boxes, apart)
+    groups = np.full(40, Group.OBSTACLE)
+    groups[30:] = Group.PARKED
+    groups[20:25] = Group.FIXTURE
+    groups[[3, 17]] = Group.MOVING
+    tree = layout(boxes, groups)
     assert len(tree.child) == 2 * 40 - 1
     assert sorted(tree.leaf[tree.leaf >= 0].tolist()) == list(range(40))
 
@@ -87,6 +88,6 @@ def test_every_node_holds_its_leaves_and_each_leaf_is_once_in_the_tree() -> None
         np.testing.assert_array_equal(tree.box[node], union(boxes[leaves]))
         if node > 0:
             assert tree.depth[node] >= 1
-    # the groups stay apart: the parked leaves share a subtree with nothing else
+    # the groups stay apart: the fixtures and the parked slots share a subtree with nothing else
     root_children = [below(int(c)) for c in tree.child[0]]
-    assert sorted(root_children[1]) == list(range(30, 40))
+    assert sorted(root_children[1]) == [*range(20, 25), *range(30, 40)]
