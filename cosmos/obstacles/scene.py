@@ -59,6 +59,8 @@ OBSTACLE_CONTYPE = 0
 OBSTACLE_CONAFFINITY = 6  # arm links (contype 2) and tool (contype 4)
 OBSTACLE_RGBA = (0.90, 0.35, 0.20, 0.6)
 _PARKED_Z_M = -50.0
+_IDENTITY_QUAT = (1.0, 0.0, 0.0, 0.0)
+_SAME_AXES = mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT  # a slot's geom has the world's axes
 _PLANE_AABB = (0.0, 0.0, -5e9, 1e10, 1e10, 5e9)  # what MuJoCo's compiler gives a plane
 _GEOM_TYPE = {
     ObstacleShape.SPHERE: mujoco.mjtGeom.mjGEOM_SPHERE,
@@ -213,8 +215,11 @@ class ObstacleScene:
         model.geom_size[geom] = size
         model.geom_rbound[geom] = rbound
         model.geom_aabb[geom] = aabb
-        model.geom_sameframe[geom] = 0  # placed by its own pos and quat
         mujoco.mju_mat2Quat(model.geom_quat[geom], np.ascontiguousarray(obstacle.rotation_world).reshape(9))
+        # Placed by its own pos and quat; one not turned keeps the world's axes, which MuJoCo then
+        # copies instead of composing the quaternions (the same matrix, exactly: the identity).
+        unturned = np.array_equal(model.geom_quat[geom], _IDENTITY_QUAT)
+        model.geom_sameframe[geom] = _SAME_AXES if unturned else mujoco.mjtSameFrame.mjSAMEFRAME_NONE
         self._by_name[obstacle.name] = (slot, obstacle)
         now = self._plant.time_s
         self._place(slot, obstacle.position_at(now))
@@ -233,6 +238,10 @@ class ObstacleScene:
             raise CosmosError(f"no obstacle '{name}' in the scene (present: {present})")
         slot, obstacle = self._by_name.pop(name)
         parked = np.array(parked_position(slot))
+        model = self._plant.model
+        geom = self._slot_geom[slot]
+        model.geom_quat[geom] = _IDENTITY_QUAT
+        model.geom_sameframe[geom] = _SAME_AXES
         self._place(slot, parked)
         self._track_moving()
         self._refit(slot, parked, parked)
