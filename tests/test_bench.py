@@ -75,6 +75,8 @@ def test_obstacle_bench_compares_against_a_bare_tick() -> None:
     assert figures["in_influence_0"] == 0.0
     assert figures["in_influence_10"] > 0.0
     assert figures["field_us_per_tick_10"] > figures["field_us_per_tick_0"]
+    for key in ("bare", "0", "10"):  # MuJoCo's steps are timed inside each tick, a part of it
+        assert 0.0 < figures[f"physics_us_per_tick_{key}"] < figures[f"tick_us_{key}"]
 
 
 def test_check_end_to_end_runs_the_command_on_a_generated_program() -> None:

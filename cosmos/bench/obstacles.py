@@ -110,6 +110,22 @@ def _runner(
     return runtime, ticks, field
 
 
+class _TimedPhysics:
+    """Adds up the CPU time of a plant's physics steps (``Plant.advance``, MuJoCo's ``mj_step``)."""
+
+    def __init__(self, plant: Plant) -> None:
+        self.ns = 0
+        advance = plant.advance
+
+        def timed() -> float:
+            start = time.process_time_ns()
+            t_s = advance()
+            self.ns += time.process_time_ns() - start
+            return t_s
+
+        plant.advance = timed  # type: ignore[method-assign]
+
+
 class _Timed:
     """A potential field that adds up the CPU time of the field it wraps."""
 
@@ -135,22 +151,29 @@ def bench_obstacles(ticks: int = 4000, counts: tuple[int, ...] = (0, 10, 50)) ->
         ``tick_us_bare`` and ``tick_us_<n>`` per count (median per-tick CPU time of the
         chunks, in microseconds), ``ratio_<n>`` (to the bare tick), ``field_us_per_tick_<n>``
         (CPU time of the field per servo tick, its evaluations spread over the ticks),
+        ``physics_us_per_tick_bare`` and ``physics_us_per_tick_<n>`` (mean CPU time of
+        MuJoCo's steps per tick: with the field's, what the obstacles cost where),
         ``in_influence_<n>`` (mean obstacles within the influence distance) and ``ticks``.
     """
     runners: dict[str, Callable[[int], None]] = {}
     timers: dict[str, _Timed] = {}
+    physics: dict[str, _TimedPhysics] = {}
     fields: dict[str, ObstacleField] = {}
-    _, runners["bare"], _ = _runner((), bare=True)
+    runtime, runners["bare"], _ = _runner((), bare=True)
+    physics["bare"] = _TimedPhysics(runtime.plant)
     for count in counts:
         runtime, runners[str(count)], field = _runner(crowded_scene(count) if count else ())
         assert field is not None
         fields[str(count)] = field
         timers[str(count)] = _Timed(field)
+        physics[str(count)] = _TimedPhysics(runtime.plant)
         runtime.fields[:] = [timers[str(count)]] if runtime.fields else []
     for run in runners.values():  # warm up (caches, first evaluations)
         run(CHUNK_TICKS)
     for timer in timers.values():
         timer.ns = 0
+    for steps in physics.values():
+        steps.ns = 0
     chunks: dict[str, list[float]] = {key: [] for key in runners}
     influenced: dict[str, list[int]] = {key: [] for key in fields}
     clock = time.process_time_ns  # CPU time of this process: other processes' load does not count
@@ -163,12 +186,18 @@ def bench_obstacles(ticks: int = 4000, counts: tuple[int, ...] = (0, 10, 50)) ->
             if key in fields:
                 influenced[key].append(len(fields[key].influences))
     bare_us = statistics.median(chunks["bare"]) / 1e3
-    figures = {"ticks": float(rounds * CHUNK_TICKS), "tick_us_bare": bare_us}
+    ticks_run = rounds * CHUNK_TICKS
+    figures = {
+        "ticks": float(ticks_run),
+        "tick_us_bare": bare_us,
+        "physics_us_per_tick_bare": physics["bare"].ns / ticks_run / 1e3,
+    }
     for key in fields:
         tick_us = statistics.median(chunks[key]) / 1e3
         figures[f"tick_us_{key}"] = tick_us
         figures[f"ratio_{key}"] = tick_us / bare_us
-        figures[f"field_us_per_tick_{key}"] = timers[key].ns / (rounds * CHUNK_TICKS) / 1e3
+        figures[f"field_us_per_tick_{key}"] = timers[key].ns / ticks_run / 1e3
+        figures[f"physics_us_per_tick_{key}"] = physics[key].ns / ticks_run / 1e3
         figures[f"in_influence_{key}"] = float(np.mean(influenced[key]))
     return figures
 
