@@ -8,7 +8,8 @@ import numpy as np
 from cosmos.bench.obstacles import crowded_scene
 from cosmos.obstacles import ObstacleScene, obstacle_scene_xml
 from cosmos.obstacles.hierarchy import Group, layout, union
-from cosmos.obstacles.obstacle import sphere
+from cosmos.obstacles.obstacle import Obstacle, box, sphere
+from cosmos.plan import ObstacleShape
 from cosmos.plant import Plant
 
 
@@ -91,3 +92,42 @@ def test_every_node_holds_its_leaves_and_each_leaf_is_once_in_the_tree() -> None
     # the groups stay apart: the fixtures and the parked slots share a subtree with nothing else
     root_children = [below(int(c)) for c in tree.child[0]]
     assert sorted(root_children[1]) == [*range(20, 25), *range(30, 40)]
+
+
+def test_a_slot_keeps_the_worlds_axes_only_when_its_obstacle_is_not_turned() -> None:
+    """An unturned obstacle's geom is marked as having the world's axes, so MuJoCo copies them instead
+    of composing quaternions: its pose must be bit for bit the one MuJoCo composes (sameframe NONE),
+    and a turned one must keep MuJoCo's composition. Catches a turned obstacle marked unturned (it
+    would collide as if not turned) and a removed one left turned or unmarked."""
+    plant = Plant(obstacle_scene_xml())
+    scene = ObstacleScene(plant)
+    model, data = plant.model, plant.data
+    turned = Obstacle(
+        "turned",
+        ObstacleShape.BOX,
+        np.array((0.5, 0.3, 0.6)),
+        np.array(((0.0, -1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0))),
+        np.array((0.05, 0.2, 0.01)),
+        np.zeros(3),
+    )
+    for obstacle in (
+        sphere("ball", (0.3, -0.2, 0.9), 0.05),
+        box("crate", (0.7, 0.4, 0.5), (0.1, 0.1, 0.1)),
+        turned,
+    ):
+        scene.add(obstacle)
+    slots = [model.geom(f"obstacle_slot{i}").id for i in range(3)]
+    none = int(mujoco.mjtSameFrame.mjSAMEFRAME_NONE)
+    assert [int(model.geom_sameframe[g]) for g in slots] == [
+        int(mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT)
+    ] * 2 + [none]
+    mujoco.mj_kinematics(model, data)
+    marked = data.geom_xpos[slots].copy(), data.geom_xmat[slots].copy()
+    model.geom_sameframe[slots] = none
+    mujoco.mj_kinematics(model, data)
+    np.testing.assert_array_equal(marked[0], data.geom_xpos[slots])
+    np.testing.assert_array_equal(marked[1], data.geom_xmat[slots])
+    assert not np.allclose(data.geom_xmat[slots[2]].reshape(3, 3), np.eye(3))  # the turned one is turned
+    scene.remove("turned")
+    assert int(model.geom_sameframe[slots[2]]) == int(mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT)
+    np.testing.assert_array_equal(model.geom_quat[slots[2]], (1.0, 0.0, 0.0, 0.0))
