@@ -137,13 +137,6 @@ def geom_size_and_bounds(obstacle: Obstacle) -> tuple[np.ndarray, float, np.ndar
     return np.array((2.0, 2.0, 0.05)), 0.0, np.array(_PLANE_AABB)
 
 
-def _union(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The box (centre, half sizes) containing boxes ``a`` and ``b``. # (6,)."""
-    low = np.minimum(a[:3] - a[3:], b[:3] - b[3:])
-    high = np.maximum(a[:3] + a[3:], b[:3] + b[3:])
-    return np.concatenate(((low + high) / 2.0, (high - low) / 2.0))
-
-
 class ObstacleScene:
     """The obstacles of a plant built from :func:`obstacle_scene_xml`: add, remove, move them.
 
@@ -173,6 +166,7 @@ class ObstacleScene:
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
         self._moving: list[tuple[np.ndarray, float, float, float, float, float, float, float]] = []
         self._moving_slots: list[tuple[int, Obstacle]] = []
+        self._extents: dict[int, tuple[list[float], list[float]]] = {}
         self._obstacles: tuple[Obstacle, ...] = ()
         self._refit_s = -np.inf
         self._stale = False  # the hierarchy's shape is older than the obstacles (rebuilt by update)
@@ -272,6 +266,7 @@ class ObstacleScene:
         self._obstacles = tuple(obstacle for _, obstacle in self._by_name.values())
         geom_pos = self._plant.model.geom_pos
         self._moving_slots = [(slot, o) for slot, o in self._by_name.values() if o.moving]
+        self._extents = {slot: self._extent(slot) for slot, _ in self._moving_slots}  # they never turn
         self._moving = [
             (
                 geom_pos[self._slot_geom[slot]],  # a view: writes reach MuJoCo
@@ -335,24 +330,52 @@ class ObstacleScene:
                 leaf_of[first + int(model.bvh_nodeid[root + node])] = root + node
         self._leaf = [leaf_of[g] for g in self._slot_geom]
 
-    def _refit(self, slot: int, start: np.ndarray, end: np.ndarray) -> None:
-        """Fit the slot's leaf of the world's hierarchy to its geom swept from ``start`` to ``end``.
-
-        Then every node above it is refitted to its children.
-        """
+    def _extent(self, slot: int) -> tuple[list[float], list[float]]:
+        """Where the slot's geom box is centred from its origin, and its half-sizes, world axes [m]."""
         model = self._plant.model
         geom = self._slot_geom[slot]
         aabb = model.geom_aabb[geom]
         flat = np.empty(9)
         mujoco.mju_quat2Mat(flat, model.geom_quat[geom])
         rotation = flat.reshape(3, 3)
-        half = np.abs(rotation) @ aabb[3:]
-        offset = rotation @ aabb[:3]
-        box = _union(np.concatenate((start + offset, half)), np.concatenate((end + offset, half)))
+        return (rotation @ aabb[:3]).tolist(), (np.abs(rotation) @ aabb[3:]).tolist()
+
+    def _refit(self, slot: int, start: np.ndarray, end: np.ndarray) -> None:
+        """Fit the slot's leaf of the world's hierarchy to its geom swept from ``start`` to ``end``.
+
+        Then every node above it is refitted to its children (in plain floats: a moving
+        obstacle's leaf is refitted every :data:`SWEEP_S`, in the servo loop).
+        """
+        model = self._plant.model
+        offset, half = self._extents.get(slot) or self._extent(slot)
+        low = [
+            min(a, b) + o - h for a, b, o, h in zip(start.tolist(), end.tolist(), offset, half, strict=True)
+        ]
+        high = [
+            max(a, b) + o + h for a, b, o, h in zip(start.tolist(), end.tolist(), offset, half, strict=True)
+        ]
         bvh, child, node = model.bvh_aabb, model.bvh_child, self._leaf[slot]
-        bvh[node] = box
+        bvh[node] = _box(low, high)
         node = int(self._parent[node])
         while node >= 0:
-            left, right = child[node]
-            bvh[node] = bvh[left] if right < 0 else _union(bvh[left], bvh[right])
+            left, right = child[node].tolist()
+            if right < 0:
+                bvh[node] = bvh[left]
+            else:
+                a, b = bvh[left].tolist(), bvh[right].tolist()
+                low = [min(a[i] - a[i + 3], b[i] - b[i + 3]) for i in range(3)]
+                high = [max(a[i] + a[i + 3], b[i] + b[i + 3]) for i in range(3)]
+                bvh[node] = _box(low, high)
             node = int(self._parent[node])
+
+
+def _box(low: list[float], high: list[float]) -> list[float]:
+    """Centre and half-sizes of the box from ``low`` to ``high`` corners."""
+    return [
+        (low[0] + high[0]) / 2.0,
+        (low[1] + high[1]) / 2.0,
+        (low[2] + high[2]) / 2.0,
+        (high[0] - low[0]) / 2.0,
+        (high[1] - low[1]) / 2.0,
+        (high[2] - low[2]) / 2.0,
+    ]
