@@ -26,7 +26,9 @@ from __future__ import annotations
 import functools
 import hashlib
 import importlib.util
+import io
 import os
+import pickle
 import re
 import sys
 import tempfile
@@ -36,8 +38,8 @@ from types import FunctionType
 from typing import Any
 
 import numba
-from numba.core import config
-from numba.core.caching import CompileResultCacheImpl, FunctionCache, _CacheLocator
+from numba.core import config, environment
+from numba.core.caching import CompileResultCacheImpl, FunctionCache, IndexDataCacheFile, _CacheLocator
 from numba.core.runtime import nrt
 
 from cosmos import __version__
@@ -193,6 +195,44 @@ class KernelLocator(_CacheLocator):
         return locator
 
 
+def _environment(module: str, consts: list[Any], name: str) -> environment.Environment:
+    """Numba's ``_rebuild_env`` without importing numba's own modules for it.
+
+    A compiled kernel keeps the environment of every function compiled into it, numba's
+    own implementations (``numba.np.arrayobj``, ``numba.np.linalg`` ...) among them, and
+    numba rebuilds each one around its module's namespace, importing the module (a tenth
+    of a second of imports that only compiling needs). Only object-mode code reads an
+    environment's namespace and cosmos's kernels have none, so numba's modules not yet
+    imported get a namespace holding their name alone (what numba's cache checks).
+    """
+    found = environment.lookup_environment(name)
+    if found is not None:
+        return found
+    loaded = sys.modules.get(module)
+    if loaded is None and not module.startswith("numba."):
+        loaded = importlib.import_module(module)
+    built = environment.Environment(loaded.__dict__ if loaded is not None else {"__name__": module})
+    built.consts[:] = consts
+    built.env_name = name
+    environment.Environment._memo[name] = built
+    return built
+
+
+class _KernelUnpickler(pickle.Unpickler):
+    def find_class(self, module: str, name: str) -> Any:
+        if module == "numba.core.environment" and name == "_rebuild_env":
+            return _environment
+        return super().find_class(module, name)
+
+
+class _KernelFile(IndexDataCacheFile):
+    """numba's index and data files, read with :func:`_environment`."""
+
+    def _load_data(self, name: str) -> Any:
+        with open(self._data_path(name), "rb") as file:
+            return _KernelUnpickler(io.BytesIO(file.read())).load()
+
+
 class _KernelCacheImpl(CompileResultCacheImpl):
     _locator_classes = [KernelLocator]
 
@@ -207,6 +247,14 @@ class KernelCache(FunctionCache):
     """
 
     _impl_class = _KernelCacheImpl
+
+    def __init__(self, py_func: Callable[..., Any]):
+        super().__init__(py_func)
+        self._cache_file = _KernelFile(
+            cache_path=self._cache_path,
+            filename_base=self._impl.filename_base,
+            source_stamp=self._impl.locator.get_source_stamp(),
+        )
 
     def load_overload(self, sig, target_context):
         """Load the compiled kernel for ``sig`` if it is cached (None if not)."""
