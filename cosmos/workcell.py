@@ -123,16 +123,25 @@ def scene_spec(scene_xml: Path, tool: Tool = Tool.PEG, robot: str = "puma560") -
     return spec
 
 
-@functools.cache
 def _scene_at_home(
     scene_xml: Path = SCENE_XML, tool: Tool = Tool.PEG, robot: str = "puma560"
 ) -> tuple[mujoco.MjModel, mujoco.MjData]:
-    """The compiled scene with the kinematics evaluated at the home keyframe."""
+    """The compiled scene with the kinematics evaluated at the home keyframe (compiled once)."""
+    return _compiled_at_home(scene_xml, tool, robot)  # one cache key however the caller passes them
+
+
+@functools.cache
+def _compiled_at_home(scene_xml: Path, tool: Tool, robot: str) -> tuple[mujoco.MjModel, mujoco.MjData]:
     model = scene_spec(scene_xml, tool, robot).compile()
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY))
     mujoco.mj_kinematics(model, data)
     return model, data
+
+
+def scene_model(scene_xml: Path = SCENE_XML) -> mujoco.MjModel:
+    """The arm's scene file compiled, with its peg (once per process: shared, not to be changed)."""
+    return _scene_at_home(scene_xml)[0]
 
 
 def _read_home_tool() -> tuple[np.ndarray, np.ndarray]:

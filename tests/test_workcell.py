@@ -273,3 +273,15 @@ def test_collision_filtering(scene):
             if body_of[g] == name and scene.geom_type[g] == mujoco.mjtGeom.mjGEOM_CAPSULE
         ]
         assert capsules, name
+
+
+def test_the_home_scene_is_compiled_once_however_it_is_asked_for() -> None:
+    """Catches the scene file parsed and compiled again for each way of asking: ``home_q`` and
+    ``tool_spec`` passed the same scene with and without the defaults (two cache keys), and the
+    arm's capsules read the file a third time (25 ms of every run's start)."""
+    from cosmos import workcell
+    from cosmos.hand.tool import Tool
+
+    first = workcell._scene_at_home(workcell.SCENE_XML)
+    assert workcell._scene_at_home(workcell.SCENE_XML, Tool.PEG, "puma560") is first
+    assert workcell.scene_model(workcell.SCENE_XML) is first[0]

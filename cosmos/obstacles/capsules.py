@@ -29,7 +29,7 @@ import pinocchio as pin
 
 from cosmos.errors import CosmosError
 from cosmos.robot_model import RobotModel
-from cosmos.workcell import SCENE_XML, TOOL_BODY
+from cosmos.workcell import SCENE_XML, TOOL_BODY, scene_model
 
 FloatArray = np.ndarray
 
@@ -129,7 +129,7 @@ def _scene_capsules(
     scene_xml: Path = SCENE_XML,
 ) -> tuple[tuple[str, str, FloatArray, FloatArray, float], ...]:
     """(geom, link, a, b, radius) of every collision geom of the arm, ends in the link's body frame."""
-    model = mujoco.MjModel.from_xml_path(str(scene_xml))
+    model = scene_model(scene_xml)  # the workcell's compiled scene: the file is not parsed again
     out = []
     boxes = []
     for geom in range(model.ngeom):
