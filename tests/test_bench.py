@@ -92,3 +92,19 @@ def test_whole_run_timings_repeat_into_the_same_log_directory(tmp_path: Path) ->
 
     assert startup_s(tmp_path) > 0.0
     assert startup_s(tmp_path) > 0.0
+
+
+def test_whole_runs_are_timed_as_a_user_starts_them(tmp_path: Path) -> None:
+    """Catches the start-up figure measuring a run no user has: ``python -m cosmos`` instead of
+    the installed command, and every module's bytecode compiled again in every process where the
+    machine sets PYTHONDONTWRITEBYTECODE (0.15 s of 1.3). The CPU seconds are the child's own."""
+    import sys
+
+    from cosmos.bench.programs import command, startup_run, user_environment
+
+    script = Path(sys.executable).with_name("cosmos")
+    if script.is_file():  # an install (this venv): its command, not `python -m cosmos`
+        assert command() == [str(script)]
+    assert "PYTHONDONTWRITEBYTECODE" not in user_environment({"PYTHONDONTWRITEBYTECODE": "1", "A": "b"})
+    run = startup_run(tmp_path)
+    assert run.cpu_s > 0.2 and run.wall_s > 0.0  # numpy, MuJoCo and numba alone take more

@@ -3,7 +3,8 @@
 * :func:`executor_run`: one program in process, as ``cosmos run`` runs it (plan
   compiled, a session with its log, the executor's loop); the per-tick cost of
   that loop is the executor's own path, monitor, obstacles and log included.
-* :func:`process_wall_s`: ``cosmos run`` as a new process, start to exit.
+* :func:`process_run`: ``cosmos run`` as a new process, start to exit, as a user
+  starts it (the installed ``cosmos`` command, Python's bytecode kept), wall and CPU.
 * :func:`first_run`: ``cosmos run`` with an empty kernel cache (``COSMOS_CACHE_DIR``
   set to a new directory): what a fresh install's first run costs.
 """
@@ -138,28 +139,77 @@ def executor_run(path: Path) -> ExecutorRun:
     )
 
 
-def process_wall_s(args: list[str], env: dict[str, str] | None = None) -> tuple[float, str]:
-    """Wall seconds of ``python -m cosmos ARGS`` from start to exit, and its stderr."""
+def command() -> list[str]:
+    """How a user starts cosmos: the ``cosmos`` command installed beside this interpreter.
+
+    ``python -m cosmos`` where there is none (a source tree without an install).
+    """
+    script = Path(sys.executable).with_name("cosmos")
+    return [str(script)] if script.is_file() else [sys.executable, "-m", "cosmos"]
+
+
+def user_environment(env: dict[str, str] | None = None) -> dict[str, str]:
+    """``env`` (default: this process's) as a user's run has it: Python's bytecode kept.
+
+    An install compiles every module's bytecode once; with ``PYTHONDONTWRITEBYTECODE`` set
+    (some development machines) each process compiles every module again (0.15 s), which
+    no user's run pays.
+    """
+    out = dict(os.environ if env is None else env)
+    out.pop("PYTHONDONTWRITEBYTECODE", None)
+    return out
+
+
+@dataclass(frozen=True)
+class ProcessRun:
+    """One whole ``cosmos`` process: wall and CPU seconds, start to exit, and its stderr."""
+
+    wall_s: float
+    cpu_s: float  # user and system, the process and its children
+    stderr: str
+
+
+def process_run(args: list[str], env: dict[str, str] | None = None) -> ProcessRun:
+    """``cosmos ARGS`` as a new process, as a user starts it (:func:`command`, :func:`user_environment`)."""
+    before = os.times()
     start = time.perf_counter()
     done = subprocess.run(
-        [sys.executable, "-m", "cosmos", *args], capture_output=True, text=True, env=env, check=False
+        [*command(), *args], capture_output=True, text=True, env=user_environment(env), check=False
     )
     wall = time.perf_counter() - start
+    after = os.times()
     if done.returncode != 0:
         raise RuntimeError(f"cosmos {' '.join(args)} failed: {done.stderr[-500:]}")
-    return wall, done.stderr
+    cpu = after.children_user + after.children_system - before.children_user - before.children_system
+    return ProcessRun(wall, cpu, done.stderr)
+
+
+def process_wall_s(args: list[str], env: dict[str, str] | None = None) -> tuple[float, str]:
+    """Wall seconds of ``cosmos ARGS`` (:func:`process_run`) from start to exit, and its stderr."""
+    run = process_run(args, env)
+    return run.wall_s, run.stderr
+
+
+def program_run(path: Path, log_dir: Path) -> ProcessRun:
+    """``cosmos run PATH`` as a new process (warm kernel cache)."""
+    return process_run(["run", str(path), "--force", "--log", str(log_dir / f"{path.stem}.mcap")])
 
 
 def run_wall_s(path: Path, log_dir: Path) -> float:
     """Wall seconds of ``cosmos run PATH`` as a new process (warm kernel cache)."""
-    return process_wall_s(["run", str(path), "--force", "--log", str(log_dir / f"{path.stem}.mcap")])[0]
+    return program_run(path, log_dir).wall_s
+
+
+def startup_run(log_dir: Path) -> ProcessRun:
+    """``cosmos run`` on :data:`TINY_PROGRAM`: interpreter, imports, models, log, as a new process."""
+    program = log_dir / "tiny.cos"
+    program.write_text(TINY_PROGRAM, encoding="utf-8")
+    return process_run(["run", str(program), "--force", "--log", str(log_dir / "tiny.mcap")])
 
 
 def startup_s(log_dir: Path) -> float:
-    """Wall seconds of ``cosmos run`` on :data:`TINY_PROGRAM`: interpreter, imports, models, log."""
-    program = log_dir / "tiny.cos"
-    program.write_text(TINY_PROGRAM, encoding="utf-8")
-    return process_wall_s(["run", str(program), "--force", "--log", str(log_dir / "tiny.mcap")])[0]
+    """Wall seconds of :func:`startup_run`."""
+    return startup_run(log_dir).wall_s
 
 
 @dataclass(frozen=True)

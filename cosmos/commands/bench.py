@@ -53,9 +53,13 @@ def report(f: Mapping[str, object]) -> list[str]:
             f"  {name:<18} {run['ticks']:6d} ticks  {run['executor_tick_us']:5.1f} us/tick  "
             f"(x{run['executor_to_runtime_tick']:.3f} the runtime's)  "
             f"real-time factor {run['real_time_factor']:5.1f}  whole `cosmos run` {run['run_wall_s']:.2f} s "
+            f"({run['run_cpu_s']:.2f} s CPU) "
             f"(real-time factor {run['whole_run_real_time_factor']:.1f}){'' if run['ok'] else '  FAILED'}"
         )
-    lines.append(f"start-up: `cosmos run` of a 10 ms program {g['startup_s']:.2f} s, start to exit")
+    lines.append(
+        f"start-up: `cosmos run` of a 10 ms program {g['startup_s']:.2f} s "
+        f"({g['startup_cpu_s']:.2f} s CPU), start to exit"
+    )
     if "first_run_wall_s" in g:
         lines.append(
             f"first run, empty kernel cache: {g['first_run_wall_s']:.1f} s, "
