@@ -26,9 +26,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import importlib.util
-import io
 import os
-import pickle
 import re
 import sys
 import tempfile
@@ -38,11 +36,12 @@ from types import FunctionType
 from typing import Any
 
 import numba
-from numba.core import config, environment
-from numba.core.caching import CompileResultCacheImpl, FunctionCache, IndexDataCacheFile, _CacheLocator
+from numba.core import config
+from numba.core.caching import CompileResultCacheImpl, FunctionCache, _CacheLocator
 from numba.core.runtime import nrt
 
 from cosmos import __version__
+from cosmos.jit import loading
 from cosmos.user_cache import CACHE_ENV as CACHE_ENV
 from cosmos.user_cache import user_cache_root as user_cache_root
 
@@ -195,46 +194,17 @@ class KernelLocator(_CacheLocator):
         return locator
 
 
-def _environment(module: str, consts: list[Any], name: str) -> environment.Environment:
-    """Numba's ``_rebuild_env`` without importing numba's own modules for it.
-
-    A compiled kernel keeps the environment of every function compiled into it, numba's
-    own implementations (``numba.np.arrayobj``, ``numba.np.linalg`` ...) among them, and
-    numba rebuilds each one around its module's namespace, importing the module (a tenth
-    of a second of imports that only compiling needs). Only object-mode code reads an
-    environment's namespace and cosmos's kernels have none, so numba's modules not yet
-    imported get a namespace holding their name alone (what numba's cache checks).
-    """
-    found = environment.lookup_environment(name)
-    if found is not None:
-        return found
-    loaded = sys.modules.get(module)
-    if loaded is None and not module.startswith("numba."):
-        loaded = importlib.import_module(module)
-    built = environment.Environment(loaded.__dict__ if loaded is not None else {"__name__": module})
-    built.consts[:] = consts
-    built.env_name = name
-    environment.Environment._memo[name] = built
-    return built
-
-
-class _KernelUnpickler(pickle.Unpickler):
-    def find_class(self, module: str, name: str) -> Any:
-        if module == "numba.core.environment" and name == "_rebuild_env":
-            return _environment
-        return super().find_class(module, name)
-
-
-class _KernelFile(IndexDataCacheFile):
-    """numba's index and data files, read with :func:`_environment`."""
-
-    def _load_data(self, name: str) -> Any:
-        with open(self._data_path(name), "rb") as file:
-            return _KernelUnpickler(io.BytesIO(file.read())).load()
-
-
 class _KernelCacheImpl(CompileResultCacheImpl):
     _locator_classes = [KernelLocator]
+
+    def rebuild(self, target_context: Any, payload: Any) -> Any:
+        """Numba's rebuild of a cached kernel, its library made by :func:`loading.library_from_object`."""
+        codegen = target_context.codegen()
+        codegen.unserialize_library = functools.partial(loading.library_from_object, codegen)
+        try:
+            return super().rebuild(target_context, payload)
+        finally:
+            del codegen.unserialize_library  # numba's own again, for what it compiles
 
 
 class KernelCache(FunctionCache):
@@ -243,14 +213,15 @@ class KernelCache(FunctionCache):
     A kernel found in the cache is loaded without first loading every typing and
     lowering registry numba has (``refresh``: a third of a second, SciPy's
     ``linalg`` among them), which only compiling needs; the compiler loads them
-    itself when a kernel has to be compiled.
+    itself when a kernel has to be compiled. What loading does besides is
+    :mod:`cosmos.jit.loading`'s.
     """
 
     _impl_class = _KernelCacheImpl
 
     def __init__(self, py_func: Callable[..., Any]):
         super().__init__(py_func)
-        self._cache_file = _KernelFile(
+        self._cache_file = loading.KernelFile(
             cache_path=self._cache_path,
             filename_base=self._impl.filename_base,
             source_stamp=self._impl.locator.get_source_stamp(),
