@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import sys
 from dataclasses import dataclass
 from datetime import UTC, datetime
@@ -65,6 +66,18 @@ class Pace:
     live_port: int | None = None
 
 
+def collect_from_here() -> None:
+    """Start-up is over: if it ran without Python's collector (``cosmos run``), turn it back on.
+
+    What start-up made (modules, models, kernels) lives as long as the process: the
+    collector is told to skip it (``gc.freeze``) rather than walk it at every full pass.
+    A caller that never turned the collector off (a test, the REPL) keeps its own.
+    """
+    if not gc.isenabled():
+        gc.freeze()
+        gc.enable()
+
+
 def run_program(
     path: Path,
     log_path: Path | None,
@@ -114,6 +127,7 @@ def run_program(
             tool=Tool(plan.tool),
             objects=plan.objects,
         ) as session:
+            collect_from_here()
             signals.attach(session.executor)
             server = None if pace is None else session.log.pace(pace.rate, pace.live_port)
             if server is not None:
