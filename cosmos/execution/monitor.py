@@ -97,6 +97,11 @@ def _norm3(v: FloatArray) -> float:
     return math.sqrt(x * x + y * y + z * z)
 
 
+def _length(v: FloatArray) -> float:
+    """``np.linalg.norm`` of a vector, to the last bit (its very sum), without its checks (microseconds)."""
+    return math.sqrt(v.dot(v))
+
+
 def distance_to_point(position: FloatArray, point: tuple[float, ...]) -> float:
     """The distance from ``position`` (3,) to ``point``, in floats (cheaper than an array's norm)."""
     x, y, z = position.tolist()
@@ -191,6 +196,8 @@ class SegmentMonitor:
             stiffness is not None and stiffness > 0.0 and moving
             for stiffness, moving in zip(segment.stiffness, self._motion, strict=True)
         )
+        self._complete = self._completion_judge(segment.completion)  # chosen once: it runs every tick
+        self._turns = bool(self._motion[3:].any())
 
     def check(self, snap: Snapshot, completion: bool = True) -> Outcome | None:
         """The outcome if the segment ends at this tick, else None.
@@ -210,9 +217,10 @@ class SegmentMonitor:
                 return Outcome(
                     Verdict.STOPPED, f"UNTIL {condition_text(seg.until)}: {measured} at {snap.t_s:.2f} s"
                 )
-        done = self._completion(snap) if completion else None
-        if done is not None:
-            return done
+        if completion:
+            done = self._complete(snap)
+            if done is not None:
+                return done
         if snap.t_s >= self._deadline_s and self._timeout_s is not None:
             if snap.t_s - self.statement_start_s >= self._timeout_s:  # as written, to the tick
                 return Outcome(Verdict.FAILED, self._timeout_reason(self._timeout_s))
@@ -226,19 +234,20 @@ class SegmentMonitor:
             return f"timed out after {timeout_s:g} s at depth {self._last_depth * 1e3:.1f} mm"
         return f"timed out after {timeout_s:g} s"
 
-    def _completion(self, snap: Snapshot) -> Outcome | None:
-        completion = self.segment.completion
+    def _completion_judge(self, completion: object) -> Callable[[Snapshot], Outcome | None]:
+        """The judge of the segment's own ending (``completion``), one snapshot at a time."""
         if isinstance(completion, GoalReached):
-            return self._goal_reached(snap, completion)
+            return lambda snap: self._goal_reached(snap, completion)
         if isinstance(completion, ContactTouch):
-            return self._touch(snap, completion)
+            return lambda snap: self._touch(snap, completion)
         if isinstance(completion, ForceSettled):
-            return self._force_settled(snap, completion, snap.t_s - self.start_s)
+            return lambda snap: self._force_settled(snap, completion, snap.t_s - self.start_s)
         if isinstance(completion, DepthReached):
-            return self._depth(snap, completion)
+            return lambda snap: self._depth(snap, completion)
         if isinstance(completion, Elapsed):
-            return Outcome(Verdict.DONE, "") if snap.t_s - self.start_s >= completion.duration_s else None
-        return None
+            duration_s = completion.duration_s
+            return lambda snap: Outcome(Verdict.DONE, "") if snap.t_s - self.start_s >= duration_s else None
+        return lambda snap: None
 
     def _touch(self, snap: Snapshot, completion: ContactTouch) -> Outcome | None:
         dx, dy, dz = self._direction
@@ -258,7 +267,8 @@ class SegmentMonitor:
         if timed is not None and snap.t_s < timed:
             return None
         self._ticks += 1
-        speed = _norm3(snap.velocity[:3])
+        vx, vy, vz, _, _, _ = snap.velocity.tolist()
+        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
         if self._ticks % JUDGE_MOVING_EVERY and (
             speed > goal.speed_tolerance_mps or self._off_position(snap.position, goal.position_tolerance_m)
         ):
@@ -268,13 +278,12 @@ class SegmentMonitor:
             return None
         error = goal_error(snap.position, snap.rotation, self.goal_position, self.goal_rotation)
         r_t = self._rotation_t
-        position_error = r_t.dot(error.position_m)[self._motion[:3]]
-        rotation_error = r_t.dot(error.rotation_rad)[self._motion[3:]]
+        position_off = _length(r_t.dot(error.position_m)[self._motion[:3]])
         # The error's length on the motion axes: "1 mm and 1 deg" as the reason reports them.
         arrived = (
             speed <= goal.speed_tolerance_mps
-            and float(np.linalg.norm(position_error)) <= goal.position_tolerance_m
-            and float(np.linalg.norm(rotation_error)) <= goal.orientation_tolerance_rad
+            and position_off <= goal.position_tolerance_m
+            and _length(r_t.dot(error.rotation_rad)[self._motion[3:]]) <= goal.orientation_tolerance_rad
         )
         if arrived:
             if self._settled_since is None:
@@ -294,13 +303,16 @@ class SegmentMonitor:
             )
         # Turning the long way round (cosmos.runtime.rotation_plan) the shortest angle first
         # grows: progress counts the rotation left the way the arm turns (kept continuous).
-        left = error.rotation_rad if self._motion[3:].any() else np.zeros(3)
-        if self._turn is not None:
-            left = unwrap_rotation_vector(left, self._turn)
-        elif self.turn_long_way and float(np.linalg.norm(left)) > 1e-3:
-            left = left * (1.0 - 2.0 * math.pi / float(np.linalg.norm(left)))
+        if not self._turns:  # no orientation to make progress in
+            left = np.zeros(3)
+        elif self._turn is not None:
+            left = unwrap_rotation_vector(error.rotation_rad, self._turn)
+        else:
+            left = error.rotation_rad
+            if self.turn_long_way and _length(left) > 1e-3:
+                left = left * (1.0 - 2.0 * math.pi / _length(left))
         self._turn = left
-        progress = float(np.linalg.norm(position_error)) + STALL_ANGLE_SCALE_M * float(np.linalg.norm(left))
+        progress = position_off + STALL_ANGLE_SCALE_M * _length(left)
         return self._stalled(snap, progress, error)
 
     def _off_position(self, position: FloatArray, tolerance_m: float) -> bool:

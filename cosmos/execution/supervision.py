@@ -265,7 +265,7 @@ class Supervisor:
             self._since_touch += 1
             if self._since_touch >= self._gone_ticks and self._away(position):
                 self._inherited = False
-        fx, fy, fz = wrench[:3].tolist()
+        fx, fy, fz, _, _, _ = wrench.tolist()
         if fx * fx + fy * fy + fz * fz > (_RATING2 if self._inherited else self._force_limit2):
             self._over += 1
             if self._over >= FORCE_TICKS:
