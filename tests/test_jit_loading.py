@@ -57,6 +57,8 @@ event.register("numba:compile", Listener())
 values = np.arange(4.0)
 report = {"callee": jitprobe.callee(values).tolist()}
 report["arrayobj_after_callee"] = "numba.np.arrayobj" in sys.modules
+from numba.core.runtime import nrt
+report["runtime_loaded"] = "_get_module_for_linking" in vars(nrt.rtsys.library)  # not compiled here
 if sys.argv[1] == "both":
     report["caller"] = float(jitprobe.caller(values))
 report["compiled"] = compiled
@@ -83,15 +85,19 @@ def test_a_cached_kernel_loads_without_its_bitcode_and_still_links_into_a_new_on
     unimported, a kernel compiled later must still inline it (its bitcode, now parsed only when
     linked: a wrong lazy parse fails to link or crashes), and the symbols read from the object's
     ELF table must be exactly those numba finds walking the bitcode (a missing entry point makes
-    numba call address 0: a segmentation fault, as a misread ELF header did)."""
+    numba call address 0: a segmentation fault, as a misread ELF header did). numba's runtime,
+    compiled in every process before, must be compiled once, then loaded and still link."""
     (tmp_path / "jitprobe.py").write_text(_KERNELS)
     first = _run(tmp_path, "callee")  # compiles the callee into the fresh cache
     assert first["callee"] == [1.0, 3.0, 5.0, 7.0] and first["compiled"] == ["callee"]
+    assert first["runtime_loaded"] is False  # compiled, and kept beside the kernels
+    assert len(list((tmp_path / "cache").rglob(loading.RUNTIME_FILE))) == 1
     second = _run(tmp_path, "both")  # loads the callee; compiles the caller against it
     assert second["callee"] == [1.0, 3.0, 5.0, 7.0]
     assert second["compiled"] == ["caller"], second["compiled"]
     assert second["caller"] == 16.0
     assert second["arrayobj_after_callee"] is False
+    assert second["runtime_loaded"] is True  # numba's runtime from the cache, linked into the caller
 
     monkeypatch.syspath_prepend(str(tmp_path))
     data_files = sorted((tmp_path / "cache").rglob("*.nbc"))

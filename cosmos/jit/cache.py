@@ -38,7 +38,6 @@ from typing import Any
 import numba
 from numba.core import config
 from numba.core.caching import CompileResultCacheImpl, FunctionCache, _CacheLocator
-from numba.core.runtime import nrt
 
 from cosmos import __version__
 from cosmos.jit import loading
@@ -229,7 +228,8 @@ class KernelCache(FunctionCache):
 
     def load_overload(self, sig, target_context):
         """Load the compiled kernel for ``sig`` if it is cached (None if not)."""
-        nrt.rtsys.initialize(target_context)  # what a loaded kernel links against (array allocation)
+        # What a loaded kernel links against (array allocation), itself kept in the cache.
+        loading.initialize_runtime(target_context, kernel_directory())
         return self._load_overload(sig, target_context)
 
 

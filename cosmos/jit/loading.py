@@ -13,6 +13,10 @@ does not need (0.2 s of a warm ``cosmos run``, over the kernels it loads):
 * it lists the symbols the kernel defines by walking that bitcode, calls into LLVM
   for each symbol; the compiled object's own symbol table names the same ones
   (:func:`object_symbols`: ELF; other formats are walked as numba walks them).
+
+And before the first kernel, numba compiles its runtime (NRT: reference counts, array
+allocation) from LLVM IR in every process (20-50 ms); it is kept beside the kernels
+(:func:`initialize_runtime`).
 """
 
 from __future__ import annotations
@@ -20,14 +24,23 @@ from __future__ import annotations
 import functools
 import importlib
 import io
+import os
 import pickle
 import struct
 import sys
+import tempfile
+from pathlib import Path
 from typing import Any
 
 import llvmlite.binding as ll
+from numba.core import config
 from numba.core.caching import IndexDataCacheFile
+from numba.core.compiler_lock import global_compiler_lock
 from numba.core.environment import Environment, lookup_environment
+from numba.core.runtime import _nrt_python, nrt, nrtdynmod  # type: ignore[attr-defined]
+
+RUNTIME_FILE = "numba-runtime.bin"
+"""numba's runtime library, compiled: the object's length (8 bytes), the object, its bitcode."""
 
 _ELF_HEADER = struct.Struct("<4sBB")  # magic, class (2: 64-bit), data (1: little-endian)
 _ELF_SECTION_TABLE = struct.Struct("<Q")  # e_shoff, at 0x28
@@ -117,3 +130,63 @@ def library_from_object(codegen: Any, serialized: tuple[str, str, Any]) -> Any:
     else:
         codegen._engine._defined_symbols |= symbols
     return library
+
+
+def _compile_runtime(context: Any) -> tuple[Any, bytes, bytes]:
+    """Numba's ``compile_nrt_functions``, keeping the compiled object: the library, object, bitcode."""
+    with global_compiler_lock:
+        ir_module, library = nrtdynmod.create_nrt_module(context)
+        library.enable_object_caching()
+        library.add_ir_module(ir_module)
+        library.finalize()
+        _, _, (object_code, bitcode) = library.serialize_using_object_code()
+    return library, object_code, bitcode
+
+
+def _read_runtime(path: Path) -> tuple[bytes, bytes] | None:
+    try:
+        blob = path.read_bytes()
+    except OSError:
+        return None
+    if len(blob) < 8:
+        return None
+    (length,) = struct.unpack_from("<Q", blob, 0)
+    if length > len(blob) - 8:
+        return None
+    return blob[8 : 8 + length], blob[8 + length :]
+
+
+def _write_runtime(path: Path, object_code: bytes, bitcode: bytes) -> None:
+    """Write the file whole or not at all (another process may be reading it)."""
+    try:
+        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f"{path.name}.")
+        with os.fdopen(handle, "wb") as file:
+            file.write(struct.pack("<Q", len(object_code)) + object_code + bitcode)
+        os.replace(temporary, path)
+    except OSError:
+        return
+
+
+def initialize_runtime(context: Any, directory: Path | None) -> None:
+    """Numba's ``rtsys.initialize``, its runtime library loaded from ``directory`` (compiled there once).
+
+    Without a directory (nothing can be written) or with numba's allocation statistics on,
+    numba initializes it itself.
+    """
+    system = nrt.rtsys
+    if system._init:
+        return
+    if directory is None or getattr(config, "NRT_STATS", False):
+        system.initialize(context)
+        return
+    for name, address in _nrt_python.c_helpers.items():  # what numba registers first
+        ll.add_symbol(name if name.startswith("_") else f"NRT_{name}", address)
+    path = directory / RUNTIME_FILE
+    kept = _read_runtime(path)
+    if kept is None:
+        library, object_code, bitcode = _compile_runtime(context)
+        _write_runtime(path, object_code, bitcode)
+    else:
+        library = library_from_object(context.codegen(), ("nrt", "object", kept))
+    system._library = library
+    system._init = True
