@@ -38,7 +38,11 @@ def _report(error: CosmosError) -> None:
 
 
 _WHOLE_PROCESS: list[bool] = []
-"""Set by :func:`main`: this process is the command (not a caller invoking it in process)."""
+"""Set by :func:`main` called from the process's main module: this process is the command.
+
+Its start-up objects then stay frozen to the end: unfrozen, the collection at the
+interpreter's exit walked them all once more (0.15-0.2 s of CPU).
+"""
 
 
 @contextmanager
@@ -323,7 +327,8 @@ def bench(as_json: bool, skip_first: bool) -> None:
 
 def main() -> None:
     """Entry point of the ``cosmos`` console script."""
-    _WHOLE_PROCESS.append(True)
+    if sys._getframe(1).f_globals.get("__name__") == "__main__" and not _WHOLE_PROCESS:
+        _WHOLE_PROCESS.append(True)  # called by the console script or ``python -m cosmos``, not a test
     try:
         cli.main(standalone_mode=True)
     except CosmosError as error:

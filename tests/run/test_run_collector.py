@@ -75,3 +75,23 @@ def test_a_caller_with_its_collector_on_keeps_it() -> None:
     before = gc.get_freeze_count()
     run_command.collect_from_here()
     assert gc.isenabled() and gc.get_freeze_count() == before
+
+
+def test_main_called_in_process_leaves_the_callers_objects_collectable(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Catches a test (or any caller) that runs ``cosmos.cli.main()`` in its own process being
+    taken for the command's own process: start-up's objects, its own included, stayed frozen,
+    uncollectable for the rest of the process (the suite failed on the freeze count)."""
+    import sys
+
+    from cosmos.cli import main
+
+    program = tmp_path / "wait.cos"
+    program.write_text("WAIT 10 ms\n")
+    frozen = gc.get_freeze_count()
+    monkeypatch.setattr(sys, "argv", ["cosmos", "run", str(program), "--log", str(tmp_path / "w.mcap")])
+    with pytest.raises(SystemExit) as done:
+        main()
+    assert done.value.code == 0
+    assert gc.isenabled() and gc.get_freeze_count() == frozen
