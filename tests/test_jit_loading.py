@@ -77,6 +77,9 @@ def _run(tmp_path: Path, what: str) -> dict[str, object]:
     return report
 
 
+@pytest.mark.skipif(
+    not loading.ENABLED, reason="another numba loads its kernels itself (cosmos.jit.loading.CHECKED_NUMBA)"
+)
 def test_a_cached_kernel_loads_without_its_bitcode_and_still_links_into_a_new_one(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from cosmos.jit import loading
+
 ROOT = Path(__file__).resolve().parents[1]
 
 _RUN_AND_REPORT = """
@@ -62,4 +64,7 @@ def test_a_run_compiles_each_kernel_once_and_skips_scipy_linalg(tmp_path: Path) 
     assert len(used) >= 12, sorted(used)  # the run reached the controller's and the log's kernels
     several = {name: sigs for name, sigs in used.items() if len(sigs) > 1}
     assert several == {}, f"kernels compiled for more than one signature: {several}"
-    assert report["imported"] == [], f"a run imported {report['imported']}"
+    imported = report["imported"]
+    if not loading.ENABLED:  # another numba rebuilds environments itself, importing its own modules
+        imported = [name for name in imported if name not in ("numba.np.arrayobj", "numba.np.linalg")]
+    assert imported == [], f"a run imported {imported}"

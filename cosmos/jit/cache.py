@@ -198,6 +198,8 @@ class _KernelCacheImpl(CompileResultCacheImpl):
 
     def rebuild(self, target_context: Any, payload: Any) -> Any:
         """Numba's rebuild of a cached kernel, its library made by :func:`loading.library_from_object`."""
+        if not loading.ENABLED:
+            return super().rebuild(target_context, payload)
         codegen = target_context.codegen()
         codegen.unserialize_library = functools.partial(loading.library_from_object, codegen)
         try:
@@ -220,6 +222,8 @@ class KernelCache(FunctionCache):
 
     def __init__(self, py_func: Callable[..., Any]):
         super().__init__(py_func)
+        if not loading.ENABLED:
+            return
         self._cache_file = loading.KernelFile(
             cache_path=self._cache_path,
             filename_base=self._impl.filename_base,

@@ -17,6 +17,10 @@ does not need (0.2 s of a warm ``cosmos run``, over the kernels it loads):
 And before the first kernel, numba compiles its runtime (NRT: reference counts, array
 allocation) from LLVM IR in every process (20-50 ms); it is kept beside the kernels
 (:func:`initialize_runtime`).
+
+All of this reaches into numba's private loading code, so it is used only with the numba
+versions it was checked against (:data:`CHECKED_NUMBA`, ``tests/test_jit_loading.py``);
+with any other, kernels load as numba loads them (:data:`ENABLED` is False): slower, not wrong.
 """
 
 from __future__ import annotations
@@ -33,11 +37,17 @@ from pathlib import Path
 from typing import Any
 
 import llvmlite.binding as ll
+import numba
 from numba.core import config
 from numba.core.caching import IndexDataCacheFile
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.environment import Environment, lookup_environment
 from numba.core.runtime import _nrt_python, nrt, nrtdynmod  # type: ignore[attr-defined]
+
+CHECKED_NUMBA = ((0, 68),)
+"""numba's (major, minor) versions whose private loading code this module follows."""
+ENABLED = tuple(int(part) for part in numba.__version__.split(".")[:2]) in CHECKED_NUMBA
+"""This numba is one of :data:`CHECKED_NUMBA`: kernels load through this module."""
 
 RUNTIME_FILE = "numba-runtime.bin"
 """numba's runtime library, compiled: the object's length (8 bytes), the object, its bitcode."""
@@ -176,7 +186,7 @@ def initialize_runtime(context: Any, directory: Path | None) -> None:
     system = nrt.rtsys
     if system._init:
         return
-    if directory is None or getattr(config, "NRT_STATS", False):
+    if directory is None or not ENABLED or getattr(config, "NRT_STATS", False):
         system.initialize(context)
         return
     for name, address in _nrt_python.c_helpers.items():  # what numba registers first
