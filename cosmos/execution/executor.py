@@ -135,7 +135,7 @@ class Executor:
                 self._event("stopped", segment, outcome.reason)
                 self._stopped_at = self.runtime.time_s
                 break
-            if segment.kind is SegmentKind.CONTACT_APPROACH:
+            if segment.kind is SegmentKind.CONTACT_APPROACH and outcome.touched:
                 self._event("contact", segment, outcome.reason)
         else:
             self._event("done", segments[-1], outcome.reason)

@@ -59,11 +59,15 @@ class Verdict(Enum):
 
 @dataclass(frozen=True)
 class Outcome:
-    """A segment's end: the verdict and why, in words; a protective stop's details if it was one."""
+    """A segment's end: the verdict and why, in words; a protective stop's details if it was one.
+
+    ``touched``: an approach ended by touching (one that went its whole way felt nothing).
+    """
 
     verdict: Verdict
     reason: str
     stop: ProtectiveStop | None = None
+    touched: bool = False
 
 
 @dataclass(slots=True)
@@ -254,7 +258,7 @@ class SegmentMonitor:
         fx, fy, fz = snap.wrench[:3].tolist()
         push = fx * dx + fy * dy + fz * dz
         if push > completion.threshold_n:
-            return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach")
+            return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach", touched=True)
         x, y, z = snap.position.tolist()
         x0, y0, z0 = self._start_xyz
         travel = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
@@ -378,7 +382,7 @@ class SegmentMonitor:
         if depth.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
             push = _norm3(snap.wrench[:3])
             if push > depth.touch_n:
-                return Outcome(Verdict.DONE, f"touched: {push:.2f} N")
+                return Outcome(Verdict.DONE, f"touched: {push:.2f} N", touched=True)
             return None
         jam = self.segment.jam_check
         if self.searching is not None:  # the pattern moves across: depth is the search's to judge

@@ -239,3 +239,22 @@ def test_a_roll_at_the_wrist_singularity_is_never_called_out_of_reach(tmp_path: 
         assert "out of the arm's reach" not in reason, reason
         assert "singularity" in reason, reason
         assert travel < 0.06, travel  # stopped at the path limit, not 105 mm away
+
+
+INSERT_IN_AIR = """\
+MOVE TO (0.5, 0.2, 0.5)
+INSERT DOWN DEPTH 20 mm FORCE 10 N TIMEOUT 10 s
+"""
+
+
+def test_an_insert_that_touches_nothing_logs_no_contact(tmp_path: Path) -> None:
+    """An INSERT in free air went its DEPTH in its approach and logged a ``contact`` event reading
+    "depth 20.0 mm reached": a contact where the wrist, by the log's own samples, felt none."""
+    run = run_in_process(write_program(tmp_path, "air", INSERT_IN_AIR), tmp_path / "air.mcap")
+    assert run.returncode == 0, run.describe()
+    kind, reason, _ = _outcome(run, 2)
+    assert kind == "done" and reason.startswith("depth 20."), reason
+    on_line = run.log.state.line == 2
+    felt = np.linalg.norm(run.log.state.wrench[on_line, :3], axis=1).max()
+    assert felt < 2.0, felt  # what the approach counts as a touch
+    assert run.events("contact", line=2) == [], run.describe()
