@@ -58,6 +58,16 @@ REALISTIC_SLOW = pytest.mark.xfail(
         (5.0, True, 0),
         (5.0, True, 1),
         pytest.param(5.0, False, 0, marks=REALISTIC_SLOW),
+        pytest.param(
+            10.0,
+            False,
+            0,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="realistic plant at SPEED 10 mm/s: peaks 11.7 mm/s (17 % over; seeds 1-2 12.7 "
+                "and 12.4), the ringing of SPEED 5's reason",
+            ),
+        ),
         (30.0, False, 0),
     ],
 )
