@@ -12,6 +12,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 CACHE_ENV = "COSMOS_CACHE_DIR"
@@ -45,3 +46,20 @@ def package_stamp(package: str) -> str:
         return "none"
     stat = os.stat(spec.origin)
     return f"{spec.origin}:{stat.st_size}:{stat.st_mtime_ns}"
+
+
+def write_whole(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` whole or not at all (another process may be reading it).
+
+    Raises:
+        OSError: If the directory or the file cannot be written.
+    """
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(temporary, path)
+    except OSError:
+        Path(temporary).unlink(missing_ok=True)
+        raise

@@ -14,14 +14,12 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from cosmos.user_cache import package_stamp, user_cache_root
+from cosmos.user_cache import package_stamp, user_cache_root, write_whole
 
 MODEL_DIR = Path(__file__).resolve().parents[1] / "models" / "puma560"
 """The workcell's model files (``cosmos.workcell.MODEL_DIR``, which imports MuJoCo)."""
@@ -82,15 +80,7 @@ def _write(path: Path, frames: dict[str, CachedFrame]) -> None:
             for name, f in frames.items()
         }
     )
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.replace(temporary, path)  # whole or absent, whatever runs beside it
-    except OSError:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    write_whole(path, text)
 
 
 def fixture_frames() -> dict[str, CachedFrame]:

@@ -23,8 +23,6 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -33,7 +31,7 @@ import numpy as np
 
 from cosmos.robots import ROBOTS, Robot
 from cosmos.runtime.fixture_solids import FixtureSolid, SolidShape
-from cosmos.user_cache import package_stamp, user_cache_root
+from cosmos.user_cache import package_stamp, user_cache_root, write_whole
 
 _ROOT = Path(__file__).resolve().parents[1]
 DERIVING_CODE = (
@@ -181,7 +179,7 @@ def keep_foreseen(robot_name: str, tool: str, key: bytes, found: list[tuple[int,
     """
     path = _foreseen_file(robot_name, tool, key)
     try:
-        _write(path, json.dumps(found))
+        write_whole(path, json.dumps(found))
         others = [file for file in path.parent.glob("*.json") if file != path]
         others.sort(key=lambda file: file.stat().st_mtime_ns)
         for old in others[: max(0, len(others) + 1 - KEPT_CHAINS)]:
@@ -242,18 +240,6 @@ def _from_json(text: str) -> Workcell:
         tool_frame=int(entries["tool_frame"]),
         home_q=_read_only(entries["home_q"]),
     )
-
-
-def _write(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.replace(temporary, path)  # whole or absent, whatever runs beside it
-    except OSError:
-        Path(temporary).unlink(missing_ok=True)
-        raise
 
 
 def from_scene(robot: Robot, tool: str = "peg") -> Workcell:
@@ -327,7 +313,7 @@ def load_workcell(robot_name: str, tool: str = "peg") -> Workcell:
         pass
     cell = from_scene(robot, tool)
     try:
-        _write(path, _to_json(cell))
+        write_whole(path, _to_json(cell))
     except OSError:
         pass  # a read-only cache: computed again next time
     return cell
