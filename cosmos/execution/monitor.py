@@ -59,10 +59,7 @@ class Verdict(Enum):
 
 @dataclass(frozen=True)
 class Outcome:
-    """A segment's end: the verdict and why, in words; a protective stop's details if it was one.
-
-    ``touched``: an approach ended by touching (one that went its whole way felt nothing).
-    """
+    """A segment's end: the verdict and why, in words; a stop's details; whether an approach touched."""
 
     verdict: Verdict
     reason: str
