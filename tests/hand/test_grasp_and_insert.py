@@ -11,7 +11,15 @@ import numpy as np
 import pytest
 
 from tests.hand.gripper_support import hand_samples, tf_last_pose
-from tests.run.run_support import BOTH_PLANTS, HOLE_MOUTH_M, PROGRAMS, read_run, run_in_process, write_program
+from tests.run.run_support import (
+    BOTH_PLANTS,
+    HOLE_MOUTH_M,
+    PROGRAMS,
+    ProgramRun,
+    read_run,
+    run_in_process,
+    write_program,
+)
 
 PEG_LENGTH_M = 0.100
 """The shipped peg (cosmos/hand/work_object.py, written here from its description: 100 mm, 20 mm)."""
@@ -32,6 +40,16 @@ def _inserted(log: Path) -> tuple[float, float]:
     return float(HOLE_MOUTH_M[2] - end[2]), float(np.linalg.norm(end[:2] - HOLE_MOUTH_M[:2]))
 
 
+def _pads_while_inserting(run: ProgramRun, log: Path) -> np.ndarray:
+    """The pads' forces (left, right) [N] logged on /cosmos/hand during the INSERT. # (k, 2)"""
+    insert = run.line_of("INSERT")
+    start, end = run.events("start", insert)[0].t, run.events("done", insert)[0].t
+    return np.array(
+        [[s["force_left"], s["force_right"]] for s in hand_samples(log) if start <= float(s["t"]) <= end],  # type: ignore[arg-type]
+        dtype=float,
+    )
+
+
 @pytest.mark.parametrize("ideal", BOTH_PLANTS)
 def test_grasp_and_insert_puts_the_peg_25_mm_into_the_hole(tmp_path: Path, ideal: bool) -> None:
     """programs/grasp_and_insert.cos: the peg's end 25 mm or more into the hole, on its axis, held at 120 N.
@@ -47,12 +65,7 @@ def test_grasp_and_insert_puts_the_peg_25_mm_into_the_hole(tmp_path: Path, ideal
     depth, off_axis = _inserted(log)
     assert depth >= DEPTH_M, depth
     assert off_axis < 0.0005, off_axis
-    insert = run.line_of("INSERT")
-    start, end = run.events("start", insert)[0].t, run.events("done", insert)[0].t
-    pads = np.array(
-        [[s["force_left"], s["force_right"]] for s in hand_samples(log) if start <= float(s["t"]) <= end],  # type: ignore[arg-type]
-        dtype=float,
-    )
+    pads = _pads_while_inserting(run, log)
     assert np.all(np.abs(pads - 120.0) < 12.0), (pads.min(), pads.max())
 
 
@@ -73,12 +86,7 @@ def test_the_panda_grasps_and_inserts_the_peg_too(tmp_path: Path) -> None:
     depth, off_axis = _inserted(log)
     assert depth >= DEPTH_M, depth
     assert off_axis < 0.0005, off_axis
-    insert = run.line_of("INSERT")
-    start, end = run.events("start", insert)[0].t, run.events("done", insert)[0].t
-    pads = np.array(
-        [[s["force_left"], s["force_right"]] for s in hand_samples(log) if start <= float(s["t"]) <= end],  # type: ignore[arg-type]
-        dtype=float,
-    )
+    pads = _pads_while_inserting(run, log)
     assert np.all(np.abs(pads - PANDA_GRIP_N) < 0.1 * PANDA_GRIP_N), (pads.min(), pads.max())
 
 
