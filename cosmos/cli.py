@@ -6,15 +6,13 @@ failure); 2 wrong usage. A user's mistake never shows a Python traceback.
 
 from __future__ import annotations
 
-import gc
 import sys
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 
 import click
 
 from cosmos import __version__
+from cosmos.collector import collector_off
 from cosmos.errors import CosmosError, UsageError
 from cosmos.robots import ROBOTS
 
@@ -38,33 +36,8 @@ def _report(error: CosmosError) -> None:
 
 
 _WHOLE_PROCESS: list[bool] = []
-"""Set by :func:`main` called from the process's main module: this process is the command.
-
-Its start-up objects then stay frozen to the end: unfrozen, the collection at the
-interpreter's exit walked them all once more (0.15-0.2 s of CPU).
-"""
-
-
-@contextmanager
-def _collector_off() -> Iterator[None]:
-    """Python's collector off while a command starts up, on again after.
-
-    Start-up (imports, models, kernels) makes objects that live as long as the process
-    and few garbage cycles: the collector walked them again and again (``cosmos run``:
-    250 collections, 0.13 s of 1.3 s; ``cosmos check``: 115, 25 ms of 0.35 s). ``run``
-    turns it back on once its session is open (``cosmos.commands.run.collect_from_here``).
-    What start-up made is then frozen, skipped by every later collection; a caller
-    invoking the command in process gets its objects collectable again.
-    """
-    gc.disable()
-    try:
-        yield
-    finally:
-        if not gc.isenabled():
-            gc.freeze()
-            gc.enable()
-        if not _WHOLE_PROCESS:
-            gc.unfreeze()
+"""Set by :func:`main` called from the process's main module: this process is the command,
+whose start-up objects stay frozen to the end (:func:`cosmos.collector.collector_off`)."""
 
 
 # the program file is read (and refused if it is not one) by cosmos.lang.read_program
@@ -136,7 +109,7 @@ def run(
     robot: str | None,
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
-    with _collector_off():  # until the session is open
+    with collector_off(bool(_WHOLE_PROCESS)):  # until the session is open (collect_from_here)
         from cosmos.commands.run import Pace, run_program
         from cosmos.runtime.rates import Rates
 
@@ -166,7 +139,7 @@ def run(
 )
 def check(program: Path, as_json: bool, full: bool, robot: str | None) -> None:
     """Parse, check and compile PROGRAM without running it; print the plan."""
-    with _collector_off():
+    with collector_off(bool(_WHOLE_PROCESS)):
         from cosmos.commands.check import check_program
 
         status = check_program(program, as_json, full=full, robot=robot)

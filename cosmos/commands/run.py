@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import gc
 import sys
 from dataclasses import dataclass
 from datetime import UTC, datetime
@@ -12,6 +11,7 @@ from typing import TYPE_CHECKING, Final
 
 import click
 
+from cosmos.collector import collect_from_here
 from cosmos.errors import CosmosError, UsageError
 from cosmos.execution.program import StopOnSignals, TerminalProgress, execute_plan
 from cosmos.execution.session import Session
@@ -64,18 +64,6 @@ class Pace:
 
     rate: float = 1.0
     live_port: int | None = None
-
-
-def collect_from_here() -> None:
-    """Start-up is over: if it ran without Python's collector (``cosmos run``), turn it back on.
-
-    What start-up made (modules, models, kernels) lives as long as the process: the
-    collector is told to skip it (``gc.freeze``) rather than walk it at every full pass.
-    A caller that never turned the collector off (a test, the REPL) keeps its own.
-    """
-    if not gc.isenabled():
-        gc.freeze()
-        gc.enable()
 
 
 def run_program(
