@@ -51,7 +51,7 @@ from cosmos.plan.conditions import (
     condition_holds,
 )
 from cosmos.plan.plan_json import condition_to_json, plan_to_json, segment_to_json, step_to_json
-from cosmos.plan.segments import NAMED_POSTURES, JamCheck, Posture, Search, SearchPattern, Segment
+from cosmos.plan.segments import NAMED_POSTURES, JamCheck, Posture, Search, SearchPattern, Segment, ToolEnd
 from cosmos.plan.steps import (
     AddObstacle,
     Attempt,
@@ -127,6 +127,7 @@ __all__ = [
     "SegmentKind",
     "Step",
     "Target",
+    "ToolEnd",
     "UntilOnly",
     "all_steps",
     "condition_holds",

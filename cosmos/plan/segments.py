@@ -24,6 +24,14 @@ class JamCheck:
     stall_time_s: float
 
 
+class ToolEnd(enum.Enum):
+    """Where a segment leaves the tool, as far as the program's text says (what the checker follows)."""
+
+    STAYS = "stays"  # a WAIT holding every axis: where it was
+    AT_TARGET = "at_target"  # a MOVE holding every axis, without UNTIL: at its target
+    UNKNOWN = "unknown"  # a contact, a slide, a spring, an UNTIL: where it ends is not known
+
+
 class SearchPattern(enum.Enum):
     """The lateral pattern of an INSERT's search (:mod:`cosmos.osc.search`)."""
 
@@ -159,3 +167,12 @@ class Segment:
     def force_axes(self) -> BoolArray:
         """Complement of ``motion_axes``: the diagonal of the force selection matrix."""
         return ~self.motion_axes
+
+    @property
+    def tool_end(self) -> ToolEnd:
+        """Where the segment leaves the tool, as far as the text says."""
+        if not bool(self.motion_axes.all()) or self.until is not None:
+            return ToolEnd.UNKNOWN
+        if self.kind is SegmentKind.WAIT:
+            return ToolEnd.STAYS
+        return ToolEnd.AT_TARGET if self.kind is SegmentKind.MOVE else ToolEnd.UNKNOWN

@@ -80,8 +80,7 @@ def _chain_key(steps: tuple[plan.Step, ...]) -> bytes:
         if not isinstance(step, plan.Segment):
             parts.append(b"B" if isinstance(step, plan.Branch | plan.Loop | plan.Attempt) else b"-")
             continue
-        holds_everything = bool(np.all(step.motion_axes)) and step.until is None
-        parts.append(f"S{step.kind.value}:{holds_everything}:".encode())
+        parts.append(f"S{step.tool_end.value}:".encode())
         target = step.target
         if isinstance(target, plan.AbsoluteTarget):
             parts.append(b"T" + np.asarray(target.position_world, dtype=float).tobytes())
@@ -107,10 +106,9 @@ def _follow_from_home(steps: tuple[plan.Step, ...], robot_name: str, tool: str) 
             known = None  # a block may move the arm, or not
         if not isinstance(step, plan.Segment):
             continue
-        holds_everything = bool(np.all(step.motion_axes)) and step.until is None
-        if step.kind is plan.SegmentKind.WAIT and holds_everything:
+        if step.tool_end is plan.ToolEnd.STAYS:
             continue
-        if known is None or step.kind is not plan.SegmentKind.MOVE or not holds_everything:
+        if known is None or step.tool_end is not plan.ToolEnd.AT_TARGET:
             known = None
             continue
         pin.framesForwardKinematics(model.model, data, known)

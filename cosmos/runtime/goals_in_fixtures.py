@@ -198,11 +198,10 @@ def _segment(
     step: plan.Segment, solids: Solids, pose: Pose, tool: ToolShape
 ) -> tuple[plan.Diagnostic | None, Pose]:
     """The warning for one segment, if any, and the pose it leaves."""
-    holds_everything = bool(np.all(step.motion_axes)) and step.until is None
-    if step.kind is plan.SegmentKind.WAIT and holds_everything:
+    if step.tool_end is plan.ToolEnd.STAYS:
         return None, pose
     target = step.target
-    if step.kind is not plan.SegmentKind.MOVE or not holds_everything or target is None:
+    if step.tool_end is not plan.ToolEnd.AT_TARGET or target is None:
         return None, UNKNOWN  # meant to touch, or stopped by a condition: its end is not known
     if isinstance(target, plan.AbsoluteTarget):
         position: np.ndarray | None = np.asarray(target.position_world, dtype=float)

@@ -246,11 +246,11 @@ def first_infeasible_timed_move(
             problem = timed_move_problem(distance, angle, step.duration_s, arm)
             if problem is not None:
                 return f"from where the program leaves the tool, the arm {problem}", step.span
-        holds_everything = bool(np.all(step.motion_axes)) and step.until is None
-        if step.kind is plan.SegmentKind.WAIT and holds_everything:
-            continue  # the pose is held
-        if step.kind is not plan.SegmentKind.MOVE or not holds_everything:
-            position = None  # a contact, a slide, a spring, a stop: where it ends is not known
+        end = step.tool_end
+        if end is plan.ToolEnd.STAYS:
+            continue
+        if end is plan.ToolEnd.UNKNOWN:
+            position = None
         elif isinstance(target, plan.AbsoluteTarget):
             position, rotation = np.asarray(target.position_world), goal_rotation
         elif isinstance(target, plan.RelativeTarget) and position is not None:
