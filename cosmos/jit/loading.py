@@ -28,11 +28,9 @@ from __future__ import annotations
 import functools
 import importlib
 import io
-import os
 import pickle
 import struct
 import sys
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +41,8 @@ from numba.core.caching import IndexDataCacheFile
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.environment import Environment, lookup_environment
 from numba.core.runtime import _nrt_python, nrt, nrtdynmod  # type: ignore[attr-defined]
+
+from cosmos.user_cache import write_whole
 
 CHECKED_NUMBA = ((0, 68),)
 """numba's (major, minor) versions whose private loading code this module follows."""
@@ -167,12 +167,9 @@ def _read_runtime(path: Path) -> tuple[bytes, bytes] | None:
 
 
 def _write_runtime(path: Path, object_code: bytes, bitcode: bytes) -> None:
-    """Write the file whole or not at all (another process may be reading it)."""
+    """Keep the compiled runtime in ``path`` if it can be written (whole or not at all)."""
     try:
-        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f"{path.name}.")
-        with os.fdopen(handle, "wb") as file:
-            file.write(struct.pack("<Q", len(object_code)) + object_code + bitcode)
-        os.replace(temporary, path)
+        write_whole(path, struct.pack("<Q", len(object_code)) + object_code + bitcode)
     except OSError:
         return
 
