@@ -15,6 +15,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
 CACHE_ENV = "COSMOS_CACHE_DIR"
 """Environment variable naming the directory cosmos caches in (instead of the user cache)."""
 
@@ -64,3 +66,19 @@ def write_whole(path: Path, content: str | bytes) -> None:
     except OSError:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+def cached_array(values: object, shape: tuple[int, ...] | None = None) -> np.ndarray:
+    """``values`` as a read-only float array of ``shape`` (if given): a value read back from a cache.
+
+    Raises:
+        ValueError: If a value is not finite or they do not fit ``shape`` (the cache is then
+            recomputed, as for any damaged file).
+    """
+    array = np.array(values, dtype=float)
+    if shape is not None:
+        array = array.reshape(shape)
+    if not np.all(np.isfinite(array)):
+        raise ValueError("a value that is not finite")
+    array.setflags(write=False)
+    return array

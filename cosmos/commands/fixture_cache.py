@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cosmos.user_cache import package_stamp, user_cache_root, write_whole
+from cosmos.user_cache import cached_array, package_stamp, user_cache_root, write_whole
 
 MODEL_DIR = Path(__file__).resolve().parents[1] / "models" / "puma560"
 """The workcell's model files (``cosmos.workcell.MODEL_DIR``, which imports MuJoCo)."""
@@ -55,20 +55,14 @@ def cache_file() -> Path:
     return user_cache_root() / "fixtures" / f"{model_digest()}.json"
 
 
-def _read_only(values: object, shape: tuple[int, ...]) -> np.ndarray:
-    array = np.array(values, dtype=float).reshape(shape)
-    if not np.all(np.isfinite(array)):
-        raise ValueError("a frame that is not finite")
-    array.setflags(write=False)
-    return array
-
-
 def _read(path: Path) -> dict[str, CachedFrame]:
     entries = json.loads(path.read_text(encoding="utf-8"))
     if not isinstance(entries, dict) or not entries:
         raise ValueError("not a cache of frames")
     return {
-        name: CachedFrame(name, _read_only(entry["position"], (3,)), _read_only(entry["rotation"], (3, 3)))
+        name: CachedFrame(
+            name, cached_array(entry["position"], (3,)), cached_array(entry["rotation"], (3, 3))
+        )
         for name, entry in entries.items()
     }
 

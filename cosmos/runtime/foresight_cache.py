@@ -31,7 +31,7 @@ import numpy as np
 
 from cosmos.robots import ROBOTS, Robot
 from cosmos.runtime.fixture_solids import FixtureSolid, SolidShape
-from cosmos.user_cache import package_stamp, user_cache_root, write_whole
+from cosmos.user_cache import cached_array, package_stamp, user_cache_root, write_whole
 
 _ROOT = Path(__file__).resolve().parents[1]
 DERIVING_CODE = (
@@ -95,16 +95,6 @@ class Workcell:
     model_text: str
     tool_frame: int
     home_q: np.ndarray
-
-
-def _read_only(values: object, shape: tuple[int, ...] | None = None) -> np.ndarray:
-    array = np.array(values, dtype=float)
-    if shape is not None:
-        array = array.reshape(shape)
-    if not np.all(np.isfinite(array)):
-        raise ValueError("a value that is not finite")
-    array.setflags(write=False)
-    return array
 
 
 def digest(robot: Robot) -> str:
@@ -220,17 +210,17 @@ def _from_json(text: str) -> Workcell:
             fixture=str(s["fixture"]),
             geom=str(s["geom"]),
             shape=SolidShape(s["shape"]),
-            center=_read_only(s["center"], (3,)),
-            rotation=_read_only(s["rotation"], (3, 3)),
-            size=_read_only(s["size"], (3,)),
+            center=cached_array(s["center"], (3,)),
+            rotation=cached_array(s["rotation"], (3, 3)),
+            size=cached_array(s["size"], (3,)),
         )
         for s in entries["solids"]
     )
     if not isinstance(entries["model"], str) or not entries["model"]:
         raise ValueError("no model")
     return Workcell(
-        home_tool_position=_read_only(entries["home_tool_position"], (3,)),
-        home_tool_rotation=_read_only(entries["home_tool_rotation"], (3, 3)),
+        home_tool_position=cached_array(entries["home_tool_position"], (3,)),
+        home_tool_rotation=cached_array(entries["home_tool_rotation"], (3, 3)),
         tool_length_m=float(entries["tool_length_m"]),
         tool_sections=tuple(
             (float(start), float(end), float(radius)) for start, end, radius in entries["tool_sections"]
@@ -238,7 +228,7 @@ def _from_json(text: str) -> Workcell:
         solids=solids,
         model_text=entries["model"],
         tool_frame=int(entries["tool_frame"]),
-        home_q=_read_only(entries["home_q"]),
+        home_q=cached_array(entries["home_q"]),
     )
 
 
@@ -280,17 +270,17 @@ def from_scene(robot: Robot, tool: str = "peg") -> Workcell:
                 fixture=fixture,
                 geom=name,
                 shape=_SHAPES[kind],
-                center=_read_only(data.geom_xpos[g], (3,)),
-                rotation=_read_only(data.geom_xmat[g], (3, 3)),
-                size=_read_only(model.geom_size[g], (3,)),
+                center=cached_array(data.geom_xpos[g], (3,)),
+                rotation=cached_array(data.geom_xmat[g], (3, 3)),
+                size=cached_array(model.geom_size[g], (3,)),
             )
         )
     arm = build_robot_model(robot, hand)
     point = model.site(TOOL_SITE).id
     sections = _tool_sections(model, data, point)
     return Workcell(
-        home_tool_position=_read_only(data.site_xpos[point], (3,)),
-        home_tool_rotation=_read_only(data.site_xmat[point], (3, 3)),
+        home_tool_position=cached_array(data.site_xpos[point], (3,)),
+        home_tool_rotation=cached_array(data.site_xmat[point], (3, 3)),
         tool_length_m=max(
             float(np.linalg.norm(tool_spec(robot, hand).tool_position_in_flange)),
             max((end for _, end, _ in sections), default=0.0),
@@ -299,7 +289,7 @@ def from_scene(robot: Robot, tool: str = "peg") -> Workcell:
         solids=tuple(solids),
         model_text=arm.model.saveToString(),
         tool_frame=int(arm.tool_frame),
-        home_q=_read_only(home_q(robot)),
+        home_q=cached_array(home_q(robot)),
     )
 
 
@@ -337,7 +327,7 @@ def kinematics(robot_name: str, tool: str = "peg") -> ArmKinematics:
     return ArmKinematics(
         model=model,
         tool_frame=cell.tool_frame,
-        q_lower_rad=_read_only(model.lowerPositionLimit),
-        q_upper_rad=_read_only(model.upperPositionLimit),
+        q_lower_rad=cached_array(model.lowerPositionLimit),
+        q_upper_rad=cached_array(model.upperPositionLimit),
         home_q=cell.home_q,
     )
