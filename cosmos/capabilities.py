@@ -93,9 +93,17 @@ class Pose:
     rotation: tuple[tuple[float, float, float], ...]
 
 
-HOME_TOOL = Pose(
-    position=(0.5963031486, -0.15005, 0.4574757323),
-    rotation=((1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0)),
-)
-"""The tool at the scene's ``home`` keyframe: 596 mm out, 457 mm up, pointing down
-(:data:`cosmos.workcell.HOME_TOOL_POSITION` reads it from the scene)."""
+_TOOL_DOWN = ((1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0))
+
+HOME_TOOLS: dict[tuple[str, str], Pose] = {
+    ("puma560", "peg"): Pose((0.5963031486, -0.15005, 0.4574757323), _TOOL_DOWN),
+    ("puma560", "gripper"): Pose((0.5963031486, -0.15005, 0.4699757323), _TOOL_DOWN),
+    ("panda", "peg"): Pose((0.5963031486, -0.15005, 0.4574757323), _TOOL_DOWN),
+    ("panda", "gripper"): Pose((0.5963031486, -0.15005, 0.4120757323), _TOOL_DOWN),
+}
+"""The tool point at each arm's ``home`` keyframe, by arm and TOOL: 596 mm out, pointing down;
+the PUMA's gripper point is 12.5 mm above the peg's tip, the Panda's hand 45.4 mm below
+(tests/check/test_home_tools.py reads them from the scenes)."""
+
+HOME_TOOL = HOME_TOOLS[("puma560", "peg")]
+"""The PUMA's peg at home (:data:`cosmos.workcell.HOME_TOOL_POSITION` reads it from the scene)."""

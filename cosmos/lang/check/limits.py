@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cosmos import plan
-from cosmos.capabilities import ARM_CAPABILITY, HOME_TOOL, WRIST_SENSOR, ArmCapability
+from cosmos.capabilities import ARM_CAPABILITY, HOME_TOOL, WRIST_SENSOR, ArmCapability, Pose
 from cosmos.errors import Span
 from cosmos.hand.tool import GRIPPER
 from cosmos.lang import units
@@ -218,20 +218,20 @@ def timed_move_problem(
 
 
 def first_infeasible_timed_move(
-    steps: tuple[plan.Step, ...], arm: ArmCapability = ARM_CAPABILITY
+    steps: tuple[plan.Step, ...], arm: ArmCapability = ARM_CAPABILITY, home: Pose = HOME_TOOL
 ) -> tuple[str, Span] | None:
     """The first timed ``MOVE TO`` the arm cannot do in its time, where its start is known.
 
-    The tool starts at home; after a MOVE that ends where it was sent (no UNTIL) the
-    tool is known to be at its goal; after anything else (a contact, a slide, a
-    stopped motion) it is not known until the next such MOVE. (A timed MOVE BY is
+    The tool starts at ``home`` (the arm's with its tool); after a MOVE that ends where it
+    was sent (no UNTIL) the tool is known to be at its goal; after anything else (a contact,
+    a slide, a stopped motion) it is not known until the next such MOVE. (A timed MOVE BY is
     judged at the statement, its distance being known without this.)
 
     Returns:
         The check error and the statement's span, or None.
     """
-    position: np.ndarray | None = np.array(HOME_TOOL.position)
-    rotation = np.array(HOME_TOOL.rotation)
+    position: np.ndarray | None = np.array(home.position)
+    rotation = np.array(home.rotation)
     for step in steps:
         if not isinstance(step, plan.Segment):
             continue

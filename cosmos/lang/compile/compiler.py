@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from cosmos import plan
+from cosmos.capabilities import HOME_TOOLS
 from cosmos.errors import ProgramError, Span
 from cosmos.lang import ast
 from cosmos.lang.check import limits
@@ -175,7 +176,9 @@ class Compiler:
             warnings.append(plan.Diagnostic("the program is empty", Span(file, 1, 1, 1, 1)))
         warnings.sort(key=lambda w: (w.span.line, w.span.column))
         robot = result.state.robot
-        infeasible = limits.first_infeasible_timed_move(result.steps, ROBOTS[robot].capability)
+        infeasible = limits.first_infeasible_timed_move(
+            result.steps, ROBOTS[robot].capability, HOME_TOOLS[(robot, result.state.tool)]
+        )
         if infeasible is not None:
             raise ProgramError(*infeasible).with_source(source)
         return plan.Plan(
