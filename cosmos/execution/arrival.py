@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from cosmos.obstacles.field import Influence
 from cosmos.osc.orientation import so3_log
 from cosmos.plant import Plant
 from cosmos.robots import DEFAULT_ROBOT, Robot
@@ -124,6 +125,7 @@ def stall_cause(
     goal_position: FloatArray,
     goal_rotation: FloatArray,
     arm: Robot = DEFAULT_ROBOT,
+    fields: tuple[Influence, ...] = (),
 ) -> str:
     """Why a goal motion stopped short, from what is measured now.
 
@@ -136,6 +138,7 @@ def stall_cause(
         goal_position: The goal tool point, world [m]. # (3,)
         goal_rotation: The goal orientation, tool to world. # (3, 3)
         arm: The arm (its reach and wrist).
+        fields: The obstacles whose potential field acts on the arm now (seed section 6).
     """
     if push_n > BLOCKED_N:
         return f"is blocked, pushing {push_n:.1f} N against something in the way"
@@ -154,6 +157,12 @@ def stall_cause(
     singular = singularity(q, jacobian, arm)
     if singular is not None:
         return f"{singular}, which prevents progress"
+    if fields:  # the goal lies where an obstacle's field pushes back: an equilibrium short of it
+        nearest = min(fields, key=lambda influence: influence.distance_m)
+        return (
+            f"the field of obstacle '{nearest.obstacle}' holds it back ({nearest.link} "
+            f"{nearest.distance_m * 1e3:.0f} mm from it; INFLUENCE sets how far the field reaches)"
+        )
     return "the controller made no progress (nothing in the way, no joint at a limit, no singularity)"
 
 

@@ -232,6 +232,7 @@ class Executor:
             return stall_cause(
                 rt.q, robot.q_lower_rad, robot.q_upper_rad, rt.evaluation.jacobian,
                 float(np.linalg.norm(rt.wrench[:3])), final_position, final_rotation, robot.description,
+                obstacles.field.influences if obstacles is not None else (),
             )  # fmt: skip
 
         monitor = SegmentMonitor(
