@@ -100,6 +100,7 @@ def _follow_from_home(steps: tuple[plan.Step, ...], robot_name: str, tool: str) 
     model = foresight_cache.kinematics(robot_name, tool)
     data = model.model.createData()
     known: np.ndarray | None = np.array(model.home_q)
+    since = "the home pose"  # where ``known`` comes from
     found: list[tuple[int, str]] = []
     for index, step in enumerate(steps):
         if isinstance(step, plan.Branch | plan.Loop | plan.Attempt):
@@ -125,10 +126,10 @@ def _follow_from_home(steps: tuple[plan.Step, ...], robot_name: str, tool: str) 
             continue
         route = plan_rotation(model, known, position, rotation, goal_position, goal_rotation)
         if route.blocked_by is not None:
-            found.append((index, f"{_keyword(step)}: {_foreseen(route.blocked_by.message)}"))
+            found.append((index, f"{_keyword(step)}: {_foreseen(route.blocked_by.message, since)}"))
             known = None
             continue
-        known = route.goal_q
+        known, since = route.goal_q, f"the goal of line {step.span.line}"
     return found
 
 
@@ -140,6 +141,6 @@ def _keyword(step: plan.Segment) -> str:
     return "MOVE TO" if isinstance(step.target, plan.AbsoluteTarget) else "MOVE BY"
 
 
-def _foreseen(message: str) -> str:
-    """``joint 6 at its limit of 266 deg`` as a foresight: ``joint 6 would reach its limit ...``."""
-    return message.replace(" at its limit of ", " would reach its limit of ", 1) + " (from the home pose)"
+def _foreseen(message: str, since: str) -> str:
+    """``joint 6 at its limit of 266 deg`` as foreseen from ``since`` (``the goal of line 2``)."""
+    return message.replace(" at its limit of ", " would reach its limit of ", 1) + f" (from {since})"

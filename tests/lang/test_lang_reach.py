@@ -27,3 +27,14 @@ def test_reachable_goals_and_unknown_starts_give_no_warning() -> None:
     assert not cosmos.check("MOVE TO (0.55, 0.0, 0.4)\nMOVE BY (0, 0.1 m, 0)\n").warnings
     after_contact = "MOVE TO table + (0, 0, 20 mm)\nCONTACT DOWN FORCE 5 N\n" + TILT
     assert not [w for w in cosmos.check(after_contact).warnings if "would reach its limit" in w.message]
+
+
+def test_a_foresight_names_the_pose_it_starts_from() -> None:
+    """The tilt from home says so; after a MOVE TO to another point, the same tilt is foreseen
+    from that MOVE's goal and says which line's. Catches every foresight worded "from the home
+    pose" though the arm starts it where an earlier MOVE left it."""
+    (from_home,) = cosmos.check(TILT).warnings
+    assert from_home.message.endswith("(from the home pose)"), from_home.message
+    (after_move,) = cosmos.check("MOVE TO (0.6, -0.1, 0.35)\n" + TILT).warnings
+    assert after_move.span.line == 2
+    assert after_move.message.endswith("(from the goal of line 1)"), after_move.message
