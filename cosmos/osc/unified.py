@@ -354,3 +354,31 @@ def speed_limited_push(
     capped = feedback.copy()
     capped[:3] = allowed * n
     return capped, True
+
+
+def push_commanded_speed(force_goal: FloatArray, max_speed: float) -> FloatArray:
+    """The speed a push held at its limit commands outright, for the friction's intent: ``V_max n``.
+
+    While :func:`speed_limited_push` binds, the push is a velocity command, and the joints'
+    Coulomb friction is compensated toward it (:func:`cosmos.osc.friction.friction_intent`'s
+    ``xd_c``), as toward a tracked trajectory's ``xd_d``: from the joints' intent the force
+    axes take their own sensed motion out (``-Omega_bar xd / L``), so along n the intent is
+    the commanded speed alone. It was ``(V_max + n^T xd) n``, which put the sensed speed along
+    n back in: on the realistic plant that speed is the 40 Hz velocity observer's, 8 ms late
+    and a count's rounding (several mm/s) noisy, and the friction torque it steered (the
+    published Coulomb levels, up to 27 N m) followed the noise. On the chamfer the peg then
+    rang at 30-40 Hz, +-2-5 mm/s: SPEED 10 mm/s peaked at 11.7 and 12.4 mm/s (seeds 0, 2),
+    now at 10.45 and 9.85 (tests/run/test_run_insert_speed.py).
+
+    Args:
+        force_goal: The segment's force setpoint F_d (not ramped), world; n is its force's direction. # (6,)
+        max_speed: V_max (the speed the cap aims at), in [m/s].
+
+    Returns:
+        ``xd_c``, world, [m/s, rad/s]; zeros when F_d has no force. # (6,)
+    """
+    speed = np.zeros(6)
+    push = float(np.linalg.norm(force_goal[:3]))
+    if push > 0.0:
+        speed[:3] = max_speed * force_goal[:3] / push
+    return speed

@@ -29,6 +29,7 @@ from cosmos.osc.unified import (
     force_feedback,
     force_goal_reached,
     integrate_force_error,
+    push_commanded_speed,
     servo_matrices,
     speed_limited_push,
     unified_torque,
@@ -654,8 +655,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
             DT_S,
         )
     if limited:  # friction compensated toward the speed limit; the translations' integral held
-        n = vec[sk.FORCE_WORLD, :3] / np.linalg.norm(vec[sk.FORCE_WORLD, :3])
-        speed = speed + np.concatenate(((sc[sk.PUSH_SPEED] + n @ velocity[:3]) * n, np.zeros(3)))
+        speed = speed + push_commanded_speed(vec[sk.FORCE_WORLD], sc[sk.PUSH_SPEED])
         integral[:3] = st[sk.INTEGRAL, :3]
     # Eq. 18's F_a, with the speed cap's cut of F_fb (zero unless it binds) carried over.
     uncapped = force_feedback(setpoint, wrench, integral_before_cap, FORCE_GAINS)

@@ -329,13 +329,15 @@ def servo_tick(
             )
             if limited:
                 # At its speed limit the push is a velocity command: friction is compensated
-                # toward it, as toward a tracked trajectory's xd_d (the joints would stick;
-                # its own motion along n is not taken out of the intent then).
+                # toward the commanded speed, as toward a tracked trajectory's xd_d (the joints
+                # would stick), and along n toward it alone: the sensed motion along n, which
+                # the force axes take out of the intent (above), stays out of it
+                # (cosmos.osc.unified.push_commanded_speed).
                 pushing_at_speed = True
                 push = math.sqrt(goal[0] ** 2 + goal[1] ** 2 + goal[2] ** 2)
                 n0, n1, n2 = goal[0] / push, goal[1] / push, goal[2] / push
                 for i, ni in ((0, n0), (1, n1), (2, n2)):
-                    commanded_speed[i] += (push_speed + along) * ni
+                    commanded_speed[i] += push_speed * ni
                 # Anti-windup: the translations' integral does not grow while unused.
                 integral[:3] = previous_integral[:3]
         if flags[TOUCHING] == 0.0:
