@@ -122,6 +122,7 @@ class ServoLevel:
         scalars[kernel.TILT_WINDOW : kernel.TILT_WINDOW + 2] = gains.insert_tilt_window
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
         scalars[kernel.GOAL_INTEGRAL : kernel.GOAL_INTEGRAL + 5] = gains.goal_integral
+        scalars[kernel.HOLD_OBSERVER : kernel.HOLD_OBSERVER + 2] = gains.hold_observer
         scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass
         scalars[kernel.HELD_PUSH + 6] = gains.touch_damping * min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
         self._scalars = scalars
@@ -268,10 +269,7 @@ class ServoLevel:
                 self._selection.omega_bar - self._servo_selection.omega_bar
             )
         state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]  # both task rows: w long, six used
-        state[kernel.FLAGS, kernel.TOUCHING] = 0.0  # latched by the first push felt on a force axis
-        state[kernel.FLAGS, kernel.ADMITTING] = 0.0  # latched by the first contact force
-        state[kernel.FLAGS, kernel.REACHED] = 0.0
-        state[kernel.FLAGS, kernel.HELD_INTEGRAL] = 0.0
+        state[kernel.FLAGS] = 0.0  # the latches, the held push's integral, the hold observer's start
         state[kernel.MOTION_INTEGRAL] = 0.0
         scalars, vectors = self._scalars, self._vectors
         tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None

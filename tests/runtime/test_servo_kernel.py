@@ -18,7 +18,7 @@ from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operati
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.held_push import held_push, touch_damping
-from cosmos.osc.integral_action import integrate_goal_error, integrate_motion_error
+from cosmos.osc.integral_action import integrate_goal_error, integrate_motion_error, observe_hold_disturbance
 from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, ramped_speed_limit, tracking_command
 from cosmos.osc.orientation import so3_exp
@@ -291,6 +291,8 @@ TICK_CASES = {
     "a free goal motion near its goal": TickCase(False, 0.3, True, 2.0, force=False, tangent_n=0.3),
     "a free goal motion pushing something": TickCase(False, 0.3, True, 2.0, force=False),
     "hold, motion only": TickCase(True, 3.0, False, 0.5, saturate=True, mode=sk.MODE_HOLD, force=False),
+    "a free hold": TickCase(False, 0.3, True, 2.0, mode=sk.MODE_HOLD, force=False, tangent_n=0.3),
+    "a free hold pushed": TickCase(False, 3.0, True, 2.0, mode=sk.MODE_HOLD, force=False),
     "admittance, first contact": TickCase(False, 3.0, False, 0.6, admittance=True),
     "admittance, speed bounded": TickCase(True, 2.0, True, 1.2, admittance=True, admittance_max_speed=0.05),
     "admittance, tracking": TickCase(
@@ -311,6 +313,8 @@ errors (about 0.01 rad) reach beyond it."""
 GOAL_INTEGRAL = (1000.0, 0.004, 0.05, 1.0, 2.0)
 """A free goal motion's (k_i, limit, band, slow, quiet): a band and a speed wide enough for the
 cases' centimetre errors; 2 N quiet, above the near-goal case's push and below the other's."""
+HOLD_OBSERVER = (20.0, 3.0)
+"""A free hold's disturbance observer (L, bound), as cosmos.runtime.servo.ServoGains has it."""
 XI_Q = 20.0
 LOOKAHEAD_S = 0.02
 DT_S = 1e-3
@@ -415,6 +419,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.MOTION_KI] = 2000.0
     scalars[sk.MOTION_INTEGRAL_LIMIT] = 0.004
     scalars[sk.GOAL_INTEGRAL : sk.GOAL_INTEGRAL + 5] = GOAL_INTEGRAL
+    scalars[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 2] = HOLD_OBSERVER
     scalars[sk.START_S] = start_s
     scalars[sk.RAMP_S] = ramp_s
     scalars[sk.K_F] = FORCE_GAINS.k_f
@@ -477,6 +482,9 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     state[sk.FLAGS, sk.ADMITTING] = float(case.admittance and case.touching)
     state[sk.MOTION_INTEGRAL] = 0.0
     state[sk.MOTION_INTEGRAL, :3] = sel.omega[:3, :3] @ rng.uniform(-0.002, 0.002, 3)  # on motion axes
+    if case.mode == sk.MODE_HOLD:  # a free hold's observer: the velocity it predicted [m/s]
+        state[sk.MOTION_INTEGRAL, 3:6] = rng.normal(0.0, 2e-3, 3)
+        state[sk.FLAGS, sk.OBSERVING] = 1.0
 
     q = q_e + rng.normal(0.0, 0.01, 6)
     qd = rng.normal(0.0, 2e-3, 6)
@@ -604,6 +612,21 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
                 motion_integral[:3], error, velocity, wrench, DT_S, (gate[0], gate[1], gate[2], gate[3])
             )
             motion = motion - np.concatenate((sc[sk.GOAL_INTEGRAL] * motion_integral[:3], np.zeros(3)))
+        if sc[sk.MODE] == sk.MODE_HOLD and sc[sk.UNIFORM] and not sc[sk.ADMITTANCE]:  # a free hold
+            observer = sc[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 2]
+            gate = (observer[0], observer[1], sc[sk.GOAL_INTEGRAL + 2], sc[sk.GOAL_INTEGRAL + 4])
+            started = st[sk.FLAGS, sk.OBSERVING] != 0.0
+            estimate, predicted, motion = observe_hold_disturbance(
+                motion_integral[:3],
+                motion_integral[3:6] if started else None,
+                motion,
+                velocity,
+                error,
+                wrench,
+                DT_S,
+                gate,
+            )
+            motion_integral[:3], motion_integral[3:6] = estimate, predicted
         torque = unified_torque(dyn, sel, motion, np.zeros(6)) + inputs.held
         torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
         return _finish_tick(
@@ -892,3 +915,26 @@ def test_goal_integral_cases_exercise_what_they_claim(name: str) -> None:
     inputs.scalars[sk.GOAL_INTEGRAL] = 0.0
     plain = _reference_tick(inputs).rows[sk.TORQUE]
     assert np.max(np.abs(plain - reference.rows[sk.TORQUE])) > 1e-6  # the held integral acts too
+
+
+@pytest.mark.parametrize("name", ["a free hold", "a free hold pushed"])
+def test_hold_observer_cases_exercise_what_they_claim(name: str) -> None:
+    """Guards the free hold's cases: quiet, the disturbance estimate moves by L times the velocity
+    it did not predict, and the next prediction is ``v + dt F*``; pushed over the gate's quiet force
+    the estimate is held (still applied). Catches a kernel whose observer never runs (the comparison
+    above would pass on a row both sides leave alone), one that takes a contact for a disturbance,
+    and one that drops the estimate from F*."""
+    case = TICK_CASES[name]
+    inputs = _tick_inputs(case, seed=sorted(TICK_CASES).index(name) + 100)
+    reference = _reference_tick(inputs)
+    before = inputs.state[sk.MOTION_INTEGRAL, :6].copy()
+    after = reference.rows[sk.MOTION_INTEGRAL][:6]
+    velocity = (inputs.jacobian @ inputs.qd)[:3]
+    if case.tangent_n < GOAL_INTEGRAL[4]:
+        assert_close(after[:3] - before[:3], HOLD_OBSERVER[0] * (velocity - before[3:6]))
+    else:
+        assert np.array_equal(after[:3], before[:3])
+    inputs.scalars[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 2] = 0.0
+    inputs.state[sk.MOTION_INTEGRAL, :3] = 0.0
+    plain = _reference_tick(inputs).rows[sk.TORQUE]
+    assert np.max(np.abs(plain - reference.rows[sk.TORQUE])) > 1e-6  # the estimate acts

@@ -46,6 +46,7 @@ from cosmos.runtime.kernels.contact import (
     touch_damping_into,
     touch_latched,
 )
+from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
 
 FloatArray = np.ndarray
@@ -63,7 +64,8 @@ MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(24, 28)
 TILT_WINDOW = 34  # an INSERT's compliant rotations: the window [rad] and the stop's rate [1/s]
 GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(36, 40)
 GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
-SCALARS = 45  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
+HOLD_OBSERVER = 45  # a free hold's disturbance observer: its gain L [1/s], its bound [m/s^2]
+SCALARS = 47  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -95,6 +97,7 @@ STATE_ROWS = 10
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 REACHED, HELD_INTEGRAL = 2, 3  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
+OBSERVING = 4  # FLAGS: 1 once a free hold's disturbance observer has its first velocity
 
 # Rows of a tick's work array (servo_tick).
 MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
@@ -225,6 +228,25 @@ def servo_tick(
                 goal_integral[i] = min(max(goal_integral[i] + error[i] * scalars[DT_S], -gate[0]), gate[0])
         for i in range(3):
             motion[i] -= scalars[GOAL_INTEGRAL] * goal_integral[i]
+    if mode == MODE_HOLD and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0:
+        # A free hold: eq. 19 with x_d fixed, less the disturbance the unit mass is seen to feel
+        # (cosmos.osc.integral_action.observe_hold_disturbance): the drawn model error's and friction's.
+        observer = (
+            scalars[HOLD_OBSERVER],
+            scalars[HOLD_OBSERVER + 1],
+            scalars[GOAL_INTEGRAL + 2],
+            scalars[GOAL_INTEGRAL + 4],
+        )
+        hold_observer_into(
+            motion,
+            state[MOTION_INTEGRAL],
+            state[FLAGS, OBSERVING:],
+            error,
+            velocity,
+            wrench,
+            observer,
+            scalars[DT_S],
+        )
     feedback = work[FEEDBACK]
     feedback[:] = 0.0
     # Operational speed commanded outright, world: a tracked trajectory's xd_d on the motion
