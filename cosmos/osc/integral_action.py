@@ -99,25 +99,29 @@ def observe_hold_disturbance(
     force: FloatArray,
     dt_s: float,
     gate: tuple[float, float, float, float],
+    known: FloatArray | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """One tick of a free hold's disturbance observer: eq. 19 (x_d fixed) less the estimated disturbance.
 
     With eq. 18 the decoupled tool is a unit mass, ``xdd = F*_m``; the real arm adds a
-    disturbance ``d`` the model does not hold: its drawn friction levels on every joint that
-    moves (a null-space motion under POSTURE or the links' field turns joints 1-3, and 10 %
-    of joint 1's 25 N m is 0.4 m/s^2 at the tool, a millimetre at kp = 400), its masses' few
-    per cent, and the part of a null-space torque ``N^T Gamma_0`` that the controller's A
-    does not keep from the tool. Such a disturbance starts as a step, which integral action
-    (:func:`integrate_goal_error`; roots -26, -10, -3.8 /s) only takes back after most of
-    the step's ``d / kp``. The observer sees it within ``1 / L``: the velocity the unit
-    mass should have reached, ``v_pred = v + dt F*`` of the tick before, against the one
-    measured, ``d <- d + L (v - v_pred)`` (first order: ``d`` follows the disturbance with
-    time constant ``1 / L``), and ``F*_m - d`` goes to the servo (a constant disturbance is
-    then held with no steady error, as by an integral). ``d`` moves only where the tool is
-    within ``band`` of what it holds and feels no push over ``quiet`` (a contact is not a
-    disturbance to take back; the tool's own obstacle field beyond the band is left to
-    act), is clamped to ``+-bound`` per component, and restarts with every segment; the
-    first tick of a segment (no ``predicted`` yet) only takes the velocity.
+    disturbance ``d`` the model does not hold: the drawn friction levels of the joints that
+    move (a null-space motion under POSTURE or the links' field turns joints 1-3 too, and
+    10 % of joint 1's 25 N m is 0.4 m/s^2 at the tool, a millimetre at kp = 400), the
+    masses' few per cent, and what of a null-space torque ``N^T Gamma_0`` the controller's A
+    does not keep from the tool. It comes as a step when a joint starts turning, which
+    integral action (:func:`integrate_goal_error`: roots -26, -10, -3.8 /s) takes back only
+    after most of the step's ``d / kp``. The observer compares the velocity measured with
+    the one the unit mass should have reached, ``v_pred = v + dt (F* + a_known)`` of the tick
+    before (``a_known``: what the controller gives the tool on purpose besides F*, a field
+    meant to reach it), ``d <- d + L (v - v_pred)``: d follows the disturbance at first
+    order with time constant ``1 / L``, and ``F*_m - d`` goes to the servo. Written out,
+    ``d = L (v - integral(F*) dt)``, so the hold is eq. 19 with ``kp + L kv``, ``kv + L``
+    and an integral gain ``L kp``: at L = 20 /s, the hold's own double root, the three roots
+    are at -20 /s (a constant disturbance is held with no steady error). d moves only
+    where the tool is within ``band`` of what it holds and feels no push over ``quiet`` (a
+    contact is not a disturbance to take back), is clamped to ``+-bound`` per component and
+    restarts with every segment; the segment's first tick (no ``predicted`` yet) only takes
+    the velocity.
 
     Args:
         estimate: d so far, world, in [m/s^2]. # (3,)
@@ -128,6 +132,9 @@ def observe_hold_disturbance(
         force: The wrench the tool applies, world, in [N] then [N m]. # (6,)
         dt_s: Servo period, in [s].
         gate: ``(L [1/s], bound [m/s^2], band [m], quiet [N])``.
+        known: What the controller gives the tool on purpose besides F*_m (a potential field
+            meant to reach it: ``J A^-1 Gamma``), world, in [m/s^2]: predicted, so left to act;
+            None: nothing. # (3,)
 
     Returns:
         The new estimate and v_pred for the next tick, and the command with d taken off. # (3,), (3,), (6,)
@@ -137,7 +144,8 @@ def observe_hold_disturbance(
     near = float(np.linalg.norm(error[:3])) < band and float(np.linalg.norm(force[:3])) < quiet
     if near and predicted is not None:
         estimate = np.clip(estimate + gain * (np.asarray(velocity[:3]) - predicted), -bound, bound)
-    predicted = np.asarray(velocity[:3]) + dt_s * np.asarray(command[:3])
+    expected = np.asarray(command[:3]) + (0.0 if known is None else np.asarray(known))
+    predicted = np.asarray(velocity[:3]) + dt_s * expected
     out = np.array(command, dtype=float)
     out[:3] -= estimate
     return estimate, predicted, out

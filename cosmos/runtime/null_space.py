@@ -55,11 +55,20 @@ class NullSpaceTerms:
     Args:
         posture_kp: Unit-mass stiffness of the posture task, in [1/s^2].
         policy: When a field acts through the null space only.
+        observer_gain: L of a free hold's disturbance observer while the null space is driven,
+            in [1/s] (:func:`cosmos.osc.integral_action.observe_hold_disturbance`).
     """
 
-    def __init__(self, posture_kp: float, policy: AbsorptionPolicy):
+    def __init__(self, posture_kp: float, policy: AbsorptionPolicy, observer_gain: float = 0.0):
         self.posture_kp = posture_kp
         self.policy = policy
+        self._observer_gain = observer_gain
+        self.observer_gain = 0.0
+        """L for the hold's observer at the last evaluation: ``observer_gain`` while a posture, the
+        links' field or the joint-limit potential acts through the null space, else 0 [1/s]."""
+        self.known_acceleration = np.zeros(3)
+        """``J A^-1 Gamma`` of the potentials as applied, translation, world [m/s^2]: what of them
+        reaches the tool by design (the posture's part is zero), which the observer expects."""
         self.dimension = 0.0
         """``trace(N^T)`` of the last evaluation: the null space's dimension."""
         self.link_share_to_tool = 0.0
@@ -90,7 +99,8 @@ class NullSpaceTerms:
         policy = self.policy
         limit_torque = evaluation.joint_limit_torque
         self.dimension = dimension = null_space_dimension(null_space_t)
-        self.link_share_to_tool = 0.0
+        self.link_share_to_tool = self.observer_gain = 0.0
+        self.known_acceleration = np.zeros(3)
         if dimension < policy.min_dimension:
             return np.zeros(null_space_t.shape[0])
         torque = field.tool.copy()
@@ -106,4 +116,11 @@ class NullSpaceTerms:
         if posture_rad is not None:
             q, inertia = evaluation.q, evaluation.inertia
             torque += posture_torque(null_space_t, inertia, q, posture_rad, self.posture_kp)
+        if posture_rad is not None or field.links.any() or limit_torque.any():
+            # The joints the null space turns bring their friction error (and what of N^T the
+            # model's A does not keep from the task) to the held tool: the hold takes it back,
+            # but not what of the fields is meant to reach the tool (its own link's, a link's
+            # too close), whose acceleration ``J A^-1 Gamma`` the observer is told.
+            self.observer_gain = self._observer_gain
+            self.known_acceleration = evaluation.jacobian[:3].dot(evaluation.inertia_inv.dot(torque))
         return torque - limit_torque - field_torque

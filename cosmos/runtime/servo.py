@@ -122,7 +122,7 @@ class ServoLevel:
         scalars[kernel.TILT_WINDOW : kernel.TILT_WINDOW + 2] = gains.insert_tilt_window
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
         scalars[kernel.GOAL_INTEGRAL : kernel.GOAL_INTEGRAL + 5] = gains.goal_integral
-        scalars[kernel.HOLD_OBSERVER : kernel.HOLD_OBSERVER + 2] = gains.hold_observer
+        scalars[kernel.HOLD_OBSERVER + 1] = gains.hold_observer[1]  # its gain: while the null space is driven
         scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass
         scalars[kernel.HELD_PUSH + 6] = gains.touch_damping * min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
         self._scalars = scalars
@@ -145,7 +145,7 @@ class ServoLevel:
         self._field_torque = np.zeros(n)
         self._field = LinkField(self._field_torque, self._field_torque)
         self._goal_line = np.zeros(3)  # a goal motion's line (cosmos.runtime.goal_line)
-        self.null_space = NullSpaceTerms(gains.posture_kp, absorption)  # its dimension, the links' share
+        self.null_space = NullSpaceTerms(gains.posture_kp, absorption, gains.hold_observer[0])
         self._correction = np.zeros(n)  # column 18: the raw potentials plus the null space's
         # (n, 19 + n): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
@@ -220,6 +220,7 @@ class ServoLevel:
     def _reshape(self) -> None:
         """Shape the held potentials (and add the posture) through the null space, if there is one."""
         ev, sp, used = self._evaluation, self._setpoint, self._correction.any()
+        self._scalars[kernel.HOLD_OBSERVER] = 0.0  # a free hold's observer, while the null space is driven
         if ev is None or sp is None or not (sp.orientation_free or self._dof > 6 or used):
             return  # no null space to use: it takes ORIENTATION FREE or more than six joints
         limit_margin, nst, field = float(ev.values[LIMIT_MARGIN]), self.null_space_t, self._field
@@ -228,6 +229,8 @@ class ServoLevel:
         )
         self._stacked[:, 18] += correction - self._correction
         self._correction = correction
+        self._scalars[kernel.HOLD_OBSERVER] = self.null_space.observer_gain
+        self._vectors[kernel.HOLD_KNOWN, :3] = self.null_space.known_acceleration
 
     @property
     def selection(self) -> Selection | None:

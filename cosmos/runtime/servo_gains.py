@@ -66,16 +66,19 @@ class ServoGains:
             quantisation noise, and 200/s worse; ``k_ih`` 150/s: 5 N at 50 mm/s along -Y
             falls to 70 % on both plants; ``k_fh = k_ih = 0``: the 5 N slides at 50 mm/s
             fall to 61-64 % (but the 30 N ones arrive).
-        hold_observer: A free hold's disturbance observer
-            (:func:`cosmos.osc.integral_action.observe_hold_disturbance`): ``(L [1/s], bound
-            [m/s^2])``; it moves within the goal integral's band and below its quiet force. On
-            the realistic plant the joints a null-space motion turns (POSTURE, the links'
-            field) bring their friction error to the held tool as a step (joint 1's 10 % of
-            25 N m: 0.4 m/s^2, a millimetre at kp = 400; tests/run/test_run_null_space.py):
-            L = 20/s held it to 0.36-0.49 mm (posture) and 0.20-0.48 mm (a ball at the
-            forearm), seeds 0-4, from 0.78-1.21 and 0.82-1.45 mm. 40/s: 0.24-0.32 and
-            0.12-0.30 mm, but the wrist's kick (eq. 38's test) then ended in a one-count
-            dither above the observer's one-count speed (1.8e-2 rad/s); 10/s: up to 0.68 mm.
+        hold_observer: A free hold's disturbance observer while the null space is driven (a
+            POSTURE, the links' field or the joint-limit potential through N^T:
+            :func:`cosmos.osc.integral_action.observe_hold_disturbance`): ``(L [1/s], bound
+            [m/s^2])``; it moves within the goal integral's band and below its quiet force. The
+            joints a null-space motion turns bring their friction error to the held tool as a
+            step (joint 1's 10 % of 25 N m: 0.4 m/s^2, a millimetre at kp = 400;
+            tests/run/test_run_null_space.py). L = 20/s (the hold's roots all at -20 /s), seeds
+            0-4 of the realistic plant: POSTURE 0.37-0.49 mm, a ball at the forearm 0.55-0.89 mm
+            (from 0.78-1.21 and 0.82-1.45 mm; the last 0.2-0.7 mm is the field on the tool's link,
+            meant to move it). 40/s: POSTURE 0.25-0.32 mm but a ball 1.37 mm (seed 4); 10/s:
+            POSTURE up to 0.68 mm. In every free hold (not only while the null space is driven)
+            it raised the arm's rest after a kick of the wrist (eq. 38; MuJoCo's speeds, seed 0
+            4.7e-4 to 8.2e-4 rad/s, seeds 1 and 3 over 1e-3), so plain holds go without.
         touch_n: Where every axis is motion-controlled with gains per axis (a COMPLY spring,
             which expects contact), a push above this on what the tool moves toward is a
             touch, and the motion into it gets the held push's damping

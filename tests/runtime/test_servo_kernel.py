@@ -485,6 +485,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     if case.mode == sk.MODE_HOLD:  # a free hold's observer: the velocity it predicted [m/s]
         state[sk.MOTION_INTEGRAL, 3:6] = rng.normal(0.0, 2e-3, 3)
         state[sk.FLAGS, sk.OBSERVING] = 1.0
+        vectors[sk.HOLD_KNOWN, :3] = rng.normal(0.0, 0.5, 3)  # a field meant to reach the tool [m/s^2]
 
     q = q_e + rng.normal(0.0, 0.01, 6)
     qd = rng.normal(0.0, 2e-3, 6)
@@ -625,6 +626,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
                 wrench,
                 DT_S,
                 gate,
+                vec[sk.HOLD_KNOWN, :3],
             )
             motion_integral[:3], motion_integral[3:6] = estimate, predicted
         torque = unified_torque(dyn, sel, motion, np.zeros(6)) + inputs.held

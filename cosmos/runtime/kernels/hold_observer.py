@@ -18,6 +18,7 @@ def hold_observer_into(
     motion: FloatArray,
     hold: FloatArray,
     started: FloatArray,
+    known: FloatArray,
     error: FloatArray,
     velocity: FloatArray,
     wrench: FloatArray,
@@ -32,6 +33,7 @@ def hold_observer_into(
             tick [m/s], world. # (>= 6,)
         started: ``started[0]`` is 0 on a segment's first tick (which only takes the
             velocity), then 1. # (>= 1,)
+        known: The acceleration the potentials give the tool by design, world, [m/s^2]. # (3,)
         error: ``x - x_d``, world, [m] then [rad]. # (6,)
         velocity: Tool twist, world, [m/s] then [rad/s]. # (6,)
         wrench: The wrench the tool applies, world, [N] then [N m]. # (6,)
@@ -45,6 +47,6 @@ def hold_observer_into(
         for i in range(3):
             hold[i] = min(max(hold[i] + gain * (velocity[i] - hold[3 + i]), -bound), bound)
     for i in range(3):
-        hold[3 + i] = velocity[i] + dt_s * motion[i]
+        hold[3 + i] = velocity[i] + dt_s * (motion[i] + known[i])
         motion[i] -= hold[i]
     started[0] = 1.0

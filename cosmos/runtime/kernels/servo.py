@@ -81,7 +81,8 @@ KP, KV, FORCE_WORLD, FORCE_START, REFERENCE_ERROR, REFERENCE_VELOCITY, REFERENCE
 EVALUATION_Q, GRAVITY, SENSOR_OFFSETS, COULOMB_NM, TORQUE_MAX, COULOMB_NEGATIVE_NM = range(7, 13)
 COULOMB_DEAD_BAND = 13
 GOAL_LINE = 14  # a goal motion's unit line from its start to its goal, world (zeros: none)
-VECTORS = 15
+HOLD_KNOWN = 15  # what a free hold's observer expects of the potentials, world [m/s^2]
+VECTORS = 16
 
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3). The Jacobian J (6, n), the
 # look-ahead ``L Jbar P`` (n, 6) and the task's null space ``N^T`` (n, n) are blocks of their own.
@@ -241,6 +242,7 @@ def servo_tick(
             motion,
             state[MOTION_INTEGRAL],
             state[FLAGS, OBSERVING:],
+            vectors[HOLD_KNOWN, :3],
             error,
             velocity,
             wrench,
