@@ -71,6 +71,27 @@ def posture_torque(
     return null_space_t.dot(inertia.dot(-k_q * (q - q_posture)))
 
 
+def null_space_intent(inertia_inv: FloatArray, torque: FloatArray, lookahead_s: float) -> FloatArray:
+    """``L A^-1 Gamma_0``: where torques through the null space tell the joints to turn, in [rad/s].
+
+    The Coulomb compensation (:mod:`cosmos.osc.friction`) turns toward ``qd`` plus
+    ``Jbar (L a)``, the joint motion the task's command asks over a look-ahead L; a torque
+    ``Gamma_0`` through ``N^T`` (eq. 34: a posture, a field on the links) asks
+    ``qdd = A^-1 Gamma_0`` of joints that the task leaves still, and from rest its friction was
+    compensated only once the joint was seen moving: the breakaway of joints 1-3 (25, 14, 7 N m)
+    behind the wrist's motion moved the held tool (0.74 mm for `POSTURE home` on the ideal plant).
+
+    Args:
+        inertia_inv: A(q)^-1. # (n, n)
+        torque: The torques applied, Gamma_0, in [N m]. # (n,)
+        lookahead_s: L, in [s].
+
+    Returns:
+        The joint speeds to add to the friction's intent, in [rad/s]. # (n,)
+    """
+    return lookahead_s * inertia_inv.dot(torque)
+
+
 @dataclass(frozen=True)
 class AbsorptionPolicy:
     """When a potential field's torque acts through the null space only (safety first).

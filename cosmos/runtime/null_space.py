@@ -22,10 +22,13 @@ from cosmos.osc.null_space import (
     AbsorptionPolicy,
     absorbed_weight,
     null_space_dimension,
+    null_space_intent,
     posture_torque,
     through_null_space,
 )
+from cosmos.runtime.kernels import servo as kernel
 from cosmos.runtime.parameters import Evaluation
+from cosmos.runtime.servo_gains import ServoGains
 
 FloatArray = np.ndarray
 
@@ -57,22 +60,48 @@ class NullSpaceTerms:
         policy: When a field acts through the null space only.
         observer_gain: L of a free hold's disturbance observer while the null space is driven,
             in [1/s] (:func:`cosmos.osc.integral_action.observe_hold_disturbance`).
+        lookahead_s: How far ahead the Coulomb compensation counts a commanded joint
+            acceleration toward the direction of motion, in [s] (:mod:`cosmos.osc.friction`).
     """
 
-    def __init__(self, posture_kp: float, policy: AbsorptionPolicy, observer_gain: float = 0.0):
+    def __init__(
+        self,
+        posture_kp: float,
+        policy: AbsorptionPolicy,
+        observer_gain: float = 0.0,
+        lookahead_s: float = 0.0,
+    ):
         self.posture_kp = posture_kp
         self.policy = policy
-        self._observer_gain = observer_gain
+        self._observer_gain, self._lookahead_s = observer_gain, lookahead_s
         self.observer_gain = 0.0
         """L for the hold's observer at the last evaluation: ``observer_gain`` while a posture, the
         links' field or the joint-limit potential acts through the null space, else 0 [1/s]."""
         self.known_acceleration = np.zeros(3)
         """``J A^-1 Gamma`` of the potentials as applied, translation, world [m/s^2]: what of them
         reaches the tool by design (the posture's part is zero), which the observer expects."""
+        self.intent = np.zeros(0)
+        """``L A^-1 Gamma`` of the same: where they tell the joints to turn, over the friction's
+        look-ahead, in [rad/s] (:func:`cosmos.osc.null_space.null_space_intent`). # (n,)"""
         self.dimension = 0.0
         """``trace(N^T)`` of the last evaluation: the null space's dimension."""
         self.link_share_to_tool = 0.0
         """Share (0..1) of the links' field that reaches the tool although a null space exists."""
+
+    @classmethod
+    def of(cls, gains: ServoGains, policy: AbsorptionPolicy) -> NullSpaceTerms:
+        """The terms for the servo's gains (posture, hold observer, friction look-ahead)."""
+        return cls(gains.posture_kp, policy, gains.hold_observer[0], gains.coulomb_lookahead_s)
+
+    def write(self, scalars: FloatArray, vectors: FloatArray, n: int) -> None:
+        """Put the last evaluation's observer gain, known acceleration and intent in the servo's rows."""
+        scalars[kernel.HOLD_OBSERVER] = self.observer_gain
+        vectors[kernel.HOLD_KNOWN, :3] = self.known_acceleration
+        vectors[kernel.NULL_INTENT, :n] = self.intent if self.intent.size else 0.0
+
+    def clear(self) -> None:
+        """No null space in use: no observer, nothing expected, no intent."""
+        self.observer_gain, self.known_acceleration, self.intent = 0.0, np.zeros(3), np.zeros(0)
 
     def correction(
         self,
@@ -99,8 +128,8 @@ class NullSpaceTerms:
         policy = self.policy
         limit_torque = evaluation.joint_limit_torque
         self.dimension = dimension = null_space_dimension(null_space_t)
-        self.link_share_to_tool = self.observer_gain = 0.0
-        self.known_acceleration = np.zeros(3)
+        self.link_share_to_tool = 0.0
+        self.clear()
         if dimension < policy.min_dimension:
             return np.zeros(null_space_t.shape[0])
         torque = field.tool.copy()
@@ -123,4 +152,5 @@ class NullSpaceTerms:
             # too close), whose acceleration ``J A^-1 Gamma`` the observer is told.
             self.observer_gain = self._observer_gain
             self.known_acceleration = evaluation.jacobian[:3].dot(evaluation.inertia_inv.dot(torque))
+            self.intent = null_space_intent(evaluation.inertia_inv, torque, self._lookahead_s)
         return torque - limit_torque - field_torque

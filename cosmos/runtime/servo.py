@@ -145,7 +145,7 @@ class ServoLevel:
         self._field_torque = np.zeros(n)
         self._field = LinkField(self._field_torque, self._field_torque)
         self._goal_line = np.zeros(3)  # a goal motion's line (cosmos.runtime.goal_line)
-        self.null_space = NullSpaceTerms(gains.posture_kp, absorption, gains.hold_observer[0])
+        self.null_space = NullSpaceTerms.of(gains, absorption)  # its dimension, the links' share
         self._correction = np.zeros(n)  # column 18: the raw potentials plus the null space's
         # (n, 19 + n): [J^T Lambda Omega | J^T Omega_bar | -k_vf J^T Omega_bar Lambda Omega_bar |
         # bias + held potentials | null-space and viscous damping], one product per tick.
@@ -220,17 +220,16 @@ class ServoLevel:
     def _reshape(self) -> None:
         """Shape the held potentials (and add the posture) through the null space, if there is one."""
         ev, sp, used = self._evaluation, self._setpoint, self._correction.any()
-        self._scalars[kernel.HOLD_OBSERVER] = 0.0  # a free hold's observer, while the null space is driven
         if ev is None or sp is None or not (sp.orientation_free or self._dof > 6 or used):
-            return  # no null space to use: it takes ORIENTATION FREE or more than six joints
+            self.null_space.clear()  # the hold observer and the friction's intent with it
+            return self.null_space.write(self._scalars, self._vectors, self._dof)  # no null space to use
         limit_margin, nst, field = float(ev.values[LIMIT_MARGIN]), self.null_space_t, self._field
         correction = self.null_space.correction(
             nst, ev, limit_margin, field, self._field_torque, sp.posture_rad
         )
         self._stacked[:, 18] += correction - self._correction
         self._correction = correction
-        self._scalars[kernel.HOLD_OBSERVER] = self.null_space.observer_gain
-        self._vectors[kernel.HOLD_KNOWN, :3] = self.null_space.known_acceleration
+        self.null_space.write(self._scalars, self._vectors, self._dof)
 
     @property
     def selection(self) -> Selection | None:

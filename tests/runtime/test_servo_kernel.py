@@ -486,6 +486,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
         state[sk.MOTION_INTEGRAL, 3:6] = rng.normal(0.0, 2e-3, 3)
         state[sk.FLAGS, sk.OBSERVING] = 1.0
         vectors[sk.HOLD_KNOWN, :3] = rng.normal(0.0, 0.5, 3)  # a field meant to reach the tool [m/s^2]
+        vectors[sk.NULL_INTENT] = rng.normal(0.0, 0.5, 6)  # a posture's L A^-1 Gamma_0 [rad/s]
 
     q = q_e + rng.normal(0.0, 0.01, 6)
     qd = rng.normal(0.0, 2e-3, 6)
@@ -737,7 +738,7 @@ def _finish_tick(
     sc = inputs.scalars
     moving = bool(sc[sk.MODE] != sk.MODE_HOLD or sc[sk.HAS_FORCE] or sc[sk.ADMITTANCE])
     intent = friction_intent(
-        inputs.qd,
+        inputs.qd + vec[sk.NULL_INTENT],  # where the null space's torques turn the joints
         inputs.dynamics.jbar,
         acceleration,
         commanded,

@@ -82,7 +82,8 @@ EVALUATION_Q, GRAVITY, SENSOR_OFFSETS, COULOMB_NM, TORQUE_MAX, COULOMB_NEGATIVE_
 COULOMB_DEAD_BAND = 13
 GOAL_LINE = 14  # a goal motion's unit line from its start to its goal, world (zeros: none)
 HOLD_KNOWN = 15  # what a free hold's observer expects of the potentials, world [m/s^2]
-VECTORS = 16
+NULL_INTENT = 16  # joint speeds the null space's torques ask over the friction's look-ahead [rad/s]
+VECTORS = 17
 
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3). The Jacobian J (6, n), the
 # look-ahead ``L Jbar P`` (n, 6) and the task's null space ``N^T`` (n, n) are blocks of their own.
@@ -385,10 +386,10 @@ def servo_tick(
     # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
     if admittance or mode == MODE_TRAJECTORY or pushing_at_speed:  # a slow joint is not left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
-    coulomb_compensation_into(
+    coulomb_compensation_into(  # toward where the task and the null space's torques turn the joints
         torque,
         state[COULOMB, :n],
-        qd,
+        qd + vectors[NULL_INTENT, :n],
         jbar_lookahead,
         acceleration,
         vectors[COULOMB_NM, :n],
