@@ -58,8 +58,9 @@ class NullSpaceTerms:
     Args:
         posture_kp: Unit-mass stiffness of the posture task, in [1/s^2].
         policy: When a field acts through the null space only.
-        observer_gain: L of a free hold's disturbance observer while the null space is driven,
-            in [1/s] (:func:`cosmos.osc.integral_action.observe_hold_disturbance`).
+        observer: A free hold's disturbance observer while the null space is driven
+            (:func:`cosmos.osc.integral_action.observe_hold_disturbance`): ``(L [1/s], bound
+            [m/s^2], band [m], quiet [N])``.
         lookahead_s: How far ahead the Coulomb compensation counts a commanded joint
             acceleration toward the direction of motion, in [s] (:mod:`cosmos.osc.friction`).
     """
@@ -68,14 +69,14 @@ class NullSpaceTerms:
         self,
         posture_kp: float,
         policy: AbsorptionPolicy,
-        observer_gain: float = 0.0,
+        observer: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0),
         lookahead_s: float = 0.0,
     ):
         self.posture_kp = posture_kp
         self.policy = policy
-        self._observer_gain, self._lookahead_s = observer_gain, lookahead_s
+        self._observer, self._lookahead_s = observer, lookahead_s
         self.observer_gain = 0.0
-        """L for the hold's observer at the last evaluation: ``observer_gain`` while a posture, the
+        """L for the hold's observer at the last evaluation: ``observer``'s while a posture, the
         links' field or the joint-limit potential acts through the null space, else 0 [1/s]."""
         self.known_acceleration = np.zeros(3)
         """``J A^-1 Gamma`` of the potentials as applied, translation, world [m/s^2]: what of them
@@ -91,11 +92,13 @@ class NullSpaceTerms:
     @classmethod
     def of(cls, gains: ServoGains, policy: AbsorptionPolicy) -> NullSpaceTerms:
         """The terms for the servo's gains (posture, hold observer, friction look-ahead)."""
-        return cls(gains.posture_kp, policy, gains.hold_observer[0], gains.coulomb_lookahead_s)
+        band, quiet = gains.goal_integral[2], gains.goal_integral[4]  # the goal integral's gate
+        observer = (*gains.hold_observer, band, quiet)
+        return cls(gains.posture_kp, policy, observer, gains.coulomb_lookahead_s)
 
     def write(self, scalars: FloatArray, vectors: FloatArray, n: int) -> None:
         """Put the last evaluation's observer gain, known acceleration and intent in the servo's rows."""
-        scalars[kernel.HOLD_OBSERVER] = self.observer_gain
+        scalars[kernel.HOLD_OBSERVER : kernel.HOLD_OBSERVER + 4] = (self.observer_gain, *self._observer[1:])
         vectors[kernel.HOLD_KNOWN, :3] = self.known_acceleration
         vectors[kernel.NULL_INTENT, :n] = self.intent if self.intent.size else 0.0
 
@@ -150,7 +153,7 @@ class NullSpaceTerms:
             # model's A does not keep from the task) to the held tool: the hold takes it back,
             # but not what of the fields is meant to reach the tool (its own link's, a link's
             # too close), whose acceleration ``J A^-1 Gamma`` the observer is told.
-            self.observer_gain = self._observer_gain
+            self.observer_gain = self._observer[0]
             self.known_acceleration = evaluation.jacobian[:3].dot(evaluation.inertia_inv.dot(torque))
             self.intent = null_space_intent(evaluation.inertia_inv, torque, self._lookahead_s)
         return torque - limit_torque - field_torque

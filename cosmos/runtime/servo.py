@@ -122,7 +122,6 @@ class ServoLevel:
         scalars[kernel.TILT_WINDOW : kernel.TILT_WINDOW + 2] = gains.insert_tilt_window
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
         scalars[kernel.GOAL_INTEGRAL : kernel.GOAL_INTEGRAL + 5] = gains.goal_integral
-        scalars[kernel.HOLD_OBSERVER + 1] = gains.hold_observer[1]  # its gain: while the null space is driven
         scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass
         scalars[kernel.HELD_PUSH + 6] = gains.touch_damping * min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
         self._scalars = scalars

@@ -73,12 +73,15 @@ class ServoGains:
             joints a null-space motion turns bring their friction error to the held tool as a
             step (joint 1's 10 % of 25 N m: 0.4 m/s^2, a millimetre at kp = 400;
             tests/run/test_run_null_space.py). L = 20/s (the hold's roots all at -20 /s), seeds
-            0-4 of the realistic plant: POSTURE 0.37-0.49 mm, a ball at the forearm 0.55-0.89 mm
-            (from 0.78-1.21 and 0.82-1.45 mm; the last 0.2-0.7 mm is the field on the tool's link,
-            meant to move it). 40/s: POSTURE 0.25-0.32 mm but a ball 1.37 mm (seed 4); 10/s:
-            POSTURE up to 0.68 mm. In every free hold (not only while the null space is driven)
-            it raised the arm's rest after a kick of the wrist (eq. 38; MuJoCo's speeds, seed 0
-            4.7e-4 to 8.2e-4 rad/s, seeds 1 and 3 over 1e-3), so plain holds go without.
+            0-4 of the realistic plant, with the friction told the null space's intent
+            (:func:`cosmos.osc.null_space.null_space_intent`): POSTURE 0.26-0.36 mm, a ball at the
+            forearm 0.24-0.68 mm (the last of it the field on the tool's link, meant to move it),
+            from 0.78-1.21 and 0.82-1.45 mm; the intent alone 0.53-1.12 and 0.69-1.34 mm, the
+            observer alone 0.37-0.49 and 0.55-0.89 mm. Without the intent, 40/s: POSTURE
+            0.25-0.32 mm but a ball 1.37 mm (seed 4); 10/s: POSTURE up to 0.68 mm. In every free
+            hold (not only while the null space is driven) it raised the arm's rest after a kick
+            of the wrist (eq. 38; MuJoCo's speeds, seed 0 4.7e-4 to 8.2e-4 rad/s, seeds 1 and 3
+            over 1e-3), so plain holds go without.
         touch_n: Where every axis is motion-controlled with gains per axis (a COMPLY spring,
             which expects contact), a push above this on what the tool moves toward is a
             touch, and the motion into it gets the held push's damping

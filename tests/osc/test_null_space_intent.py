@@ -46,7 +46,7 @@ def test_a_posture_drives_the_observer_and_the_intent_and_nothing_is_expected_of
     null_space_t = np.eye(6) - jacobian.T @ np.linalg.solve(
         jacobian @ np.linalg.solve(inertia, jacobian.T), jacobian @ np.linalg.inv(inertia)
     )
-    terms = NullSpaceTerms(100.0, DEFAULT_ABSORPTION, observer_gain=20.0, lookahead_s=LOOKAHEAD_S)
+    terms = NullSpaceTerms(100.0, DEFAULT_ABSORPTION, (20.0, 3.0, 3e-3, 2.0), LOOKAHEAD_S)
     field = LinkField(zero, zero)
     terms.correction(null_space_t, evaluation, 1.0, field, zero, POSTURE)
     assert terms.observer_gain == 20.0

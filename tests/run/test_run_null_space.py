@@ -181,7 +181,8 @@ def test_posture_moves_the_arm_and_not_the_tool(tmp_path: Path, ideal: bool) -> 
     unprojected (the tool moves), the posture ignored, and the named joints read in the wrong
     units (degrees as radians) or order; on the realistic plant, a hold that leaves the
     friction error of the joints the null space turns (joint 1: 10 % of 25 N m) to its spring
-    alone (1.21 mm, seed 0: cosmos.osc.integral_action.observe_hold_disturbance)."""
+    alone (1.21 mm, seed 0: cosmos.osc.integral_action.observe_hold_disturbance), and a friction
+    compensation blind to where the posture turns the joints (cosmos.osc.null_space.null_space_intent)."""
     record = run(tmp_path, POSTURE_PROGRAM, ideal=ideal)
     q, t = record.state.q, record.state.t
     start, end = q[np.searchsorted(t, 0.5)], q[-1]
@@ -194,10 +195,11 @@ def test_posture_moves_the_arm_and_not_the_tool(tmp_path: Path, ideal: bool) -> 
 
 def test_without_the_hold_observer_the_realistic_posture_moves_the_tool_more(tmp_path: Path) -> None:
     """The posture above on the realistic plant with the free hold's disturbance observer off
-    (L = 0): the tool strays at least twice as far (1.21 mm against 0.47 mm, seed 0), because
-    the joints the null space turns bring their drawn friction error (joint 1: 9.5 % of 25 N m,
-    0.4 m/s^2 at the tool) to a hold that answers it with its spring alone (d / kp). Catches the
-    observer's gains not reaching the servo, and the test above passing for another reason."""
+    (L = 0): the tool strays past the 1 mm bar and at least twice as far (1.12 mm against
+    0.32 mm, seed 0), because the joints the null space turns bring their drawn friction error
+    (joint 1: 9.5 % of 25 N m, 0.4 m/s^2 at the tool) to a hold that answers it with its
+    spring alone (d / kp). Catches the observer's gain not reaching the servo, and the test
+    above passing for another reason."""
     without = run(tmp_path, POSTURE_PROGRAM, gains=ServoGains(hold_observer=(0.0, 0.0)))
     record = run(tmp_path, POSTURE_PROGRAM)
     moved = [float(np.linalg.norm(r.state.x - r.state.x[0], axis=1).max()) for r in (without, record)]

@@ -419,7 +419,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.MOTION_KI] = 2000.0
     scalars[sk.MOTION_INTEGRAL_LIMIT] = 0.004
     scalars[sk.GOAL_INTEGRAL : sk.GOAL_INTEGRAL + 5] = GOAL_INTEGRAL
-    scalars[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 2] = HOLD_OBSERVER
+    scalars[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 4] = (*HOLD_OBSERVER, GOAL_INTEGRAL[2], GOAL_INTEGRAL[4])
     scalars[sk.START_S] = start_s
     scalars[sk.RAMP_S] = ramp_s
     scalars[sk.K_F] = FORCE_GAINS.k_f
@@ -615,8 +615,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
             )
             motion = motion - np.concatenate((sc[sk.GOAL_INTEGRAL] * motion_integral[:3], np.zeros(3)))
         if sc[sk.MODE] == sk.MODE_HOLD and sc[sk.UNIFORM] and not sc[sk.ADMITTANCE]:  # a free hold
-            observer = sc[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 2]
-            gate = (observer[0], observer[1], sc[sk.GOAL_INTEGRAL + 2], sc[sk.GOAL_INTEGRAL + 4])
+            gate = tuple(sc[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 4])
             started = st[sk.FLAGS, sk.OBSERVING] != 0.0
             estimate, predicted, motion = observe_hold_disturbance(
                 motion_integral[:3],
@@ -937,7 +936,7 @@ def test_hold_observer_cases_exercise_what_they_claim(name: str) -> None:
         assert_close(after[:3] - before[:3], HOLD_OBSERVER[0] * (velocity - before[3:6]))
     else:
         assert np.array_equal(after[:3], before[:3])
-    inputs.scalars[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 2] = 0.0
+    inputs.scalars[sk.HOLD_OBSERVER : sk.HOLD_OBSERVER + 2] = 0.0  # L and the bound
     inputs.state[sk.MOTION_INTEGRAL, :3] = 0.0
     plain = _reference_tick(inputs).rows[sk.TORQUE]
     assert np.max(np.abs(plain - reference.rows[sk.TORQUE])) > 1e-6  # the estimate acts

@@ -14,6 +14,8 @@ compare each with its reference on seeded random inputs:
   (:mod:`cosmos.osc.motion`) and the saturation (:func:`cosmos.osc.limits.saturate_torque`).
 * :mod:`~cosmos.runtime.kernels.contact`: the latches (:mod:`cosmos.osc.contact`), admittance
   (:mod:`cosmos.osc.admittance`) and Coulomb compensation (:mod:`cosmos.osc.friction`).
+* :mod:`~cosmos.runtime.kernels.hold_observer`: a free hold's disturbance observer
+  (:func:`cosmos.osc.integral_action.observe_hold_disturbance`).
 * :mod:`~cosmos.runtime.kernels.servo`: one servo tick composed of the above (and its packed layouts).
 * :mod:`~cosmos.runtime.kernels.live`: that tick on the plant's live signals, in one flat workspace.
 

@@ -22,7 +22,7 @@ def hold_observer_into(
     error: FloatArray,
     velocity: FloatArray,
     wrench: FloatArray,
-    gate: tuple[float, float, float, float],
+    gate: FloatArray,
     dt_s: float,
 ) -> None:
     """:func:`cosmos.osc.integral_action.observe_hold_disturbance` in place.
@@ -37,10 +37,10 @@ def hold_observer_into(
         error: ``x - x_d``, world, [m] then [rad]. # (6,)
         velocity: Tool twist, world, [m/s] then [rad/s]. # (6,)
         wrench: The wrench the tool applies, world, [N] then [N m]. # (6,)
-        gate: ``(L [1/s], bound [m/s^2], band [m], quiet [N])``.
+        gate: ``(L [1/s], bound [m/s^2], band [m], quiet [N])``. # (4,)
         dt_s: Servo period, in [s].
     """
-    gain, bound, band, quiet = gate
+    gain, bound, band, quiet = gate[0], gate[1], gate[2], gate[3]
     e2 = error[0] ** 2 + error[1] ** 2 + error[2] ** 2
     f2 = wrench[0] ** 2 + wrench[1] ** 2 + wrench[2] ** 2
     if started[0] != 0.0 and e2 < band**2 and f2 < quiet**2:

@@ -11,13 +11,15 @@ force error with its anti-windup clamp, eq. 17-18 and Figure 2,
 integral action only once :func:`cosmos.osc.contact.touch_latched`), a push held to
 its SPEED (:func:`cosmos.osc.unified.speed_limited_push`) or at a surface
 (:func:`cosmos.osc.held_push.held_push`), a slide's integral action
-(:func:`cosmos.osc.integral_action.integrate_motion_error`) or, on compliant moment axes in
-contact, admittance control (:mod:`cosmos.osc.admittance`; an INSERT's within its tilt
-window, :mod:`cosmos.osc.tilt_window`), eq. 29's single product
+(:func:`cosmos.osc.integral_action.integrate_motion_error`), a free hold's disturbance
+observer while the null space is driven (:mod:`cosmos.runtime.kernels.hold_observer`) or, on
+compliant moment axes in contact, admittance control (:mod:`cosmos.osc.admittance`; an
+INSERT's within its tilt window, :mod:`cosmos.osc.tilt_window`), eq. 29's single product
 with the folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction
-compensation (:mod:`cosmos.osc.friction`) and the saturation that scales the command
-about gravity (:func:`cosmos.osc.limits.saturate_torque`). Pieces with a kernel of their own
-are in :mod:`cosmos.runtime.kernels.commands` and :mod:`cosmos.runtime.kernels.contact`.
+compensation (:mod:`cosmos.osc.friction`; toward the null space's intent too) and the
+saturation that scales the command about gravity (:func:`cosmos.osc.limits.saturate_torque`).
+Pieces with a kernel of their own are in :mod:`cosmos.runtime.kernels.commands` and
+:mod:`cosmos.runtime.kernels.contact`.
 
 Results are written in place into the arrays passed (``state``, ``out``), so a
 tick creates no Python objects.
@@ -64,8 +66,8 @@ MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(24, 28)
 TILT_WINDOW = 34  # an INSERT's compliant rotations: the window [rad] and the stop's rate [1/s]
 GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(36, 40)
 GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
-HOLD_OBSERVER = 45  # a free hold's disturbance observer: its gain L [1/s], its bound [m/s^2]
-SCALARS = 47  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
+HOLD_OBSERVER = 45  # a free hold's disturbance observer: L [1/s], bound [m/s^2], band [m], quiet [N]
+SCALARS = 49  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -231,14 +233,7 @@ def servo_tick(
         for i in range(3):
             motion[i] -= scalars[GOAL_INTEGRAL] * goal_integral[i]
     if mode == MODE_HOLD and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0:
-        # A free hold: eq. 19 with x_d fixed, less the disturbance the unit mass is seen to feel
-        # (cosmos.osc.integral_action.observe_hold_disturbance): the drawn model error's and friction's.
-        observer = (
-            scalars[HOLD_OBSERVER],
-            scalars[HOLD_OBSERVER + 1],
-            scalars[GOAL_INTEGRAL + 2],
-            scalars[GOAL_INTEGRAL + 4],
-        )
+        # A free hold while the null space is driven (cosmos.osc.integral_action.observe_hold_disturbance).
         hold_observer_into(
             motion,
             state[MOTION_INTEGRAL],
@@ -247,7 +242,7 @@ def servo_tick(
             error,
             velocity,
             wrench,
-            observer,
+            scalars[HOLD_OBSERVER : HOLD_OBSERVER + 4],
             scalars[DT_S],
         )
     feedback = work[FEEDBACK]
