@@ -183,13 +183,21 @@ class Runtime:
 
     def _evaluate_fields(self, now: float) -> None:
         """The fields' torques, the obstacle field's split by link (the servo projects the links')."""
-        if not self.fields:
+        fields = self.fields
+        if not fields:
+            return
+        live = self._live
+        field = fields[0]
+        if len(fields) == 1 and isinstance(field, ObstacleField):  # the executor's: one call
+            link_field = field.link_field(live.positions, live.velocities, now)
+            # A field of no torque the servo holds already is folded in as it is (set_evaluation).
+            if field.pushing or link_field is not self.servo.link_field:
+                self.servo.link_field = link_field
             return
         torque = np.zeros(self.robot.model.nv)
         links = np.zeros(self.robot.model.nv)
         nearest: tuple[float, str, str] = (math.inf, "", "")
-        live = self._live
-        for field in self.fields:
+        for field in fields:
             torque += field.torque(live.positions, live.velocities, now)
             if isinstance(field, ObstacleField):
                 links += field.link_torque
