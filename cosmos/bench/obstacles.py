@@ -152,11 +152,11 @@ def bench_obstacles(ticks: int = 4000, counts: tuple[int, ...] = (0, 10, 50)) ->
 
     Returns:
         ``tick_us_bare`` and ``tick_us_<n>`` per count (median per-tick CPU time of the
-        chunks, in microseconds), ``ratio_<n>`` (to the bare tick), ``field_us_per_tick_<n>``
-        (CPU time of the field per servo tick, its evaluations spread over the ticks),
+        chunks, in microseconds), ``ratio_<n>`` (to the bare tick), and over
+        :data:`PHYSICS_TICKS` more ticks, timed apart: ``field_us_per_tick_<n>`` (CPU time of
+        the field per servo tick, its evaluations spread over the ticks),
         ``physics_us_per_tick_bare`` and ``physics_us_per_tick_<n>`` (mean CPU time of
-        MuJoCo's steps per tick over :data:`PHYSICS_TICKS` more ticks, timed apart: with the
-        field's, what the obstacles cost where),
+        MuJoCo's steps per tick): what the obstacles cost where,
         ``in_influence_<n>`` (mean obstacles within the influence distance) and ``ticks``.
     """
     runners: dict[str, Callable[[int], None]] = {}
@@ -170,12 +170,9 @@ def bench_obstacles(ticks: int = 4000, counts: tuple[int, ...] = (0, 10, 50)) ->
         runtime, runners[str(count)], field = _runner(crowded_scene(count) if count else ())
         assert field is not None
         fields[str(count)] = field
-        timers[str(count)] = _Timed(field)
         plants[str(count)] = runtime.plant
     for run in runners.values():  # warm up (caches, first evaluations)
         run(CHUNK_TICKS)
-    for timer in timers.values():
-        timer.ns = 0
     chunks: dict[str, list[float]] = {key: [] for key in runners}
     influenced: dict[str, list[int]] = {key: [] for key in fields}
     clock = time.process_time_ns  # CPU time of this process: other processes' load does not count
@@ -187,11 +184,13 @@ def bench_obstacles(ticks: int = 4000, counts: tuple[int, ...] = (0, 10, 50)) ->
             chunks[key].append((clock() - start) / CHUNK_TICKS)
             if key in fields:
                 influenced[key].append(len(fields[key].influences))
-    # Then MuJoCo's share, in a pass of its own: its clock costs a tick as much as a tenth of the
-    # difference being measured, and would shrink the ratios above if it ran inside their chunks.
-    field_ns = {key: timer.ns for key, timer in timers.items()}
+    # Then MuJoCo's and the field's shares, in a pass of their own: their clocks cost a tick as much
+    # as a tenth of the difference being measured, and would change the ratios above if they ran
+    # inside their chunks (the field's only in the obstacles' chunks).
     for key, run in runners.items():
         physics[key] = _TimedPhysics(plants[key])
+        if key in fields:
+            timers[key] = _Timed(fields[key])
         run(PHYSICS_TICKS)
     bare_us = statistics.median(chunks["bare"]) / 1e3
     ticks_run = rounds * CHUNK_TICKS
@@ -204,7 +203,7 @@ def bench_obstacles(ticks: int = 4000, counts: tuple[int, ...] = (0, 10, 50)) ->
         tick_us = statistics.median(chunks[key]) / 1e3
         figures[f"tick_us_{key}"] = tick_us
         figures[f"ratio_{key}"] = tick_us / bare_us
-        figures[f"field_us_per_tick_{key}"] = field_ns[key] / ticks_run / 1e3
+        figures[f"field_us_per_tick_{key}"] = timers[key].ns / PHYSICS_TICKS / 1e3
         figures[f"physics_us_per_tick_{key}"] = physics[key].ns / PHYSICS_TICKS / 1e3
         figures[f"in_influence_{key}"] = float(np.mean(influenced[key]))
     return figures

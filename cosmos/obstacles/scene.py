@@ -161,10 +161,10 @@ class ObstacleScene:
             )
         self._slot_name = [model.geom(g).name for g in self._slot_geom]
         self._leaf_geoms = world_leaves(model)  # the world tree's leaves (fixtures and slots)
-        self._parent = np.full(model.nbvh, -1)
+        self._above: dict[int, list[tuple[int, int, int]]] = {}  # a slot's leaf -> the nodes above it
         self._leaf: list[int] = []
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
-        self._moving: list[tuple[np.ndarray, float, float, float, float, float, float, float]] = []
+        self._moving: list[tuple[np.ndarray, int, float, float, float, float, float, float, float]] = []
         self._moving_slots: list[tuple[int, Obstacle]] = []
         self._extents: dict[int, tuple[list[float], list[float]]] = {}
         self._obstacles: tuple[Obstacle, ...] = ()
@@ -218,7 +218,7 @@ class ObstacleScene:
         now = self._plant.time_s
         self._place(slot, obstacle.position_at(now))
         self._track_moving()
-        self._refit(slot, obstacle.position_at(now), obstacle.position_at(now + SWEEP_S))
+        self._refit(slot, obstacle.position_at(now).tolist(), obstacle.position_at(now + SWEEP_S).tolist())
         self._stale = True
 
     def remove(self, name: str) -> Obstacle:
@@ -238,7 +238,7 @@ class ObstacleScene:
         model.geom_sameframe[geom] = _SAME_AXES
         self._place(slot, parked)
         self._track_moving()
-        self._refit(slot, parked, parked)
+        self._refit(slot, parked.tolist(), parked.tolist())
         self._stale = True
         return obstacle
 
@@ -251,15 +251,20 @@ class ObstacleScene:
         """
         if self._stale:
             self._rebuild()
-        for position, x, y, z, vx, vy, vz, added_s in self._moving:
+        moving = self._moving
+        if not moving:
+            return
+        for position, _, x, y, z, vx, vy, vz, added_s in moving:
             dt = t_s - added_s
             position[0] = x + vx * dt
             position[1] = y + vy * dt
             position[2] = z + vz * dt
-        if self._moving and t_s >= self._refit_s:
-            self._refit_s = t_s + SWEEP_S
-            for slot, obstacle in self._moving_slots:
-                self._refit(slot, obstacle.position_at(t_s), obstacle.position_at(self._refit_s))
+        if t_s >= self._refit_s:  # in plain floats: the servo loop
+            until = self._refit_s = t_s + SWEEP_S
+            for _, slot, x, y, z, vx, vy, vz, added_s in moving:
+                dt, later = t_s - added_s, until - added_s
+                start = [x + vx * dt, y + vy * dt, z + vz * dt]
+                self._refit(slot, start, [x + vx * later, y + vy * later, z + vz * later])
 
     def _track_moving(self) -> None:
         """Cache what :meth:`update` needs per tick: the slot's row of ``geom_pos``, plain floats."""
@@ -270,6 +275,7 @@ class ObstacleScene:
         self._moving = [
             (
                 geom_pos[self._slot_geom[slot]],  # a view: writes reach MuJoCo
+                slot,
                 *obstacle.position_world.tolist(),
                 *obstacle.velocity_world_mps.tolist(),
                 obstacle.added_s,
@@ -316,19 +322,31 @@ class ObstacleScene:
         self._index_tree()
 
     def _index_tree(self) -> None:
-        """Each node's parent in the world's hierarchy, and each slot's leaf (what :meth:`_refit` walks)."""
+        """Each slot's leaf in the world's hierarchy, and the nodes above it (what :meth:`_refit` walks).
+
+        Those are listed from the leaf's parent to the root, each with its two children.
+        """
         model = self._plant.model
         root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
-        self._parent[:] = -1
+        parent = [-1] * nodes
         leaf_of: dict[int, int] = {}
         first = int(model.body_geomadr[0])
+        children = (model.bvh_child[root : root + nodes] + root).tolist()  # absolute (-1 + root: none)
         for node in range(nodes):
-            children = [int(c) for c in model.bvh_child[root + node] if c >= 0]
-            for child in children:
-                self._parent[root + child] = root + node
-            if not children and model.bvh_nodeid[root + node] >= 0:
+            present = [c for c in children[node] if c >= root]
+            for child in present:
+                parent[child - root] = root + node
+            if not present and model.bvh_nodeid[root + node] >= 0:
                 leaf_of[first + int(model.bvh_nodeid[root + node])] = root + node
         self._leaf = [leaf_of[g] for g in self._slot_geom]
+        self._above = {}
+        for leaf in self._leaf:
+            path, node = [], parent[leaf - root]
+            while node >= 0:
+                left, right = children[node - root]
+                path.append((node, left, right if right >= root else -1))
+                node = parent[node - root]
+            self._above[leaf] = path
 
     def _extent(self, slot: int) -> tuple[list[float], list[float]]:
         """Where the slot's geom box is centred from its origin, and its half-sizes, world axes [m]."""
@@ -340,7 +358,7 @@ class ObstacleScene:
         rotation = flat.reshape(3, 3)
         return (rotation @ aabb[:3]).tolist(), (np.abs(rotation) @ aabb[3:]).tolist()
 
-    def _refit(self, slot: int, start: np.ndarray, end: np.ndarray) -> None:
+    def _refit(self, slot: int, start: list[float], end: list[float]) -> None:
         """Fit the slot's leaf of the world's hierarchy to its geom swept from ``start`` to ``end``.
 
         Then every node above it is refitted to its children (in plain floats: a moving
@@ -349,16 +367,14 @@ class ObstacleScene:
         model = self._plant.model
         offset, half = self._extents.get(slot) or self._extent(slot)
         low = [
-            min(a, b) + o - h for a, b, o, h in zip(start.tolist(), end.tolist(), offset, half, strict=True)
+            min(a, b) + o - h for a, b, o, h in zip(start, end, offset, half, strict=True)
         ]
         high = [
-            max(a, b) + o + h for a, b, o, h in zip(start.tolist(), end.tolist(), offset, half, strict=True)
+            max(a, b) + o + h for a, b, o, h in zip(start, end, offset, half, strict=True)
         ]
-        bvh, child, node = model.bvh_aabb, model.bvh_child, self._leaf[slot]
-        bvh[node] = _box(low, high)
-        node = int(self._parent[node])
-        while node >= 0:
-            left, right = child[node].tolist()
+        bvh, leaf = model.bvh_aabb, self._leaf[slot]
+        bvh[leaf] = _box(low, high)
+        for node, left, right in self._above[leaf]:
             if right < 0:
                 bvh[node] = bvh[left]
             else:
@@ -366,7 +382,6 @@ class ObstacleScene:
                 low = [min(a[i] - a[i + 3], b[i] - b[i + 3]) for i in range(3)]
                 high = [max(a[i] + a[i + 3], b[i] + b[i + 3]) for i in range(3)]
                 bvh[node] = _box(low, high)
-            node = int(self._parent[node])
 
 
 def _box(low: list[float], high: list[float]) -> list[float]:
