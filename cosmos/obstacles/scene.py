@@ -366,12 +366,8 @@ class ObstacleScene:
         """
         model = self._plant.model
         offset, half = self._extents.get(slot) or self._extent(slot)
-        low = [
-            min(a, b) + o - h for a, b, o, h in zip(start, end, offset, half, strict=True)
-        ]
-        high = [
-            max(a, b) + o + h for a, b, o, h in zip(start, end, offset, half, strict=True)
-        ]
+        low = [min(a, b) + o - h for a, b, o, h in zip(start, end, offset, half, strict=True)]
+        high = [max(a, b) + o + h for a, b, o, h in zip(start, end, offset, half, strict=True)]
         bvh, leaf = model.bvh_aabb, self._leaf[slot]
         bvh[leaf] = _box(low, high)
         for node, left, right in self._above[leaf]:
