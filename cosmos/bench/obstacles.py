@@ -23,6 +23,7 @@ from collections.abc import Callable
 import numpy as np
 
 from cosmos.obstacles.field import ObstacleField
+from cosmos.obstacles.gate import ContactGate
 from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
 from cosmos.obstacles.scene import DEFAULT_SLOTS, ObstacleScene, obstacle_scene_xml
 from cosmos.plan import ObstacleShape
@@ -88,8 +89,9 @@ def _runner(
         for obstacle in obstacles:
             world.add(obstacle)
             field.add(obstacle)
-        if obstacles:  # as the executor does: the field acts while an obstacle is in the scene
+        if obstacles:  # as the executor does: the field and the gate act while an obstacle is in the scene
             runtime.fields.append(field)
+            runtime.contact_gate = ContactGate(plant, world.version)
     home = runtime.evaluation.position.copy()
     rotation = runtime.evaluation.rotation_tool_to_world.copy()
     goals = (home + np.array((0.0, 0.4, 0.0)), home)

@@ -16,6 +16,7 @@ import numpy as np
 
 from cosmos.errors import TaskFailure
 from cosmos.obstacles import (
+    ContactGate,
     LocalMinimum,
     LocalMinimumDetector,
     Obstacle,
@@ -62,8 +63,10 @@ class ObstacleWorld:
         self.log = log
         self.scene = ObstacleScene(runtime.plant)
         self.field = ObstacleField(runtime.robot)
+        self.gate = ContactGate(runtime.plant, self.scene.version)
         # The field joins the runtime's parameter level with the first obstacle and leaves it
-        # with the last: a tick without obstacles costs what a bare tick costs.
+        # with the last, and the contact gate its physics steps: a tick without obstacles costs
+        # what a bare tick costs.
         self.detector = LocalMinimumDetector()
         self._touching: set[tuple[str, str]] = set()
         self._ticks = 0
@@ -76,6 +79,7 @@ class ObstacleWorld:
     def apply(self, step: AddObstacle | RemoveObstacle) -> None:
         """Add or remove an obstacle (the compiler has checked names and shapes)."""
         t_s = self.runtime.time_s
+        self.gate.release()  # every body collides again: the overlap check below, and the next step
         if isinstance(step, AddObstacle):
             obstacle = from_step(step, t_s)
             self.scene.add(obstacle)
@@ -98,13 +102,15 @@ class ObstacleWorld:
                 self.log.scene(t_s, remove=[step.name])
 
     def _attach_field(self) -> None:
-        """The field in the runtime's parameter level while any obstacle is in the scene."""
+        """The field in the parameter level and the gate on the steps while any obstacle is in the scene."""
         fields = self.runtime.fields
         attached = any(field is self.field for field in fields)
         if self.active and not attached:
             fields.append(self.field)
+            self.runtime.contact_gate = self.gate
         elif not self.active and attached:
             fields.remove(self.field)
+            self.runtime.contact_gate = None
             servo = self.runtime.servo
             servo.field_torque = np.zeros_like(servo.field_torque)  # nothing pushes any more
 

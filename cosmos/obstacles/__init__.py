@@ -4,6 +4,7 @@
 
 * :mod:`~cosmos.obstacles.obstacle`: an obstacle (primitive, pose, velocity).
 * :mod:`~cosmos.obstacles.scene`: obstacles as geoms of the MuJoCo workcell (:data:`CAPACITY` at once).
+* :mod:`~cosmos.obstacles.gate`: MuJoCo's contact test off, for a step, for bodies clear of the world.
 * :mod:`~cosmos.obstacles.capsules`: the arm's links and tool as capsules.
 * :mod:`~cosmos.obstacles.proximity`: capsule-to-obstacle distances (firas; the reference).
 * :mod:`~cosmos.obstacles.geometry`: the controller's geometric model for fast distances.
@@ -12,6 +13,7 @@
   candidate lists, closest points, estimates).
 * :mod:`~cosmos.obstacles.field`: the FIRAS field as joint torques (a runtime potential field).
 * :mod:`~cosmos.obstacles.kernels.field`: the field's compiled arithmetic (kinematics, torques).
+* :mod:`~cosmos.obstacles.kernels.gate`: the gate's proof, compiled.
 * :mod:`~cosmos.obstacles.minima`: detection of local minima.
 * :mod:`~cosmos.obstacles.collisions`: contacts the arm should not make.
 """
@@ -19,6 +21,7 @@
 from cosmos.obstacles.capsules import ARM_BODIES, LINK_BODIES, LinkCapsules, arm_capsules
 from cosmos.obstacles.collisions import Collision, collisions
 from cosmos.obstacles.field import FieldParameters, Influence, ObstacleField
+from cosmos.obstacles.gate import ContactGate
 from cosmos.obstacles.minima import LocalMinimum, LocalMinimumDetector
 from cosmos.obstacles.obstacle import Obstacle, from_step
 from cosmos.obstacles.scene import CAPACITY, DEFAULT_SLOTS, ObstacleScene, obstacle_scene_xml
@@ -29,6 +32,7 @@ __all__ = [
     "DEFAULT_SLOTS",
     "LINK_BODIES",
     "Collision",
+    "ContactGate",
     "FieldParameters",
     "Influence",
     "LinkCapsules",

@@ -164,12 +164,16 @@ class ObstacleScene:
         self._above: dict[int, list[tuple[int, int, int]]] = {}  # a slot's leaf -> the nodes above it
         self._leaf: list[int] = []
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
-        self._moving: list[tuple[np.ndarray, int, float, float, float, float, float, float, float]] = []
+        self._moving: list[
+            tuple[memoryview[float], int, float, float, float, float, float, float, float]
+        ] = []
         self._moving_slots: list[tuple[int, Obstacle]] = []
         self._extents: dict[int, tuple[list[float], list[float]]] = {}
         self._obstacles: tuple[Obstacle, ...] = ()
         self._refit_s = -np.inf
         self._stale = False  # the hierarchy's shape is older than the obstacles (rebuilt by update)
+        self.version = np.zeros(1)
+        """Raised whenever a box of the world's tree changes (cosmos.obstacles.gate)."""
         self._index_tree()
 
     @property
@@ -274,7 +278,7 @@ class ObstacleScene:
         self._extents = {slot: self._extent(slot) for slot, _ in self._moving_slots}  # they never turn
         self._moving = [
             (
-                geom_pos[self._slot_geom[slot]],  # a view: writes reach MuJoCo
+                memoryview(geom_pos[self._slot_geom[slot]]).cast("B").cast("d"),  # writes reach MuJoCo
                 slot,
                 *obstacle.position_world.tolist(),
                 *obstacle.velocity_world_mps.tolist(),
@@ -318,6 +322,7 @@ class ObstacleScene:
         )
         tree = layout(np.array([box_of[g] for g in geoms.tolist()]), groups)
         install(model, geoms, tree)
+        self.version[0] += 1.0
         self._stale = False
         self._index_tree()
 
@@ -369,6 +374,7 @@ class ObstacleScene:
         low = [min(a, b) + o - h for a, b, o, h in zip(start, end, offset, half, strict=True)]
         high = [max(a, b) + o + h for a, b, o, h in zip(start, end, offset, half, strict=True)]
         bvh, leaf = model.bvh_aabb, self._leaf[slot]
+        self.version[0] += 1.0
         bvh[leaf] = _box(low, high)
         for node, left, right in self._above[leaf]:
             if right < 0:

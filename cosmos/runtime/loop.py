@@ -21,6 +21,7 @@ from typing import Protocol
 import numpy as np
 
 from cosmos.obstacles import ObstacleField
+from cosmos.obstacles.gate import ContactGate
 from cosmos.plant import Plant
 from cosmos.robot_model import GRAVITY, RobotModel
 from cosmos.runtime.kernels.commands import environment_wrench_into
@@ -129,6 +130,8 @@ class Runtime:
         self._live = plant.live_signals()
         self.fields: list[PotentialField] = []
         """Potential fields (obstacles), evaluated at the parameter rate like the model."""
+        self.contact_gate: ContactGate | None = None
+        """Engaged before the physics steps of each tick (cosmos.obstacles.gate)."""
         self._servo_period_s = 1.0 / rates.servo_hz
         self._param_period_s = 1.0 / rates.param_hz
         self._state_period_s = 1.0 / rates.state_hz
@@ -322,6 +325,8 @@ class Runtime:
         plant = self.plant
         end = now + self._servo_period_s - self._eps_s
         t_s = now
+        if self.contact_gate is not None:
+            self.contact_gate.engage()
         while t_s < end:  # the servo wrote its torque to the drives: held until the next tick
             t_s = plant.advance()
             if recorder is not None and t_s < end and t_s + self._eps_s >= self._next_state_s:

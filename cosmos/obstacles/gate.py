@@ -1,0 +1,144 @@
+"""MuJoCo's contact test switched off, for one physics step, for the arm's bodies clear of the world.
+
+Every step MuJoCo walks the world body's tree of boxes (the fixtures and the
+obstacles, :mod:`cosmos.obstacles.hierarchy`) for each body of the arm; among
+the bench's 50 obstacles that walk is most of what the obstacles cost a step
+(about 100 box tests), though in most steps most bodies are centimetres from
+every box. :class:`ContactGate` is engaged by the runtime right before each
+tick's step (:attr:`cosmos.runtime.loop.Runtime.contact_gate`): it switches off
+(``body_contype = body_conaffinity = 0``) each body it proves cannot touch any
+world geom in that step, so MuJoCo skips it, and gives the others their flags
+back; the proof is in :mod:`cosmos.obstacles.kernels.gate`. The flags hold until
+the next tick: whoever collides or steps the plant otherwise (adding an obstacle
+checks it is not placed through the arm) releases the gate first. The contacts are MuJoCo's own, unchanged
+(``tests/obstacles/test_obstacles_gate.py`` compares them step by step with the
+gate off).
+
+A body is gated only if nothing but the world's geoms can touch it (no other
+body, by contype and conaffinity: a finger and a held object never are), all
+the joints carrying it are revolute, and the step follows the one the gate last
+saw by exactly one time step (a tick of several steps, a reset or a jump in time
+gates nothing).
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from cosmos.obstacles.kernels import gate as gk
+from cosmos.plant import Plant
+
+SLACK_M = 1e-4
+"""Added to the proven bound on the bodies' motion: rounding, with room to spare [m]."""
+CAP_M = 0.1
+"""A body's clearance is looked for up to this distance [m]: enough for dozens of steps."""
+
+
+def _chain_joints(model: mujoco.MjModel, body: int) -> list[int]:
+    """The joints on the way from the world to ``body``."""
+    joints: list[int] = []
+    while body > 0:
+        first, count = int(model.body_jntadr[body]), int(model.body_jntnum[body])
+        joints.extend(range(first, first + count))
+        body = int(model.body_parentid[body])
+    return joints
+
+
+class ContactGate:
+    """Engaged before a physics step, released after it (:mod:`cosmos.obstacles.kernels.gate`).
+
+    Args:
+        plant: The plant whose steps are gated.
+        version: A counter the owner of the world's tree raises whenever it changes a box of it
+            (:attr:`cosmos.obstacles.scene.ObstacleScene.version`). # (1,)
+    """
+
+    def __init__(self, plant: Plant, version: np.ndarray) -> None:
+        model, data = plant.model, plant.data
+        self._model, self._data = model, data
+        hinge = int(mujoco.mjtJoint.mjJNT_HINGE)
+        contype, conaffinity = model.body_contype.copy(), model.body_conaffinity.copy()
+        bodies = []
+        for body in range(1, model.nbody):
+            if int(model.body_weldid[body]) == 0 or not (contype[body] or conaffinity[body]):
+                continue
+            chain = _chain_joints(model, body)
+            if not chain or any(int(model.jnt_type[j]) != hinge for j in chain):
+                continue
+            others = [b for b in range(1, model.nbody) if b != body]
+            if any((contype[body] & conaffinity[b]) or (contype[b] & conaffinity[body]) for b in others):
+                continue  # it can touch another body: its contacts are not the world's alone
+            bodies.append(body)
+        bodies = [b for b in bodies if int(model.body_bvhadr[b]) >= 0]
+        joints = sorted({j for body in bodies for j in _chain_joints(model, body)})
+        world_first, world_count = int(model.body_geomadr[0]), int(model.body_geomnum[0])
+        compat = [
+            sum(
+                1 << k
+                for k, b in enumerate(bodies)
+                if (model.geom_contype[g] & conaffinity[b]) or (contype[b] & model.geom_conaffinity[g])
+            )
+            for g in range(world_first, world_first + world_count)
+        ]
+        ints: list[int] = [len(bodies), int(model.body_bvhadr[0]), len(joints)]
+        for b in bodies:
+            ints += [b, int(model.body_bvhadr[b]), int(contype[b]), int(conaffinity[b])]
+        ints += [int(model.jnt_qposadr[j]) for j in joints]
+        ints += compat
+        self._ints = np.array(ints, dtype=np.int64)
+        arm = [b for b in range(1, model.nbody) if int(model.body_weldid[b]) != 0]
+        arm_geoms = [g for g in range(model.ngeom) if int(model.geom_bodyid[g]) in arm]
+        reach = (
+            sum(float(np.linalg.norm(model.body_pos[b])) for b in arm)
+            + max((float(np.linalg.norm(model.jnt_pos[j])) for j in joints), default=0.0)
+            + max(
+                (float(np.linalg.norm(model.geom_pos[g]) + model.geom_rbound[g]) for g in arm_geoms),
+                default=0.0,
+            )
+        )
+        margins = float(np.max(model.geom_margin + model.geom_gap)) if model.ngeom else 0.0
+        self._version = version
+        self._state = np.zeros(gk.STATE_Q + len(joints) + 2 * len(bodies))
+        self._state[gk.STATE_DT] = plant.dt_s
+        self._state[gk.STATE_REACH] = reach
+        self._state[gk.STATE_SLACK] = SLACK_M + 2.0 * margins
+        self._state[gk.STATE_CAP] = CAP_M
+        # MuJoCo's arrays, looked up once (each lookup makes a new view)
+        self._contype, self._conaffinity = model.body_contype, model.body_conaffinity
+        self._xipos, self._ximat, self._qpos = data.xipos, data.ximat, data.qpos
+        self._bvh_aabb, self._bvh_child, self._bvh_nodeid = model.bvh_aabb, model.bvh_child, model.bvh_nodeid
+        self.gated = 0
+        """How many bodies the last :meth:`engage` switched off."""
+
+    @property
+    def bodies(self) -> int:
+        """How many of the plant's bodies the gate may switch off."""
+        return int(self._ints[gk.INT_BODIES])
+
+    def engage(self) -> None:
+        """Before a tick's step: switch off the bodies clear of the world for it, the others on.
+
+        The flags hold until the next :meth:`engage` or :meth:`release`: call
+        :meth:`release` before colliding or stepping the plant otherwise.
+        """
+        self.gated = gk.gate_into(
+            self._contype,
+            self._conaffinity,
+            self._xipos,
+            self._ximat,
+            self._qpos,
+            self._data.time,
+            float(self._version[0]),
+            self._state,
+            self._ints,
+            self._bvh_aabb,
+            self._bvh_child,
+            self._bvh_nodeid,
+        )
+
+    def release(self) -> None:
+        """Every body's compiled contype and conaffinity again; the next :meth:`engage` gates nothing."""
+        gk.release_into(self._contype, self._conaffinity, self._ints)
+        self._state[gk.STATE_SEEN] = 0.0
+        self.gated = 0

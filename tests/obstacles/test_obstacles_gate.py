@@ -1,0 +1,111 @@
+"""The contact gate: bodies clear of the world skip the contact test; the contacts stay MuJoCo's own."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from cosmos.obstacles import ContactGate, FieldParameters, ObstacleField, ObstacleScene, obstacle_scene_xml
+from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
+from cosmos.plant import Plant
+from cosmos.robot_model import build_robot_model
+from cosmos.runtime.loop import Runtime
+from cosmos.runtime.rates import Rates
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+# With the field off the arm runs into what is in its way: a crate beside a post while a ball
+# flies through the links' space (its box refitted as it goes), or, fast, a wall and nothing
+# else (the world's tree never changes: only the bound on the arm's motion keeps a body on).
+CRATE = (
+    box("crate", (0.48, -0.15, 0.45), (0.04, 0.30, 0.30)),
+    cylinder("post", (0.45, 0.10, 0.40), 0.04, 0.5),
+    sphere("ball", (0.30, -0.60, 0.75), 0.06, velocity_mps=(0.0, 0.5, 0.0)),
+)
+WALL = (box("wall", (0.42, -0.15, 0.45), (0.02, 0.60, 0.40)),)
+GOAL = (0.36, -0.15, 0.457)
+
+
+def _ball_at_the_still_forearm() -> tuple[Obstacle, ...]:
+    """A ball that flies into the forearm of the arm held at home (the arm's motion bound is nil)."""
+    plant = Plant(obstacle_scene_xml())
+    forearm = plant.data.geom_xpos[plant.model.geom("link3_forearm").id]
+    start = (float(forearm[0]), float(forearm[1]) - 0.5, float(forearm[2]))
+    return (sphere("ball", start, 0.05, velocity_mps=(0.0, 0.5, 0.0)),)
+
+
+def _runtime(
+    gated: bool,
+    rates: Rates | None = None,
+    obstacles: tuple[Obstacle, ...] = CRATE,
+    speed: float = 0.3,
+    goal: tuple[float, float, float] | None = GOAL,
+) -> tuple[Runtime, ContactGate]:
+    robot = build_robot_model()
+    plant = Plant(obstacle_scene_xml())
+    runtime = Runtime(plant, robot, rates or Rates())
+    scene = ObstacleScene(plant)
+    field = ObstacleField(robot, FieldParameters())
+    field.enabled = False  # nothing keeps the arm off the crate
+    for obstacle in obstacles:
+        scene.add(obstacle)
+        field.add(obstacle)
+    runtime.fields.append(field)
+    gate = ContactGate(plant, scene.version)
+    if gated:
+        runtime.contact_gate = gate
+    ev = runtime.evaluation
+    target = ev.position.copy() if goal is None else np.array(goal)
+    runtime.set_setpoint(
+        ServoSetpoint(MotionMode.GOAL, target, ev.rotation_tool_to_world, start_s=0.0, max_speed=speed)
+    )
+    runtime.scene = scene  # type: ignore[attr-defined]
+    return runtime, gate
+
+
+def _contacts(data: mujoco.MjData) -> list[tuple[object, ...]]:
+    return [
+        (int(c.geom1), int(c.geom2), float(c.dist), tuple(c.pos.tolist()), tuple(c.frame.tolist()))
+        for c in data.contact[: data.ncon]
+    ]
+
+
+@pytest.mark.parametrize("case", ["crate", "wall", "ball"])
+def test_the_gate_leaves_every_contact_as_mujoco_finds_it(case: str) -> None:
+    """Twin runs, the gate on in one: after every tick both must hold the same contacts (geoms, depth,
+    point, frame) and the same state, bit for bit, while the arm hits a crate as a ball flies by, hits
+    a wall at speed, or is held while a ball flies into it. Catches a body switched off when it could
+    touch: a bound on its motion too small (the wall), a clearance kept after the world's tree changed
+    (the ball: only the ball's refitted box comes near), a box in the wrong frame, a world geom's
+    contype read wrongly, or flags not given back when a body comes near."""
+    obstacles, speed, goal = {
+        "crate": (CRATE, 0.3, GOAL),
+        "wall": (WALL, 1.0, GOAL),
+        "ball": (_ball_at_the_still_forearm(), 0.3, None),
+    }[case]
+    plain, _ = _runtime(gated=False, obstacles=obstacles, speed=speed, goal=goal)
+    gated, gate = _runtime(gated=True, obstacles=obstacles, speed=speed, goal=goal)
+    touching = switched_off = 0
+    for _ in range(1500):
+        for runtime in (plain, gated):
+            runtime.scene.update(runtime.time_s)  # type: ignore[attr-defined]
+            runtime.tick()
+        found = _contacts(plain.plant.data)
+        assert _contacts(gated.plant.data) == found
+        np.testing.assert_array_equal(gated.plant.data.qpos, plain.plant.data.qpos)
+        touching += bool(found)
+        switched_off += gate.gated
+    assert touching > 20  # the arm does hit it: the lists compared are not empty
+    assert switched_off > 1500  # and the gate does switch bodies off
+
+
+def test_a_tick_of_two_steps_switches_nothing_off() -> None:
+    """At a 500 Hz servo a tick takes two physics steps; the gate proves a body clear for one step
+    only, so it must switch nothing off. Catches a gate whose proof for the first step is taken for
+    the second, where the arm has moved on."""
+    runtime, gate = _runtime(gated=True, rates=Rates(servo_hz=500.0, param_hz=125.0))
+    for _ in range(300):
+        runtime.scene.update(runtime.time_s)  # type: ignore[attr-defined]
+        runtime.tick()
+        assert gate.gated == 0
+    assert gate.bodies == 7  # it could: six links and the tool can only touch the world
