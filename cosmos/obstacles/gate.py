@@ -129,7 +129,7 @@ class ContactGate:
             self._ximat,
             self._qpos,
             self._data.time,
-            float(self._version[0]),
+            self._version,
             self._state,
             self._ints,
             self._bvh_aabb,

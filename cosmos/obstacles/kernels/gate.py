@@ -132,7 +132,7 @@ def gate_into(
     ximat: FloatArray,
     qpos: FloatArray,
     time_s: float,
-    version: float,
+    version: FloatArray,
     state: FloatArray,
     ints: np.ndarray,
     bvh_aabb: FloatArray,
@@ -146,7 +146,7 @@ def gate_into(
     step): then ``data``'s poses are at the kept joint angles, and the step
     collides at ``qpos``; else every body gets its flags back. A body's clearance, once found, is
     spent by the bound on its motion step by step and found again when spent, or
-    when the world's tree changed (``version``). Returns how many bodies were
+    when the world's tree changed (``version[0]`` raised). Returns how many bodies were
     switched off.
     """
     joints = ints[INT_JOINTS]
@@ -160,8 +160,8 @@ def gate_into(
         state[STATE_Q + j] = q
     state[STATE_TIME], state[STATE_SEEN] = time_s, 1.0
     found = STATE_Q + joints  # per body: clearance, motion since
-    if not seen or version != state[STATE_VERSION]:
-        state[STATE_VERSION] = version
+    if not seen or version[0] != state[STATE_VERSION]:
+        state[STATE_VERSION] = version[0]
         for k in range(bodies):
             state[found + 2 * k] = -1.0
         if not seen:
