@@ -1,7 +1,8 @@
 """The cost of obstacle avoidance in the servo loop: ticks among 0, 10 and 50 obstacles against a bare tick.
 
 Runtimes built as the executor builds them (the workcell with its obstacle
-slots, the obstacle field installed while there are obstacles) make the same goal motions (from home
+slots, the obstacle field and the contact gate installed while there are
+obstacles) make the same goal motions (from home
 400 mm sideways and back, speed limit 0.25 m/s): among no obstacle, among ten
 (spheres, boxes, posts, a plane, one of them moving; about four within the
 influence distance at any time), and among fifty (the ten and forty spheres

@@ -49,7 +49,6 @@ from cosmos.obstacles.geometry import ProximityModel
 from cosmos.obstacles.kernels import field as fk
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.robot_model import RobotModel
-from cosmos.runtime.null_space import LinkField
 
 FloatArray = np.ndarray
 
@@ -133,10 +132,6 @@ class ObstacleField:
         self._nearest = np.full(fk.NEAREST, np.inf)
         self._acting = np.zeros((0, fk.ACTING))  # per obstacle at the last evaluation (ACTING_*)
         self._influences: tuple[Influence, ...] | None = ()
-        self._link_field = LinkField(self._torque, self._link_torque)
-        self._link_field_of = self._torque  # the torque :attr:`_link_field` was split from
-        self.pushing = False
-        """Whether the last :meth:`link_field` exerts any torque."""
 
     @property
     def parameters(self) -> FieldParameters:
@@ -205,25 +200,6 @@ class ObstacleField:
             raise CosmosError(f"no obstacle '{name}' in the scene (present: {present})")
         self._geometry, self._influences = None, ()
         self._evaluated_s = -np.inf
-
-    def link_field(self, q: FloatArray, qd: FloatArray, t_s: float) -> LinkField:
-        """:meth:`torque` as the servo takes it: split into the tool's link and the others, with the nearest.
-
-        The same object while the field is held between evaluations, or evaluates to nothing
-        again with the same nearest link; :attr:`pushing` says whether it exerts any torque.
-        """
-        torque = self.torque(q, qd, t_s)
-        if torque is self._link_field_of:
-            return self._link_field
-        self._link_field_of = torque
-        nearest = self.nearest_link
-        pushing = any(torque.tolist())  # (ndarray.any takes five times as long)
-        held = self._link_field
-        if pushing or self.pushing or nearest != (held.clearance_m, held.link, held.obstacle):
-            links = self._link_torque
-            self._link_field = LinkField(torque - links, links, *nearest)
-        self.pushing = pushing
-        return self._link_field
 
     def torque(self, q: FloatArray, qd: FloatArray, t_s: float) -> FloatArray:
         """Joint torques of the field at ``(q, qd)`` and simulated time ``t_s``, in [N m]. # (n,)."""

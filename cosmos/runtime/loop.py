@@ -24,6 +24,7 @@ from cosmos.obstacles import ObstacleField
 from cosmos.obstacles.gate import ContactGate
 from cosmos.plant import Plant
 from cosmos.robot_model import GRAVITY, RobotModel
+from cosmos.runtime.field_split import FieldSplit
 from cosmos.runtime.kernels.commands import environment_wrench_into
 from cosmos.runtime.null_space import LinkField
 from cosmos.runtime.parameters import ParameterLevel
@@ -130,6 +131,7 @@ class Runtime:
         self._live = plant.live_signals()
         self.fields: list[PotentialField] = []
         """Potential fields (obstacles), evaluated at the parameter rate like the model."""
+        self._field_split = FieldSplit(robot.model.nv)
         self.contact_gate: ContactGate | None = None
         """Engaged before the physics steps of each tick (cosmos.obstacles.gate)."""
         self._servo_period_s = 1.0 / rates.servo_hz
@@ -190,11 +192,11 @@ class Runtime:
         if not fields:
             return
         live = self._live
-        field = fields[0]
-        if len(fields) == 1 and isinstance(field, ObstacleField):  # the executor's: one call
-            link_field = field.link_field(live.positions, live.velocities, now)
+        field, split = fields[0], self._field_split
+        if len(fields) == 1 and isinstance(field, ObstacleField):  # the executor's: one split
+            link_field = split.link_field(field, live.positions, live.velocities, now)
             # A field of no torque the servo holds already is folded in as it is (set_evaluation).
-            if field.pushing or link_field is not self.servo.link_field:
+            if split.pushing or link_field is not self.servo.link_field:
                 self.servo.link_field = link_field
             return
         torque = np.zeros(self.robot.model.nv)

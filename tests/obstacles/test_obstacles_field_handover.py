@@ -38,13 +38,13 @@ def test_the_servo_holds_the_fields_torque_after_every_evaluation() -> None:
         )
     )
     asked: list[tuple[np.ndarray, np.ndarray, float]] = []
-    link_field = field.link_field
+    torque_of = field.torque
 
-    def watched(q: np.ndarray, qd: np.ndarray, t_s: float):  # type: ignore[no-untyped-def]
+    def watched(q: np.ndarray, qd: np.ndarray, t_s: float) -> np.ndarray:
         asked.append((q.copy(), qd.copy(), t_s))
-        return link_field(q, qd, t_s)
+        return torque_of(q, qd, t_s)
 
-    field.link_field = watched  # type: ignore[method-assign]
+    field.torque = watched  # type: ignore[method-assign]
     phases = []
     for _ in range(2200):
         world.update(plant.time_s)
