@@ -46,7 +46,7 @@ def _chain_joints(model: mujoco.MjModel, body: int) -> list[int]:
 
 
 class ContactGate:
-    """Engaged before a physics step, released after it (:mod:`cosmos.obstacles.kernels.gate`).
+    """Engaged before each tick's physics step; its flags hold until the next engage or :meth:`release`.
 
     Args:
         plant: The plant whose steps are gated.
@@ -70,7 +70,7 @@ class ContactGate:
             if any((contype[body] & conaffinity[b]) or (contype[b] & conaffinity[body]) for b in others):
                 continue  # it can touch another body: its contacts are not the world's alone
             bodies.append(body)
-        bodies = [b for b in bodies if int(model.body_bvhadr[b]) >= 0]
+        bodies = [b for b in bodies if int(model.body_bvhadr[b]) >= 0][:62]  # a bit each in an int64
         joints = sorted({j for body in bodies for j in _chain_joints(model, body)})
         world_first, world_count = int(model.body_geomadr[0]), int(model.body_geomnum[0])
         compat = [

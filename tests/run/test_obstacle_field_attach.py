@@ -21,7 +21,8 @@ WAIT 50 ms
 
 def test_the_field_leaves_with_the_last_obstacle(tmp_path: Path) -> None:
     """Catches a field left in the parameter level with no obstacle (its evaluations cost every tick
-    of every run), and a field torque left acting after the last obstacle is removed."""
+    of every run), a field torque left acting after the last obstacle is removed, and the contact
+    gate left on the physics steps without obstacles or not put on them with the first."""
     plan = compile_program(PROGRAM, "field.cos", fixture_frames())
     with Session("field.cos", PROGRAM, tmp_path / "run.mcap", Rates()) as session:
         runtime, world = session.runtime, session.obstacles
@@ -30,11 +31,12 @@ def test_the_field_leaves_with_the_last_obstacle(tmp_path: Path) -> None:
         run_statement = session.executor.run_statement
 
         def watch(segments):  # type: ignore[no-untyped-def]
-            seen.append(world.field in runtime.fields)
+            seen.append(world.field in runtime.fields and runtime.contact_gate is world.gate)
             return run_statement(segments)
 
         session.executor.run_statement = watch  # type: ignore[method-assign]
         session.executor.run(plan)
         assert seen == [True, False]  # the first WAIT among the ball, the second without
         assert runtime.fields == []
+        assert runtime.contact_gate is None
         np.testing.assert_array_equal(runtime.servo.field_torque, np.zeros(6))
