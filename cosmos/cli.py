@@ -7,14 +7,18 @@ failure); 2 wrong usage. A user's mistake never shows a Python traceback.
 from __future__ import annotations
 
 import sys
+from contextlib import nullcontext
 from pathlib import Path
 
 import click
 
 from cosmos import __version__
 from cosmos.collector import collector_off
+from cosmos.commands import process  # before numpy's first import (cosmos.robots): one BLAS thread
 from cosmos.errors import CosmosError, UsageError
 from cosmos.robots import ROBOTS
+
+process.forget_blas_threads()
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -109,8 +113,10 @@ def run(
     robot: str | None,
 ) -> None:
     """Check, compile and run PROGRAM on the simulated arm, logging to MCAP."""
-    with collector_off(bool(_WHOLE_PROCESS)):  # until the session is open (collect_from_here)
-        from cosmos.commands.run import Pace, run_program
+    whole = bool(_WHOLE_PROCESS)
+    with collector_off(whole):  # until the session is open (collect_from_here)
+        with process.mujoco_without_gl() if whole else nullcontext():  # a run never renders
+            from cosmos.commands.run import Pace, run_program
         from cosmos.runtime.rates import Rates
 
         rates = Rates.chosen(servo_hz or None, param_hz or None)
@@ -303,6 +309,11 @@ def main() -> None:
     if sys._getframe(1).f_globals.get("__name__") == "__main__" and not _WHOLE_PROCESS:
         _WHOLE_PROCESS.append(True)  # called by the console script or ``python -m cosmos``, not a test
     try:
-        cli.main(standalone_mode=True)
-    except CosmosError as error:
-        _report(error)
+        try:
+            cli.main(standalone_mode=True)
+        except CosmosError as error:
+            _report(error)
+    except SystemExit as done:
+        if not _WHOLE_PROCESS:
+            raise
+        process.end_process(done.code)
