@@ -75,6 +75,27 @@ def test_a_drive_at_its_limit_for_50_ms_is_a_protective_stop() -> None:
     assert stop.message.startswith("protective stop: drive 3 at its torque limit of 89.4 N m for 52 ms")
 
 
+def test_a_drive_that_leaves_its_limit_starts_counting_again() -> None:
+    """Catches the drives' count surviving a drive's dip below its limit: the look at the drives is
+    skipped while every torque is below the lowest limit, and a count left standing then would stop
+    the arm 50 ms after the *first* of two short saturations (30 ms, a dip of 8 ms, 30 ms)."""
+    plant = Plant(obstacle_scene_xml())
+    limits = np.minimum(-ROBOT.tau_lower_nm, ROBOT.tau_upper_nm)
+    supervisor = Supervisor(plant, limits, 0.001)
+    plan = compile_program("WAIT 1 s\n", "w.cos", fixture_frames())
+    position = plant.data.site_xpos[-1].copy()
+    supervisor.start(plan.segments[0], position, position)
+    at_limit = np.zeros(6)
+    at_limit[0] = limits[0]
+    pattern = [at_limit] * 30 + [np.zeros(6)] * 8 + [at_limit] * 30 + [np.zeros(6)] * 8
+    stops = [supervisor.check(i * 0.001, np.zeros(6), tau, position) for i, tau in enumerate(pattern)]
+    assert stops == [None] * len(pattern)
+    stops = [supervisor.check(i * 0.001, np.zeros(6), at_limit, position) for i in range(60)]
+    first = next(i for i, stop in enumerate(stops) if stop is not None) + 1
+    assert 50 - 4 <= first <= 50 + 4, first
+    assert str(stops[first - 1]).count("drive 1 at its torque limit") == 1
+
+
 @pytest.mark.parametrize(
     ("program", "message"),
     [
