@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 COMMAND = """\
-import atexit, json, os, sys
+import atexit, dataclasses, json, os, sys
 REPORT = {report!r}
 GL = ("mujoco.egl", "mujoco.glfw", "mujoco.osmesa", "glfw")
 
@@ -26,6 +26,7 @@ def report():
             "gl": sorted(m for m in sys.modules if m in GL),
             "MUJOCO_GL": os.environ.get("MUJOCO_GL"),
             "OPENBLAS_NUM_THREADS": os.environ.get("OPENBLAS_NUM_THREADS"),
+            "dataclass_texts": len(getattr(vars(dataclasses).get("exec"), "used", ())),
         }}, out)
 
 atexit.register(report)
@@ -59,9 +60,11 @@ def _script(tmp_path: Path, name: str) -> tuple[Path, Path]:
 @pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="reads the process's threads from /proc")
 def test_the_command_loads_numpy_with_one_blas_thread_and_leaves_the_variable_unset(tmp_path: Path) -> None:
     """Catches the command's numpy starting OpenBLAS's thread per core (40-50 ms of every start-up
-    on two cores), and the command's one thread leaking into the processes it starts (a sweep's
-    workers would inherit it as if the user had set it). The same script under another name (a
-    program importing cosmos) keeps OpenBLAS's threads: there, start-up is not the command's."""
+    on two cores), the command's one thread leaking into the processes it starts (a sweep's
+    workers would inherit it as if the user had set it), and the command compiling dataclasses'
+    methods anew (:mod:`cosmos.commands.dataclass_code` not installed). The same script under
+    another name (a program importing cosmos) keeps OpenBLAS's threads and Python's dataclasses:
+    there, start-up is not the command's."""
     command, command_report = _script(tmp_path, "cosmos")
     other, other_report = _script(tmp_path, "other.py")
     assert _start(command, "--version").returncode == 0
@@ -69,6 +72,7 @@ def test_the_command_loads_numpy_with_one_blas_thread_and_leaves_the_variable_un
     ours, theirs = json.loads(command_report.read_text()), json.loads(other_report.read_text())
     assert ours["threads"] == 1
     assert ours["OPENBLAS_NUM_THREADS"] is None
+    assert ours["dataclass_texts"] > 0 and theirs["dataclass_texts"] == 0
     if (os.cpu_count() or 1) > 1:
         assert theirs["threads"] > 1
 

@@ -10,6 +10,8 @@ changes, each for the time it saves a warm ``cosmos run`` (README, "start-up"):
   per core, each with its own buffers, when numpy is first imported (40-50 ms of a
   2-core machine's start-up, more with more cores); cosmos multiplies matrices of at
   most 7 x 7, which OpenBLAS never splits between threads.
+* :func:`cosmos.commands.dataclass_code.install` (with the first): the methods ``@dataclass``
+  writes for each class are compiled once and kept in the user cache (60 ms).
 * :func:`mujoco_without_gl`: MuJoCo is imported without its OpenGL backends (GLFW,
   EGL: 20-40 ms): ``cosmos run`` never renders (``cosmos replay --view/--video`` does,
   and is left alone).
@@ -112,3 +114,6 @@ def end_process(code: str | int | None) -> NoReturn:
 
 if is_the_command():
     one_blas_thread()
+    from cosmos.commands import dataclass_code  # imports numpy: after one_blas_thread
+
+    dataclass_code.install()

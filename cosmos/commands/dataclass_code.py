@@ -1,0 +1,88 @@
+"""The methods ``@dataclass`` writes at import, compiled once and kept in the user cache.
+
+Python keeps every module's bytecode (``__pycache__``) but not the methods ``@dataclass``
+writes for each class as the class is defined (``__init__``, ``__repr__``, ``__eq__``,
+``__hash__``, a frozen class's ``__setattr__`` ...): each is a text that every process
+compiles again, about 740 of them for ``cosmos run`` (60 ms of its start-up). In the
+command's process (:mod:`cosmos.commands.process`), :mod:`dataclasses` finds each text's
+code in :data:`CACHE_NAME` first: the module calls ``exec`` by name, and a name in its own
+namespace comes before the builtin. What it still had to compile is added to the file at
+the process's exit; a file that cannot be read is ignored, one that cannot be written is
+not kept. A text is its own key, so a changed class finds its new text compiled once.
+"""
+
+from __future__ import annotations
+
+import atexit
+import dataclasses
+import importlib.util
+import marshal
+from pathlib import Path
+from types import CodeType
+from typing import Any
+
+from cosmos.user_cache import user_cache_root, write_whole
+
+CACHE_NAME = f"dataclass-code-{importlib.util.MAGIC_NUMBER.hex()}.marshal"
+"""The cache file in the user cache, named by Python's bytecode version (the code objects' format)."""
+
+MAX_KEPT = 8000
+"""More texts than this in the file (old versions' classes piling up): keep only this process's."""
+
+
+class CachedExec:
+    """``exec`` for :mod:`dataclasses`: a text's code from :attr:`codes`, else compiled and added.
+
+    Args:
+        codes: Known texts and their code.
+    """
+
+    def __init__(self, codes: dict[str, CodeType]):
+        self.codes = codes
+        self.used: set[str] = set()
+        self.compiled = 0
+
+    def __call__(self, source: Any, globals: Any = None, locals: Any = None, /) -> None:
+        """``exec(source, globals, locals)``, a text's code compiled at most once."""
+        if isinstance(source, str):
+            code = self.codes.get(source)
+            if code is None:  # as exec compiles it: no future statements of this module
+                code = self.codes[source] = compile(source, "<string>", "exec", dont_inherit=True)
+                self.compiled += 1
+            self.used.add(source)
+            source = code
+        exec(source, globals, locals)
+
+    def keep(self, path: Path) -> None:
+        """Write the codes to ``path`` if this process compiled any (whole or not at all)."""
+        if not self.compiled:
+            return
+        codes = self.codes
+        if len(codes) > MAX_KEPT:
+            codes = {text: codes[text] for text in self.used}
+        try:
+            write_whole(path, marshal.dumps(codes))
+        except (OSError, ValueError):
+            return
+
+
+def read_codes(path: Path) -> dict[str, CodeType]:
+    """The texts and code in ``path``; empty if it is missing, unreadable or not such a table."""
+    try:
+        codes = marshal.loads(path.read_bytes())
+    except (OSError, EOFError, ValueError, TypeError):
+        return {}
+    if not isinstance(codes, dict):
+        return {}
+    return {text: code for text, code in codes.items() if isinstance(text, str) and type(code) is CodeType}
+
+
+def install() -> CachedExec | None:
+    """Give :mod:`dataclasses` the cached ``exec`` for the rest of the process (None if it has one)."""
+    if "exec" in vars(dataclasses):
+        return None
+    path = user_cache_root() / CACHE_NAME
+    cached = CachedExec(read_codes(path))
+    dataclasses.exec = cached  # type: ignore[attr-defined]
+    atexit.register(cached.keep, path)
+    return cached
