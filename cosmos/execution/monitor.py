@@ -158,10 +158,8 @@ class SegmentMonitor:
         self.turn_long_way = False
         """Set when the controller turns the long way round to the goal orientation."""
         self._turn: FloatArray | None = None
-        self._closest_m = float("inf")
-        self._closest_s = start_s
-        self._last_depth = 0.0
-        self._last_progress_s = start_s
+        self._turn_angle, self._closest_m, self._closest_s = 0.0, float("inf"), start_s
+        self._last_depth, self._last_progress_s = 0.0, start_s
         self.searching: object | None = segment.search
         """An INSERT's search still under way (cosmos.execution.search): no jam check meanwhile."""
         rotation = segment.frame_rotation
@@ -305,17 +303,18 @@ class SegmentMonitor:
             )
         # Turning the long way round (cosmos.runtime.rotation_plan) the shortest angle first
         # grows: progress counts the rotation left the way the arm turns (kept continuous).
+        left, angle = error.rotation_rad, _length(error.rotation_rad)
         if not self._turns:  # no orientation to make progress in
-            left = np.zeros(3)
-        elif self._turn is not None:
-            left = unwrap_rotation_vector(error.rotation_rad, self._turn)
-        else:
-            left = error.rotation_rad
-            if self.turn_long_way and _length(left) > 1e-3:
-                left = left * (1.0 - 2.0 * math.pi / _length(left))
-        self._turn = left
-        progress = position_off + STALL_ANGLE_SCALE_M * _length(left)
-        return self._stalled(snap, progress, error)
+            left, angle = np.zeros(3), 0.0
+        elif self._turn is None:
+            if self.turn_long_way and angle > 1e-3:
+                left = left * (1.0 - 2.0 * math.pi / angle)
+                angle = _length(left)
+        elif angle + self._turn_angle >= math.pi - 0.1:  # else the short way is by far the nearer:
+            left = unwrap_rotation_vector(left, self._turn)  # what this returns, without its 10 us
+            angle = _length(left)
+        self._turn, self._turn_angle = left, angle
+        return self._stalled(snap, position_off + STALL_ANGLE_SCALE_M * angle, error)
 
     def _off_position(self, position: FloatArray, tolerance_m: float) -> bool:
         """Whether the tool point is beyond ``tolerance_m`` of its goal on the motion axes (as floats)."""

@@ -1,0 +1,48 @@
+"""The stall progress a goal motion's monitor counts: the rotation left the way the arm turns."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cosmos.execution.monitor import JUDGE_MOVING_EVERY, SegmentMonitor, Snapshot
+from cosmos.lang import compile_program
+from cosmos.osc.orientation import so3_exp, so3_log, unwrap_rotation_vector
+from cosmos.workcell import fixture_frames
+
+
+def test_the_rotation_left_is_unwraps_choice_at_every_judgement_through_pi() -> None:
+    """Catches the monitor's short cut (the short way taken without asking the unwrap while both
+    angles are well under pi) choosing differently from :func:`unwrap_rotation_vector`: a turn
+    through 180 deg would then count its progress from the wrong side and stall, or never stall."""
+    plan = compile_program("MOVE TO (0.5, 0.1, 0.4) RPY (0, 0, 0)\n", "m.cos", fixture_frames())
+    segment = plan.segments[0]
+    goal = (np.array([0.5, 0.1, 0.4]), np.eye(3))
+    position = np.array([0.5, 0.1, 0.4])
+    monitor = SegmentMonitor(segment, 0.0, position, 0.0, position, None, goal, lambda: "")
+    axis = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    velocity = np.array([0.5, 0.0, 0.0, 0.0, 0.0, 1.0])  # moving: only the sampled judgement runs
+    expected = None
+    for k, angle in enumerate(np.linspace(0.2, 2.0 * np.pi - 0.2, 400)):
+        rotation = so3_exp(axis * angle)
+        log = so3_log(rotation)
+        expected = log if expected is None else unwrap_rotation_vector(log, expected)
+        monitor._ticks = JUDGE_MOVING_EVERY - 1  # this check is a judgement
+        assert monitor.check(Snapshot(0.001 * k, position, rotation, velocity, np.zeros(6))) is None
+        assert monitor._turn is not None
+        np.testing.assert_array_equal(monitor._turn, expected)
+    assert expected is not None and np.linalg.norm(expected) > np.pi  # it kept turning the long way
+
+
+def test_far_under_pi_the_unwrap_keeps_the_short_way() -> None:
+    """The monitor's short cut, checked against the unwrap itself on random pairs: both angles
+    together under pi - 0.1 rad, the unwrap returns the short way (``log``) itself."""
+    rng = np.random.default_rng(3)
+    for _ in range(2000):
+        log = rng.normal(size=3)
+        log *= rng.uniform(0.0, np.pi) / np.linalg.norm(log)
+        previous = rng.normal(size=3)
+        room = np.pi - 0.1 - np.linalg.norm(log)
+        if room <= 0:
+            continue
+        previous *= rng.uniform(0.0, room) / np.linalg.norm(previous)
+        assert unwrap_rotation_vector(log, previous) is log
