@@ -314,6 +314,6 @@ def main() -> None:
         except CosmosError as error:
             _report(error)
     except SystemExit as done:
-        if not _WHOLE_PROCESS:
+        if not _WHOLE_PROCESS or not process.is_the_command():  # a script may catch it and go on
             raise
         process.end_process(done.code)

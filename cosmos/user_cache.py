@@ -1,4 +1,4 @@
-"""The user cache directory of cosmos (compiled kernels, the workcell's fixture frames).
+"""The user cache directory of cosmos (compiled kernels, the workcell's fixture frames, dataclasses' code).
 
 ``$COSMOS_CACHE_DIR`` if set, else the platform's user cache directory:
 ``$XDG_CACHE_HOME/cosmos`` or ``~/.cache/cosmos`` on Linux, ``~/Library/Caches/cosmos``
