@@ -37,8 +37,12 @@ if __name__ == "__main__":
 """
 
 
+THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "GOTO_NUM_THREADS", "MKL_NUM_THREADS")
+"""What OpenBLAS reads for its number of threads (a Dask cluster started in the tests sets them)."""
+
+
 def _start(script: Path, *args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
-    environment = {key: value for key, value in os.environ.items() if key != "OPENBLAS_NUM_THREADS"}
+    environment = {key: value for key, value in os.environ.items() if key not in THREAD_VARIABLES}
     environment.update(env or {})
     return subprocess.run(
         [sys.executable, str(script), *args],
