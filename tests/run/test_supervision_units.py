@@ -56,14 +56,20 @@ def test_out_of_reach_only_when_it_is() -> None:
     assert "blocked, pushing 9.0 N" in _cause(np.array(HOME_Q), np.array([0.5, 0.0, 0.4]), push_n=9.0)
 
 
-def test_a_drive_at_its_limit_for_50_ms_is_a_protective_stop() -> None:
-    """Three drives sat at their torque limits while an obstacle pushed the arm, without a word."""
+def _supervising_a_wait() -> tuple[Supervisor, np.ndarray, np.ndarray]:
+    """A supervisor started on a WAIT at home; the drives' limits [N m] and the tool point [m]."""
     plant = Plant(obstacle_scene_xml())
     limits = np.minimum(-ROBOT.tau_lower_nm, ROBOT.tau_upper_nm)
     supervisor = Supervisor(plant, limits, 0.001)
     plan = compile_program("WAIT 1 s\n", "w.cos", fixture_frames())
     position = plant.data.site_xpos[-1].copy()
     supervisor.start(plan.segments[0], position, position)
+    return supervisor, limits, position
+
+
+def test_a_drive_at_its_limit_for_50_ms_is_a_protective_stop() -> None:
+    """Three drives sat at their torque limits while an obstacle pushed the arm, without a word."""
+    supervisor, limits, position = _supervising_a_wait()
     torque = np.zeros(6)
     torque[2] = -limits[2]
     ticks = round(SATURATION_S / 0.001)
@@ -79,12 +85,7 @@ def test_a_drive_that_leaves_its_limit_starts_counting_again() -> None:
     """Catches the drives' count surviving a drive's dip below its limit: the look at the drives is
     skipped while every torque is below the lowest limit, and a count left standing then would stop
     the arm 50 ms after the *first* of two short saturations (30 ms, a dip of 8 ms, 30 ms)."""
-    plant = Plant(obstacle_scene_xml())
-    limits = np.minimum(-ROBOT.tau_lower_nm, ROBOT.tau_upper_nm)
-    supervisor = Supervisor(plant, limits, 0.001)
-    plan = compile_program("WAIT 1 s\n", "w.cos", fixture_frames())
-    position = plant.data.site_xpos[-1].copy()
-    supervisor.start(plan.segments[0], position, position)
+    supervisor, limits, position = _supervising_a_wait()
     at_limit = np.zeros(6)
     at_limit[0] = limits[0]
     pattern = [at_limit] * 30 + [np.zeros(6)] * 8 + [at_limit] * 30 + [np.zeros(6)] * 8
