@@ -29,6 +29,7 @@ from cosmos.robot_model import GRAVITY
 from cosmos.runtime.goal_line import goal_line, kept_line
 from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
+from cosmos.runtime.kernels.cruise import CRUISE_INTEGRAL, cruise_gains
 from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
 from cosmos.runtime.kernels.parameter import LIMITS_OFFSET, refold
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
@@ -271,7 +272,7 @@ class ServoLevel:
             )
         state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]  # both task rows: w long, six used
         state[kernel.FLAGS] = 0.0  # the latches, the held push's integral, the hold observer's start
-        state[kernel.MOTION_INTEGRAL] = 0.0
+        state[kernel.MOTION_INTEGRAL] = state[kernel.CRUISE] = 0.0
         scalars, vectors = self._scalars, self._vectors
         tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None
         scalars[kernel.MODE] = (
@@ -283,6 +284,7 @@ class ServoLevel:
         scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes[:3]))
         scalars[kernel.ADMITTANCE] = float(not all(setpoint.motion_axes[3:]))
         scalars[kernel.MAX_SPEED] = setpoint.max_speed
+        scalars[CRUISE_INTEGRAL:] = cruise_gains(self.gains.cruise_integral, scalars[kernel.DT_S], setpoint)
         scalars[kernel.PUSH_SPEED] = (
             self.gains.push_speed_aim * setpoint.max_speed if setpoint.limit_push_speed else 0.0
         )

@@ -47,6 +47,11 @@ class ServoGains:
             than ``slow`` and pushing less than ``quiet``. ``k_i = 1000`` keeps the third-order
             loop ``s^3 + kv s^2 + kp s + k_i`` overdamped (roots -26, -10, -3.8 /s at the
             defaults); ``k_i`` times the limit is the most it adds to F*, in [m/s^2].
+        cruise_integral: A goal motion's integral action on its cruise speed along its line
+            while eq. 21's limit binds (:mod:`cosmos.osc.cruise_speed`): ``(k_c [1/s^2], limit
+            [m/s^2], moving [1], quiet [N])``; ``k_c = kv^2 / 4`` (a double root at -20 /s);
+            it grows only while the tool moves faster than ``moving`` times the limit and
+            pushes less than ``quiet``; ``limit`` is the most it adds to F*.
         held_push: A push held against a surface (no speed cap: CONTACT, SLIDE, WAIT in
             contact; once the touch is felt: in free space it would crawl at 1 mm/s), along
             itself (:func:`cosmos.osc.held_push.held_push`): ``(k_fh, k_ih, k_vh, limit)``,
@@ -115,6 +120,7 @@ class ServoGains:
     held_push: tuple[float, float, float, float] = (0.8, 288.0, 50.0, 0.2)
     goal_integral: tuple[float, float, float, float, float] = (1000.0, 0.003, 0.003, 0.005, 2.0)
     hold_observer: tuple[float, float] = (20.0, 3.0)
+    cruise_integral: tuple[float, float, float, float] = (400.0, 2.0, 0.25, 2.0)
     touch_n: float = 8.0
     touch_damping: float = 200.0
     insert_tilt_window: tuple[float, float] = (0.1745, 20.0)

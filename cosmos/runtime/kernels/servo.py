@@ -48,6 +48,7 @@ from cosmos.runtime.kernels.contact import (
     touch_damping_into,
     touch_latched,
 )
+from cosmos.runtime.kernels.cruise import CRUISE, cruise_into
 from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
 
@@ -67,7 +68,7 @@ TILT_WINDOW = 34  # an INSERT's compliant rotations: the window [rad] and the st
 GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(36, 40)
 GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
 HOLD_OBSERVER = 45  # a free hold's disturbance observer: L [1/s], bound [m/s^2], band [m], quiet [N]
-SCALARS = 49  # HELD_PUSH: k_fh, k_ih, k_vh, its limit; touch force, tool mass, touch k_v (kernels.contact)
+SCALARS = 56  # 49-55: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, tool mass, touch k_v
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -97,7 +98,7 @@ MATRICES = 6
 # Rows of the servo's state and outputs (``state``, (STATE_ROWS, w)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
 MOTION_INTEGRAL = 9  # integral of the translation error: a slide's in contact, a goal's near it [m s]
-STATE_ROWS = 10
+STATE_ROWS = CRUISE + 1  # CRUISE: a goal motion's cruise-speed integral and model speed (kernels.cruise)
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 REACHED, HELD_INTEGRAL = 2, 3  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
@@ -250,7 +251,8 @@ def servo_tick(
     # Operational speed commanded outright, world: a tracked trajectory's xd_d on the motion
     # axes, the admittance speed on compliant moment axes. Friction is compensated toward it.
     commanded_speed = work[COMMANDED_SPEED]
-    commanded_speed[:] = 0.0
+    # Zeros, or a cruise's SPEED along its line: eq. 20-21's velocity loop made PI (kernels.cruise).
+    cruising = cruise_into(motion, commanded_speed, state, vectors[GOAL_LINE, :3], max_speed, scalars)
     if mode == MODE_TRAJECTORY:
         commanded_speed = velocity_desired - matvec(matrices[OMEGA_BAR], velocity_desired)
     elapsed = t_s - scalars[START_S]
@@ -379,7 +381,7 @@ def servo_tick(
     # Coulomb friction is compensated in the direction the joint is moving or, from rest,
     # is being told to move (qd plus Jbar times the commanded acceleration over a short
     # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
-    if admittance or mode == MODE_TRAJECTORY or pushing_at_speed:  # a slow joint is not left to stick
+    if admittance or mode == MODE_TRAJECTORY or pushing_at_speed or cruising:  # no slow joint left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
     coulomb_compensation_into(  # toward where the task and the null space's torques turn the joints
         torque,

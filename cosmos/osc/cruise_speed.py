@@ -1,0 +1,133 @@
+"""Integral action on a goal motion's cruise speed (eq. 20-21's velocity loop made PI).
+
+Eq. 20 is a velocity servo, ``F*_m = -kv (xd - nu xd_d)``: once eq. 21's limit binds
+(``nu < 1``) it commands the unit mass toward ``V_max`` along the line to the goal with
+a proportional gain alone. A steady force the controller's model does not hold (a
+joint's friction above or below its compensation, a link heavier than modelled) is then
+balanced only by a steady speed error ``Lambda^-1 f / kv``: on the realistic plant a
+MOVE at SPEED 10 mm/s cruised at 6.7-17.8 mm/s across seeds (0.3 m/s^2 of unmodelled
+acceleration is 7.5 mm/s at kv = 40).
+
+Here the cruise's velocity loop gets an integral along the line ``u`` from the motion's
+start to its goal::
+
+    F*_m = -kv (xd - nu xd_d) + a u,    a = k_c integral (v_m - u . xd) dt,
+    dv_m/dt = kv (V_max - v_m)
+
+``v_m`` is the ideal unit mass's response to eq. 20 at the limit (ramped,
+:func:`cosmos.osc.motion.ramped_speed_limit`): the integral sees only what the model does
+not explain, so the motion's own start winds nothing up (integrating ``V_max - u . xd``
+carried a 100 mm/s MOVE to 115 mm/s), and the ideal plant runs as before. Steadily
+``v_m = V_max`` and the tool cruises at it.
+
+Anti-windup: ``a`` grows only while the limit binds, the tool moves along the line faster
+than ``moving`` times the limit, and no push over ``quiet`` is felt; it is clamped to
+``+-limit`` (an acceleration, [m/s^2]) and restarts with every segment. A tool stalled or
+blocked leaves a pushing ``a`` as it is and lets a holding-back one go (frozen, it held a
+5 mm/s MOVE still). ``v_m`` meanwhile runs on and, where it is more than ``moving`` times
+the limit above the tool's speed, is drawn down toward it at ``kp / kv``: from rest it is
+the start's own response, a lasting stall does not wind the integral up once the tool
+moves again, and the sensed speed's dips below the gate (one encoder count, at 5 mm/s) do
+not drag it down (clamped to the tool's speed plus the gate, it held a 5 mm/s MOVE to
+3.15 mm/s). A disturbance that holds the tool under ``moving`` times its SPEED is taken
+for a block (steadily: ``d > (1 - moving) kv V_max``, 0.3 m/s^2 at 10 mm/s).
+
+Once the limit no longer binds (the approach, ``nu = 1``) ``a`` bleeds out at eq. 20-21's
+own approach rate ``kp / kv``, leaving the goal to eq. 20-21 and the integral near the
+goal (:func:`cosmos.osc.integral_action.integrate_goal_error`). Without a line (none, or
+while an obstacle's field pushes the tool off it: :func:`cosmos.runtime.goal_line.kept_line`)
+it neither grows nor acts, so the field is not fought. ``k_c = kv^2 / 4`` (400 /s^2 at
+kv = 40, ``ServoGains.cruise_integral``) puts the loop ``s^2 + kv s + k_c`` at a double
+root ``-kv / 2`` (-20 /s): a steady error goes within about 0.2 s, without overshoot.
+
+While it cruises, the Coulomb compensation's intent along the line is the SPEED, not
+the sensed speed (:func:`cruise_intent`), as a tracked trajectory's and a held push's
+are. With the sensed speed in it, the compensation ramps up with the joints' speeds
+over their first 0.01 rad/s: a negative damping, there stronger than ``kv Lambda``, that
+made the tool stick-slip between 3 and 14 mm/s once the integral held it to 10 mm/s.
+Friction feedforward alone was not the fix: it compensates only the modelled friction,
+and the speed error is what the model gets wrong.
+
+The compiled servo tick runs the same arithmetic
+(:func:`cosmos.runtime.kernels.cruise.cruise_integral_into`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cosmos.osc._types import FloatArray
+
+
+def speed_limit_binds(error: FloatArray, kp: FloatArray, kv: FloatArray, max_speed: float) -> bool:
+    """Eq. 21's ``nu < 1`` for the translation: ``|(kp / kv) (x_d - x)| > V_max``.
+
+    Args:
+        error: ``x - x_d``, in [m] then [rad]. # (6,)
+        kp: Position gains, in [1/s^2]; the translation's smallest ratio is used. # (6,)
+        kv: Velocity gains, in [1/s]. # (6,)
+        max_speed: V_max now (ramped), in [m/s].
+    """
+    ratio = float(np.min(np.asarray(kp[:3]) / np.asarray(kv[:3])))
+    return ratio * float(np.linalg.norm(error[:3])) > max_speed
+
+
+def cruise_integral_step(
+    cruise: tuple[float, float],
+    line: FloatArray,
+    velocity: FloatArray,
+    force: FloatArray,
+    max_speed: float,
+    binds: bool,
+    rates: tuple[float, float],
+    dt_s: float,
+    gate: tuple[float, float, float, float],
+) -> tuple[float, float]:
+    """One step of the cruise's integral ``a`` and model speed ``v_m`` (module docstring).
+
+    Args:
+        cruise: ``(a [m/s^2], v_m [m/s])`` so far.
+        line: Unit line from the motion's start to its goal, world (zeros: none). # (3,)
+        velocity: Tool twist, world, in [m/s] then [rad/s]. # (6,)
+        force: The wrench the tool applies, world, in [N] then [N m]. # (6,)
+        max_speed: V_max now (ramped), in [m/s].
+        binds: Whether eq. 21's limit binds (:func:`speed_limit_binds`).
+        rates: ``(kv, kp / kv)``: the model's rate and the bleed's, in [1/s].
+        dt_s: Servo period, in [s].
+        gate: ``(k_c [1/s^2], limit [m/s^2], moving [1], quiet [N])``.
+
+    Returns:
+        The new ``(a, v_m)``.
+    """
+    k_c, limit, moving, quiet = gate
+    integral, model = cruise
+    if not np.any(line):
+        return integral, model
+    along = float(np.dot(velocity[:3], line))
+    quiet_enough = float(np.linalg.norm(force[:3])) < quiet
+    if not binds:
+        return integral * max(0.0, 1.0 - rates[1] * dt_s), along
+    if along > moving * max_speed and quiet_enough:
+        integral = float(np.clip(integral + k_c * (model - along) * dt_s, -limit, limit))
+        return integral, model + rates[0] * (max_speed - model) * dt_s
+    if integral < 0.0 and quiet_enough:
+        integral = min(integral + k_c * (max_speed - along) * dt_s, 0.0)
+    model += rates[0] * (max_speed - model) * dt_s
+    floor = along + moving * max_speed
+    return integral, model + rates[1] * (floor - model) * dt_s if model > floor else model
+
+
+def cruise_intent(binds: bool, line: FloatArray, velocity: FloatArray, max_speed: float) -> FloatArray:
+    """The operational speed added to the Coulomb intent's sensed one, in [m/s]. # (3,).
+
+    While the limit binds, ``(V_max - u . xd) u``: with the sensed ``xd`` (which ``qd``
+    carries into the intent) it makes the motion along ``u`` the SPEED.
+    """
+    if not binds or not np.any(line):
+        return np.zeros(3)
+    return (max_speed - float(np.dot(velocity[:3], line))) * np.asarray(line, dtype=float)
+
+
+def cruise_command(integral: float, line: FloatArray) -> FloatArray:
+    """The term ``a u`` added to F*_m, in [m/s^2]. # (6,)."""
+    return np.concatenate((integral * np.asarray(line, dtype=float), np.zeros(3)))

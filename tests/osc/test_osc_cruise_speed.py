@@ -1,0 +1,177 @@
+"""The cruise-speed integral of a goal motion (cosmos.osc.cruise_speed) and its compiled twin.
+
+The analytic checks integrate the unit mass of eq. 20-21 along its line,
+``dv/dt = kv (V - v) + a + d``, with a known steady disturbance ``d``: the speed it must
+settle to is ``V`` (independent of the code), and without ``d`` the closed-form
+``V (1 - e^{-kv t})`` of eq. 20 alone.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cosmos.osc.cruise_speed import cruise_command, cruise_integral_step, cruise_intent, speed_limit_binds
+from cosmos.runtime.kernels import servo as sk
+from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, CRUISE_SLOTS, cruise_into
+
+KP, KV, DT_S = 400.0, 40.0, 0.001
+GATE = (400.0, 2.0, 0.25, 2.0)
+
+
+def _compiled(
+    motion: np.ndarray,
+    cruise: np.ndarray,
+    error: np.ndarray,
+    line: np.ndarray,
+    velocity: np.ndarray,
+    force: np.ndarray,
+    speed: float,
+) -> tuple[bool, np.ndarray]:
+    """One compiled step on the servo's own layout; ``(binds, commanded speed)``, ``cruise`` stepped."""
+    state = np.zeros((sk.STATE_ROWS, 6))
+    state[sk.WRENCH], state[sk.ERROR], state[sk.VELOCITY], state[CRUISE, :2] = force, error, velocity, cruise
+    scalars = np.zeros(sk.SCALARS)
+    scalars[CRUISE_INTEGRAL:] = (GATE[1], GATE[2], GATE[3], DT_S, GATE[0], KP / KV, KV)
+    commanded = np.full(6, np.nan)
+    binds = cruise_into(motion, commanded, state, line, speed, scalars)
+    cruise[:] = state[CRUISE, :2]
+    return binds, commanded
+
+
+LINE = np.array([0.0, 0.6, -0.8])
+
+
+def _unit_mass(speed: float, disturbance: float, seconds: float) -> tuple[np.ndarray, float]:
+    """Speeds along the line, one per tick, of the unit mass cruising far from its goal; the final a."""
+    cruise, v, speeds = (0.0, 0.0), 0.0, []
+    error = -1.0 * np.concatenate((LINE, np.zeros(3)))  # a metre short of the goal: the limit binds
+    for _ in range(int(seconds / DT_S)):
+        velocity = np.concatenate((v * LINE, np.zeros(3)))
+        binds = speed_limit_binds(error, np.full(6, KP), np.full(6, KV), speed)
+        cruise = cruise_integral_step(
+            cruise, LINE, velocity, np.zeros(6), speed, binds, (KV, KP / KV), DT_S, GATE
+        )
+        v += DT_S * (KV * (speed - v) + cruise[0] + disturbance)
+        speeds.append(v)
+    return np.array(speeds), cruise[0]
+
+
+@pytest.mark.parametrize(
+    ("speed", "disturbance"),
+    [(0.005, -0.1), (0.005, 0.3), (0.010, -0.25), (0.010, 0.3), (0.250, -1.5), (0.250, 1.5)],
+)
+def test_a_steady_disturbance_leaves_no_speed_error(speed: float, disturbance: float) -> None:
+    """Catches eq. 20's proportional velocity loop alone: a steady unmodelled 0.3 m/s^2 holds the
+    tool ``d / kv`` (7.5 mm/s) off its SPEED, 75 % at 10 mm/s; the integral must take it out
+    (to 1 % within 0.5 s) and settle at ``-d``. A retarding one up to ``(1 - moving) kv V``, what
+    the gate takes for a block, included."""
+    speeds, integral = _unit_mass(speed, disturbance, 1.0)
+    assert abs(speeds[500:].mean() - speed) < 0.01 * speed
+    assert abs(speeds[-1] - speed) < 0.002 * speed
+    assert integral == pytest.approx(-disturbance, rel=0.01)
+
+
+def test_without_a_disturbance_the_motion_is_eq_20s() -> None:
+    """Catches an integral on ``V - v`` rather than on what the model does not explain: the
+    start's own lag winds it up and the speed overshoots (115 mm/s at 100 mm/s). Without a
+    disturbance the speed must be eq. 20's ``V (1 - e^{-kv t})`` and the integral stay zero."""
+    speeds, integral = _unit_mass(0.1, 0.0, 0.5)
+    t = DT_S * np.arange(1, len(speeds) + 1)
+    expected = 0.1 * (1.0 - (1.0 - KV * DT_S) ** np.arange(1, len(speeds) + 1))  # Euler's e^{-kv t}
+    assert np.allclose(speeds, expected, atol=1e-9)
+    assert np.allclose(expected, 0.1 * (1.0 - np.exp(-KV * t)), atol=0.003)
+    assert abs(integral) < 1e-12
+
+
+def test_without_a_line_it_neither_grows_nor_acts() -> None:
+    """Catches an integral that fights an obstacle's field: while the field pushes the tool the
+    servo's line is zeros, and the integral must stay as it was and add nothing."""
+    velocity = np.array([0.0, 0.001, 0.0, 0.0, 0.0, 0.0])
+    step = cruise_integral_step(
+        (0.5, 0.01), np.zeros(3), velocity, np.zeros(6), 0.01, True, (KV, 10.0), DT_S, GATE
+    )
+    assert step == (0.5, 0.01)
+    motion = np.zeros(6)
+    cruise = np.array([0.5, 0.01])
+    error = np.array([0.0, -1.0, 0.0, 0.0, 0.0, 0.0])
+    zeros = np.zeros(3)
+    binds, commanded = _compiled(motion, cruise, error, zeros, velocity, np.zeros(6), 0.01)
+    assert not binds and not commanded.any()
+    assert not motion.any() and list(cruise) == [0.5, 0.01]
+    assert not cruise_intent(True, zeros, velocity, 0.01).any()
+
+
+def test_a_stalled_tool_keeps_a_push_and_drops_a_hold_back() -> None:
+    """Catches a frozen integral that holds back a tool it stalled (a 5 mm/s MOVE stood still),
+    and one that keeps winding up against whatever blocks the tool (it must freeze)."""
+    stalled = np.zeros(6)
+    args = (LINE, stalled, np.zeros(6), 0.01, True, (KV, 10.0), DT_S, GATE)
+    assert cruise_integral_step((0.8, 0.01), *args)[0] == 0.8
+    held = cruise_integral_step((-0.3, 0.01), *args)[0]
+    assert held == pytest.approx(-0.3 + GATE[0] * 0.01 * DT_S)
+    assert cruise_integral_step((-0.001, 0.01), *args)[0] == 0.0  # lets go, never turns into a push
+    pushed = np.array([0.0, 0.0, 5.0, 0.0, 0.0, 0.0])  # a touch: frozen
+    moving = np.concatenate((0.005 * LINE, np.zeros(3)))
+    assert (
+        cruise_integral_step((0.8, 0.01), LINE, moving, pushed, 0.01, True, (KV, 10.0), DT_S, GATE)[0] == 0.8
+    )
+
+
+def test_it_bleeds_out_at_the_approach_rate_once_the_limit_lets_go() -> None:
+    """Catches an integral kept on into the approach (the tool pushed past its goal, ``a / kp``):
+    with ``nu = 1`` it must decay as ``e^{-(kp/kv) t}``."""
+    cruise = (1.0, 0.01)
+    for _ in range(200):
+        cruise = cruise_integral_step(
+            cruise, LINE, np.zeros(6), np.zeros(6), 0.01, False, (KV, KP / KV), DT_S, GATE
+        )
+    assert cruise[0] == pytest.approx(math.exp(-KP / KV * 0.2), rel=0.02)
+    assert cruise_command(cruise[0], LINE)[:3] == pytest.approx(cruise[0] * LINE)
+
+
+def test_the_limit_binds_where_eq_21s_nu_drops_below_one() -> None:
+    """Catches a wrong ``nu``: it binds where ``(kp / kv) |x_d - x| > V_max`` and not closer."""
+    gains = np.full(6, KP), np.full(6, KV)
+    assert speed_limit_binds(np.array([0.0, 0.0, 0.0011, 0.0, 0.0, 0.0]), *gains, 0.01)
+    assert not speed_limit_binds(np.array([0.0, 0.0, 0.0009, 0.0, 0.0, 0.0]), *gains, 0.01)
+
+
+def test_the_compiled_step_matches_the_reference_on_random_inputs() -> None:
+    """Catches the servo kernel's arithmetic drifting from the readable reference (gates, clamp,
+    model, bleed, the intent and the command), on seeded random inputs around every gate."""
+    rng = np.random.default_rng(14)
+    for _ in range(400):
+        line = rng.normal(size=3)
+        line = line / np.linalg.norm(line) if rng.random() > 0.1 else np.zeros(3)
+        speed = float(rng.uniform(0.005, 0.25))
+        error = np.concatenate((rng.normal(size=3) * rng.choice([1e-4, 1e-3, 0.1]), rng.normal(size=3)))
+        velocity = np.concatenate(
+            (line * speed * rng.uniform(-0.5, 1.5) + rng.normal(size=3) * 1e-3, np.zeros(3))
+        )
+        force = rng.normal(size=6) * rng.choice([0.1, 3.0])
+        cruise = (float(rng.uniform(-2.5, 2.5)), float(rng.uniform(0.0, 0.3)))
+        kp, kv = np.full(6, KP), np.full(6, KV)
+        binds = speed_limit_binds(error, kp, kv, speed)
+        expected = cruise_integral_step(
+            cruise, line, velocity, force, speed, binds, (KV, KP / KV), DT_S, GATE
+        )
+        motion = rng.normal(size=6)
+        before = motion.copy()
+        state = np.array(cruise)
+        got, commanded = _compiled(motion, state, error, line, velocity, force, speed)
+        assert state == pytest.approx(np.array(expected), abs=1e-12)
+        assert motion - before == pytest.approx(cruise_command(expected[0], line), abs=1e-12)
+        assert commanded[:3] == pytest.approx(cruise_intent(binds, line, velocity, speed), abs=1e-12)
+        assert got == (binds and bool(line.any())) and not commanded[3:].any()
+
+
+def test_the_servo_kernel_layout_leaves_the_cruise_its_slots() -> None:
+    """Catches the cruise's slots overlapping another's: its seven scalars are the servo's last,
+    its state row the last, and it reads the wrench, error and twist from rows 0-2."""
+    assert sk.SCALARS == CRUISE_INTEGRAL + CRUISE_SLOTS
+    assert sk.HOLD_OBSERVER + 4 <= CRUISE_INTEGRAL
+    assert sk.STATE_ROWS == CRUISE + 1 and sk.MOTION_INTEGRAL < CRUISE
+    assert (sk.WRENCH, sk.ERROR, sk.VELOCITY) == (0, 1, 2)
