@@ -40,13 +40,16 @@ it neither grows nor acts, so the field is not fought. ``k_c = kv^2 / 4`` (400 /
 kv = 40, ``ServoGains.cruise_integral``) puts the loop ``s^2 + kv s + k_c`` at a double
 root ``-kv / 2`` (-20 /s): a steady error goes within about 0.2 s, without overshoot.
 
-While it cruises, the Coulomb compensation's intent along the line is the SPEED, not
-the sensed speed (:func:`cruise_intent`), as a tracked trajectory's and a held push's
-are. With the sensed speed in it, the compensation ramps up with the joints' speeds
-over their first 0.01 rad/s: a negative damping, there stronger than ``kv Lambda``, that
-made the tool stick-slip between 3 and 14 mm/s once the integral held it to 10 mm/s.
-Friction feedforward alone was not the fix: it compensates only the modelled friction,
-and the speed error is what the model gets wrong.
+While it cruises, the Coulomb compensation's intent along the line is the SPEED (or the
+sensed speed where faster), not the sensed speed alone (:func:`cruise_intent`), as a
+tracked trajectory's and a held push's are. With the sensed speed alone, the compensation
+ramps up with the joints' speeds over their first 0.01 rad/s: a negative damping, there
+stronger than ``kv Lambda``, that made the tool stick-slip between 3 and 14 mm/s once the
+integral held it to 10 mm/s. Friction feedforward alone was not the fix: it compensates
+only the modelled friction, and the speed error is what the model gets wrong.
+
+An INSERT's approach keeps eq. 20-21 as they were (``ServoSetpoint.cruise_integral``):
+landing on the chamfer at its SPEED rather than below it, the insertion rang past its cap.
 
 The compiled servo tick runs the same arithmetic
 (:func:`cosmos.runtime.kernels.cruise.cruise_integral_into`).
@@ -120,12 +123,14 @@ def cruise_integral_step(
 def cruise_intent(binds: bool, line: FloatArray, velocity: FloatArray, max_speed: float) -> FloatArray:
     """The operational speed added to the Coulomb intent's sensed one, in [m/s]. # (3,).
 
-    While the limit binds, ``(V_max - u . xd) u``: with the sensed ``xd`` (which ``qd``
-    carries into the intent) it makes the motion along ``u`` the SPEED.
+    While the limit binds, ``max(V_max - u . xd, 0) u``: with the sensed ``xd`` (which
+    ``qd`` carries into the intent) it makes the motion along ``u`` the SPEED, or the sensed
+    speed where that is faster. Toward the SPEED alone (``V_max - u . xd``) the compensation
+    also dropped under a tool running fast: a landing INSERT's peg rang on its chamfer.
     """
     if not binds or not np.any(line):
         return np.zeros(3)
-    return (max_speed - float(np.dot(velocity[:3], line))) * np.asarray(line, dtype=float)
+    return max(max_speed - float(np.dot(velocity[:3], line)), 0.0) * np.asarray(line, dtype=float)
 
 
 def cruise_command(integral: float, line: FloatArray) -> FloatArray:

@@ -64,6 +64,9 @@ class ServoSetpoint:
             rotation axes are left to the null space (seed section 4).
         posture_rad: The joint configuration the null space returns the arm to
             (POSTURE), in [rad], or None for none. # (n,)
+        cruise_integral: A GOAL motion's cruise held to ``max_speed`` by integral action
+            (:mod:`cosmos.osc.cruise_speed`); False leaves eq. 20-21 proportional (an INSERT's
+            approach, whose insertion is tuned to the landing it had).
     """
 
     mode: MotionMode
@@ -85,6 +88,7 @@ class ServoSetpoint:
     limit_push_speed: bool = False
     orientation_free: bool = False
     posture_rad: FloatArray | None = None
+    cruise_integral: bool = True
 
     force_world: FloatArray = field(init=False)
     """The force setpoint in world axes (derived from force_task). # (6,)."""

@@ -39,6 +39,7 @@ def cruise_gains(
     """
     k_c, limit, moving, quiet = gains
     free_goal = setpoint.mode is MotionMode.GOAL and all(setpoint.motion_axes[:3])
+    free_goal = free_goal and setpoint.cruise_integral
     kp, kv = np.asarray(setpoint.kp_task[:3]), np.asarray(setpoint.kv_task[:3])
     ratio, rate = float(np.min(kp / kv)), float(np.min(kv))
     return np.array((limit, moving, quiet, dt_s, k_c if free_goal else 0.0, ratio, rate))
@@ -56,7 +57,7 @@ def cruise_into(
     """Step ``cruise = (a, v_m)`` (:func:`cosmos.osc.cruise_speed.cruise_integral_step`), add ``a u``.
 
     ``commanded_speed`` is set to zeros or, while a cruise's limit binds, to
-    ``(V_max - u . xd) u``: the speed along ``u`` the Coulomb intent takes in place of the
+    ``max(V_max - u . xd, 0) u``: the speed along ``u`` the Coulomb intent takes in place of the
     sensed one (:func:`cosmos.osc.cruise_speed.cruise_intent`); returns whether it binds.
 
     Args:
@@ -93,5 +94,5 @@ def cruise_into(
     for i in range(3):
         motion[i] += cruise[0] * line[i]
         if binds:
-            commanded_speed[i] = (max_speed - along) * line[i]
+            commanded_speed[i] = max(max_speed - along, 0.0) * line[i]
     return binds
