@@ -169,20 +169,25 @@ def _follow(
     )
     q = np.array(q_start, dtype=float)
     already = first_joint_past_limits(robot, q, margin_rad)  # a joint starting in the margin may stay
+    inside_lower = robot.q_lower_rad + margin_rad  # the same sums first_joint_past_limits compares with
+    inside_upper = robot.q_upper_rad - margin_rad
+    damping = DAMPING * np.eye(6)
     for k in range(1, steps + 1):
         s = k / steps
         target_p = position + s * displacement
         target_r = so3_exp(s * rotation_vector).dot(rotation)
         for _ in range(2):  # two Newton steps per path point
-            pin.framesForwardKinematics(model, data, q)
+            # The LOCAL_WORLD_ALIGNED Jacobian places the frame first (data.oMf), by the same
+            # products as pin.framesForwardKinematics: one pass of the kinematics, not two.
+            jacobian = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)
             pose = data.oMf[frame]
             error = np.concatenate((target_p - pose.translation, so3_log(target_r.dot(pose.rotation.T))))
-            jacobian = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)
-            jjt = jacobian.dot(jacobian.T) + DAMPING * np.eye(6)
+            jjt = jacobian.dot(jacobian.T) + damping
             q = q + jacobian.T.dot(np.linalg.solve(jjt, error))
-        hit = first_joint_past_limits(robot, q, margin_rad)
-        if hit is not None and (already is None or hit.joint != already.joint):
-            return hit, q
+        if (q < inside_lower).any() or (q > inside_upper).any():
+            hit = first_joint_past_limits(robot, q, margin_rad)
+            if hit is not None and (already is None or hit.joint != already.joint):
+                return hit, q
     return None, q
 
 

@@ -130,3 +130,22 @@ def test_a_goal_blocked_in_one_wrist_configuration_names_the_other() -> None:
     assert np.linalg.norm(site.xpos - POINT) < 1e-3, site.xpos
     angle = float(np.linalg.norm(so3_log(site.xmat.reshape(3, 3) @ goal.T)))
     assert angle < 0.5 * DEG, f"{math.degrees(angle):.2f} deg from the goal orientation"
+
+
+def test_the_frame_jacobian_places_the_tool_as_the_forward_kinematics_do() -> None:
+    """The plan's one kinematics pass per Newton step reads the tool's pose the Jacobian left.
+
+    Catches a Pinocchio whose LOCAL_WORLD_ALIGNED ``computeFrameJacobian`` stops placing
+    the frame (``data.oMf``), or places it by other products than
+    ``framesForwardKinematics``: the plan's predicted path and goal configuration would move.
+    """
+    import pinocchio as pin
+
+    model, frame = ROBOT.model, ROBOT.tool_frame
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        q = rng.uniform(ROBOT.q_lower_rad, ROBOT.q_upper_rad)
+        by_jacobian, by_kinematics = model.createData(), model.createData()
+        pin.computeFrameJacobian(model, by_jacobian, q, frame, pin.LOCAL_WORLD_ALIGNED)
+        pin.framesForwardKinematics(model, by_kinematics, q)
+        assert np.array_equal(by_jacobian.oMf[frame].homogeneous, by_kinematics.oMf[frame].homogeneous)
