@@ -44,13 +44,8 @@ from operator import ge
 import mujoco
 import numpy as np
 
-from cosmos.execution.contact_kernel import (
-    IGNORED,
-    LINK_ANY,
-    TOOL_FIXTURE,
-    TOOL_OBSTACLE,
-    first_unexpected_contact,
-)
+from cosmos.execution.contact_kernel import TOOL_FIXTURE, first_unexpected_contact
+from cosmos.execution.contact_roles import PAIR_KINDS, ROLES, Role, geom_roles
 from cosmos.execution.expected import (
     FREE_MOTION_FORCE_N,
     expects_contact,
@@ -58,12 +53,9 @@ from cosmos.execution.expected import (
     has_force_term,
     off_line,
 )
-from cosmos.execution.fixtures import FIXTURES
-from cosmos.obstacles.capsules import is_link
-from cosmos.obstacles.scene import SLOT_PREFIX
 from cosmos.plan import Segment
 from cosmos.plant import Plant
-from cosmos.workcell import TOOL_BODY, WRIST_SENSOR
+from cosmos.workcell import WRIST_SENSOR
 
 FloatArray = np.ndarray
 
@@ -87,34 +79,6 @@ long before."""
 
 
 _RATING2 = WRIST_SENSOR.force_n**2
-
-
-class Role(IntEnum):
-    """What a geom belongs to, for the contact supervision."""
-
-    NONE = 0  # touches nothing (contype = conaffinity = 0) or not named
-    LINK = 1
-    TOOL = 2
-    FIXTURE = 3  # table, hole, plate, floor
-    OBSTACLE = 4  # an OBSTACLE slot
-
-
-_ROLES = len(Role)
-
-
-def _pair_kind(a: Role, b: Role) -> int:
-    """What a contact between geoms of roles ``a`` and ``b`` is, for the supervision."""
-    arm = {Role.LINK, Role.TOOL}
-    if (a in arm) == (b in arm) or Role.NONE in (a, b):
-        return IGNORED  # nothing of the arm, or the arm on itself
-    part, other = (a, b) if a in arm else (b, a)
-    if part is Role.LINK:
-        return LINK_ANY
-    return TOOL_FIXTURE if other is Role.FIXTURE else TOOL_OBSTACLE
-
-
-_PAIR_KINDS = [_pair_kind(a, b) for a in Role for b in Role]
-"""Per pair of roles (``role1 * len(Role) + role2``): what such a contact is (looked up per contact)."""
 
 
 class StopKind(IntEnum):
@@ -141,24 +105,6 @@ class ProtectiveStop:
     collision: str = ""
 
 
-def _roles(plant: Plant) -> np.ndarray:
-    model = plant.model
-    roles = np.zeros(model.ngeom, dtype=np.int8)
-    for geom, owner in enumerate(plant.geom_owners):
-        if model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0:
-            continue
-        if is_link(owner):
-            roles[geom] = Role.LINK
-        elif owner == TOOL_BODY:
-            roles[geom] = Role.TOOL
-        elif owner.startswith(SLOT_PREFIX):
-            roles[geom] = Role.OBSTACLE
-        elif owner in FIXTURES or owner == "world":
-            roles[geom] = Role.FIXTURE
-    roles.setflags(write=False)
-    return roles
-
-
 def _arm_part(owner: str) -> str:
     """``link3`` -> ``link 3``; ``tool`` stays."""
     return f"link {owner.removeprefix('link')}" if owner.startswith("link") else owner
@@ -176,12 +122,9 @@ class Supervisor:
     def __init__(self, plant: Plant, torque_limits_nm: FloatArray, servo_dt_s: float):
         self._plant = plant
         self._data = plant.data
-        self._roles = _roles(plant)
-        self._roles_list: list[int] = self._roles.tolist()
-        # Each pair of geoms' kind (geom1, geom2), read by the compiled look at the contacts.
-        self._pair_kinds = np.asarray(_PAIR_KINDS, dtype=np.int8)[
-            self._roles[:, None].astype(np.int64) * _ROLES + self._roles[None, :]
-        ]
+        self._free_roles = geom_roles(plant)
+        self._set_roles(self._free_roles)
+        self._held_body = -1
         self._owners = plant.geom_owners
         self._torque_limits = [float(t) for t in torque_limits_nm]
         self._saturated_at = [SATURATION_FRACTION * t for t in self._torque_limits]
@@ -209,6 +152,29 @@ class Supervisor:
         # The commanded line as floats (the check runs every tick): start, direction, length^2.
         self._line: tuple[tuple[float, ...], tuple[float, ...], float] = ((0.0,) * 3, (0.0,) * 3, 0.0)
         self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
+
+    def _set_roles(self, roles: np.ndarray) -> None:
+        self._roles = roles
+        self._roles_list: list[int] = roles.tolist()
+        # Each pair of geoms' kind (geom1, geom2), read by the compiled look at the contacts.
+        self._pair_kinds = np.asarray(PAIR_KINDS, dtype=np.int8)[
+            roles[:, None].astype(np.int64) * ROLES + roles[None, :]
+        ]
+
+    def holding(self, body: int) -> None:
+        """The object of MuJoCo body ``body`` is held (-1: none): part of the tool until let go.
+
+        Its contacts with the fingers are the arm's own; its contacts with the fixtures and
+        other objects are the tool's (docs/language.md: while held, the object is part of the arm).
+        """
+        if body == self._held_body:
+            return
+        self._held_body = body
+        roles = self._free_roles.copy()
+        if body >= 0:
+            roles[self._plant.model.geom_bodyid == body] = Role.TOOL
+        roles.setflags(write=False)
+        self._set_roles(roles)
 
     # --------------------------------------------------------------- segments
 
@@ -322,12 +288,8 @@ class Supervisor:
         data = self._data
         if not data.ncon:
             return False
-        roles = self._roles_list
-        for g1, g2 in data.contact.geom.tolist():
-            pair = {roles[g1], roles[g2]}
-            if pair == {Role.TOOL, Role.FIXTURE}:
-                return True
-        return False
+        kinds = self._pair_kinds
+        return any(kinds[g1, g2] == TOOL_FIXTURE for g1, g2 in data.contact.geom.tolist())
 
     def _away(self, position: FloatArray) -> bool:
         """Whether the tool point is more than :data:`INHERITED_REACH_M` from the statement's start."""
@@ -371,6 +333,8 @@ class Supervisor:
             what = f"obstacle '{name}'"
         elif owner == "world":
             name, what = "floor", "the floor"
+        elif role == Role.OBJECT:
+            name, what = owner, f"object '{owner}'"
         else:
             name, what = owner, f"fixture '{owner}'"
         arm_owner = self._owners[arm]

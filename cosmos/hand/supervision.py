@@ -6,6 +6,7 @@ import numpy as np
 
 from cosmos.execution.supervision import ProtectiveStop, StopKind, Supervisor
 from cosmos.hand.grasping import Hand
+from cosmos.plan import Segment
 from cosmos.plant import Plant
 
 SLIP_CHECK_EVERY = 4
@@ -26,6 +27,12 @@ class GraspSupervisor(Supervisor):
         super().__init__(plant, torque_limits_nm, servo_dt_s)
         self._hand = hand
         self._hand_tick = 0
+
+    def start(self, segment: Segment, position: np.ndarray, goal_position: np.ndarray) -> None:
+        """A segment starts: the object the hand holds now is part of the tool."""
+        held = self._hand.held
+        self.holding(-1 if held is None else held.body)
+        super().start(segment, position, goal_position)
 
     def check(
         self, t_s: float, wrench: np.ndarray, torque: np.ndarray, position: np.ndarray

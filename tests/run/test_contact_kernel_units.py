@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.execution.contact_kernel import IGNORED, TOOL_FIXTURE, TOOL_OBSTACLE, first_unexpected_contact
-from cosmos.execution.supervision import Role, _pair_kind
+from cosmos.execution.contact_roles import Role, pair_kind
 
 
 def _expected(
@@ -14,7 +14,7 @@ def _expected(
     """The rule of module ``supervision``, contact by contact, from the roles themselves."""
     touching = False
     for index, (g1, g2) in enumerate(pairs):
-        kind = _pair_kind(roles[g1], roles[g2])
+        kind = pair_kind(roles[g1], roles[g2])
         if kind == IGNORED:
             continue
         if kind == TOOL_FIXTURE:
@@ -35,7 +35,7 @@ def test_first_unexpected_contact_follows_the_rules_in_order() -> None:
     rng = np.random.default_rng(7)
     roles = [Role(int(r)) for r in rng.integers(0, len(Role), size=30)]
     role_array = np.array([int(r) for r in roles], dtype=np.int64)
-    kinds = np.array([[_pair_kind(Role(a), Role(b)) for b in role_array] for a in role_array], dtype=np.int8)
+    kinds = np.array([[pair_kind(Role(a), Role(b)) for b in role_array] for a in role_array], dtype=np.int8)
     records = np.zeros(60, dtype=[("dist", "f8"), ("geom", "i4", (2,)), ("frame", "f8", (9,))])
     for _ in range(300):
         ncon = int(rng.integers(0, 60))
