@@ -106,13 +106,18 @@ class RotationPlan:
 
 
 def first_joint_past_limits(robot: Kinematics, q: FloatArray, margin_rad: float = 0.0) -> JointAtLimit | None:
-    """The first joint within ``margin_rad`` of (or past) a limit at ``q``, else None."""
-    for i, (value, lower, upper) in enumerate(zip(q, robot.q_lower_rad, robot.q_upper_rad, strict=True)):
-        if value < lower + margin_rad:
-            return JointAtLimit(i + 1, float(lower))
-        if value > upper - margin_rad:
-            return JointAtLimit(i + 1, float(upper))
-    return None
+    """The first joint within ``margin_rad`` of (or past) a limit at ``q``, else None.
+
+    Compared as arrays (the plan asks at every point of its path): a joint is named only
+    when one is out of range.
+    """
+    below = q < robot.q_lower_rad + margin_rad
+    above = q > robot.q_upper_rad - margin_rad
+    out = below | above
+    if not out.any():
+        return None
+    i = int(np.argmax(out))
+    return JointAtLimit(i + 1, float(robot.q_lower_rad[i] if below[i] else robot.q_upper_rad[i]))
 
 
 def other_wrists(robot: Kinematics, q: FloatArray, margin_rad: float = LIMIT_MARGIN_RAD) -> list[FloatArray]:
@@ -169,8 +174,6 @@ def _follow(
     )
     q = np.array(q_start, dtype=float)
     already = first_joint_past_limits(robot, q, margin_rad)  # a joint starting in the margin may stay
-    inside_lower = robot.q_lower_rad + margin_rad  # the same sums first_joint_past_limits compares with
-    inside_upper = robot.q_upper_rad - margin_rad
     damping = DAMPING * np.eye(6)
     for k in range(1, steps + 1):
         s = k / steps
@@ -184,10 +187,9 @@ def _follow(
             error = np.concatenate((target_p - pose.translation, so3_log(target_r.dot(pose.rotation.T))))
             jjt = jacobian.dot(jacobian.T) + damping
             q = q + jacobian.T.dot(np.linalg.solve(jjt, error))
-        if (q < inside_lower).any() or (q > inside_upper).any():
-            hit = first_joint_past_limits(robot, q, margin_rad)
-            if hit is not None and (already is None or hit.joint != already.joint):
-                return hit, q
+        hit = first_joint_past_limits(robot, q, margin_rad)
+        if hit is not None and (already is None or hit.joint != already.joint):
+            return hit, q
     return None, q
 
 
