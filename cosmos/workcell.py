@@ -220,7 +220,7 @@ def _composite_in_flange(
     Summed over the bodies at the scene's home pose by the parallel-axis theorem, from
     MuJoCo's world-frame centres (``xipos``) and principal axes (``ximat``).
     """
-    bodies = [b for b in range(model.nbody) if _descends(model, b, root)]
+    bodies = [b for b in range(model.nbody) if descends(model, b, root)]
     rotation_flange = data.site_xmat[flange].reshape(3, 3)
     origin_flange = data.site_xpos[flange]
     masses = np.array([model.body_mass[b] for b in bodies])
@@ -235,7 +235,7 @@ def _composite_in_flange(
     return mass, read_only(com), inertia
 
 
-def _descends(model: mujoco.MjModel, body: int, root: int) -> bool:
+def descends(model: mujoco.MjModel, body: int, root: int) -> bool:
     """Whether ``body`` is ``root`` or below it."""
     while body > 0:
         if body == root:

@@ -18,7 +18,7 @@ from cosmos.execution.fixtures import FIXTURES
 from cosmos.obstacles.capsules import is_link
 from cosmos.obstacles.scene import SLOT_PREFIX
 from cosmos.plant import Plant
-from cosmos.workcell import TOOL_BODY
+from cosmos.workcell import TOOL_BODY, descends
 
 FREE = mujoco.mjtJoint.mjJNT_FREE
 
@@ -52,15 +52,6 @@ PAIR_KINDS = [pair_kind(a, b) for a in Role for b in Role]
 """Per pair of roles (``role1 * len(Role) + role2``): what such a contact is (looked up per contact)."""
 
 
-def on_tool(model: mujoco.MjModel, body: int, tool: int) -> bool:
-    """Whether ``body`` is the tool's body or hangs from it (a gripper's finger)."""
-    while body > 0:
-        if body == tool:
-            return True
-        body = int(model.body_parentid[body])
-    return False
-
-
 def geom_roles(plant: Plant) -> np.ndarray:
     """Each geom's :class:`Role` in ``plant`` (nothing held), read-only. # (ngeom,) int8."""
     model = plant.model
@@ -72,7 +63,7 @@ def geom_roles(plant: Plant) -> np.ndarray:
         body = int(model.geom_bodyid[geom])
         if is_link(owner):
             roles[geom] = Role.LINK
-        elif owner == TOOL_BODY or on_tool(model, body, tool):
+        elif descends(model, body, tool):  # the tool's body, a gripper's finger
             roles[geom] = Role.TOOL
         elif owner.startswith(SLOT_PREFIX):
             roles[geom] = Role.OBSTACLE
