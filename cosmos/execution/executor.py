@@ -207,8 +207,7 @@ class Executor:
         if problem:
             return Outcome(Verdict.FAILED, problem)
         if isinstance(segment.target, AbsoluteTarget):
-            beyond = out_of_reach(*goals[-1], rt.robot.description)
-            if beyond is not None:
+            if (beyond := out_of_reach(*goals[-1], rt.robot.description)) is not None:
                 return Outcome(Verdict.FAILED, f"cannot reach its goal: {beyond}")
         if segment.duration_s is not None:
             error = goal_error(start_position, start_rotation, *goals[-1])
@@ -247,6 +246,7 @@ class Executor:
         )
         monitor.turn_long_way = rt.rotation_plan is not None and rt.rotation_plan.long_way
         supervisor = self.supervisor
+        monitor.tool_touched = supervisor.tool_touched
         supervisor.free_force_limit_n = segment.force_limit_n or FREE_MOTION_FORCE_N
         supervisor.start(segment, start_position, goals[0][0])
         via_radius = segment.via_radius_m or 0.01

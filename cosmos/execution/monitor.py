@@ -35,15 +35,13 @@ from cosmos.plan import (
 
 FloatArray = np.ndarray
 
-
 STALL_TIME_S = 2.0
 """A goal motion that gets no closer by STALL_PROGRESS_M for this long has stalled [s]."""
 STALL_PROGRESS_M = 0.0005
 STALL_ANGLE_SCALE_M = 0.1
 """Progress in orientation counts as this many metres per radian."""
 JUDGE_MOVING_EVERY = 25
-"""While the tool moves, its error (a stall's 2 s, an overrun's 1 s) is judged every this many ticks
-(25 ms at 1 kHz); a judgement costs 30-40 us in the loop: every 10 ticks, half the executor's own cost."""
+"""While the tool moves, its error (a stall's 2 s, an overrun's 1 s) is judged every this many ticks."""
 SETTLE_S = 0.02
 """The tool must stay within tolerance and at rest this long to have arrived [s]."""
 TIMED_SETTLE_S = 1.0
@@ -157,6 +155,7 @@ class SegmentMonitor:
         self._ticks = 0
         self.turn_long_way = False
         """Set when the controller turns the long way round to the goal orientation."""
+        self.tool_touched: Callable[[], bool] = lambda: True  # a fixture, since the segment started
         self._turn: FloatArray | None = None
         self._turn_angle, self._closest_m, self._closest_s = 0.0, float("inf"), start_s
         self._last_depth, self._last_progress_s = 0.0, start_s
@@ -374,13 +373,16 @@ class SegmentMonitor:
         x, y, z = snap.position.tolist()
         x0, y0, z0 = self._statement_xyz  # DEPTH counts from the statement's start
         travelled = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
-        if travelled >= depth.depth_m:
-            return Outcome(Verdict.DONE, f"depth {travelled * 1e3:.1f} mm reached")
         if depth.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
             push = _norm3(snap.wrench[:3])
             if push > depth.touch_n:
                 return Outcome(Verdict.DONE, f"touched: {push:.2f} N", touched=True)
-            return None
+            if travelled < depth.depth_m:
+                return None
+            if not self.tool_touched():  # a part entering its hole meets the chamfer or the bore
+                return Outcome(Verdict.FAILED, f"went its DEPTH of {travelled * 1e3:.1f} mm touching nothing")
+        if travelled >= depth.depth_m:
+            return Outcome(Verdict.DONE, f"depth {travelled * 1e3:.1f} mm reached")
         jam = self.segment.jam_check
         if self.searching is not None:  # the pattern moves across: depth is the search's to judge
             self._last_depth, self._last_progress_s = travelled, snap.t_s

@@ -191,6 +191,7 @@ class Supervisor:
         self._counting = False
         self._tick = 0
         self._inherited = worked_in_contact or self._tool_touches_fixture()
+        self._touched = False
         self._since_touch = 0
         self._start = tuple(np.asarray(position, dtype=float).tolist())
         self._path_axes = [
@@ -284,6 +285,10 @@ class Supervisor:
         self._counting = any(ticks)
         return None
 
+    def tool_touched(self) -> bool:
+        """Whether the tool has touched a fixture since the segment started (MuJoCo's contacts)."""
+        return self._touched
+
     def _tool_touches_fixture(self) -> bool:
         data = self._data
         if not data.ncon:
@@ -302,6 +307,7 @@ class Supervisor:
         index, touching_fixture = first_unexpected_contact(
             geom, self._pair_kinds, self._expect_fixture or self._guarded or self._inherited, self._guarded
         )
+        self._touched = self._touched or touching_fixture
         if index >= 0:
             roles = self._roles_list
             g1, g2 = geom[index].tolist()

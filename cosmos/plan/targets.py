@@ -147,7 +147,8 @@ class DepthReached:
         touch_n: None for the insertion itself. Set on an INSERT's approach (every axis
             held while it moves along the direction): done also when the force the tool
             applies exceeds this [N], in any direction (a peg that enters its hole without
-            meeting the chamfer touches the bore's wall first); the insertion follows.
+            meeting the chamfer touches the bore's wall first); the insertion follows. Gone
+            ``depth_m`` without that touch, it fails: nothing was inserted.
     """
 
     direction_world: FloatArray
