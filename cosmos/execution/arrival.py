@@ -126,6 +126,7 @@ def stall_cause(
     goal_rotation: FloatArray,
     arm: Robot = DEFAULT_ROBOT,
     fields: tuple[Influence, ...] = (),
+    planned: JointAtLimit | None = None,
 ) -> str:
     """Why a goal motion stopped short, from what is measured now.
 
@@ -139,6 +140,8 @@ def stall_cause(
         goal_rotation: The goal orientation, tool to world. # (3, 3)
         arm: The arm (its reach and wrist).
         fields: The obstacles whose potential field acts on the arm now (seed section 6).
+        planned: The joint the motion's rotation plan found in the way of the shortest rotation
+            (:attr:`cosmos.runtime.rotation_plan.RotationPlan.blocked_by`), if any.
     """
     if push_n > BLOCKED_N:
         return f"is blocked, pushing {push_n:.1f} N against something in the way"
@@ -154,6 +157,8 @@ def stall_cause(
     if near:
         _, joint, limit = min(near)
         return JointAtLimit(joint + 1, float(limit)).message
+    if planned is not None:  # held back short of it by the limit's potential (seed section 6)
+        return planned.message
     singular = singularity(q, jacobian, arm)
     if singular is not None:
         return f"{singular}, which prevents progress"

@@ -227,11 +227,11 @@ class Executor:
         timed_until = None if trajectory is None or search else start_s + trajectory.duration_s
 
         def cause() -> str:
-            final_position, final_rotation = goals[-1]
             return stall_cause(
                 rt.q, robot.q_lower_rad, robot.q_upper_rad, rt.evaluation.jacobian,
-                float(np.linalg.norm(rt.wrench[:3])), final_position, final_rotation, robot.description,
+                float(np.linalg.norm(rt.wrench[:3])), *goals[-1], robot.description,
                 obstacles.field.influences if obstacles is not None else (),
+                None if rt.rotation_plan is None else rt.rotation_plan.blocked_by,
             )  # fmt: skip
 
         monitor = SegmentMonitor(
