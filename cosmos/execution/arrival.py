@@ -157,11 +157,11 @@ def stall_cause(
     if near:
         _, joint, limit = min(near)
         return JointAtLimit(joint + 1, float(limit)).message
-    if planned is not None:  # held back short of it by the limit's potential (seed section 6)
-        return planned.message
     singular = singularity(q, jacobian, arm)
     if singular is not None:
         return f"{singular}, which prevents progress"
+    if planned is not None:  # held back short of it by the limit's potential (seed section 6)
+        return planned.message
     if fields:  # the goal lies where an obstacle's field pushes back: an equilibrium short of it
         nearest = min(fields, key=lambda influence: influence.distance_m)
         return (

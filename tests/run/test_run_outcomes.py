@@ -249,11 +249,12 @@ INSERT DOWN DEPTH 20 mm FORCE 10 N TIMEOUT 10 s
 
 def test_an_insert_that_touches_nothing_logs_no_contact(tmp_path: Path) -> None:
     """An INSERT in free air went its DEPTH in its approach and logged a ``contact`` event reading
-    "depth 20.0 mm reached": a contact where the wrist, by the log's own samples, felt none."""
+    "depth 20.0 mm reached": a contact where the wrist, by the log's own samples, felt none. It
+    fails, touching nothing (tests/run/test_run_insert_air.py), and logs no contact."""
     run = run_in_process(write_program(tmp_path, "air", INSERT_IN_AIR), tmp_path / "air.mcap")
-    assert run.returncode == 0, run.describe()
+    assert run.returncode == 1, run.describe()
     kind, reason, _ = _outcome(run, 2)
-    assert kind == "done" and reason.startswith("depth 20."), reason
+    assert kind == "failed" and reason.startswith("went its DEPTH of 20.0 mm touching nothing"), reason
     on_line = run.log.state.line == 2
     felt = np.linalg.norm(run.log.state.wrench[on_line, :3], axis=1).max()
     assert felt < 2.0, felt  # what the approach counts as a touch
