@@ -341,8 +341,9 @@ class Supervisor:
             name, what = "floor", "the floor"
         elif role == Role.OBJECT:
             name, what = owner, f"object '{owner}'"
-        else:
-            name, what = owner, f"fixture '{owner}'"
+        else:  # as programs name it: hole_fixture's frame is `hole`
+            name = owner.removesuffix("_fixture")
+            what = f"fixture '{name}'"
         arm_owner = self._owners[arm]
         return ProtectiveStop(
             StopKind.CONTACT,
