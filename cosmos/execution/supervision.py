@@ -72,6 +72,9 @@ SATURATION_FRACTION = 0.999
 """A torque at or above this fraction of its limit counts as at the limit."""
 CONTACT_GONE_S = 0.05
 """A contact the tool had at a statement's start stays allowed until gone this long [s]..."""
+NEAR_FIXTURE_M = 0.0005
+"""A tool this close to a fixture is at it, touching or not: a peg in its hole's bore is within
+its 0.12 mm radial clearance of the wall [m]."""
 INHERITED_REACH_M = 0.05
 """... and the tool this far from where the statement began [m]: longer than the hole is deep
 (45 mm), so a peg pulled out grazes its bore freely; a lift off the table is clear of it
@@ -286,8 +289,17 @@ class Supervisor:
         return None
 
     def tool_touched(self) -> bool:
-        """Whether the tool has touched a fixture since the segment started (MuJoCo's contacts)."""
-        return self._touched
+        """Whether the tool has touched a fixture since the segment started, or is at one now.
+
+        Touched: MuJoCo's contacts. At: within :data:`NEAR_FIXTURE_M` (MuJoCo's distances), as a peg
+        that slid into its bore's clearance untouched is.
+        """
+        if self._touched:
+            return True
+        model, data, fromto = self._plant.model, self._data, np.zeros(6)
+        pairs = np.argwhere(np.triu(self._pair_kinds == TOOL_FIXTURE)).tolist()
+        near = NEAR_FIXTURE_M
+        return any(mujoco.mj_geomDistance(model, data, g1, g2, near, fromto) < near for g1, g2 in pairs)
 
     def _tool_touches_fixture(self) -> bool:
         data = self._data
