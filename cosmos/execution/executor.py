@@ -35,7 +35,7 @@ from cosmos.execution.monitor import (
 )
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
-from cosmos.execution.resolve import effective_masses, goal_pose, posture_joints, setpoint_for
+from cosmos.execution.resolve import effective_masses, posture_joints, segment_goals, setpoint_for
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
 from cosmos.execution.walker import NO_HAND, HandSteps, PlanWalker, Senses
@@ -197,8 +197,7 @@ class Executor:
         start_s = rt.time_s
         meter = self.meter
         start_position, start_rotation = meter.position.copy(), meter.rotation.copy()
-        goals = [goal_pose(via, start_position, start_rotation) for via in segment.via]
-        goals.append(goal_pose(segment.target, start_position, start_rotation))
+        goals = segment_goals(segment, start_position, start_rotation, rt.setpoint, start_s)  # and springs'
         if segment.orientation_free:  # the orientation is the null space's (seed section 4)
             goals = [(position, start_rotation.copy()) for position, _ in goals]
         robot = rt.robot

@@ -294,7 +294,7 @@ class SegmentMonitor:
                 )
             return None
         self._settled_since = None
-        if timed is not None and snap.t_s >= timed + TIMED_SETTLE_S:
+        if timed is not None and snap.t_s >= timed + TIMED_SETTLE_S and not self._sprung:  # springs: stall
             duration = timed - self.start_s
             return Outcome(
                 Verdict.FAILED,

@@ -15,11 +15,13 @@ import math
 import numpy as np
 
 from cosmos.osc.motion import PoseTrajectory
+from cosmos.osc.orientation import so3_exp, so3_log
 from cosmos.plan import DepthReached, Posture, RelativeTarget, Segment, SegmentKind, Target
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.setpoint import (
     DEFAULT_KP,
     DEFAULT_KV,
+    DEFAULT_MAX_ANGULAR_SPEED,
     MotionMode,
     ServoSetpoint,
 )
@@ -43,6 +45,93 @@ def goal_pose(
         return position + target.offset_world, rotation.copy()
     goal_rotation = rotation.copy() if target.rotation_world is None else target.rotation_world
     return np.array(target.position_world), np.array(goal_rotation)
+
+
+def segment_goals(
+    segment: Segment,
+    position: FloatArray,
+    rotation: FloatArray,
+    previous: ServoSetpoint | None,
+    now_s: float,
+) -> list[tuple[FloatArray, FloatArray]]:
+    """The goal poses of a segment starting now: its VIA points' then its target's (:func:`goal_pose`).
+
+    A hold keeps its springs' anchors where the segment before left them (:func:`spring_anchor`).
+
+    Args:
+        segment: The segment about to start.
+        position: The measured tool point, in [m]. # (3,)
+        rotation: The measured tool orientation, tool to world. # (3, 3)
+        previous: The servo's setpoint until now (None: none yet).
+        now_s: Simulated time, in [s].
+    """
+    goals = [goal_pose(via, position, rotation) for via in segment.via]
+    goals.append(spring_anchor(segment, goal_pose(segment.target, position, rotation), previous, now_s))
+    return goals
+
+
+def spring_axes(segment: Segment) -> tuple[bool, ...]:
+    """Per task axis, whether COMPLY ... STIFFNESS made it a spring (motion-controlled, stiffness > 0)."""
+    return tuple(
+        bool(moving) and stiffness is not None and stiffness > 0.0
+        for moving, stiffness in zip(segment.motion_axes, segment.stiffness, strict=True)
+    )
+
+
+def moves_its_anchor(segment: Segment) -> bool:
+    """A MOVE with a target and a SPEED, through no VIA point: its springs' anchor cruises to the goal."""
+    return (
+        segment.kind is SegmentKind.MOVE
+        and segment.target is not None
+        and not segment.via
+        and bool(segment.speed_limit_mps)
+    )
+
+
+def spring_anchor(
+    segment: Segment,
+    goal: tuple[FloatArray, FloatArray],
+    previous: ServoSetpoint | None,
+    now_s: float,
+) -> tuple[FloatArray, FloatArray]:
+    """A hold's goal pose, its springs' anchors kept where the previous segment commanded them.
+
+    A spring (COMPLY ... STIFFNESS) renders ``F = k (x_anchor - x)``: a MOVE that presses the
+    tool onto something through its spring leaves the anchor beyond the tool, and the press is
+    ``k`` times that shortfall. A hold (WAIT; a statement's hold on its other axes) re-anchored
+    at the measured pose would let it go. So a segment without a target keeps, on each axis
+    that is a spring both in it and in the segment before (same task frame), the anchor the
+    servo last commanded there (a tracked trajectory's sample now, else its goal); its other
+    axes hold the measured pose as before. A MOVE moves the anchor from the measured pose (it
+    starts where the tool is), and ``COMPLY NONE`` or a failure's hold ends the press.
+
+    Args:
+        segment: The segment about to start.
+        goal: Its goal pose from :func:`goal_pose`: the measured pose for a hold.
+        previous: The servo's setpoint until now (None: none yet).
+        now_s: Simulated time, in [s].
+
+    Returns:
+        The goal pose, position [m] and rotation (tool to world). # (3,), (3, 3)
+    """
+    springs = spring_axes(segment)
+    if segment.target is not None or previous is None or not any(springs):
+        return goal
+    frame = np.asarray(segment.frame_rotation, dtype=float)
+    if not np.allclose(frame, previous.rotation_task_to_world):
+        return goal
+    kept = [springs[i] and previous.spring_masses[i] > 0.0 for i in range(6)]
+    if not any(kept):
+        return goal
+    anchor, anchor_rotation = previous.position, previous.rotation_to_world
+    if previous.mode is MotionMode.TRAJECTORY and isinstance(previous.trajectory, PoseTrajectory):
+        sample = previous.trajectory.sample(now_s - previous.start_s)
+        anchor, anchor_rotation = sample.position, sample.rotation_to_world
+    position, rotation = goal
+    # The anchor's offset from the measured pose, in the task frame, kept on the spring axes only.
+    offset = frame.T.dot(np.asarray(anchor) - position) * np.array(kept[:3], dtype=float)
+    turn = frame.T.dot(so3_log(np.asarray(anchor_rotation).dot(rotation.T))) * np.array(kept[3:], dtype=float)
+    return position + frame.dot(offset), so3_exp(frame.dot(turn)).dot(rotation)
 
 
 def posture_joints(
@@ -89,6 +178,14 @@ def effective_masses(evaluation: Evaluation, rotation_task_to_world: FloatArray)
     return masses
 
 
+def spring_masses(segment: Segment, evaluation: Evaluation) -> FloatArray:
+    """Each task axis's effective mass where the segment makes it a spring, else 0, [kg, kg m^2]. # (6,)."""
+    springs = np.array(spring_axes(segment))
+    if not springs.any():
+        return np.zeros(6)
+    return np.where(springs, effective_masses(evaluation, segment.frame_rotation), 0.0)
+
+
 def axis_gains(segment: Segment, evaluation: Evaluation) -> tuple[FloatArray, FloatArray]:
     """Unit-mass gains ``(kp, kv)`` per task axis from the segment's stiffness and damping."""
     kp = np.full(6, DEFAULT_KP)
@@ -131,6 +228,13 @@ def setpoint_for(
         # (and its integral, cosmos.runtime.kernels.servo) pushes through it, where eq. 20's
         # velocity servo would crawl. It cruises at the SPEED between short ramps.
         cruise_speed, duration_s = segment.speed_limit_mps, 1.0  # the cruise sets the duration
+    sprung = any(spring_axes(segment))
+    if duration_s is None and sprung and moves_its_anchor(segment):
+        # A spring's anchor moves: eq. 19 tracks it along the line at the SPEED, and the tool
+        # follows on the spring (module docstring). Eq. 20-21 on a spring axis would give the
+        # velocity servo only kv = 2 sqrt(k / lambda): 2 N at 20 mm/s for 500 N/m, less than
+        # the joints' friction error, and a 20 mm MOVE crawled for 22 s.
+        cruise_speed, duration_s = segment.speed_limit_mps, 1.0
     if duration_s is not None:
         mode = MotionMode.TRAJECTORY
         trajectory = PoseTrajectory.between(
@@ -140,6 +244,7 @@ def setpoint_for(
             goal_rotation,
             duration_s,
             cruise_speed,
+            DEFAULT_MAX_ANGULAR_SPEED if sprung else None,
         )
     elif segment.target is None and segment.kind is not SegmentKind.CONTACT_APPROACH:
         mode = MotionMode.HOLD
@@ -162,7 +267,9 @@ def setpoint_for(
         limit_push_speed=segment.kind is SegmentKind.INSERT,
         orientation_free=segment.orientation_free,
         posture_rad=posture_rad,
+        spring_masses=spring_masses(segment, evaluation),
         # An INSERT's approach lands on the chamfer at the speed eq. 20-21 alone gives it: at its
         # SPEED (the cruise integral) the insertion rang past its cap (11.05 mm/s at 10, seed 0).
-        cruise_integral=not isinstance(segment.completion, DepthReached),
+        # A spring renders k (x_anchor - x): no integral may turn it into a stiff servo.
+        cruise_integral=not isinstance(segment.completion, DepthReached) and not sprung,
     )

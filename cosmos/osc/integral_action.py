@@ -9,8 +9,11 @@ F*_m where that error would otherwise stay: a slide's once its reference has sto
 (:func:`integrate_goal_error`). A free hold (WAIT, and the hold under POSTURE or the
 links' field moving the arm through the null space) instead observes the disturbance and
 takes it off F*_m (:func:`observe_hold_disturbance`): quicker than an integral at the step
-a joint's friction makes when the null space sets it turning. The compiled servo tick
-(:mod:`cosmos.runtime.kernels.servo`) runs the same arithmetic.
+a joint's friction makes when the null space sets it turning. A COMPLY spring integrates
+not its position error but its law's, ``k (x_anchor - x) - f`` (:func:`hold_spring_law`), so
+that it stays the spring the program declares. The compiled servo tick
+(:mod:`cosmos.runtime.kernels.servo`, :mod:`cosmos.runtime.kernels.spring`) runs the same
+arithmetic.
 """
 
 from __future__ import annotations
@@ -149,3 +152,57 @@ def observe_hold_disturbance(
     out = np.array(command, dtype=float)
     out[:3] -= estimate
     return estimate, predicted, out
+
+
+SPRING_RATE = 0.25
+"""The spring law's integral gain over the axis's damping: ``k_I = kv / 4`` [1]."""
+SPRING_LIMIT = (10.0, 2.0)
+"""Bound on the spring law's integral, as a force [N] then a moment [N m]: the joints' friction error."""
+SPRING_OBSERVER = (20.0, 2.0, 0.2)
+"""A free spring's disturbance observer: its rate L [1/s]; free below a force [N] and a moment [N m]."""
+
+
+def hold_spring_law(
+    integral: FloatArray,
+    springs: FloatArray,
+    kp: FloatArray,
+    kv: FloatArray,
+    error: FloatArray,
+    wrench: FloatArray,
+    dt_s: float,
+) -> tuple[FloatArray, FloatArray]:
+    """One step of the integral that holds a COMPLY spring to its law, task axes (added to eq. 19-21).
+
+    A spring axis renders ``f = k (x_anchor - x)`` with eq. 19's ``-kp e - kv (xd - xd_d)`` at
+    ``kp = k / lambda``: the joints' friction error (its compensation's 10 % on the realistic
+    arm, and the friction a joint keeps at rest) adds to it a force the program did not ask for,
+    of the order of the spring's own at 500 N/m: a 10 mm press pressed 1.0-3.5 N for 4.7 N. An
+    integral of the position error would remove it by making the axis a stiff servo. This one
+    integrates the spring law's error instead, the spring's force less the wrench the tool
+    applies, in unit-mass terms ``s = -kp e - f / lambda``, and adds ``k_I integral(s) dt`` to
+    F*_m: at rest it leaves ``f = k (x_anchor - x)`` exactly, in contact (the press is the
+    spring's) and in free space (``f = 0``: the tool at its anchor). ``k_I = kv / 4`` keeps the
+    free axis ``s^3 + kv s^2 + kp s + k_I kp`` stable (it needs ``k_I < kv``), and in contact
+    the error decays at ``k_I`` (5 /s for 500 N/m on 5 kg). Clamped to :data:`SPRING_LIMIT`
+    (anti-windup: an impact's spike), kept while the axis stays a spring, zero elsewhere.
+
+    Args:
+        integral: ``integral(s) dt`` so far, task axes, in [m/s, rad/s]. # (6,)
+        springs: ``lambda``, each spring axis's effective mass [kg, kg m^2]; 0 off the springs. # (6,)
+        kp: Position gains, task axes, in [1/s^2]. # (6,)
+        kv: Velocity gains, task axes, in [1/s]. # (6,)
+        error: ``x - x_d`` (x_d the anchor), task axes, in [m, rad]. # (6,)
+        wrench: The wrench the tool applies, task axes, in [N, N m]. # (6,)
+        dt_s: Servo period, in [s].
+
+    Returns:
+        The new integral and the term added to F*_m, task axes. # (6,), (6,)
+    """
+    masses = np.asarray(springs, dtype=float)
+    on = masses > 0.0
+    safe = np.where(on, masses, 1.0)
+    gain = SPRING_RATE * np.asarray(kv, dtype=float)
+    bound = np.repeat(SPRING_LIMIT, 3) / (safe * gain)
+    law = -np.asarray(kp) * np.asarray(error) - np.asarray(wrench) / safe
+    out = np.where(on, np.clip(np.asarray(integral) + law * dt_s, -bound, bound), 0.0)
+    return out, gain * out

@@ -307,12 +307,15 @@ class PoseTrajectory:
         end_rotation_to_world: FloatArray,
         duration_s: float,
         cruise_speed_mps: float | None = None,
+        cruise_angular_speed_rad_s: float | None = None,
     ) -> PoseTrajectory:
         """The move from a start pose to an end pose in ``duration_s`` seconds.
 
         With ``cruise_speed_mps`` the tool point cruises at that speed
         (:func:`cruise`) and the duration is :func:`cruise_duration` of the
-        distance (``duration_s`` is then ignored).
+        distance (``duration_s`` is then ignored). With ``cruise_angular_speed_rad_s``
+        too, a rotation that would turn faster than it stretches the cruise instead: the
+        tool point then cruises slower (a rotation with little travel keeps its speed limit).
 
         Raises:
             ValueError: If the duration is not positive.
@@ -320,6 +323,9 @@ class PoseTrajectory:
         ramp = None
         if cruise_speed_mps is not None:
             distance = float(np.linalg.norm(np.asarray(end_position, dtype=float) - start_position))
+            if cruise_angular_speed_rad_s is not None:
+                angle = float(np.linalg.norm(so3_log(end_rotation_to_world.dot(start_rotation_to_world.T))))
+                distance = max(distance, angle * cruise_speed_mps / cruise_angular_speed_rad_s)
             ramp = cruise_ramp_s(cruise_speed_mps)
             duration_s = cruise_duration(distance, cruise_speed_mps)
         if not duration_s > 0.0:

@@ -141,6 +141,8 @@ class Runtime:
         self._next_state_s = plant.time_s + plant.dt_s  # one fixed grid from the first step on
         self.rotation_plan: RotationPlan | None = None
         """The way round the current goal motion turns (None outside goal motions)."""
+        self.setpoint: ServoSetpoint | None = None
+        """The segment's command the servo runs (None before the first)."""
         self.reset_clocks()
 
     def carry(self, robot: RobotModel) -> None:
@@ -243,6 +245,7 @@ class Runtime:
         robot, rho_0 = self.robot, self.parameters.limit_field.rho_0_rad
         self.parameters.field_ranges = ranges_for_goal(robot.q_lower_rad, robot.q_upper_rad, goal_q, rho_0)
         self.servo.set_setpoint(setpoint, rotation_error, goal_q)
+        self.setpoint = setpoint
 
     def _sense_wrench(self) -> FloatArray:
         ev = self.evaluation

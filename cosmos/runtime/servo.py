@@ -29,7 +29,7 @@ from cosmos.robot_model import GRAVITY
 from cosmos.runtime.goal_line import goal_line, kept_line
 from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
-from cosmos.runtime.kernels.cruise import CRUISE_INTEGRAL, cruise_gains
+from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, cruise_gains
 from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
 from cosmos.runtime.kernels.parameter import LIMITS_OFFSET, refold
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
@@ -272,7 +272,7 @@ class ServoLevel:
             )
         state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]  # both task rows: w long, six used
         state[kernel.FLAGS] = 0.0  # the latches, the held push's integral, the hold observer's start
-        state[kernel.MOTION_INTEGRAL] = state[kernel.CRUISE] = 0.0
+        state[kernel.MOTION_INTEGRAL] = state[CRUISE] = 0.0
         scalars, vectors = self._scalars, self._vectors
         tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None
         scalars[kernel.MODE] = (
@@ -301,6 +301,7 @@ class ServoLevel:
         scalars[kernel.RAMP_S] = setpoint.ramp_s
         vectors[kernel.KP, :6] = setpoint.kp_task
         vectors[kernel.KV, :6] = setpoint.kv_task
+        vectors[kernel.SPRINGS, :6] = setpoint.spring_masses  # a COMPLY spring's (kernels.spring)
         vectors[kernel.FORCE_WORLD, :6] = setpoint.force_world
         vectors[kernel.FORCE_START, :6] = setpoint.force_start_world
         vectors[kernel.REFERENCE_VELOCITY : kernel.REFERENCE_ACCELERATION + 1] = 0.0

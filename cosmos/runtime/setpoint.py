@@ -64,6 +64,9 @@ class ServoSetpoint:
             rotation axes are left to the null space (seed section 4).
         posture_rad: The joint configuration the null space returns the arm to
             (POSTURE), in [rad], or None for none. # (n,)
+        spring_masses: Per task axis, its effective mass ``n^T Lambda n`` where COMPLY ...
+            STIFFNESS makes it a spring, else 0, in [kg, kg m^2]: the spring is held to its law
+            ``f = k (x_anchor - x)`` (:func:`cosmos.osc.integral_action.hold_spring_law`). # (6,)
         cruise_integral: A GOAL motion's cruise held to ``max_speed`` by integral action
             (:mod:`cosmos.osc.cruise_speed`); False leaves eq. 20-21 proportional (an INSERT's
             approach, whose insertion is tuned to the landing it had).
@@ -88,6 +91,7 @@ class ServoSetpoint:
     limit_push_speed: bool = False
     orientation_free: bool = False
     posture_rad: FloatArray | None = None
+    spring_masses: FloatArray = field(default_factory=lambda: np.zeros(6))
     cruise_integral: bool = True
 
     force_world: FloatArray = field(init=False)

@@ -48,9 +48,10 @@ from cosmos.runtime.kernels.contact import (
     touch_damping_into,
     touch_latched,
 )
-from cosmos.runtime.kernels.cruise import CRUISE, cruise_into
+from cosmos.runtime.kernels.cruise import cruise_into
 from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
+from cosmos.runtime.kernels.spring import SPRING_LAW, SPRING_ROWS, SPRINGS, spring_law_into
 
 FloatArray = np.ndarray
 
@@ -86,7 +87,7 @@ COULOMB_DEAD_BAND = 13
 GOAL_LINE = 14  # a goal motion's unit line from its start to its goal, world (zeros: none)
 HOLD_KNOWN = 15  # what a free hold's observer expects of the potentials, world [m/s^2]
 NULL_INTENT = 16  # joint speeds the null space's torques ask over the friction's look-ahead [rad/s]
-VECTORS = 17
+VECTORS = SPRINGS + 1  # SPRINGS: each COMPLY spring axis's effective mass (kernels.spring)
 
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3). The Jacobian J (6, n), the
 # look-ahead ``L Jbar P`` (n, 6) and the task's null space ``N^T`` (n, n) are blocks of their own.
@@ -98,7 +99,7 @@ MATRICES = 6
 # Rows of the servo's state and outputs (``state``, (STATE_ROWS, w)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
 MOTION_INTEGRAL = 9  # integral of the translation error: a slide's in contact, a goal's near it [m s]
-STATE_ROWS = CRUISE + 1  # CRUISE: a goal motion's cruise-speed integral and model speed (kernels.cruise)
+STATE_ROWS = SPRING_LAW + SPRING_ROWS  # CRUISE: kernels.cruise's row; SPRING_LAW: kernels.spring's rows
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 REACHED, HELD_INTEGRAL = 2, 3  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
@@ -145,8 +146,7 @@ def servo_tick(
     environment_wrench_into(
         wrench, sensor, matrices[ROTATION_SENSOR], offsets[:3], offsets[3:], scalars[TOOL_WEIGHT_Z_N]
     )
-    # Work rows of this tick (one allocation; the arithmetic below writes in place).
-    work = np.empty((SCRATCH_ROWS, 6))
+    work = np.empty((SCRATCH_ROWS, 6))  # this tick's work rows (one allocation; written in place below)
     velocity, displacement, error = state[VELOCITY, :6], state[DISPLACEMENT, :6], state[ERROR, :6]
     evaluation_q, reference_error = vectors[EVALUATION_Q, :n], vectors[REFERENCE_ERROR, :6]
     for i in range(6):
@@ -202,12 +202,12 @@ def servo_tick(
             vectors[GOAL_LINE, :3],
         )
     else:  # per-axis gains are along the task frame's axes
-        r = matrices[ROTATION_TASK]
-        motion_task = np.empty(6)
+        r, motion_task = matrices[ROTATION_TASK], np.empty(6)
+        error_task = rotate_blocks(r, error, True)
         unit_mass_command_into(
             motion_task,
             mode,
-            rotate_blocks(r, error, True),
+            error_task,
             rotate_blocks(r, velocity, True),
             rotate_blocks(r, velocity_desired, True),
             rotate_blocks(r, acceleration_desired, True),
@@ -217,6 +217,7 @@ def servo_tick(
             max_angular_speed,
             rotate_blocks(r, vectors[GOAL_LINE, :6], True)[:3],
         )
+        spring_law_into(motion_task, error_task, state, vectors, r, scalars[DT_S])  # a COMPLY spring's law
         motion = rotate_blocks(r, motion_task, False)
     if scalars[HAS_FORCE] == 0.0:  # a motion into something (cosmos.osc.held_push.touch_damping)
         touch_damping_into(motion, wrench, velocity, scalars[HELD_PUSH + 4 : HELD_PUSH + 7])
