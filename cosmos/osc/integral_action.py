@@ -9,8 +9,8 @@ F*_m where that error would otherwise stay: a slide's once its reference has sto
 (:func:`integrate_goal_error`). A free hold (WAIT, and the hold under POSTURE or the
 links' field moving the arm through the null space) instead observes the disturbance and
 takes it off F*_m (:func:`observe_hold_disturbance`): quicker than an integral at the step
-a joint's friction makes when the null space sets it turning. A COMPLY spring integrates
-not its position error but its law's, ``k (x_anchor - x) - f`` (:func:`hold_spring_law`), so
+a joint's friction makes when the null space sets it turning. A COMPLY spring observes its
+disturbance with the wrench it applies in the model (:func:`observe_spring_disturbance`), so
 that it stays the spring the program declares. The compiled servo tick
 (:mod:`cosmos.runtime.kernels.servo`, :mod:`cosmos.runtime.kernels.spring`) runs the same
 arithmetic.
@@ -154,55 +154,58 @@ def observe_hold_disturbance(
     return estimate, predicted, out
 
 
-SPRING_RATE = 0.25
-"""The spring law's integral gain over the axis's damping: ``k_I = kv / 4`` [1]."""
-SPRING_LIMIT = (10.0, 2.0)
-"""Bound on the spring law's integral, as a force [N] then a moment [N m]: the joints' friction error."""
-SPRING_OBSERVER = (20.0, 2.0, 0.2)
-"""A free spring's disturbance observer: its rate L [1/s]; free below a force [N] and a moment [N m]."""
+SPRING_OBSERVER = (20.0, 10.0, 2.0)
+"""A spring's disturbance observer: its rate L [1/s], and its bound as a force [N] then a moment
+[N m] (the joints' friction error, and the friction compensated toward a press at rest)."""
 
 
-def hold_spring_law(
-    integral: FloatArray,
+def observe_spring_disturbance(
+    estimate: FloatArray,
+    predicted: FloatArray,
     springs: FloatArray,
-    kp: FloatArray,
-    kv: FloatArray,
-    error: FloatArray,
+    command: FloatArray,
+    velocity: FloatArray,
     wrench: FloatArray,
     dt_s: float,
-) -> tuple[FloatArray, FloatArray]:
-    """One step of the integral that holds a COMPLY spring to its law, task axes (added to eq. 19-21).
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """One tick of the observer that holds a COMPLY spring to its law, task axes (added to eq. 19-21).
 
-    A spring axis renders ``f = k (x_anchor - x)`` with eq. 19's ``-kp e - kv (xd - xd_d)`` at
-    ``kp = k / lambda``: the joints' friction error (its compensation's 10 % on the realistic
-    arm, and the friction a joint keeps at rest) adds to it a force the program did not ask for,
-    of the order of the spring's own at 500 N/m: a 10 mm press pressed 1.0-3.5 N for 4.7 N. An
-    integral of the position error would remove it by making the axis a stiff servo. This one
-    integrates the spring law's error instead, the spring's force less the wrench the tool
-    applies, in unit-mass terms ``s = -kp e - f / lambda``, and adds ``k_I integral(s) dt`` to
-    F*_m: at rest it leaves ``f = k (x_anchor - x)`` exactly, in contact (the press is the
-    spring's) and in free space (``f = 0``: the tool at its anchor). ``k_I = kv / 4`` keeps the
-    free axis ``s^3 + kv s^2 + kp s + k_I kp`` stable (it needs ``k_I < kv``), and in contact
-    the error decays at ``k_I`` (5 /s for 500 N/m on 5 kg). Clamped to :data:`SPRING_LIMIT`
-    (anti-windup: an impact's spike), kept while the axis stays a spring, zero elsewhere.
+    A spring axis renders ``f = k (x_anchor - x)`` as eq. 19's ``-kp e - kv (xd - xd_d)`` with
+    ``kp = k / lambda`` on a unit mass (eq. 18). The real arm adds a disturbance ``d``: the
+    joints' friction error (a 10 % error of the compensation, and at rest against a surface the
+    compensation's own push toward the spring's pull, which the surface takes): a 500 N/m spring
+    10 mm short of its anchor pressed 1.0-3.5 N on the realistic arm and 10.6 N with the
+    compensation toward its pull, for 5 N, and its tool stuck 0.4 s, then ran at 188 % of its
+    SPEED. An integral of the position error would take d out by making the axis a stiff servo.
+    Here the wrench the tool applies is part of the model: the unit mass moves as
+    ``xdd = F*_m - f / lambda + d``, and ``d`` is observed from the velocity that model
+    predicts, ``d <- d + L (xd - xd_pred)``, ``xd_pred = xd + dt (F*_m - f / lambda)`` of the tick
+    before, and taken off F*_m (as a free hold's :func:`observe_hold_disturbance`, without its
+    gate: a contact is no disturbance here, it is measured). Free, the tool then moves as the
+    spring on the ideal unit mass; at rest in contact ``f = k (x_anchor - x)`` exactly (what a
+    joint's static friction holds is a disturbance too). ``d`` follows at first order at
+    ``L`` (20 /s), is clamped to :data:`SPRING_OBSERVER`'s bound over ``lambda`` and kept while the
+    axis stays a spring (a press and the WAIT after it), zero elsewhere.
 
     Args:
-        integral: ``integral(s) dt`` so far, task axes, in [m/s, rad/s]. # (6,)
+        estimate: d so far, task axes, in [m/s^2, rad/s^2]. # (6,)
+        predicted: xd_pred for this tick, task axes, in [m/s, rad/s]. # (6,)
         springs: ``lambda``, each spring axis's effective mass [kg, kg m^2]; 0 off the springs. # (6,)
-        kp: Position gains, task axes, in [1/s^2]. # (6,)
-        kv: Velocity gains, task axes, in [1/s]. # (6,)
-        error: ``x - x_d`` (x_d the anchor), task axes, in [m, rad]. # (6,)
+        command: F*_m of this tick, task axes. # (6,)
+        velocity: Tool twist, task axes. # (6,)
         wrench: The wrench the tool applies, task axes, in [N, N m]. # (6,)
         dt_s: Servo period, in [s].
 
     Returns:
-        The new integral and the term added to F*_m, task axes. # (6,), (6,)
+        The new estimate and xd_pred, and the command with d taken off the spring axes. # (6,) x 3
     """
+    rate, force_limit, moment_limit = SPRING_OBSERVER
     masses = np.asarray(springs, dtype=float)
     on = masses > 0.0
     safe = np.where(on, masses, 1.0)
-    gain = SPRING_RATE * np.asarray(kv, dtype=float)
-    bound = np.repeat(SPRING_LIMIT, 3) / (safe * gain)
-    law = -np.asarray(kp) * np.asarray(error) - np.asarray(wrench) / safe
-    out = np.where(on, np.clip(np.asarray(integral) + law * dt_s, -bound, bound), 0.0)
-    return out, gain * out
+    bound = np.repeat((force_limit, moment_limit), 3) / safe
+    velocity = np.asarray(velocity, dtype=float)
+    new = np.clip(np.asarray(estimate) + rate * (velocity - np.asarray(predicted)), -bound, bound)
+    new_predicted = velocity + dt_s * (np.asarray(command) - np.asarray(wrench) / safe)
+    out = np.array(command, dtype=float) - np.where(on, new, 0.0)
+    return np.where(on, new, 0.0), np.where(on, new_predicted, 0.0), out

@@ -202,12 +202,12 @@ def servo_tick(
             vectors[GOAL_LINE, :3],
         )
     else:  # per-axis gains are along the task frame's axes
-        r, motion_task = matrices[ROTATION_TASK], np.empty(6)
-        error_task = rotate_blocks(r, error, True)
+        r = matrices[ROTATION_TASK]
+        motion_task = np.empty(6)
         unit_mass_command_into(
             motion_task,
             mode,
-            error_task,
+            rotate_blocks(r, error, True),
             rotate_blocks(r, velocity, True),
             rotate_blocks(r, velocity_desired, True),
             rotate_blocks(r, acceleration_desired, True),
@@ -217,10 +217,10 @@ def servo_tick(
             max_angular_speed,
             rotate_blocks(r, vectors[GOAL_LINE, :6], True)[:3],
         )
-        spring_law_into(motion_task, error_task, state, vectors, r, scalars[DT_S])  # a COMPLY spring's law
         motion = rotate_blocks(r, motion_task, False)
     if scalars[HAS_FORCE] == 0.0:  # a motion into something (cosmos.osc.held_push.touch_damping)
         touch_damping_into(motion, wrench, velocity, scalars[HELD_PUSH + 4 : HELD_PUSH + 7])
+    spring_law_into(motion, state, vectors, matrices[ROTATION_TASK], scalars[DT_S])  # COMPLY springs' law
     if mode == MODE_GOAL and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0:
         # A free goal motion near its goal: eq. 20-21 plus integral action on the translation
         # error (cosmos.osc.integral_action.integrate_goal_error): a steady model error would hold the
