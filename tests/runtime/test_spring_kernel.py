@@ -1,0 +1,71 @@
+"""The compiled spring observer (cosmos.runtime.kernels.spring) against its NumPy reference."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cosmos.osc.integral_action import SPRING_OBSERVER, observe_spring_disturbance
+from cosmos.osc.orientation import so3_exp
+from cosmos.runtime.kernels import servo as sk
+from cosmos.runtime.kernels.spring import SPRING_LAW, SPRINGS, spring_law_into
+
+DT_S = 1e-3
+
+
+def _blocks(r: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return np.concatenate((r.dot(v[:3]), r.dot(v[3:])))
+
+
+def test_the_spring_kernel_matches_its_reference_on_random_ticks() -> None:
+    """Catches a kernel that drifts from the readable law: a wrong frame, sign, bound or axis."""
+    rng = np.random.default_rng(14)
+    for _ in range(200):
+        r = so3_exp(rng.normal(size=3))
+        rotation = np.zeros((6, 6))
+        rotation[:3, :3] = r
+        springs = np.where(rng.random(6) < 0.5, rng.uniform(0.5, 8.0, 6), 0.0)
+        state = np.zeros((sk.STATE_ROWS, 6))
+        vectors = np.zeros((sk.VECTORS, 6))
+        vectors[SPRINGS] = springs
+        state[sk.WRENCH] = rng.normal(scale=5.0, size=6)
+        state[sk.VELOCITY] = rng.normal(scale=0.05, size=6)
+        state[SPRING_LAW] = rng.normal(scale=0.5, size=6)
+        state[SPRING_LAW + 1] = rng.normal(scale=0.05, size=6)
+        motion = rng.normal(size=6)
+        before = state.copy()
+        out = motion.copy()
+        spring_law_into(out, state, vectors, rotation, DT_S)
+        estimate, predicted, command = observe_spring_disturbance(
+            before[SPRING_LAW],
+            before[SPRING_LAW + 1],
+            springs,
+            _blocks(r.T, motion),
+            _blocks(r.T, before[sk.VELOCITY]),
+            _blocks(r.T, before[sk.WRENCH]),
+            DT_S,
+        )
+        np.testing.assert_allclose(state[SPRING_LAW], estimate, atol=1e-12)
+        np.testing.assert_allclose(state[SPRING_LAW + 1], predicted, atol=1e-12)
+        np.testing.assert_allclose(out, _blocks(r, command), atol=1e-12)
+
+
+def test_the_observer_leaves_the_spring_law_at_rest_in_contact() -> None:
+    """Catches a spring whose press is not k x shortfall at rest: the unit mass pressed against a
+    surface by the command ``s`` (the spring's pull) with a joint's static friction holding part
+    of it (a disturbance d) presses ``s`` once the observer has converged."""
+    mass, pull = 5.0, -1.0  # a 5 N press down, on 5 kg
+    springs = np.array((0.0, 0.0, mass, 0.0, 0.0, 0.0))
+    estimate, predicted = np.zeros(6), np.zeros(6)
+    friction = 1.6  # N the joints hold back at rest
+    for _ in range(2000):
+        command = np.array((0.0, 0.0, pull, 0.0, 0.0, 0.0))
+        commanded = command - estimate
+        # At rest on the surface: it pushes back whatever the command and the friction leave.
+        press = mass * commanded[2] + friction
+        wrench = np.array((0.0, 0.0, press, 0.0, 0.0, 0.0))
+        estimate, predicted, _ = observe_spring_disturbance(
+            estimate, predicted, springs, command, np.zeros(6), wrench, DT_S
+        )
+    assert abs(press - mass * pull) < 1e-3, press
+    assert abs(estimate[2] * mass - friction) < 1e-3  # the friction, observed
+    assert SPRING_OBSERVER[0] > 0.0
