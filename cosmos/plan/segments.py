@@ -173,6 +173,8 @@ class Segment:
         """Where the segment leaves the tool, as far as the text says."""
         if not bool(self.motion_axes.all()) or self.until is not None:
             return ToolEnd.UNKNOWN
+        if self.kind is SegmentKind.MOVE and any(s is not None and s > 0.0 for s in self.stiffness):
+            return ToolEnd.UNKNOWN  # a spring may settle short of its goal, pressing on what stops it
         if self.kind is SegmentKind.WAIT:
             return ToolEnd.STAYS
         return ToolEnd.AT_TARGET if self.kind is SegmentKind.MOVE else ToolEnd.UNKNOWN

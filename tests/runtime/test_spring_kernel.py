@@ -7,6 +7,7 @@ import numpy as np
 from cosmos.osc.integral_action import SPRING_OBSERVER, observe_spring_disturbance
 from cosmos.osc.orientation import so3_exp
 from cosmos.runtime.kernels import servo as sk
+from cosmos.runtime.kernels.cruise import CRUISE
 from cosmos.runtime.kernels.spring import SPRING_LAW, SPRINGS, spring_law_into
 
 DT_S = 1e-3
@@ -69,3 +70,9 @@ def test_the_observer_leaves_the_spring_law_at_rest_in_contact() -> None:
     assert abs(press - mass * pull) < 1e-3, press
     assert abs(estimate[2] * mass - friction) < 1e-3  # the friction, observed
     assert SPRING_OBSERVER[0] > 0.0
+
+
+def test_the_springs_rows_are_their_own() -> None:
+    """Catches a spring row laid over another's: the cruise's state, the null space's intent."""
+    assert SPRING_LAW == CRUISE + 1 and sk.STATE_ROWS == SPRING_LAW + 2
+    assert SPRINGS == sk.NULL_INTENT + 1 and sk.VECTORS == SPRINGS + 1
