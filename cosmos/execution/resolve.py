@@ -6,6 +6,14 @@ measured pose plus the offset, a physical stiffness K on a motion axis becomes
 the unit-mass gain ``kp = K / lambda`` with ``lambda = n^T Lambda n`` the
 end effector's effective mass along that task axis (eq. 18 makes the
 decoupled end effector a unit mass, so the physical spring is ``Lambda kp``).
+
+An axis that COMPLY ... STIFFNESS makes a spring is impedance control about an anchor: a
+MOVE moves the anchor along its line at its SPEED, a trajectory tracked with eq. 19 (as a
+SLIDE's), and the tool follows on the spring, pressing ``k`` times its shortfall where
+something stops it; a hold keeps the anchor where the statement before left it
+(:func:`spring_anchor`); the servo holds the spring to its law with the axes' effective
+masses (``ServoSetpoint.spring_masses``, :mod:`cosmos.runtime.kernels.spring`), and no
+integral of the position error acts on it.
 """
 
 from __future__ import annotations
@@ -231,7 +239,7 @@ def setpoint_for(
     sprung = any(spring_axes(segment))
     if duration_s is None and sprung and moves_its_anchor(segment):
         # A spring's anchor moves: eq. 19 tracks it along the line at the SPEED, and the tool
-        # follows on the spring (module docstring). Eq. 20-21 on a spring axis would give the
+        # follows on the spring (the module's docstring). Eq. 20-21 on a spring axis would give the
         # velocity servo only kv = 2 sqrt(k / lambda): 2 N at 20 mm/s for 500 N/m, less than
         # the joints' friction error, and a 20 mm MOVE crawled for 22 s.
         cruise_speed, duration_s = segment.speed_limit_mps, 1.0

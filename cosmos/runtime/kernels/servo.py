@@ -18,8 +18,8 @@ INSERT's within its tilt window, :mod:`cosmos.osc.tilt_window`), eq. 29's single
 with the folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction
 compensation (:mod:`cosmos.osc.friction`; toward the null space's intent too) and the
 saturation that scales the command about gravity (:func:`cosmos.osc.limits.saturate_torque`).
-Pieces with a kernel of their own are in :mod:`cosmos.runtime.kernels.commands` and
-:mod:`cosmos.runtime.kernels.contact`.
+Pieces with a kernel of their own are in :mod:`cosmos.runtime.kernels.commands`,
+:mod:`cosmos.runtime.kernels.contact` and :mod:`cosmos.runtime.kernels.spring` (COMPLY springs).
 
 Results are written in place into the arrays passed (``state``, ``out``), so a
 tick creates no Python objects.
