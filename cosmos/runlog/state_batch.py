@@ -6,7 +6,11 @@ staging arrays through the compiled kernels (:mod:`cosmos.runlog.text_kernel`),
 and :meth:`StateBatches._write_states` renders a batch of states as JSON text,
 builds each /tf sample as a ``foxglove.FrameTransforms`` (protobuf, through the
 SDK's typed channel) and hands each message to its channel, each /tf sample
-right after its state. It is a
+right after its state. A segment, an event or a scene update logged while samples
+wait (:meth:`StateBatches._stage`) waits with them and is written in its place among
+them: the file's order is the order things were logged in, and the samples are still
+encoded a batch at a time (an event no longer makes the executor encode the samples
+before it: 10 to 60 per statement). It is a
 base class rather than a member so that the hot per-sample methods stay one
 call with no indirection.
 """
@@ -15,7 +19,7 @@ from __future__ import annotations
 
 import functools
 import json
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, Final
 
@@ -126,6 +130,8 @@ class StateBatches:
         self._tf_ns = np.empty(_BATCH, dtype=np.int64)
         self._pending_tf = 0
         self._text = np.empty(0, dtype=np.uint8)  # JSON text of a batch, grown as needed
+        # Messages logged while samples wait: (samples and /tf samples before it, log, time [ns], message).
+        self._staged: list[tuple[int, int, Callable[..., None], int, Any]] = []
         self._ros2: Ros2Channels | None = None  # the ROS 2 channels, if logged
         self._pacer: Pacer | None = None  # real-time pacing and live hand-over (cosmos.runlog.live)
 
@@ -190,14 +196,30 @@ class StateBatches:
         if self._pacer is not None:
             self._pacer.tick(t)
 
+    def _stage(self, channel: Any, t_ns: int, message: Any) -> None:
+        """Log ``message`` on ``channel`` at ``t_ns``, after the samples waiting now: at once if none wait."""
+        if self._closed:
+            raise ValueError(f"{self.path}: the run log is closed")
+        if self._pending == 0 and self._pending_tf == 0:
+            channel.log(message, log_time=t_ns)
+            self._last_ns = t_ns
+        else:
+            self._staged.append((self._pending, self._pending_tf, channel.log, t_ns, message))
+
     def _write_states(self) -> None:
-        """Encode and write the pending states and /tf samples, each /tf right after its state."""
+        """Encode and write the pending states and /tf samples, each /tf right after its state.
+
+        A message staged among them (:meth:`_stage`) goes right after the samples that were
+        waiting when it was logged.
+        """
         n, m = self._pending, self._pending_tf
         if n == 0 and m == 0:
             return
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
         self._pending = self._pending_tf = 0
+        staged, self._staged = self._staged, []
+        staged.append((n + 1, m, self._log_state, 0, None))  # a sentinel: never reached
         state_text = self._state_text
         size = n * state_text.max_bytes
         if len(self._text) < size:
@@ -227,7 +249,19 @@ class StateBatches:
         log_state, log_tf, ros2 = self._log_state, self._log_tf, self._ros2
         tf_next = 0
         t_ns = 0
-        for i in range(n):
+        next_staged = 0
+        for i in range(n + 1):
+            while staged[next_staged][0] == i:  # logged after sample i - 1 was staged
+                _, before_tf, log, t_ns, message = staged[next_staged]
+                while tf_next < before_tf:
+                    log_tf(tf_message(tf_ns[tf_next], frames, tf_poses[tf_next]), log_time=tf_ns[tf_next])
+                    if ros2 is not None:
+                        ros2.transforms(tf_ns[tf_next], frames, tf_poses[tf_next])
+                    tf_next += 1
+                log(message, log_time=t_ns)
+                next_staged += 1
+            if i == n:
+                break
             t_ns = times_ns[i]
             if status[i] == STATE_WRITTEN:
                 log_state(blob[offsets[i] : offsets[i + 1]], t_ns, None)

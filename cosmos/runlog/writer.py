@@ -272,8 +272,7 @@ class RunLog(StateBatches):
             speed_limit=speed_limit,
             timeout=timeout,
         )
-        self._write_states()
-        self._write(self._segment, log_time_ns(t), data)
+        self._stage(self._segment, log_time_ns(t), data)
 
     def event(self, t: float, kind: str, *, line: int, statement: str, reason: str = "") -> None:
         """Record a change of outcome on ``/cosmos/event`` (and ``/log`` for Foxglove).
@@ -291,10 +290,9 @@ class RunLog(StateBatches):
         event = event_kind(kind)
         data = event_message(t, event, line, statement, reason)
         t_ns = log_time_ns(t)
-        self._write_states()
-        self._write(self._event, t_ns, data)
+        self._stage(self._event, t_ns, data)
         level, text = event_log_line(event, statement, reason)
-        self._write(self._log, t_ns, foxglove.log_message(t_ns, level, text, self.program, line))
+        self._stage(self._log, t_ns, foxglove.log_message(t_ns, level, text, self.program, line))
 
     def scene(self, t: float, add: Sequence[Primitive] = (), remove: Sequence[str] = ()) -> None:
         """Show, move or remove fixtures and obstacles on ``/scene`` (``foxglove.SceneUpdate``).
@@ -309,8 +307,7 @@ class RunLog(StateBatches):
         for name in remove:
             self._shown.pop(name, None)
         self._shown.update((p.id, e) for p, e in zip(add, entities, strict=True))
-        self._write_states()
-        self._write(self._scene, t_ns, foxglove.scene_update(t_ns, entities, remove))
+        self._stage(self._scene, t_ns, foxglove.scene_update(t_ns, entities, remove))
 
     def _repeat_scene(self, t: float) -> None:
         """Send every entity shown again, for a live viewer that connected after it was sent."""
