@@ -30,8 +30,6 @@ from cosmos.execution.monitor import (
     Snapshot,
     Verdict,
     distance_to_point,
-    failure_text,
-    statement_head,
 )
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
@@ -39,6 +37,7 @@ from cosmos.execution.resolve import effective_masses, posture_joints, segment_g
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
 from cosmos.execution.walker import NO_HAND, HandSteps, PlanWalker, Senses
+from cosmos.execution.wording import failure_text, statement_head
 from cosmos.lang.check.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
@@ -258,7 +257,7 @@ class Executor:
         # Looked up once: the loop below runs every servo tick. The arrays are live views,
         # rewritten in place by the servo and the physics.
         data = rt.plant.data
-        tick, check, judge = rt.tick, supervisor.check, monitor.check
+        tick, check, judge = rt.tick, supervisor.check, monitor.judge
         wrench, torque, position, grip = rt.wrench, rt.servo.torque, meter.position, self.hand.grip_n
         snapshot = Snapshot(data.time, position, meter.rotation, rt.servo.last_velocity, wrench, grip)
         last_goal = len(goals) - 1
@@ -305,7 +304,7 @@ class Executor:
                     rt.set_setpoint(
                         setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s, posture)
                     )
-                outcome = judge(snapshot, completion=False)
+                outcome = monitor.check(snapshot, completion=False)
                 if outcome is not None:
                     return outcome
                 continue

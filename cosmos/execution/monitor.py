@@ -19,6 +19,8 @@ import numpy as np
 from cosmos.execution.arrival import GoalError, goal_error
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.supervision import ProtectiveStop
+from cosmos.execution.wording import failure_text as failure_text  # re-exported: its old home
+from cosmos.execution.wording import statement_head as statement_head  # re-exported
 from cosmos.lang.check.limits import MAX_DURATION_S
 from cosmos.osc.orientation import unwrap_rotation_vector
 from cosmos.plan import (
@@ -108,26 +110,6 @@ def distance_to_point(position: FloatArray, point: tuple[float, ...]) -> float:
     return math.sqrt((x - point[0]) ** 2 + (y - point[1]) ** 2 + (z - point[2]) ** 2)
 
 
-def statement_head(statement: str) -> str:
-    """The statement's keyword and its first operand, as messages name it (``CONTACT UP``, ``WAIT 2 s``)."""
-    words = statement.split()
-    unit = len(words) > 2 and words[1][:1].isdigit() and words[2].isalpha()  # WAIT 2 s
-    return " ".join(words[:3] if unit and words[2].upper() not in _CLAUSE_WORDS else words[:2])
-
-
-_CLAUSE_WORDS = frozenset(("UNTIL", "TIMEOUT", "IN", "SPEED"))
-
-
-def failure_text(statement: str, reason: str) -> str:
-    """A failed statement's message, its head and the reason.
-
-    ``CONTACT UP found no contact within 1.5 s``; a protective stop after a colon:
-    ``MOVE BY: protective stop: tool hit fixture 'table' at 2.60 s, 31.2 N``.
-    """
-    joiner = ": " if reason.startswith("protective stop") else " "
-    return f"{statement_head(statement)}{joiner}{reason}".strip()
-
-
 class SegmentMonitor:
     """Judges one segment; built when it starts."""
 
@@ -195,6 +177,11 @@ class SegmentMonitor:
         )
         self._complete = self._completion_judge(segment.completion)  # chosen once: it runs every tick
         self._turns = bool(self._motion[3:].any())
+        self.judge: Callable[[Snapshot], Outcome | None] = (
+            self._complete if segment.until is None and timeout is None else self.check
+        )
+        """Judges a tick of the last leg: :meth:`check`, or the segment's own ending alone where
+        that is all there is to judge (no UNTIL, no TIMEOUT): one call a tick, not two."""
 
     def check(self, snap: Snapshot, completion: bool = True) -> Outcome | None:
         """The outcome if the segment ends at this tick, else None.

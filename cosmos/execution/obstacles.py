@@ -34,7 +34,7 @@ from cosmos.runtime.loop import Runtime
 COLLISION_CHECK_EVERY = 10
 """Ticks between two looks at the simulator's contacts for collisions (10 ms at 1 kHz)."""
 
-SCENE_EVERY = 40
+SCENE_EVERY = 4 * COLLISION_CHECK_EVERY
 """Ticks between two updates of moving obstacles on ``/scene`` (25 Hz at 1 kHz)."""
 
 PLANE_DRAWN_SIZE_M = 2.0
@@ -130,13 +130,13 @@ class ObstacleWorld:
     def after_tick(self) -> list[str]:
         """Look for new collisions (every few ticks); redraw moving obstacles. Returns reasons."""
         self._ticks += 1
+        if self._ticks % COLLISION_CHECK_EVERY:  # SCENE_EVERY is a multiple of it
+            return []
         t_s = self.runtime.time_s
         if self.log is not None and self.active and self._ticks % SCENE_EVERY == 0:
             moving = [primitive(o, t_s) for o in self.scene.obstacles if o.moving]
             if moving:
                 self.log.scene(t_s, add=moving)
-        if self._ticks % COLLISION_CHECK_EVERY:
-            return []
         found = {(c.arm_body, c.other) for c in collisions(self.runtime.plant, self.scene.body_names())}
         new = sorted(found - self._touching)
         self._touching = found
