@@ -309,7 +309,7 @@ class Executor:
                     return outcome
                 continue
             if watch_minima and obstacles is not None:
-                stuck = obstacles.local_minimum(distance_to_point(position, goal_points[-1]))
+                stuck = obstacles.local_minimum(position, goal_points[-1])
                 if stuck is not None:
                     head = statement_head(segment.statement)
                     return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())

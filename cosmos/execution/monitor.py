@@ -223,20 +223,25 @@ class SegmentMonitor:
         if isinstance(completion, GoalReached):
             self._goal = completion
             return self._goal_reached
+        # The judges below read their ending from self: one call a tick, no wrapper.
         if isinstance(completion, ContactTouch):
-            return lambda snap: self._touch(snap, completion)
+            self._touch_ending = completion
+            return self._touch
         if isinstance(completion, ForceSettled):
-            return lambda snap: self._force_settled(snap, completion, snap.t_s - self.start_s)
+            self._settle_ending = completion
+            return self._force_settled
         if isinstance(completion, DepthReached):
-            return lambda snap: self._depth(snap, completion)
+            self._depth_ending = completion
+            return self._depth
         if isinstance(completion, Elapsed):
             duration_s = completion.duration_s
             return lambda snap: Outcome(Verdict.DONE, "") if snap.t_s - self.start_s >= duration_s else None
         return lambda snap: None
 
-    def _touch(self, snap: Snapshot, completion: ContactTouch) -> Outcome | None:
+    def _touch(self, snap: Snapshot) -> Outcome | None:
+        completion = self._touch_ending
         dx, dy, dz = self._direction
-        fx, fy, fz = snap.wrench[:3].tolist()
+        fx, fy, fz, _, _, _ = snap.wrench.tolist()
         push = fx * dx + fy * dy + fz * dz
         if push > completion.threshold_n:
             return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach", touched=True)
@@ -332,7 +337,8 @@ class SegmentMonitor:
             f"cannot reach its goal: stopped {error.text()} for {STALL_TIME_S:g} s; {self.stall_cause()}",
         )
 
-    def _force_settled(self, snap: Snapshot, settled: ForceSettled, elapsed: float) -> Outcome | None:
+    def _force_settled(self, snap: Snapshot) -> Outcome | None:
+        settled, elapsed = self._settle_ending, snap.t_s - self.start_s
         error = self._force_rows.dot(snap.wrench) - self._force_goal
         worst = max(map(abs, error.tolist()), default=0.0)
         if worst <= settled.tolerance_n:
@@ -355,7 +361,8 @@ class SegmentMonitor:
             return Outcome(Verdict.FAILED, f"force did not settle within {settled.max_time_s:g} s")
         return None
 
-    def _depth(self, snap: Snapshot, depth: DepthReached) -> Outcome | None:
+    def _depth(self, snap: Snapshot) -> Outcome | None:
+        depth = self._depth_ending
         dx, dy, dz = self._direction
         x, y, z = snap.position.tolist()
         x0, y0, z0 = self._statement_xyz  # DEPTH counts from the statement's start

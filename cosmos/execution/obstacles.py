@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 from cosmos.errors import TaskFailure
+from cosmos.execution.monitor import JUDGE_MOVING_EVERY, distance_to_point
 from cosmos.obstacles import (
     ContactGate,
     LocalMinimum,
@@ -36,6 +37,10 @@ COLLISION_CHECK_EVERY = 10
 
 SCENE_EVERY = 4 * COLLISION_CHECK_EVERY
 """Ticks between two updates of moving obstacles on ``/scene`` (25 Hz at 1 kHz)."""
+
+MINIMUM_CHECK_EVERY = JUDGE_MOVING_EVERY
+"""Ticks between two looks for a local minimum (25 ms at 1 kHz, against the detector's 1 s
+window), as a stall is judged; every tick it cost a goal motion among obstacles 1-2 us a tick."""
 
 PLANE_DRAWN_SIZE_M = 2.0
 """A plane is drawn as a thin square of this side."""
@@ -70,6 +75,7 @@ class ObstacleWorld:
         self.detector = LocalMinimumDetector()
         self._touching: set[tuple[str, str]] = set()
         self._ticks = 0
+        self._goal_ticks = 0  # ticks of the goal motion under way
 
     @property
     def active(self) -> bool:
@@ -145,9 +151,19 @@ class ObstacleWorld:
     def start_goal(self) -> None:
         """A goal motion begins: forget the progress of the previous one."""
         self.detector.reset()
+        self._goal_ticks = 0
 
-    def local_minimum(self, distance_to_goal_m: float) -> LocalMinimum | None:
-        """The local minimum the goal motion is stuck in, if any."""
-        if not self.active:
+    def local_minimum(self, position: np.ndarray, goal: tuple[float, ...]) -> LocalMinimum | None:
+        """The local minimum the goal motion is stuck in, if any (looked for every few ticks).
+
+        Every :data:`MINIMUM_CHECK_EVERY` ticks: the detector takes any steady rate.
+
+        Args:
+            position: The measured tool point, world [m]. # (3,)
+            goal: The goal point, world [m].
+        """
+        self._goal_ticks += 1
+        if self._goal_ticks % MINIMUM_CHECK_EVERY or not self.active:
             return None
-        return self.detector.update(self.runtime.time_s, distance_to_goal_m, self.field.influences)
+        distance_m = distance_to_point(position, goal)
+        return self.detector.update(self.runtime.time_s, distance_m, self.field.influences)
