@@ -1,16 +1,15 @@
 """The servo level of the two-level architecture (seed section 3, Figure 2).
 
-Every servo tick, from the encoders, the wrist sensor and the latest parameter
-evaluation, it estimates the operational position (the seed's estimator:
-``x = x_e + J (q - q_e)`` between evaluations), forms the motion command
-F*_m (eq. 19 or 20-21) on the motion-controlled axes and the active force
-command on the force-controlled ones (setpoint fed forward, PI on the force
-error, velocity damping; on force-controlled moment axes, once in contact,
-admittance control: the moment error sets a rotation speed that a velocity
-servo tracks), and maps them to joint torques with the folded matrices of eq. 29,
-adding the null-space damping of eq. 34, the potentials of section 6 and the posture
-(through the task's null space where it has one: :mod:`cosmos.runtime.null_space`) and
-friction compensation, saturated to the drives. The arithmetic is compiled
+Every servo tick, from the encoders, the wrist sensor and the latest parameter evaluation,
+it estimates the operational position (the seed's estimator: ``x = x_e + J (q - q_e)``
+between evaluations), forms the motion command F*_m (eq. 19 or 20-21) on the
+motion-controlled axes and the active force command on the force-controlled ones (setpoint
+fed forward, PI on the force error, velocity damping; on force-controlled moment axes, once
+in contact, admittance control: the moment error sets a rotation speed that a velocity servo
+tracks), and maps them to joint torques with the folded matrices of eq. 29, adding the
+null-space damping of eq. 34, the potentials of section 6 and the posture (through the
+task's null space where it has one: :mod:`cosmos.runtime.null_space`) and friction
+compensation, saturated to the drives. The arithmetic is compiled
 (:mod:`cosmos.runtime.kernels.servo`, :mod:`cosmos.runtime.kernels.parameter`).
 """
 
@@ -24,6 +23,7 @@ from cosmos.osc.dynamics import DEFAULT_POLICY, SingularityPolicy
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.null_space import DEFAULT_ABSORPTION, AbsorptionPolicy
 from cosmos.osc.orientation import pose_error
+from cosmos.osc.push_speed import approach_speed, push_aim
 from cosmos.plant import LiveSignals
 from cosmos.robot_model import GRAVITY
 from cosmos.runtime.goal_line import goal_line, kept_line
@@ -104,9 +104,8 @@ class ServoLevel:
         vectors, matrices, jacobian, jbar, stacked, state, sensed, end, w = live_kernel.workspace_layout(n)
         workspace = self._workspace = np.zeros(end)
         scalars = workspace[:vectors]
-        scalars[kernel.K_F] = gains.force.k_f
-        scalars[kernel.K_I] = gains.force.k_i
-        scalars[kernel.INTEGRAL_LIMIT] = gains.force.integral_limit
+        force = gains.force
+        scalars[kernel.K_F : kernel.INTEGRAL_LIMIT + 1] = force.k_f, force.k_i, force.integral_limit
         scalars[kernel.CONTACT_THRESHOLD_N] = gains.contact_threshold_n
         scalars[kernel.DT_S] = servo_dt_s
         scalars[kernel.INTENT_SCALE] = 1.0 / gains.coulomb_velocity_rad_s
@@ -117,8 +116,8 @@ class ServoLevel:
         scalars[kernel.ADMITTANCE_KV] = gains.admittance_kv
         scalars[kernel.MOMENT_BLEND] = min(1.0, servo_dt_s / gains.moment_filter_s)
         scalars[kernel.LOOKAHEAD_S] = gains.coulomb_lookahead_s
-        scalars[kernel.K_VF] = gains.force.k_vf
-        scalars[kernel.FORCE_SPEED_KV] = gains.force_speed_kv
+        scalars[kernel.K_VF : kernel.FORCE_SPEED_KV + 1] = gains.force.k_vf, gains.force_speed_kv
+        scalars[kernel.PUSH_SPEED_RATE] = gains.push_speed_rate  # cosmos.osc.push_speed
         scalars[kernel.MOTION_KI : kernel.MOTION_KI + 2] = gains.motion_ki, gains.motion_integral_limit_ms
         scalars[kernel.TILT_WINDOW : kernel.TILT_WINDOW + 2] = gains.insert_tilt_window
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
@@ -283,17 +282,19 @@ class ServoLevel:
         scalars[kernel.HELD_PUSH + 4] = math.inf if setpoint.uniform_gains else self.gains.touch_n
         scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes[:3]))
         scalars[kernel.ADMITTANCE] = float(not all(setpoint.motion_axes[3:]))
-        scalars[kernel.MAX_SPEED] = setpoint.max_speed
-        scalars[CRUISE_INTEGRAL:] = cruise_gains(self.gains.cruise_integral, scalars[kernel.DT_S], setpoint)
-        scalars[kernel.PUSH_SPEED] = (
-            self.gains.push_speed_aim * setpoint.max_speed if setpoint.limit_push_speed else 0.0
-        )
+        approach = setpoint.mode is MotionMode.GOAL and not setpoint.cruise_integral  # an INSERT's
+        speed = approach_speed(setpoint.max_speed, self.gains.approach_speed_margin_mps)
+        scalars[kernel.MAX_SPEED] = speed if approach else setpoint.max_speed  # cosmos.osc.push_speed
+        gains, dt_s, sp = self.gains, scalars[kernel.DT_S], setpoint
+        scalars[CRUISE_INTEGRAL : kernel.PUSH_SPEED_RATE] = cruise_gains(gains.cruise_integral, dt_s, sp)
+        aim = push_aim(setpoint.max_speed, gains.push_speed_aim, gains.push_speed_margin_mps)
+        scalars[kernel.PUSH_SPEED] = aim if setpoint.limit_push_speed else 0.0  # cosmos.osc.push_speed
         scalars[kernel.MAX_ANGULAR_SPEED] = setpoint.max_angular_speed
-        scalars[kernel.GOAL_ACCELERATION] = setpoint.acceleration
-        scalars[kernel.GOAL_ANGULAR_ACCELERATION] = setpoint.angular_acceleration
+        accelerations = setpoint.acceleration, setpoint.angular_acceleration
+        scalars[kernel.GOAL_ACCELERATION : kernel.GOAL_ANGULAR_ACCELERATION + 1] = accelerations
         moving = self.last_velocity  # the goal motion's speed limits ramp up from the tool's speeds
-        scalars[kernel.GOAL_START_SPEED] = float(np.linalg.norm(moving[:3]))
-        scalars[kernel.GOAL_START_ANGULAR_SPEED] = float(np.linalg.norm(moving[3:]))
+        speeds = float(np.linalg.norm(moving[:3])), float(np.linalg.norm(moving[3:]))
+        scalars[kernel.GOAL_START_SPEED : kernel.GOAL_START_ANGULAR_SPEED + 1] = speeds
         scalars[kernel.START_S] = setpoint.start_s
         scalars[kernel.TRAJECTORY_END_S] = setpoint.start_s + (
             setpoint.trajectory.duration_s if setpoint.trajectory is not None else 0.0

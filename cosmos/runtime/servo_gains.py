@@ -27,14 +27,24 @@ class ServoGains:
         admittance_max_speed_rad_s: Bound on that speed, in [rad/s].
         admittance_kv: Velocity gain of the unit-mass servo that tracks it, in [1/s].
         moment_filter_s: Time constant of the low-pass on the sensed moment there, [s].
-        force_speed_kv: Velocity gain that holds a force-controlled push to the segment's
-            speed limit (:func:`cosmos.osc.unified.speed_limited_push`), in [1/s].
+        force_speed_kv: Velocity gain that holds a force-controlled push to its speed reference
+            (:func:`cosmos.osc.unified.speed_limited_push`, :mod:`cosmos.osc.push_speed`), in [1/s].
+            At 150 the peg ran under its aim at SPEED 5 mm/s on the ideal plant (the joints turn
+            below the Coulomb compensation's ramp there, and the servo leaves the rest as a speed error).
         push_speed_aim: The capped push aims at this fraction of the speed limit: as the
             contact's friction changes (a chamfer, the hole's walls) its speed swings by up to
             a millimetre per second (INSERT at 5-30 mm/s), and the limit is a limit. On the
             steel contact the peg's landing on the chamfers (44 N at 29 mm/s) slows it to
             24 mm/s and the speed loop's catching up overshot: 0.93 peaked at 33.75 mm/s at
             SPEED 30 on the realistic plant (12.5 % over); 0.90 at 30.9 mm/s.
+        push_speed_margin_mps: ... and at least this far below it, in [m/s]
+            (:func:`cosmos.osc.push_speed.push_aim`): the ripple the encoders' counts leave in
+            the true speed is absolute (about 1 mm/s), so SPEED 5 mm/s aims at 4 mm/s.
+        approach_speed_margin_mps: An INSERT's approach (eq. 20-21 without integral) runs this far
+            under 1.1 times its SPEED, in [m/s] (:func:`cosmos.osc.push_speed.approach_speed`).
+        push_speed_rate: The push's speed reference rises to its aim at this many aims per
+            second, its rise fed forward (:mod:`cosmos.osc.push_speed`), in [1/s]. At 8 a held
+            peg lingered on the chamfer and its wrist tilted until it jammed (grasp_and_insert.cos).
         motion_ki: Integral gain on the motion axes' translation error in contact, once a
             tracked trajectory's reference has stopped
             (:func:`cosmos.osc.integral_action.integrate_motion_error`), in [1/s^3]; below
@@ -115,6 +125,9 @@ class ServoGains:
     moment_filter_s: float = 0.02
     force_speed_kv: float = 300.0
     push_speed_aim: float = 0.90
+    push_speed_margin_mps: float = 0.001
+    push_speed_rate: float = 30.0
+    approach_speed_margin_mps: float = 0.003
     motion_ki: float = 2000.0
     motion_integral_limit_ms: float = 0.004
     held_push: tuple[float, float, float, float] = (0.8, 288.0, 50.0, 0.2)

@@ -34,7 +34,15 @@ def _compiled(
     state = np.zeros((sk.STATE_ROWS, 6))
     state[sk.WRENCH], state[sk.ERROR], state[sk.VELOCITY], state[CRUISE, :2] = force, error, velocity, cruise
     scalars = np.zeros(sk.SCALARS)
-    scalars[CRUISE_INTEGRAL:] = (GATE[1], GATE[2], GATE[3], DT_S, GATE[0], KP / KV, KV)
+    scalars[CRUISE_INTEGRAL : CRUISE_INTEGRAL + CRUISE_SLOTS] = (
+        GATE[1],
+        GATE[2],
+        GATE[3],
+        DT_S,
+        GATE[0],
+        KP / KV,
+        KV,
+    )
     commanded = np.full(6, np.nan)
     binds = cruise_into(motion, commanded, state, line, speed, scalars)
     cruise[:] = state[CRUISE, :2]
@@ -169,9 +177,11 @@ def test_the_compiled_step_matches_the_reference_on_random_inputs() -> None:
 
 
 def test_the_servo_kernel_layout_leaves_the_cruise_its_slots() -> None:
-    """Catches the cruise's slots overlapping another's: its seven scalars are the servo's last,
-    its state row the last, and it reads the wrench, error and twist from rows 0-2."""
-    assert sk.SCALARS == CRUISE_INTEGRAL + CRUISE_SLOTS
+    """Catches the cruise's slots overlapping another's: its seven scalars are followed only by an
+    INSERT's push's speed reference's rate, its state row the last (an INSERT's push keeps its speed
+    reference at 2 and 3: the cruise integral never runs there), and it reads the wrench, error and
+    twist from rows 0-2."""
+    assert sk.PUSH_SPEED_RATE == CRUISE_INTEGRAL + CRUISE_SLOTS and sk.SCALARS == sk.PUSH_SPEED_RATE + 1
     assert sk.HOLD_OBSERVER + 4 <= CRUISE_INTEGRAL
     assert sk.STATE_ROWS > CRUISE and sk.MOTION_INTEGRAL < CRUISE  # the springs' rows follow (kernels.spring)
     assert (sk.WRENCH, sk.ERROR, sk.VELOCITY) == (0, 1, 2)

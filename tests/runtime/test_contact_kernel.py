@@ -223,8 +223,10 @@ def test_speed_limited_push_is_its_reference(seed: int) -> None:
     inverse_mass = float(n @ force_to_acceleration[:3, :3] @ n)
     along = float(n @ velocity[:3])
     allowed = float(n @ sensed[:3]) + (kv * (max_speed - along) + k_vf * along) / inverse_mass
+    rise = float(rng.uniform(0.0, 0.3))  # the speed reference's own acceleration (osc.push_speed)
+    allowed += rise / inverse_mass
     feedback[:3] += (allowed - float(n @ feedback[:3]) + (50.0 if seed % 2 else -50.0)) * n
-    args = (goal, sensed, velocity, force_to_acceleration, max_speed, kv, k_vf)
+    args = (goal, sensed, velocity, force_to_acceleration, max_speed, kv, k_vf, rise)
     expected, limited = speed_limited_push(feedback, *args)
     got = feedback.copy()
     got_limited, got_along = ck.speed_limited_push_into(got, *args)
@@ -237,7 +239,7 @@ def test_speed_limited_push_without_a_push_leaves_the_feedback() -> None:
     """No translation in F_d (a pure moment setpoint): nothing to cap."""
     feedback = np.arange(6.0)
     goal = np.array((0.0, 0.0, 0.0, 0.3, 0.0, 0.0))
-    args = (goal, np.zeros(6), np.zeros(6), np.eye(6), 0.01, 40.0, 30.0)
+    args = (goal, np.zeros(6), np.zeros(6), np.eye(6), 0.01, 40.0, 30.0, 0.1)
     got = feedback.copy()
     assert ck.speed_limited_push_into(got, *args) == (False, 0.0)
     assert np.array_equal(got, feedback)

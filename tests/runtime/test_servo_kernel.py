@@ -22,6 +22,7 @@ from cosmos.osc.integral_action import integrate_goal_error, integrate_motion_er
 from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, ramped_speed_limit, tracking_command
 from cosmos.osc.orientation import so3_exp
+from cosmos.osc.push_speed import follow_the_tool, speed_reference_step
 from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import (
     ForceGains,
@@ -302,6 +303,8 @@ TICK_CASES = {
     "admittance, free space": TickCase(False, 0.3, False, 0.5, admittance=True, tangent_n=0.2),
 }
 ADMITTANCE_GAIN, ADMITTANCE_KV, MOMENT_BLEND = 3.0, 40.0, 0.3
+PUSH_SPEED_RATE = 30.0
+"""The push's speed reference rises at this many aims a second (ServoGains.push_speed_rate)."""
 
 CONTACT_THRESHOLD_N = 1.0
 FORCE_GAINS = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
@@ -412,6 +415,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.K_VF] = FORCE_GAINS.k_vf
     scalars[sk.FORCE_SPEED_KV] = 40.0
     scalars[sk.PUSH_SPEED] = 0.0 if case.held else case.max_speed
+    scalars[sk.PUSH_SPEED_RATE] = PUSH_SPEED_RATE  # the speed reference's rise (cosmos.osc.push_speed)
     scalars[sk.HELD_PUSH : sk.HELD_PUSH + 4] = HELD_PUSH_GAINS
     scalars[sk.HELD_PUSH + 4] = 2.0  # the touch's force [N], below the cases' pushes
     scalars[sk.HELD_PUSH + 5] = TOOL_MASS_KG
@@ -478,6 +482,8 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     else:
         state[sk.INTEGRAL] = sel.omega_bar @ rng.normal(0.0, 0.3, 6)
     state[sk.COULOMB] = rng.uniform(-1.0, 1.0, 6)
+    state[sk.CRUISE] = 0.0  # a push's speed reference: half way up its rise (cosmos.osc.push_speed)
+    state[sk.CRUISE, 2:4] = 0.5 * case.max_speed, 1.0
     state[sk.MOMENT_FILTERED] = rng.normal(0.0, 1.0, 6)
     state[sk.FLAGS, sk.ADMITTING] = float(case.admittance and case.touching)
     state[sk.MOTION_INTEGRAL] = 0.0
@@ -654,17 +660,26 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     integral_before_cap = integral.copy()
     feedback = force_feedback(setpoint, wrench, integral, FORCE_GAINS)
     limited = False
-    if sc[sk.PUSH_SPEED] > 0.0:
+    cruise = st[sk.CRUISE].copy()
+    if sc[sk.PUSH_SPEED] > 0.0:  # held to its speed reference (cosmos.osc.push_speed)
+        push = vec[sk.FORCE_WORLD, :3] / np.linalg.norm(vec[sk.FORCE_WORLD, :3])
+        along, aim = float(push @ velocity[:3]), float(sc[sk.PUSH_SPEED])
+        reference = float(cruise[2]) if cruise[3] else None
+        cruise[2], rise = speed_reference_step(reference, aim, along, PUSH_SPEED_RATE, DT_S)
+        cruise[3] = 1.0
         feedback, limited = speed_limited_push(
             feedback,
             vec[sk.FORCE_WORLD],
             wrench,
             velocity,
             dyn.lambda_inv @ sel.omega_bar,
-            sc[sk.PUSH_SPEED],
+            cruise[2],
             sc[sk.FORCE_SPEED_KV],
             FORCE_GAINS.k_vf,
+            rise,
         )
+        if not limited:  # at its force: the reference follows the tool
+            cruise[2] = follow_the_tool(along, aim)
     else:  # a push held against a surface
         gains = tuple(float(g) * touching for g in sc[sk.HELD_PUSH : sk.HELD_PUSH + 4])  # once touching
         feedback, _ = held_push(
@@ -712,7 +727,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         touching=touching,
         speed=speed,
         admitting=admitting,
-        extra=extra,
+        extra={**extra, sk.CRUISE: cruise},
     )
 
 
@@ -759,6 +774,7 @@ def _finish_tick(
         sk.MOTION_INTEGRAL: st[sk.MOTION_INTEGRAL] if motion_integral is None else motion_integral,
         sk.COULOMB: coulomb,
         sk.TORQUE: saturated,
+        sk.CRUISE: st[sk.CRUISE],  # a push's speed reference at 2 and 3 (written by the caller)
         **(extra or {}),
     }
     latched = bool(st[sk.FLAGS, sk.TOUCHING]) if touching is None else touching
@@ -793,6 +809,7 @@ ROW_NAMES = {
     sk.TORQUE: "TORQUE",
     sk.MOTION_INTEGRAL: "MOTION_INTEGRAL",
     sk.MOMENT_FILTERED: "MOMENT_FILTERED",
+    sk.CRUISE: "CRUISE",
 }
 
 

@@ -125,3 +125,42 @@ def saturate_about(torque: FloatArray, torque_max: FloatArray, keep: FloatArray)
     scale = max(0.0, scale)
     for i in range(n):
         torque[i] = kept[i] + scale * (torque[i] - kept[i])
+
+
+@kernel
+def slide_integral_into(
+    motion: FloatArray,
+    acceleration: FloatArray,
+    motion_integral: FloatArray,
+    error: FloatArray,
+    omega_bar: FloatArray,
+    gains: FloatArray,
+) -> None:
+    """A SLIDE whose reference has stopped: :func:`cosmos.osc.integral_action.integrate_motion_error`.
+
+    Eq. 19 plus integral action on the motion axes' translation error, its part pushing the
+    tool on past its goal dropped first; ``motion`` and ``acceleration`` lose ``k_i integral``.
+
+    Args:
+        motion: F*_m, world. # (6,)
+        acceleration: The Coulomb intent's acceleration, world. # (6,)
+        motion_integral: The integral, world, [m s]; stepped in place. # (>= 3,)
+        error: ``x - x_d``, world. # (6,)
+        omega_bar: Force-controlled projector, world. # (6, 6)
+        gains: ``(k_i [1/s^3], bound [m s], dt [s])``. # (3,)
+    """
+    ki, bound, dt = gains[0], gains[1], gains[2]
+    along = np.empty(3)
+    for i in range(3):
+        along[i] = error[i]
+        for k in range(3):
+            along[i] -= omega_bar[i, k] * error[k]
+    past = along[0] * motion_integral[0] + along[1] * motion_integral[1] + along[2] * motion_integral[2]
+    if past < 0.0:
+        past /= along[0] ** 2 + along[1] ** 2 + along[2] ** 2
+    for i in range(3):
+        if past < 0.0:
+            motion_integral[i] -= past * along[i]
+        motion_integral[i] = min(max(motion_integral[i] + along[i] * dt, -bound), bound)
+        motion[i] -= ki * motion_integral[i]
+        acceleration[i] -= ki * motion_integral[i]

@@ -164,6 +164,7 @@ def speed_limited_push_into(
     max_speed: float,
     kv: float,
     k_vf: float,
+    feedforward: float,
 ) -> tuple[bool, float]:
     """:func:`cosmos.osc.unified.speed_limited_push`, applied to ``feedback`` in place.
 
@@ -176,6 +177,7 @@ def speed_limited_push_into(
         max_speed: V_max, in [m/s].
         kv: Velocity gain of the speed servo, in [1/s].
         k_vf: The force axes' damping gain, in [1/s].
+        feedforward: The speed reference's own acceleration, in [m/s^2].
 
     Returns:
         ``(limited, n^T xd)``: whether the cap bound and the speed along the push.
@@ -185,7 +187,7 @@ def speed_limited_push_into(
         return False, 0.0
     along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
     allowed = (n0 * force_sensed[0] + n1 * force_sensed[1] + n2 * force_sensed[2]) + (
-        kv * (max_speed - along) + k_vf * along
+        feedforward + kv * (max_speed - along) + k_vf * along
     ) / inverse_mass
     asked = n0 * feedback[0] + n1 * feedback[1] + n2 * feedback[2]
     if not asked > allowed:

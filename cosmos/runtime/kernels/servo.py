@@ -34,7 +34,12 @@ import numpy as np
 from cosmos.jit import kernel
 from cosmos.osc.unified import REACH_FRACTION
 from cosmos.runtime.kernels import commands
-from cosmos.runtime.kernels.commands import environment_wrench_into, saturate_about, unit_mass_command_into
+from cosmos.runtime.kernels.commands import (
+    environment_wrench_into,
+    saturate_about,
+    slide_integral_into,
+    unit_mass_command_into,
+)
 from cosmos.runtime.kernels.contact import (
     admittance_command,
     admittance_speed,
@@ -43,14 +48,14 @@ from cosmos.runtime.kernels.contact import (
     goal_reached,
     held_push_into,
     low_pass_into,
-    speed_limited_push_into,
     tilt_window_into,
     touch_damping_into,
     touch_latched,
 )
-from cosmos.runtime.kernels.cruise import cruise_into
+from cosmos.runtime.kernels.cruise import CRUISE, cruise_into
 from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
+from cosmos.runtime.kernels.push_speed import push_at_speed_into
 from cosmos.runtime.kernels.spring import SPRING_LAW, SPRING_ROWS, SPRINGS, spring_law_into
 
 FloatArray = np.ndarray
@@ -69,7 +74,8 @@ TILT_WINDOW = 34  # an INSERT's compliant rotations: the window [rad] and the st
 GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(36, 40)
 GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
 HOLD_OBSERVER = 45  # a free hold's disturbance observer: L [1/s], bound [m/s^2], band [m], quiet [N]
-SCALARS = 56  # 49-55: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, tool mass, touch k_v
+PUSH_SPEED_RATE = 56  # an INSERT's push: its speed reference's rise [1/s] (cosmos.osc.push_speed)
+SCALARS = 57  # 49-55: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, tool mass, touch k_v
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -304,24 +310,8 @@ def servo_tick(
             # translation error (cosmos.osc.integral_action.integrate_motion_error): static friction would
             # hold the tool f / (Lambda kp), millimetres, short of its goal.
             # Its part pushing the tool on past its goal is dropped first.
-            motion_integral, bound = state[MOTION_INTEGRAL, :6], scalars[MOTION_INTEGRAL_LIMIT]
-            ki, dt = scalars[MOTION_KI], scalars[DT_S]
-            along = np.empty(3)
-            for i in range(3):
-                along[i] = error[i]
-                for k in range(3):
-                    along[i] -= omega_bar[i, k] * error[k]
-            past = (
-                along[0] * motion_integral[0] + along[1] * motion_integral[1] + along[2] * motion_integral[2]
-            )
-            if past < 0.0:
-                past /= along[0] ** 2 + along[1] ** 2 + along[2] ** 2
-            for i in range(3):
-                if past < 0.0:
-                    motion_integral[i] -= past * along[i]
-                motion_integral[i] = min(max(motion_integral[i] + along[i] * dt, -bound), bound)
-                motion[i] -= ki * motion_integral[i]
-                acceleration[i] -= ki * motion_integral[i]
+            gains = np.array((scalars[MOTION_KI], scalars[MOTION_INTEGRAL_LIMIT], scalars[DT_S]))
+            slide_integral_into(motion, acceleration, state[MOTION_INTEGRAL, :6], error, omega_bar, gains)
         integral = state[INTEGRAL, :6]
         previous_integral = integral.copy()
         # ... and once the push reached most of its goal (a contact building up would wind it up).
@@ -347,9 +337,9 @@ def servo_tick(
                 feedback, goal, setpoint, wrench, velocity, f2a, held, flags[HELD_INTEGRAL], gate, dt
             )
         else:
-            limited, along = speed_limited_push_into(
-                feedback, goal, wrench, velocity, f2a, push_speed, scalars[FORCE_SPEED_KV], scalars[K_VF]
-            )
+            speeds, cruise = scalars[K_VF:], state[CRUISE]  # k_vf, kv, aim; the reference at 2-3
+            rate, dt = scalars[PUSH_SPEED_RATE], scalars[DT_S]
+            limited = push_at_speed_into(feedback, goal, wrench, velocity, f2a, speeds, rate, cruise, dt)
             if limited:
                 # At its speed limit the push is a velocity command: friction is compensated
                 # toward the commanded speed, as toward a tracked trajectory's xd_d (the joints

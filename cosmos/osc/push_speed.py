@@ -1,0 +1,109 @@
+"""An INSERT's push held to a speed reference that rises to its aim (eq. 20-21's V_max on a force axis).
+
+An INSERT's SPEED limits the insertion axis (docs/language.md). Its push is capped by a
+unit-mass velocity servo (:func:`cosmos.osc.unified.speed_limited_push`). On the realistic
+plant (docs/plant.md) the velocity that servo sees is the 40 Hz observer's on the encoders'
+counts (one count is 30-50 um of the tool's travel): +-3 mm/s of noise and an 8 ms lag. With
+the cap aimed at the SPEED's aim outright, a dip (the landing on the chamfer slows the peg by
+1-2 mm/s) was recovered at ``kv`` times the dip, and the lag let the speed past the aim by
+``kv tau`` times the dip (2.4 at kv = 300/s): SPEED 5 mm/s peaked at 5.6-6.65 mm/s.
+
+So the servo tracks a **speed reference** ``v_r`` that rises to the aim at ``rate`` aims a
+second, its rise fed forward (eq. 19's ``xdd_d`` for a speed)::
+
+    F*_n = a_r + kv (v_r - n^T xd),   dv_r/dt = a_r = rate aim  (0 once v_r = aim)
+
+and, whenever the push is at its force rather than its speed (the cap does not bind: the
+landing, a jam, pressing), ``v_r`` follows the tool's speed. A re-acceleration then rises at
+``rate aim`` and the lag's overshoot is ``tau rate aim``. The reference starts each segment at
+the tool's speed.
+
+The aim is ``min(0.9 SPEED, SPEED - 1 mm/s)`` (at least half the SPEED): the ripple the
+encoders' noise leaves in the true speed is absolute, about a millimetre per second whatever
+the SPEED, so at SPEED 5 mm/s the push aims at 4 mm/s.
+
+With the approach's own limit (:func:`approach_speed`), measured on the realistic plant, seeds
+0-4 (the peak over 20 ms of MuJoCo's tool point): SPEED 10, 20, 30 mm/s within 9.55-10.6,
+18.05-21.85, 28.6-32.8 mm/s; SPEED 5 at 4.9-5.7 (6.65 before; tests/run/insert_speed_seeds.py).
+
+Measured and not kept (2026-11-24, tests/run/test_run_insert_speed.py, the peak over 20 ms of
+MuJoCo's tool point, realistic plant seeds 0-4 unless said): a rate of 8 /s with kv 150/s kept
+every SPEED of 5-30 mm/s within 10 % on both plants, but in ``grasp_and_insert.cos`` (the peg
+held in a gripper) the slow rise after the landing left the peg on the chamfer while the
+compliant wrist tilted to its 10 deg window, and seeds 4 and 6 jammed 8.3-8.6 mm in; the
+approach (eq. 20-21, kv 40/s: seed 1's drawn arm runs it 2.7 mm/s fast, 12.7 mm/s at SPEED 10)
+held by the same servo at 150/s: the noise's acceleration on the gripper's 1.8 kg read as a
+2.5 N touch 12 ms into the approach (its 2 N gate), which then landed on the hole's top and
+jammed; at 40-80/s, seed 1 still ran 10.65-12.1 mm/s at SPEED 10; a position reference along
+the approach (eq. 19, its lead bounded to 0.5 mm) crawled at SPEED 5 (1 mm/s) and overshot at
+10 (11.85). Integral action on the speed error (100-300/s with 300-2,500/s^2, gated to a moving
+tool) turned the grazes of the bore into stick-slip (1.5-7 mm/s at SPEED 5, ideal plant).
+
+The compiled servo runs the same arithmetic (:mod:`cosmos.runtime.kernels.push_speed`).
+"""
+
+from __future__ import annotations
+
+MIN_AIM_SHARE = 0.5
+"""The aim is never below this share of the SPEED."""
+
+
+def push_aim(max_speed: float, aim: float, margin_mps: float) -> float:
+    """The speed an INSERT's push aims at: ``max(min(aim V, V - margin), V / 2)``, in [m/s].
+
+    Args:
+        max_speed: The INSERT's SPEED V, in [m/s].
+        aim: The share of V aimed at (``ServoGains.push_speed_aim``).
+        margin_mps: The least margin below V (``ServoGains.push_speed_margin_mps``), in [m/s].
+    """
+    return max(min(aim * max_speed, max_speed - margin_mps), MIN_AIM_SHARE * max_speed)
+
+
+def speed_reference_step(
+    reference: float | None, aim: float, along: float, rate: float, dt_s: float
+) -> tuple[float, float]:
+    """One step of the speed reference ``v_r`` toward ``aim`` (module docstring).
+
+    Args:
+        reference: ``v_r`` so far, in [m/s]; None on the first tick (it starts at the
+            tool's speed, ``along`` clipped to ``[0, aim]``).
+        aim: The speed aimed at, in [m/s].
+        along: The tool's speed along the push, in [m/s].
+        rate: The reference's rise, in aims per second [1/s].
+        dt_s: Servo period, in [s].
+
+    Returns:
+        ``(v_r, a_r)``: the new reference [m/s] and its rate of rise this tick [m/s^2].
+    """
+    if reference is None:
+        reference = min(max(along, 0.0), aim)
+    step = min(rate * aim * dt_s, max(aim - reference, 0.0))
+    return min(reference + step, aim), step / dt_s
+
+
+def follow_the_tool(along: float, aim: float) -> float:
+    """``v_r`` while the push is at its force, not its speed: the tool's speed within ``[0, aim]``."""
+    return min(max(along, 0.0), aim)
+
+
+APPROACH_MARGIN_SHARE = 0.25
+"""The approach's margin never takes more than this share of its SPEED (it then runs at it)."""
+
+
+def approach_speed(max_speed: float, margin_mps: float) -> float:
+    """An INSERT's approach's speed limit, in [m/s]: ``min(V, 1.1 V - margin)``, or V below 0.75 V.
+
+    The approach is eq. 20-21 (kv = 40/s, no integral: its 2 mm are too short for one), which
+    leaves a model error's ``Lambda^-1 f / kv`` as a speed error: seed 1's drawn arm ran it
+    2.7 mm/s fast at every SPEED (12.7, 22.85, 32.8 mm/s at 10, 20, 30). Aimed ``margin`` under
+    the 10 % the SPEED allows, that error stays within it. Where the margin would take more than
+    a quarter of the SPEED (below 8.6 mm/s at 3 mm/s) the approach keeps its SPEED: there eq. 20
+    meets the joints' friction compensation's ramp and crawls anyway (1 mm/s at SPEED 5; at
+    2.5 mm/s it crawled at 0.4-0.6 mm/s, the approach taking 6-12 s).
+
+    Args:
+        max_speed: The INSERT's SPEED V, in [m/s].
+        margin_mps: ``ServoGains.approach_speed_margin_mps``, in [m/s].
+    """
+    speed = min(max_speed, 1.1 * max_speed - margin_mps)
+    return speed if speed >= (1.0 - APPROACH_MARGIN_SHARE) * max_speed else max_speed
