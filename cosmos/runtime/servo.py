@@ -282,9 +282,8 @@ class ServoLevel:
         scalars[kernel.HELD_PUSH + 4] = math.inf if setpoint.uniform_gains else self.gains.touch_n
         scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes[:3]))
         scalars[kernel.ADMITTANCE] = float(not all(setpoint.motion_axes[3:]))
-        approach = setpoint.mode is MotionMode.GOAL and not setpoint.cruise_integral  # an INSERT's
-        speed = approach_speed(setpoint.max_speed, self.gains.approach_speed_margin_mps)
-        scalars[kernel.MAX_SPEED] = speed if approach else setpoint.max_speed  # cosmos.osc.push_speed
+        speed = approach_speed(setpoint.max_speed, self.gains.approach_speed_margin_mps)  # osc.push_speed
+        scalars[kernel.MAX_SPEED] = speed if setpoint.insert_approach else setpoint.max_speed
         gains, dt_s, sp = self.gains, scalars[kernel.DT_S], setpoint
         scalars[CRUISE_INTEGRAL : kernel.PUSH_SPEED_RATE] = cruise_gains(gains.cruise_integral, dt_s, sp)
         aim = push_aim(setpoint.max_speed, gains.push_speed_aim, gains.push_speed_margin_mps)

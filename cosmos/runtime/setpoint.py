@@ -99,6 +99,14 @@ class ServoSetpoint:
     uniform_gains: bool = field(init=False)
     """True when every axis has the same gains (the servo then skips frame rotations)."""
 
+    @property
+    def insert_approach(self) -> bool:
+        """An INSERT's approach (:func:`cosmos.osc.push_speed.approach_speed`).
+
+        A GOAL motion without the cruise integral, with uniform gains (a spring's are its own).
+        """
+        return self.mode is MotionMode.GOAL and not self.cruise_integral and self.uniform_gains
+
     def __post_init__(self) -> None:
         r = self.rotation_task_to_world
         target = np.concatenate((r.dot(self.force_task[:3]), r.dot(self.force_task[3:])))
