@@ -15,29 +15,34 @@ second, its rise fed forward (eq. 19's ``xdd_d`` for a speed)::
 
 and, whenever the push is at its force rather than its speed (the cap does not bind: the
 landing, a jam, pressing), ``v_r`` follows the tool's speed. A re-acceleration then rises at
-``rate aim`` and the lag's overshoot is ``tau rate aim``. The reference starts each segment at
-the tool's speed.
+``rate aim``, and the lag's overshoot is ``tau rate aim`` instead of ``kv tau`` times the
+dip. The reference starts each segment at the tool's speed.
 
 The aim is ``min(0.9 SPEED, SPEED - 1 mm/s)`` (at least half the SPEED): the ripple the
 encoders' noise leaves in the true speed is absolute, about a millimetre per second whatever
 the SPEED, so at SPEED 5 mm/s the push aims at 4 mm/s.
 
-With the approach's own limit (:func:`approach_speed`), measured on the realistic plant, seeds
-0-4 (the peak over 20 ms of MuJoCo's tool point): SPEED 10, 20, 30 mm/s within 9.55-10.6,
-18.05-21.85, 28.6-32.8 mm/s; SPEED 5 at 4.9-5.7 (6.65 before; tests/run/insert_speed_seeds.py).
+The approach (eq. 20-21 without integral action, kv = 40/s) leaves a model error's
+``Lambda^-1 f / kv`` as a speed error, 2.7 mm/s on seed 1's drawn arm at every SPEED (12.7,
+22.85, 32.8 mm/s at 10, 20, 30), so it runs 3 mm/s under 1.1 SPEED (:func:`approach_speed`).
+The rate is 60 aims/s: slower, the peg lingers on the chamfer and the compliant wrist tilts.
+Measured on both plants, seeds 0-4, the peak over 20 ms of MuJoCo's tool point: README,
+"INSERT speed" (tests/run/insert_speed_seeds.py).
 
-Measured and not kept (2026-11-24, tests/run/test_run_insert_speed.py, the peak over 20 ms of
-MuJoCo's tool point, realistic plant seeds 0-4 unless said): a rate of 8 /s with kv 150/s kept
-every SPEED of 5-30 mm/s within 10 % on both plants, but in ``grasp_and_insert.cos`` (the peg
-held in a gripper) the slow rise after the landing left the peg on the chamfer while the
-compliant wrist tilted to its 10 deg window, and seeds 4 and 6 jammed 8.3-8.6 mm in; the
-approach (eq. 20-21, kv 40/s: seed 1's drawn arm runs it 2.7 mm/s fast, 12.7 mm/s at SPEED 10)
-held by the same servo at 150/s: the noise's acceleration on the gripper's 1.8 kg read as a
-2.5 N touch 12 ms into the approach (its 2 N gate), which then landed on the hole's top and
-jammed; at 40-80/s, seed 1 still ran 10.65-12.1 mm/s at SPEED 10; a position reference along
-the approach (eq. 19, its lead bounded to 0.5 mm) crawled at SPEED 5 (1 mm/s) and overshot at
-10 (11.85). Integral action on the speed error (100-300/s with 300-2,500/s^2, gated to a moving
-tool) turned the grazes of the bore into stick-slip (1.5-7 mm/s at SPEED 5, ideal plant).
+Measured and not kept (2026-11-24; realistic plant, seeds 0-4, unless said):
+
+* The reference at 8 aims/s with kv 150/s kept every SPEED of 5-30 mm/s within 10 % on both
+  plants; at 30 aims/s (kv 300/s) SPEED 5 peaked at 4.9-5.7 mm/s. But a peg slower through the
+  chamfer let the compliant wrist tilt to its 10 deg window and jam: ``grasp_and_insert.cos``
+  (the peg held in a gripper) seeds 4 and 6 jammed 8.3-8.6 mm in at 8 aims/s, and a Lissajous
+  search (tests/run/test_run_search.py, seed 3) 4.9 mm in at 30. Without the reference, the
+  slower approach's landing was recovered past SPEED 10 (11.55 mm/s, seed 0).
+* The approach held by the push's servo (kv 150/s): the noise's acceleration on the gripper's
+  1.8 kg read as a 2.5 N touch 12 ms into it (its gate is 2 N); at 40-80/s seed 1 still ran
+  10.65-12.1 mm/s at SPEED 10. A position reference along the approach (eq. 19, its lead
+  bounded to 0.5 mm) crawled at SPEED 5 (1 mm/s) and overshot at 10 (11.85 mm/s).
+* Integral action on the push's speed error (100-300/s with 300-2,500/s^2, gated to a moving
+  tool): the bore's grazes became stick-slip (1.5-7 mm/s at SPEED 5 on the ideal plant).
 
 The compiled servo runs the same arithmetic (:mod:`cosmos.runtime.kernels.push_speed`).
 """

@@ -43,8 +43,9 @@ class ServoGains:
         approach_speed_margin_mps: An INSERT's approach (eq. 20-21 without integral) runs this far
             under 1.1 times its SPEED, in [m/s] (:func:`cosmos.osc.push_speed.approach_speed`).
         push_speed_rate: The push's speed reference rises to its aim at this many aims per
-            second, its rise fed forward (:mod:`cosmos.osc.push_speed`), in [1/s]. At 8 a held
-            peg lingered on the chamfer and its wrist tilted until it jammed (grasp_and_insert.cos).
+            second, its rise fed forward (:mod:`cosmos.osc.push_speed`), in [1/s]. At 8 and 30 a
+            peg lingered on the chamfer and its compliant wrist tilted until it jammed
+            (grasp_and_insert.cos seeds 4 and 6; a Lissajous search, seed 3).
         motion_ki: Integral gain on the motion axes' translation error in contact, once a
             tracked trajectory's reference has stopped
             (:func:`cosmos.osc.integral_action.integrate_motion_error`), in [1/s^3]; below
@@ -126,7 +127,7 @@ class ServoGains:
     force_speed_kv: float = 300.0
     push_speed_aim: float = 0.90
     push_speed_margin_mps: float = 0.001
-    push_speed_rate: float = 30.0
+    push_speed_rate: float = 60.0
     approach_speed_margin_mps: float = 0.003
     motion_ki: float = 2000.0
     motion_integral_limit_ms: float = 0.004

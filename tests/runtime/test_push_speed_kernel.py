@@ -5,20 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cosmos.osc.push_speed import follow_the_tool, push_aim, speed_reference_step
+from cosmos.osc.push_speed import follow_the_tool, speed_reference_step
 from cosmos.osc.unified import speed_limited_push
 from cosmos.runtime.kernels import push_speed as pk
 
-DT_S, KV, RATE = 0.001, 300.0, 30.0
+DT_S, KV, RATE = 0.001, 300.0, 60.0
 SEEDS = range(6)
-
-
-def test_the_aim_keeps_a_millimetre_per_second_below_a_slow_speed() -> None:
-    """0.9 SPEED, but at least 1 mm/s under it and never under half: catches the absolute margin
-    dropped (SPEED 5 mm/s aimed at 4.5 and peaked at 5.65 on the realistic plant)."""
-    assert push_aim(0.005, 0.9, 0.001) == pytest.approx(0.004)
-    assert push_aim(0.020, 0.9, 0.001) == pytest.approx(0.018)
-    assert push_aim(0.0015, 0.9, 0.001) == pytest.approx(0.00075)
 
 
 def test_the_reference_rises_at_its_rate_from_the_tools_speed_and_stops_at_the_aim() -> None:

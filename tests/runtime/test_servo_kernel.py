@@ -303,7 +303,7 @@ TICK_CASES = {
     "admittance, free space": TickCase(False, 0.3, False, 0.5, admittance=True, tangent_n=0.2),
 }
 ADMITTANCE_GAIN, ADMITTANCE_KV, MOMENT_BLEND = 3.0, 40.0, 0.3
-PUSH_SPEED_RATE = 30.0
+PUSH_SPEED_RATE = 60.0
 """The push's speed reference rises at this many aims a second (ServoGains.push_speed_rate)."""
 
 CONTACT_THRESHOLD_N = 1.0
