@@ -299,53 +299,53 @@ def speed_limited_push(
 ) -> tuple[FloatArray, bool]:
     """A force-controlled push held to its speed limit: eq. 20-21's V_max on a force axis.
 
-        Along the push ``n = F_d / |F_d|`` (translation) the force loop commands
-        ``n^T F_fb``. In free space, or when the tool breaks through (a peg dropping
-        into its hole), nothing resists it and the tool accelerates until the
-        damping ``k_vf Lambda xd`` balances it: 15 N on 5 kg at k_vf = 30/s is
-        100 mm/s. So the push is capped by the force that moves the tool at V_max
-        against what it meets, measured: the sensed push plus a unit-mass velocity
-        servo toward V_max (eq. 20's ``-kv (xd - nu xd_d)`` with the speed at its
-        limit), plus the damping it must overcome::
+    Along the push ``n = F_d / |F_d|`` (translation) the force loop commands
+    ``n^T F_fb``. In free space, or when the tool breaks through (a peg dropping
+    into its hole), nothing resists it and the tool accelerates until the
+    damping ``k_vf Lambda xd`` balances it: 15 N on 5 kg at k_vf = 30/s is
+    100 mm/s. So the push is capped by the force that moves the tool at V_max
+    against what it meets, measured: the sensed push plus a unit-mass velocity
+    servo toward V_max (eq. 20's ``-kv (xd - nu xd_d)`` with the speed at its
+    limit), plus the damping it must overcome::
 
-            f_speed = n^T F_s + m_n (a_r + kv (V_max - n^T xd) + k_vf n^T xd),  m_n = 1 / (n^T Lambda^-1 n)
+        f_speed = n^T F_s + m_n (a_r + kv (V_max - n^T xd) + k_vf n^T xd),  m_n = 1 / (n^T Lambda^-1 n)
 
-    (``V_max`` is the push's speed reference and ``a_r`` its own rate of rise,
-    :mod:`cosmos.osc.push_speed`; at the reference's aim ``a_r = 0``.)
+    with ``V_max`` the push's speed reference and ``a_r`` its rate of rise
+    (:mod:`cosmos.osc.push_speed`; 0 once the reference is at its aim).
 
-        ``n^T F_fb`` is replaced by ``min(n^T F_fb, f_speed)``. Pressing at rest
-        (``n^T xd = 0``) the cap is the sensed force plus ``m_n kv V_max`` above it, so
-        it only binds while the force is rising faster than the contact can take.
+    ``n^T F_fb`` is replaced by ``min(n^T F_fb, f_speed)``. Pressing at rest
+    (``n^T xd = 0``) the cap is the sensed force plus ``m_n kv V_max`` above it, so
+    it only binds while the force is rising faster than the contact can take.
 
-        While it binds, the push is a velocity command along n, and the force loop of the
-        compliant translations around it is dropped: their ``F_d`` is 0 (INSERT's COMPLY X Y),
-        so eq. 18's ``F_d + k_f (F_d - F_s) + k_i integral`` there is ``-k_f F_s + k_i integral``,
-        which adds 0.6 times the contact's own push (k_f = 0.6) and the integral's to the force
-        that moves the tool away from what it touches. On a slope (a chamfer) that motion
-        carries the tool down the slope, past the cap: a peg landing 2 mm off the hole's axis
-        peaked at 5.25-5.65 mm/s at SPEED 5 mm/s on the ideal plant, seeds 0-4 (the cap aims
-        at 4.5), while the capped push was pulling it back. Without it those axes keep eq.
-        18's damping ``-Lambda Omega_bar k_vf xd`` and yield to the contact as a damped free
-        body: 4.9-5.3 mm/s (tests/run/test_run_insert_speed.py); their integral is held.
-        No integral action: one on the speed error (tried until 2026-11-24) wound up while
-        the joints stuck below the friction compensation's ramp and overshot SPEED 5 mm/s by
-        12 %; without it the push keeps slightly under its aim (27 mm at SPEED 20 mm/s in
-        1.60 s instead of 1.52 s) and never over its limit.
+    While it binds, the push is a velocity command along n, and the force loop of the
+    compliant translations around it is dropped: their ``F_d`` is 0 (INSERT's COMPLY X Y),
+    so eq. 18's ``F_d + k_f (F_d - F_s) + k_i integral`` there is ``-k_f F_s + k_i integral``,
+    which adds 0.6 times the contact's own push (k_f = 0.6) and the integral's to the force
+    that moves the tool away from what it touches. On a slope (a chamfer) that motion
+    carries the tool down the slope, past the cap: a peg landing 2 mm off the hole's axis
+    peaked at 5.25-5.65 mm/s at SPEED 5 mm/s on the ideal plant, seeds 0-4 (the cap aims
+    at 4.5), while the capped push was pulling it back. Without it those axes keep eq.
+    18's damping ``-Lambda Omega_bar k_vf xd`` and yield to the contact as a damped free
+    body: 4.9-5.3 mm/s (tests/run/test_run_insert_speed.py); their integral is held.
+    No integral action: one on the speed error (tried until 2026-11-24) wound up while
+    the joints stuck below the friction compensation's ramp and overshot SPEED 5 mm/s by
+    12 %; without it the push keeps slightly under its aim (27 mm at SPEED 20 mm/s in
+    1.60 s instead of 1.52 s) and never over its limit.
 
     Args:
-            feedback: F_fb from :func:`force_feedback`, world, [N, N m]. # (6,)
-            force_goal: The segment's force setpoint F_d (not ramped), world. # (6,)
-            force_sensed: F_s, world, [N, N m]. # (6,)
-            velocity: Tool twist, world, [m/s, rad/s]. # (6,)
-            lambda_inv_omega_bar: ``Lambda^-1 Omega_bar``. # (6, 6)
-            max_speed: V_max (the speed reference), in [m/s].
-            kv: Velocity gain of the speed servo, in [1/s].
-            k_vf: The force axes' damping gain (eq. 18's F_a), in [1/s].
-            feedforward: ``a_r``, the reference's rate of rise, in [m/s^2].
+        feedback: F_fb from :func:`force_feedback`, world, [N, N m]. # (6,)
+        force_goal: The segment's force setpoint F_d (not ramped), world. # (6,)
+        force_sensed: F_s, world, [N, N m]. # (6,)
+        velocity: Tool twist, world, [m/s, rad/s]. # (6,)
+        lambda_inv_omega_bar: ``Lambda^-1 Omega_bar``. # (6, 6)
+        max_speed: V_max (the speed reference), in [m/s].
+        kv: Velocity gain of the speed servo, in [1/s].
+        k_vf: The force axes' damping gain (eq. 18's F_a), in [1/s].
+        feedforward: ``a_r``, the reference's rate of rise, in [m/s^2].
 
     Returns:
-            ``(F_fb, limited)``: the capped feedback (its translation off n dropped) and whether
-            the cap bound.
+        ``(F_fb, limited)``: the capped feedback (its translation off n dropped) and whether
+        the cap bound.
     """
     n, inverse_mass = push_axis(force_goal, lambda_inv_omega_bar)
     if not inverse_mass > 0.0:
