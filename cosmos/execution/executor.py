@@ -100,13 +100,11 @@ class Executor:
         self.segment_count = 0
         self._source: str | None = None
         self._stopped_at: float | None = None
+        self._field_watch = FieldOnToolWatch()
         self.meter = ToolMeter(runtime.plant)
         robot = runtime.robot
-        self.supervisor = Supervisor(
-            runtime.plant,
-            np.minimum(-robot.tau_lower_nm, robot.tau_upper_nm),
-            1.0 / runtime.rates.servo_hz,
-        )
+        torque_limits = np.minimum(-robot.tau_lower_nm, robot.tau_upper_nm)
+        self.supervisor = Supervisor(runtime.plant, torque_limits, 1.0 / runtime.rates.servo_hz)
         self.walker = PlanWalker(self)
         """Decides IF, WHILE and TRY; keeps how the last statement ended from one plan to the next."""
 
@@ -128,6 +126,8 @@ class Executor:
         self._event("start", segments[0], "")
         for segment in segments:
             outcome = self.run_segment(segment, *statement_start)
+            if moved := self._field_watch.close():  # the field on the tool's link pushed it aside
+                self._event("field_on_tool", segment, moved)
             if outcome.verdict is Verdict.FAILED:
                 self._fail(segment, outcome)
             if outcome.verdict is Verdict.STOPPED:
@@ -262,7 +262,7 @@ class Executor:
         snapshot = Snapshot(data.time, position, meter.rotation, rt.servo.last_velocity, wrench, grip)
         last_goal = len(goals) - 1
         progress, progress_every = self.progress, self.progress_every
-        field_watch = FieldOnToolWatch()
+        self._field_watch = field_watch = FieldOnToolWatch()
 
         def deviation() -> float:
             return supervisor.path_deviation_m(position)
@@ -278,9 +278,10 @@ class Executor:
             if obstacles is not None:
                 for reason in obstacles.after_tick():
                     self._event("collision", segment, reason)
-                supervisor.field_acting = bool(obstacles.field.influences)
-                reason = field_watch.update(rt.servo.null_space, rt.servo.link_field, deviation)
-                if reason:
+                supervisor.field_acting = bool(influences := obstacles.field.influences)
+                if reason := field_watch.update(
+                    rt.servo.null_space, rt.servo.link_field, deviation, influences
+                ):
                     self._event("field_on_tool", segment, reason)
             if self.stop_requested:
                 self.stop_requested = False

@@ -7,18 +7,27 @@ link dangerously close gets the whole field, which moves the tool
 ``field_on_tool`` events: when it begins (the link, the obstacle, its distance,
 the share of the field on the tool) and when it ends (the largest deviation of
 the tool from its path meanwhile, as the protective stop measures it).
+
+The field on the tool's own link always acts whole: it is the tool's avoidance (seed
+section 6), and a WAIT or MOVE it pushes aside is not where the statement holds it. When it
+moved the tool more than :data:`MOVED_M` off its path, a ``field_on_tool`` event says how far,
+once the field lets go of the tool or the segment ends.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
+from cosmos.obstacles.field import Influence
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
 
 START_SHARE = 0.1
 """An episode begins when this share of the links' field reaches the tool ..."""
 END_SHARE = 0.01
 """... and ends when the share falls below this."""
+MOVED_M = 0.001
+"""The field on the tool's link moving the tool off its path more than this is told [m]: the
+tolerance of an arrival."""
 
 
 class FieldOnToolWatch:
@@ -27,15 +36,44 @@ class FieldOnToolWatch:
     def __init__(self) -> None:
         self._episode: tuple[str, str] | None = None
         self._deviation_m = 0.0
+        self._tool_obstacle = ""  # whose field acts on the tool's own link ("": none does)
+        self._tool_deviation_m = 0.0
 
-    def update(self, null_space: NullSpaceTerms, field: LinkField, deviation_m: Callable[[], float]) -> str:
+    def update(
+        self,
+        null_space: NullSpaceTerms,
+        field: LinkField,
+        deviation_m: Callable[[], float],
+        influences: tuple[Influence, ...],
+    ) -> str:
         """The event's reason when an episode begins or ends, else "".
 
         Args:
             null_space: The servo's null-space terms at the last evaluation.
             field: The obstacle field as the servo holds it.
             deviation_m: Measures the tool's distance from its path now, in [m].
+            influences: The obstacles whose field acts on the arm now.
         """
+        told = self._links(null_space, field, deviation_m)
+        if field.tool.any():  # the field on the tool's own link
+            if not self._tool_obstacle:  # an obstacle nearest the tool's link (the last: link6 on the PUMA)
+                tool_link = f"link{field.tool.shape[0]}"
+                self._tool_obstacle = next((i.obstacle for i in influences if i.link == tool_link), "")
+            if self._tool_obstacle:
+                self._tool_deviation_m = max(self._tool_deviation_m, deviation_m())
+        elif self._tool_obstacle:
+            return "; ".join(reason for reason in (told, self.close()) if reason)
+        return told
+
+    def close(self) -> str:
+        """How far the field on the tool's link moved the tool, if it did and has not been told."""
+        obstacle, moved = self._tool_obstacle, self._tool_deviation_m
+        self._tool_obstacle, self._tool_deviation_m = "", 0.0
+        if not obstacle or moved < MOVED_M:
+            return ""
+        return f"the field of obstacle '{obstacle}' moved the tool up to {moved * 1e3:.1f} mm off its path"
+
+    def _links(self, null_space: NullSpaceTerms, field: LinkField, deviation_m: Callable[[], float]) -> str:
         share = null_space.link_share_to_tool
         if self._episode is None:
             if share < START_SHARE:
