@@ -1,14 +1,16 @@
 """A sweep's definition and its results file: JSON lines, appended run by run, resumable.
 
-The first line is the sweep's header: the program's name and text digest, the seed and the
-``--vary`` distributions (canonical SI text). Each following line is one run's result, written
-and flushed to the disk as the run ends, so a sweep stopped by Ctrl-C or killed outright loses
-at most the runs then under way; run again with the same arguments, it makes only the runs
-missing. A last line cut by a kill is dropped.
+The first line is the sweep's header: the program's name and text digest, the seed, the
+``--vary`` distributions (canonical SI text), the plant and the cosmos that made the runs (its
+version and a digest of its package's files: runs of other controller code do not mix in).
+Each following line is one run's result, written and flushed to the disk as the run ends, so a
+sweep stopped by Ctrl-C or killed outright loses at most the runs then under way; run again
+with the same arguments, it makes only the runs missing. A last line cut by a kill is dropped.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -26,6 +28,19 @@ from cosmos.sweep.worker import RunTask
 RESULTS_NAME = "results.jsonl"
 """The results file in a sweep's directory."""
 FORMAT = "cosmos-sweep/1"
+
+
+@functools.cache
+def cosmos_code() -> str:
+    """The running cosmos: its version and a digest of its package's files (code, grammar, models)."""
+    import cosmos
+
+    root = Path(cosmos.__file__).parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*")):
+        if path.is_file() and "__pycache__" not in path.parts:
+            digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
+    return f"{cosmos.__version__}+{digest.hexdigest()[:12]}"
 
 
 class Keep(StrEnum):
@@ -63,6 +78,7 @@ class SweepSpec:
             "seed": self.seed,
             "vary": [vary.text() for vary in self.varies],
             "plant": IDEAL if self.ideal else REALISTIC,
+            "cosmos": cosmos_code(),
         }
 
     def task(self, index: int, keep: Keep = Keep.FAILED) -> RunTask:
@@ -126,6 +142,12 @@ class ResultsFile:
         self.done: dict[int, dict[str, Any]] = {}
         if path.exists():
             found, self.done, complete = read_results(path)
+            if found.get("cosmos") != header["cosmos"] and {**found, "cosmos": header["cosmos"]} == header:
+                raise UsageError(
+                    f"{path}: its runs were made by another cosmos ({found.get('cosmos', 'before 0.1.0+')}, "
+                    f"this is {header['cosmos']}) and would not mix with this one's; give another --out or "
+                    "delete it"
+                )
             if {k: found.get(k) for k in header} != header:
                 raise UsageError(
                     f"{path}: holds another sweep (program text, seed, --vary or --ideal differ); "

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+import cosmos
 from cosmos.errors import UsageError
 from cosmos.sweep.parameters import parse_varies
 from cosmos.sweep.results import ResultsFile, SweepSpec, read_results, sample
@@ -62,3 +63,20 @@ def test_sample_redraws_a_run_s_values_from_the_header(tmp_path: Path) -> None:
     path.write_text("\n".join(lines) + "\n")
     with pytest.raises(Exception, match="recorded values differ"):
         sample(path, 4)
+
+
+def test_runs_of_other_cosmos_code_are_not_resumed(tmp_path: Path) -> None:
+    """A results file whose runs another cosmos made (another version, or its controller code
+    edited) is refused, saying so. Catches a sweep that silently resumed from runs of the code
+    before an edit, mixing two controllers' outcomes in one success rate."""
+    path = tmp_path / "results.jsonl"
+    results = ResultsFile(path, spec())
+    results.add(fake_result(0, spec().task(0).values))
+    results.close()
+    lines = path.read_text().splitlines()
+    header = json.loads(lines[0])
+    assert header["cosmos"].startswith(cosmos.__version__ + "+")
+    header["cosmos"] = cosmos.__version__ + "+000000000000"
+    path.write_text("\n".join([json.dumps(header), *lines[1:]]) + "\n")
+    with pytest.raises(UsageError, match=r"made by another cosmos \(0\.1\.0\+000000000000"):
+        ResultsFile(path, spec())
