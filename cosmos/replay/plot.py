@@ -57,7 +57,7 @@ def force_intervals(segments: Sequence[SegmentRecord], end: float) -> list[tuple
 def _mark_statements(axes: Sequence[Axes], timeline: Sequence[StatementRun]) -> None:
     top = axes[0]
     for run in timeline:
-        if run.depth > 0:
+        if run.depth > 0 or run.between:
             continue
         color = OUTCOME_COLORS.get(run.outcome, UNFINISHED_COLOR)
         for ax in axes:

@@ -22,7 +22,8 @@ class StatementRun:
         statement: Source text.
         start: Simulated time of its start event [s].
         end: Time of its outcome event [s]; the end of the log if it has none.
-        outcome: done, stopped, failed, or ``unfinished``.
+        outcome: done, stopped, failed, or ``unfinished``; for an event between statements
+            (``decision``, ``recovery``, ``retry``), its kind.
         reason: The outcome event's reason.
         peak_force: Largest |f| the tool applied during the statement [N] (NaN: no sample).
         final_force: |f| at the last sample of the statement [N] (NaN: no sample).
@@ -40,6 +41,11 @@ class StatementRun:
     final_force: float
     notes: tuple[str, ...]
     depth: int
+
+    @property
+    def between(self) -> bool:
+        """An event between statements (a decision, a recovery, a retry), not a statement's run."""
+        return self.outcome != UNFINISHED and self.outcome not in OUTCOME_KINDS
 
 
 @dataclass
@@ -62,7 +68,8 @@ def statement_timeline(record: RunRecord) -> list[StatementRun]:
     A ``start`` event opens a statement; the next ``done``, ``stopped`` or
     ``failed`` event of the same line closes it (and any statement started
     inside it that is still open). Other events become notes of the innermost
-    open statement.
+    open statement; between statements (a decision, a recovery, a retry) a row of
+    their own, its outcome the event's kind.
     """
     runs: list[StatementRun] = []
     stack: list[_Open] = []
@@ -108,6 +115,13 @@ def statement_timeline(record: RunRecord) -> list[StatementRun]:
         elif stack:
             note = f"{event.kind} at {event.t:.3f} s"
             stack[-1].notes.append(f"{note}: {event.reason}" if event.reason else note)
+        else:  # between statements: an IF's or WHILE's decision, a TRY's recovery, a RETRY
+            nan = float("nan")
+            runs.append(
+                StatementRun(
+                    event.line, event.statement, event.t, event.t, event.kind, event.reason, nan, nan, (), 0
+                )
+            )
     end = record.end_time
     while stack:
         close(stack.pop(), end, UNFINISHED, "no outcome in the log")

@@ -71,3 +71,20 @@ def test_summary_warns_about_a_cut_log(written: WrittenRun, tmp_path: Path) -> N
     text = format_summary(record, statement_timeline(record))
     assert "WARNING: this log was cut short" in text
     assert "--recover" in text
+
+
+def test_a_decision_between_statements_has_its_own_row(tmp_path: Path) -> None:
+    """An IF's decision is logged between statements, where no statement is open: the summary
+    dropped it, so a replay never showed which branch ran or what was read. It is a row of its
+    own, at its line, with what was read, between the statements around it."""
+    import cosmos
+
+    program = "MOVE BY (0, 0, 10 mm)\nIF FORCE > 100 N\n  MOVE BY (0, 0, 10 mm)\nELSE\n"
+    program += "  MOVE BY (0, 10 mm, 0)\nEND\n"
+    run = cosmos.run(program, log=tmp_path / "if.mcap")
+    record = read_log(tmp_path / "if.mcap")
+    rows = [(r.line, r.outcome) for r in statement_timeline(record)]
+    assert rows == [(1, "done"), (2, "decision"), (5, "done")], rows
+    (decision,) = [e for e in run.events if e.kind == "decision"]
+    text = format_summary(record, statement_timeline(record))
+    assert "IF FORCE > 100 N" in text and decision.reason in text
