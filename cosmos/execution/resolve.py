@@ -14,6 +14,10 @@ something stops it; a hold keeps the anchor where the statement before left it
 (:func:`spring_anchor`); the servo holds the spring to its law with the axes' effective
 masses (``ServoSetpoint.spring_masses``, :mod:`cosmos.runtime.kernels.spring`), and no
 integral of the position error acts on it.
+
+A free MOVE at a low SPEED (at most :data:`TRACKED_SPEED_MPS`) tracks a reference moving
+along its line at the SPEED, with eq. 19's position feedback, in place of eq. 20-21's
+velocity servo (:func:`tracks_a_reference`).
 """
 
 from __future__ import annotations
@@ -142,6 +146,56 @@ def spring_anchor(
     return position + frame.dot(offset), so3_exp(frame.dot(turn)).dot(rotation)
 
 
+TRACKED_SPEED_MPS = 0.004
+"""At or below this SPEED a free MOVE tracks a reference along its line (:func:`tracks_a_reference`) [m/s]."""
+
+TRACKED_TURN_RAD = math.radians(30.0)
+"""A slower MOVE that turns the tool more than this keeps eq. 20-21 and its rotation plan [rad]."""
+
+
+def tracks_a_reference(segment: Segment, rotation: FloatArray, goal_rotation: FloatArray) -> bool:
+    """Whether a MOVE is a reference tracked along its line at its SPEED (eq. 19), not eq. 20-21.
+
+    Eq. 20-21 hold the cruise to the SPEED with a velocity servo, and their integral
+    (:mod:`cosmos.osc.cruise_speed`) with the sensed speed along the line. At a few mm/s that
+    speed is mostly the encoders' quantisation (30-50 um of tool travel per count, through a
+    40 Hz observer), and the whole motion lies within the goal integral's band
+    (:func:`cosmos.osc.integral_action.integrate_goal_error`), which drives it toward the goal:
+    a MOVE of 2-5 mm at SPEED 1 mm/s ran at 2.4-4.7 mm/s (medians), at 0.5 mm/s at 2.0-3.8 mm/s,
+    and at 2 mm/s down it stuck and slipped between 0.2 and 3.5 times its SPEED (seeds 0-4 and
+    the ideal plant). The position is measured far better than the speed there, so the tool tracks
+    a reference that cruises along the line at the SPEED between short ramps
+    (:func:`cosmos.osc.motion.cruise`), with eq. 19, as a SLIDE and a COMPLY spring's anchor
+    do: a steady model error leaves a steady lag behind the reference, not a speed error.
+
+    Only a free MOVE (every axis motion-controlled, no spring, no VIA point, no free
+    orientation or POSTURE for the null space) with a target, turning the tool at most
+    :data:`TRACKED_TURN_RAD`. From 5 mm/s on, eq. 20-21 and their cruise integral hold the
+    SPEED within a few per cent once cruising (``tests/run/test_run_cruise_speed.py``), and
+    tracking did not do better: at 5 mm/s along +Y (seeds 0 and 2) the tool hunted between
+    0.73 and 1.23 times its SPEED, a joint turning within the Coulomb compensation's ramp
+    (``ServoGains.coulomb_velocity_rad_s``), where the compensation grows with the sensed
+    speed faster than the servo damps it; at 2 mm/s straight down the shoulder does the same
+    (0.5-2.2 times the SPEED, where eq. 20-21 gave 0.2-3.5). Among obstacles the reference
+    does not give way to the field as eq. 20-21's goal motion does
+    (:func:`cosmos.runtime.goal_line.kept_line`).
+
+    Args:
+        segment: The segment about to start.
+        rotation: The measured tool orientation, tool to world. # (3, 3)
+        goal_rotation: The goal's. # (3, 3)
+    """
+    speed = segment.speed_limit_mps
+    if segment.kind is not SegmentKind.MOVE or segment.target is None or segment.via or not speed:
+        return False
+    if speed > TRACKED_SPEED_MPS or not all(segment.motion_axes) or any(spring_axes(segment)):
+        return False
+    if segment.orientation_free or segment.posture is not None:
+        return False
+    turn = float(np.linalg.norm(so3_log(np.asarray(goal_rotation).dot(np.asarray(rotation).T))))
+    return turn <= TRACKED_TURN_RAD
+
+
 def posture_joints(
     posture: Posture | None, home_q: FloatArray, q_lower: FloatArray, q_upper: FloatArray
 ) -> tuple[FloatArray | None, str]:
@@ -243,16 +297,20 @@ def setpoint_for(
         # velocity servo only kv = 2 sqrt(k / lambda): 2 N at 20 mm/s for 500 N/m, less than
         # the joints' friction error, and a 20 mm MOVE crawled for 22 s.
         cruise_speed, duration_s = segment.speed_limit_mps, 1.0
+    rotation = evaluation.rotation_tool_to_world
+    tracked = duration_s is None and tracks_a_reference(segment, rotation, goal_rotation)
+    if tracked:  # a low SPEED: a reference along the line, tracked (tracks_a_reference)
+        cruise_speed, duration_s = segment.speed_limit_mps, 1.0
     if duration_s is not None:
         mode = MotionMode.TRAJECTORY
         trajectory = PoseTrajectory.between(
             evaluation.position,
-            evaluation.rotation_tool_to_world,
+            rotation,
             goal_position,
             goal_rotation,
             duration_s,
             cruise_speed,
-            DEFAULT_MAX_ANGULAR_SPEED if sprung else None,
+            DEFAULT_MAX_ANGULAR_SPEED if sprung or tracked else None,
         )
     elif segment.target is None and segment.kind is not SegmentKind.CONTACT_APPROACH:
         mode = MotionMode.HOLD

@@ -112,3 +112,45 @@ def test_contact_approaches_at_its_speed(tmp_path: Path, seed: int) -> None:
     done = x[0, 2] - x[:, 2]
     cruising = (done > 0.01) & (x[:, 2] > 0.20 + 0.01)  # the table's top at 0.20 m
     _judge_cruise(t, x, cruising, 0.01)
+
+
+SLOW_CASES = [
+    # (unit direction, SPEED mm/s, seed, ideal); eq. 20-21's median there in the comment
+    ((0.0, 1.0, 0.0), 0.5, 2, False),  # 2.80 mm/s
+    ((0.0, 1.0, 0.0), 1.0, 0, False),  # 3.10
+    ((-1.0, 1.0, -1.0), 1.0, 3, False),  # 3.15
+    ((0.0, 1.0, 0.0), 2.0, 1, False),  # 1.70, 100 ms windows 0.19-7.4 mm/s
+    ((-1.0, 1.0, -1.0), 2.0, 4, False),  # 2.14
+    ((-1.0, 1.0, -1.0), 3.0, 0, True),
+    ((0.0, 0.0, -1.0), 4.0, 3, False),
+]
+
+
+@pytest.mark.parametrize(("direction", "speed_mmps", "seed", "ideal"), SLOW_CASES)
+def test_a_slow_move_keeps_its_speed(
+    tmp_path: Path, direction: tuple[float, float, float], speed_mmps: float, seed: int, ideal: bool
+) -> None:
+    """Catches a slow MOVE left to eq. 20-21 (cosmos.execution.resolve.tracks_a_reference): at
+    1 mm/s the goal integral, whose band holds the whole motion, and the cruise integral's gate
+    on a sensed speed that is mostly the encoders' quantisation ran it at 2.4-4.7 mm/s, at
+    0.5 mm/s at 2.0-3.8 mm/s, and at 2 mm/s it stuck and slipped (0.2-3.5 times its SPEED).
+    Over a few millimetres (the suite stays fast): the median 20 ms speed within 5 %, every
+    100 ms within 10 % between a quarter of the travel and the reference's final ramp (0.2 s
+    of travel at the SPEED, and 0.3 mm of lag), from 1 mm/s on no 100 ms window of the first
+    0.25 s over 110 % (at 0.5 mm/s what the MOVE before leaves moving, 0.06 mm/s, is more
+    than that); it arrives within 1 mm and never passes its goal by 1 mm."""
+    speed = speed_mmps * 1e-3
+    unit = np.array(direction) / np.linalg.norm(direction)
+    travel = max(2.0, 2.5 * speed_mmps)  # mm: two seconds of cruise, at least 2 mm
+    offset = ", ".join(f"{c * travel:.4f} mm" for c in unit)
+    program = f"MOVE TO {START}\nMOVE BY ({offset}) SPEED {speed_mmps:g} mm/s"
+    t, x, goal, _, run = _cruise(tmp_path, program, 2, speed, seed, ideal)
+    assert run.ok, run.outcome
+    done = (x - x[0]) @ unit
+    cruising = (done > 0.25 * travel * 1e-3) & (np.linalg.norm(goal - x, axis=1) > 0.2 * speed + 0.0003)
+    _judge_cruise(t, x, cruising, speed)
+    if speed_mmps >= 1.0:
+        first = _speeds(t, x, 25)[t[25:] - t[0] <= 0.25]
+        assert first.max() <= 1.1 * speed, f"{first.max() * 1e3:.2f} mm/s in the first 0.25 s"
+    assert np.linalg.norm(x[-1] - goal) < 0.001
+    assert float(((x - goal) @ unit).max()) < 0.001, "the tool passed its goal"
