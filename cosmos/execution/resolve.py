@@ -146,7 +146,7 @@ def spring_anchor(
     return position + frame.dot(offset), so3_exp(frame.dot(turn)).dot(rotation)
 
 
-TRACKED_SPEED_MPS = 0.004
+TRACKED_SPEED_MPS = 0.0100001
 """At or below this SPEED a free MOVE tracks a reference along its line (:func:`tracks_a_reference`) [m/s]."""
 
 TRACKED_TURN_RAD = math.radians(30.0)
@@ -170,14 +170,14 @@ def tracks_a_reference(segment: Segment, rotation: FloatArray, goal_rotation: Fl
 
     Only a free MOVE (every axis motion-controlled, no spring, no VIA point, no free
     orientation or POSTURE for the null space) with a target, turning the tool at most
-    :data:`TRACKED_TURN_RAD`. From 5 mm/s on, eq. 20-21 and their cruise integral hold the
-    SPEED within a few per cent once cruising (``tests/run/test_run_cruise_speed.py``), and
-    tracking did not do better: at 5 mm/s along +Y (seeds 0 and 2) the tool hunted between
-    0.73 and 1.23 times its SPEED, a joint turning within the Coulomb compensation's ramp
-    (``ServoGains.coulomb_velocity_rad_s``), where the compensation grows with the sensed
-    speed faster than the servo damps it; at 2 mm/s straight down the shoulder does the same
-    (0.5-2.2 times the SPEED, where eq. 20-21 gave 0.2-3.5). Among obstacles the reference
-    does not give way to the field as eq. 20-21's goal motion does
+    :data:`TRACKED_TURN_RAD`. From 3 mm/s on the friction's intent reads the reference
+    (:func:`cosmos.osc.cruise_speed.tracked_intent`): with a trajectory's, a joint turning
+    within the Coulomb compensation's ramp hunted (5 mm/s along +Y: 0.73-1.23 times the
+    SPEED). At 2 mm/s straight down the shoulder still sticks and slips (0.5-2.2 times the
+    SPEED, where eq. 20-21 gave 0.2-3.5). Up to 10 mm/s tracking did better than eq. 20-21
+    and their cruise integral (:mod:`cosmos.osc.cruise_speed`), at 10 mm/s within a few per
+    cent both, eq. 20-21 running 55 % over in the first 0.25 s, tracking 23 %. Among obstacles
+    the reference does not give way to the field as eq. 20-21's goal motion does
     (:func:`cosmos.runtime.goal_line.kept_line`).
 
     Args:

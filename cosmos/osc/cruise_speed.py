@@ -51,8 +51,12 @@ only the modelled friction, and the speed error is what the model gets wrong.
 An INSERT's approach keeps eq. 20-21 as they were (``ServoSetpoint.cruise_integral``):
 landing on the chamfer at its SPEED rather than below it, the insertion rang past its cap.
 
+Below eq. 20-21's SPEEDs a MOVE tracks a reference instead
+(:func:`cosmos.execution.resolve.tracks_a_reference`), and the Coulomb intent reads that
+reference (:func:`tracked_intent`).
+
 The compiled servo tick runs the same arithmetic
-(:func:`cosmos.runtime.kernels.cruise.cruise_integral_into`).
+(:func:`cosmos.runtime.kernels.cruise.cruise_into`, :func:`cosmos.runtime.kernels.cruise.reference_speed`).
 """
 
 from __future__ import annotations
@@ -136,3 +140,32 @@ def cruise_intent(binds: bool, line: FloatArray, velocity: FloatArray, max_speed
 def cruise_command(integral: float, line: FloatArray) -> FloatArray:
     """The term ``a u`` added to F*_m, in [m/s^2]. # (6,)."""
     return np.concatenate((integral * np.asarray(line, dtype=float), np.zeros(3)))
+
+
+def tracked_intent(
+    command: FloatArray, velocity: FloatArray, reference_velocity: FloatArray, lookahead_s: float
+) -> FloatArray:
+    """What the Coulomb intent reads of a slow MOVE's tracked reference: ``F*_m + (2 xd_d - xd) / L``. # (6,).
+
+    A MOVE at a low SPEED tracks a reference along its line with eq. 19
+    (:func:`cosmos.execution.resolve.tracks_a_reference`). The friction's intent is
+    ``qd + L Jbar a`` (:mod:`cosmos.osc.friction`); a trajectory's ``a`` is
+    ``F*_m + xd_d / L``, so, with ``F*_m = -kp e - kv (xd - xd_d)`` and ``Jbar J = 1``, the
+    intent is ``(1 - L kv) qd + (1 + L kv) qd_d - L kp Jbar e``: it grows with the sensed
+    speed (``1 - L kv`` = 0.2 at L = 20 ms, kv = 40). At a few mm/s the joints turn within the
+    compensation's ramp (``ServoGains.coulomb_velocity_rad_s``, 0.01 rad/s), where the
+    compensation then grows with the joint's speed faster than the servo damps it: a negative
+    damping, and the tool hunted between 0.73 and 1.23 times its SPEED at 5 mm/s (+Y, seeds 0
+    and 2). With ``(2 xd_d - xd) / L`` in place of ``xd_d / L`` the intent is
+    ``2 qd_d - L kv (qd - qd_d) - L kp Jbar e``: the reference's joint speeds, twice, as the
+    trajectory's intent is when tracked, and a compensation that falls as a joint runs ahead
+    of its reference, damping it. Only while the reference moves: at rest the sensed speed's
+    noise would reach the compensation through ``-L kv xd`` (the tool did not settle).
+
+    Args:
+        command: ``F*_m``, world, in [m/s^2] then [rad/s^2]. # (6,)
+        velocity: The sensed twist ``xd``, world, in [m/s] then [rad/s]. # (6,)
+        reference_velocity: The reference's ``xd_d``, world. # (6,)
+        lookahead_s: L, the intent's look-ahead, in [s].
+    """
+    return np.asarray(command) + (2.0 * np.asarray(reference_velocity) - np.asarray(velocity)) / lookahead_s

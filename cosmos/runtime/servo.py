@@ -29,7 +29,7 @@ from cosmos.robot_model import GRAVITY
 from cosmos.runtime.goal_line import goal_line, kept_line
 from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
-from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, cruise_gains
+from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, TRACKED_UNTIL, cruise_gains, tracked_until
 from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
 from cosmos.runtime.kernels.parameter import LIMITS_OFFSET, refold
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
@@ -286,6 +286,7 @@ class ServoLevel:
         scalars[kernel.MAX_SPEED] = speed if setpoint.insert_approach else setpoint.max_speed
         gains, dt_s, sp = self.gains, scalars[kernel.DT_S], setpoint
         scalars[CRUISE_INTEGRAL : kernel.PUSH_SPEED_RATE] = cruise_gains(gains.cruise_integral, dt_s, sp)
+        scalars[TRACKED_UNTIL] = tracked_until(sp)  # a slow MOVE's reference (kernels.cruise)
         aim = push_aim(setpoint.max_speed, gains.push_speed_aim, gains.push_speed_margin_mps)
         scalars[kernel.PUSH_SPEED] = aim if setpoint.limit_push_speed else 0.0  # cosmos.osc.push_speed
         scalars[kernel.MAX_ANGULAR_SPEED] = setpoint.max_angular_speed

@@ -13,9 +13,22 @@ import math
 import numpy as np
 import pytest
 
-from cosmos.osc.cruise_speed import cruise_command, cruise_integral_step, cruise_intent, speed_limit_binds
+from cosmos.osc.cruise_speed import (
+    cruise_command,
+    cruise_integral_step,
+    cruise_intent,
+    speed_limit_binds,
+    tracked_intent,
+)
 from cosmos.runtime.kernels import servo as sk
-from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, CRUISE_SLOTS, cruise_into
+from cosmos.runtime.kernels.cruise import (
+    CRUISE,
+    CRUISE_INTEGRAL,
+    CRUISE_SLOTS,
+    TRACKED_UNTIL,
+    cruise_into,
+    reference_speed,
+)
 
 KP, KV, DT_S = 400.0, 40.0, 0.001
 GATE = (400.0, 2.0, 0.25, 2.0)
@@ -181,7 +194,59 @@ def test_the_servo_kernel_layout_leaves_the_cruise_its_slots() -> None:
     INSERT's push's speed reference's rate, its state row the last (an INSERT's push keeps its speed
     reference at 2 and 3: the cruise integral never runs there), and it reads the wrench, error and
     twist from rows 0-2."""
-    assert sk.PUSH_SPEED_RATE == CRUISE_INTEGRAL + CRUISE_SLOTS and sk.SCALARS == sk.PUSH_SPEED_RATE + 1
+    assert sk.PUSH_SPEED_RATE == CRUISE_INTEGRAL + CRUISE_SLOTS
+    assert sk.PUSH_SPEED_RATE + 1 == TRACKED_UNTIL and sk.SCALARS == TRACKED_UNTIL + 1  # a slow MOVE's
     assert sk.HOLD_OBSERVER + 4 <= CRUISE_INTEGRAL
     assert sk.STATE_ROWS > CRUISE and sk.MOTION_INTEGRAL < CRUISE  # the springs' rows follow (kernels.spring)
     assert (sk.WRENCH, sk.ERROR, sk.VELOCITY) == (0, 1, 2)
+
+
+LOOKAHEAD_S = 0.02
+
+
+def _friction_intent(tracked: bool, v: float, v_d: float, e: float) -> float:
+    """The Coulomb intent ``qd + L Jbar a`` of a unit mass on one axis (``J = Jbar = 1``), eq. 19."""
+    command = np.array([-KP * e - KV * (v - v_d), 0, 0, 0, 0, 0], dtype=float)
+    velocity, reference = np.array([v, 0, 0, 0, 0, 0.0]), np.array([v_d, 0, 0, 0, 0, 0.0])
+    if tracked:
+        a = tracked_intent(command, velocity, reference, LOOKAHEAD_S)
+    else:  # a trajectory's: F*_m + xd_d / L (kernels.servo)
+        a = command + reference / LOOKAHEAD_S
+    return v + LOOKAHEAD_S * float(a[0])
+
+
+def test_a_slow_references_intent_damps_a_joint_running_ahead() -> None:
+    """Catches the friction's intent of a tracked trajectory rising with the sensed speed: its
+    slope ``1 - L kv`` (0.2) times the compensation's ramp (full at 0.01 rad/s) outweighed the
+    servo's damping, and a 5 mm/s MOVE hunted between 0.73 and 1.23 times its SPEED. Against
+    the analytic intent ``2 v_d - L kv (v - v_d) - L kp e``: its slope in ``v`` is ``-L kv``."""
+    v_d, e, dv = 0.004, 2e-4, 1e-4
+    slope = (_friction_intent(True, v_d + dv, v_d, e) - _friction_intent(True, v_d - dv, v_d, e)) / (2 * dv)
+    assert slope == pytest.approx(-LOOKAHEAD_S * KV, rel=1e-9)
+    assert _friction_intent(True, v_d, v_d, 0.0) == pytest.approx(2.0 * v_d, rel=1e-12)
+    assert _friction_intent(True, 0.0, v_d, e) == pytest.approx(
+        2 * v_d + LOOKAHEAD_S * KV * v_d - LOOKAHEAD_S * KP * e, rel=1e-12
+    )
+    before = (_friction_intent(False, v_d + dv, v_d, e) - _friction_intent(False, v_d - dv, v_d, e)) / (
+        2 * dv
+    )
+    assert before == pytest.approx(1.0 - LOOKAHEAD_S * KV, rel=1e-9) and before > 0.0
+
+
+def test_the_compiled_reference_speed_matches_the_reference() -> None:
+    """Catches the compiled intent's speed drifting from cosmos.osc.cruise_speed.tracked_intent
+    while a slow MOVE's reference moves, or staying so after it stops (at rest the sensed
+    speed's noise reached the compensation and the tool did not settle), or touching any other
+    trajectory (its slot 0: ``xd_d`` off the force axes, as before)."""
+    rng = np.random.default_rng(14)
+    for _ in range(50):
+        reference, velocity, command = rng.normal(size=6), rng.normal(size=6), rng.normal(size=6)
+        omega_bar = np.diag(rng.choice([0.0, 1.0], size=6))
+        scalars = np.zeros(sk.SCALARS)
+        free = reference - omega_bar @ reference
+        assert reference_speed(reference, omega_bar, velocity, scalars, 1.0) == pytest.approx(free, abs=1e-12)
+        scalars[TRACKED_UNTIL] = 2.0
+        moving = reference_speed(reference, omega_bar, velocity, scalars, 1.999)
+        expected = tracked_intent(command, velocity, free, LOOKAHEAD_S)
+        assert command + moving / LOOKAHEAD_S == pytest.approx(expected, rel=1e-12, abs=1e-9)
+        assert reference_speed(reference, omega_bar, velocity, scalars, 2.0) == pytest.approx(free, abs=1e-12)

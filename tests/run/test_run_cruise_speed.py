@@ -122,7 +122,11 @@ SLOW_CASES = [
     ((0.0, 1.0, 0.0), 2.0, 1, False),  # 1.70, 100 ms windows 0.19-7.4 mm/s
     ((-1.0, 1.0, -1.0), 2.0, 4, False),  # 2.14
     ((-1.0, 1.0, -1.0), 3.0, 0, True),
+    ((0.0, 0.0, -1.0), 3.0, 1, False),
     ((0.0, 0.0, -1.0), 4.0, 3, False),
+    ((0.0, 1.0, 0.0), 5.0, 0, False),  # 100 ms windows up to 7.16 mm/s; tracked, with a trajectory's
+    # friction intent, 3.65-6.17 (cosmos.osc.cruise_speed.tracked_intent)
+    ((-1.0, 1.0, -1.0), 10.0, 0, False),  # 9.77, 100 ms windows 9.10-10.51
 ]
 
 
@@ -133,7 +137,9 @@ def test_a_slow_move_keeps_its_speed(
     """Catches a slow MOVE left to eq. 20-21 (cosmos.execution.resolve.tracks_a_reference): at
     1 mm/s the goal integral, whose band holds the whole motion, and the cruise integral's gate
     on a sensed speed that is mostly the encoders' quantisation ran it at 2.4-4.7 mm/s, at
-    0.5 mm/s at 2.0-3.8 mm/s, and at 2 mm/s it stuck and slipped (0.2-3.5 times its SPEED).
+    0.5 mm/s at 2.0-3.8 mm/s, and at 2 mm/s it stuck and slipped (0.2-3.5 times its SPEED);
+    and a tracked reference whose friction intent rises with the sensed speed (5 mm/s hunted
+    between 0.73 and 1.23 times its SPEED, cosmos.osc.cruise_speed.tracked_intent).
     Over a few millimetres (the suite stays fast): the median 20 ms speed within 5 %, every
     100 ms within 10 % between a quarter of the travel and the reference's final ramp (0.2 s
     of travel at the SPEED, and 0.3 mm of lag), from 1 mm/s on no 100 ms window of the first

@@ -52,7 +52,7 @@ from cosmos.runtime.kernels.contact import (
     touch_damping_into,
     touch_latched,
 )
-from cosmos.runtime.kernels.cruise import CRUISE, cruise_into
+from cosmos.runtime.kernels.cruise import CRUISE, cruise_into, reference_speed
 from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
 from cosmos.runtime.kernels.push_speed import push_at_speed_into
@@ -75,7 +75,7 @@ GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGUL
 GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
 HOLD_OBSERVER = 45  # a free hold's disturbance observer: L [1/s], bound [m/s^2], band [m], quiet [N]
 PUSH_SPEED_RATE = 56  # an INSERT's push: its speed reference's rise [1/s] (cosmos.osc.push_speed)
-SCALARS = 57  # 49-55: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, tool mass, touch k_v
+SCALARS = 58  # 49-55, 57: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, mass, k_v
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -261,7 +261,7 @@ def servo_tick(
     # Zeros, or a cruise's SPEED along its line: eq. 20-21's velocity loop made PI (kernels.cruise).
     cruising = cruise_into(motion, commanded_speed, state, vectors[GOAL_LINE, :3], max_speed, scalars)
     if mode == MODE_TRAJECTORY:
-        commanded_speed = velocity_desired - matvec(matrices[OMEGA_BAR], velocity_desired)
+        commanded_speed = reference_speed(velocity_desired, matrices[OMEGA_BAR], velocity, scalars, t_s)
     elapsed = t_s - scalars[START_S]
     ramp = scalars[RAMP_S]
     fraction = 1.0 if elapsed >= ramp else elapsed / ramp
