@@ -215,7 +215,8 @@ class Executor:
             if infeasible is not None:
                 return Outcome(Verdict.FAILED, infeasible)
         goal_index = 0
-        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture)
+        fields = self.obstacles is not None and self.obstacles.active  # goal motions give way to them
+        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture, fields)
         search = search_phase(segment, start_s, start_position, start_rotation)  # INSERT ... SEARCH
         if search is not None:
             setpoint = search.setpoint(setpoint)

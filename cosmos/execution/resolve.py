@@ -177,8 +177,8 @@ def tracks_a_reference(segment: Segment, rotation: FloatArray, goal_rotation: Fl
     SPEED, where eq. 20-21 gave 0.2-3.5). Up to 10 mm/s tracking did better than eq. 20-21
     and their cruise integral (:mod:`cosmos.osc.cruise_speed`), at 10 mm/s within a few per
     cent both, eq. 20-21 running 55 % over in the first 0.25 s, tracking 23 %. Among obstacles
-    the reference does not give way to the field as eq. 20-21's goal motion does
-    (:func:`cosmos.runtime.goal_line.kept_line`).
+    the reference would not give way to the field as eq. 20-21's goal motion does
+    (:func:`cosmos.runtime.goal_line.kept_line`): :func:`setpoint_for` does not track there.
 
     Args:
         segment: The segment about to start.
@@ -279,8 +279,13 @@ def setpoint_for(
     wrench_world: FloatArray,
     start_s: float,
     posture_rad: FloatArray | None = None,
+    among_obstacles: bool = False,
 ) -> ServoSetpoint:
-    """The servo setpoint that executes ``segment`` toward the given goal pose (and POSTURE, if any)."""
+    """The servo setpoint that executes ``segment`` toward the given goal pose (and POSTURE, if any).
+
+    Among obstacles (``among_obstacles``) a free MOVE keeps eq. 20-21's goal motion at any SPEED:
+    it gives way to their field (seed section 6), where a tracked reference would pull against it.
+    """
     kp, kv = axis_gains(segment, evaluation)
     trajectory = None
     duration_s = segment.duration_s
@@ -298,7 +303,9 @@ def setpoint_for(
         # the joints' friction error, and a 20 mm MOVE crawled for 22 s.
         cruise_speed, duration_s = segment.speed_limit_mps, 1.0
     rotation = evaluation.rotation_tool_to_world
-    tracked = duration_s is None and tracks_a_reference(segment, rotation, goal_rotation)
+    tracked = (
+        duration_s is None and not among_obstacles and tracks_a_reference(segment, rotation, goal_rotation)
+    )
     if tracked:  # a low SPEED: a reference along the line, tracked (tracks_a_reference)
         cruise_speed, duration_s = segment.speed_limit_mps, 1.0
     if duration_s is not None:

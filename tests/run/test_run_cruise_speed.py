@@ -160,3 +160,29 @@ def test_a_slow_move_keeps_its_speed(
         assert first.max() <= 1.1 * speed, f"{first.max() * 1e3:.2f} mm/s in the first 0.25 s"
     assert np.linalg.norm(x[-1] - goal) < 0.001
     assert float(((x - goal) @ unit).max()) < 0.001, "the tool passed its goal"
+
+
+@pytest.mark.parametrize("among_obstacles", [False, True], ids=["free", "among_obstacles"])
+def test_a_slow_move_tracks_a_reference_only_away_from_obstacles(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, among_obstacles: bool
+) -> None:
+    """A free MOVE at 2 mm/s tracks a reference along its line (eq. 19); with an obstacle in the
+    scene it keeps eq. 20-21's goal motion, which gives way to the obstacles' field (seed section 6),
+    where a reference tracked with eq. 19 pulls the tool on against it. Catches a slow MOVE among
+    obstacles tracking a reference (the setpoints the executor starts its segments with are seen)."""
+    from cosmos.execution import executor
+    from cosmos.runtime.setpoint import MotionMode
+
+    modes: list[MotionMode] = []
+    made = executor.setpoint_for
+
+    def spy(*args: object, **kwargs: object) -> object:
+        setpoint = made(*args, **kwargs)
+        modes.append(setpoint.mode)
+        return setpoint
+
+    monkeypatch.setattr(executor, "setpoint_for", spy)
+    far = "OBSTACLE post SPHERE AT (0.2, -0.6, 0.3) RADIUS 20 mm\n" if among_obstacles else ""
+    run = cosmos.run(f"{far}MOVE BY (0, 3 mm, 0) SPEED 2 mm/s\n", log=tmp_path / "slow.mcap")
+    assert run.ok, run.outcome
+    assert modes == [MotionMode.GOAL if among_obstacles else MotionMode.TRAJECTORY], modes
