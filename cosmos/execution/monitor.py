@@ -287,10 +287,12 @@ class SegmentMonitor:
             return None
         self._settled_since = None
         if timed is not None and snap.t_s >= timed + TIMED_SETTLE_S and not self._sprung:  # springs: stall
-            duration = timed - self.start_s
+            duration = timed - self.start_s  # an IN t's, or what its SPEED takes (SLIDE, a slow MOVE)
+            took = (
+                f"its {duration:g} s" if self.segment.duration_s else f"the {duration:.3g} s its SPEED takes"
+            )
             return Outcome(
-                Verdict.FAILED,
-                f"did not arrive within {TIMED_SETTLE_S:g} s after its {duration:g} s: {error.text()}",
+                Verdict.FAILED, f"did not arrive within {TIMED_SETTLE_S:g} s after {took}: {error.text()}"
             )
         # Turning the long way round (cosmos.runtime.rotation_plan) the shortest angle first
         # grows: progress counts the rotation left the way the arm turns (kept continuous).
