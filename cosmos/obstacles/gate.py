@@ -27,12 +27,33 @@ import mujoco
 import numpy as np
 
 from cosmos.obstacles.kernels import gate as gk
+from cosmos.obstacles.kernels.arrays import ArrayTable
 from cosmos.plant import Plant
 
 SLACK_M = 1e-4
 """Added to the proven bound on the bodies' motion: rounding, with room to spare [m]."""
 CAP_M = 0.1
 """A body's clearance is looked for up to this distance [m]: enough for dozens of steps."""
+
+
+def reach_m(model: mujoco.MjModel, body: int, joint: int) -> float:
+    """How far any point of ``body``'s geoms can be from hinge ``joint``'s axis, in any configuration [m].
+
+    At most its distance from the joint's anchor: the anchor's offset in the joint's
+    body, the bodies' offsets down to ``body``, and the farthest reach of a geom's
+    bounding sphere in ``body``'s frame; 0 if the joint does not carry ``body``.
+    """
+    if joint not in _chain_joints(model, body):
+        return 0.0
+    holder = int(model.jnt_bodyid[joint])
+    first, count = int(model.body_geomadr[body]), int(model.body_geomnum[body])
+    geoms = range(first, first + count)
+    bound = max((float(np.linalg.norm(model.geom_pos[g]) + model.geom_rbound[g]) for g in geoms), default=0.0)
+    bound += float(np.linalg.norm(model.jnt_pos[joint]))
+    while body != holder:
+        bound += float(np.linalg.norm(model.body_pos[body]))
+        body = int(model.body_parentid[body])
+    return bound
 
 
 def _chain_joints(model: mujoco.MjModel, body: int) -> list[int]:
@@ -81,33 +102,41 @@ class ContactGate:
             )
             for g in range(world_first, world_first + world_count)
         ]
-        ints: list[int] = [len(bodies), int(model.body_bvhadr[0]), len(joints)]
-        for b in bodies:
-            ints += [b, int(model.body_bvhadr[b]), int(contype[b]), int(conaffinity[b])]
+        header = [len(bodies), int(model.body_bvhadr[0]), len(joints), 0, 0]
+        ints: list[int] = header + [
+            value
+            for b in bodies
+            for value in (b, int(model.body_bvhadr[b]), int(contype[b]), int(conaffinity[b]))
+        ]
         ints += [int(model.jnt_qposadr[j]) for j in joints]
         ints += compat
-        self._ints = np.array(ints, dtype=np.int64)
-        arm = [b for b in range(1, model.nbody) if int(model.body_weldid[b]) != 0]
-        arm_geoms = [g for g in range(model.ngeom) if int(model.geom_bodyid[g]) in arm]
-        reach = (
-            sum(float(np.linalg.norm(model.body_pos[b])) for b in arm)
-            + max((float(np.linalg.norm(model.jnt_pos[j])) for j in joints), default=0.0)
-            + max(
-                (float(np.linalg.norm(model.geom_pos[g]) + model.geom_rbound[g]) for g in arm_geoms),
-                default=0.0,
-            )
-        )
+        ints[gk.INT_STACK] = len(ints)
+        ints += [0] * int(model.body_bvhnum[0])  # a walk's stack: at most every node of the world's tree
         margins = float(np.max(model.geom_margin + model.geom_gap)) if model.ngeom else 0.0
-        self._version = version
-        self._state = np.zeros(gk.STATE_Q + len(joints) + 2 * len(bodies))
-        self._state[gk.STATE_DT] = plant.dt_s
-        self._state[gk.STATE_REACH] = reach
-        self._state[gk.STATE_SLACK] = SLACK_M + 2.0 * margins
-        self._state[gk.STATE_CAP] = CAP_M
-        # MuJoCo's arrays, looked up once (each lookup makes a new view)
-        self._contype, self._conaffinity = model.body_contype, model.body_conaffinity
-        self._xipos, self._ximat, self._qpos = data.xipos, data.ximat, data.qpos
-        self._bvh_aabb, self._bvh_child, self._bvh_nodeid = model.bvh_aabb, model.bvh_child, model.bvh_nodeid
+        size = gk.body_state_size(len(joints))
+        state = np.zeros(gk.STATE_Q + len(joints) + size * len(bodies))
+        for k, body in enumerate(bodies):
+            at = gk.STATE_Q + len(joints) + k * size + gk.STATE_FOUND_Q + len(joints)
+            state[at : at + len(joints)] = [reach_m(model, body, j) for j in joints]
+        state[gk.STATE_DT] = plant.dt_s
+        state[gk.STATE_SLACK] = SLACK_M + 2.0 * margins
+        state[gk.STATE_CAP] = CAP_M
+        # MuJoCo's arrays (never moved while the model and data live) and the gate's, by address
+        self._arrays = ArrayTable(
+            model.body_contype,
+            model.body_conaffinity,
+            data.qpos,
+            data.xipos,
+            data.ximat,
+            model.bvh_aabb,
+            model.bvh_child,
+            model.bvh_nodeid,
+            version,
+            state,
+        )
+        ints[gk.INT_ARRAYS] = len(ints)
+        self._ints = np.array(ints + self._arrays.entries.tolist(), dtype=np.int64)
+        self._state = state
         self.gated = 0
         """How many bodies the last :meth:`engage` switched off."""
 
@@ -116,29 +145,21 @@ class ContactGate:
         """How many of the plant's bodies the gate may switch off."""
         return int(self._ints[gk.INT_BODIES])
 
+    @property
+    def body_ids(self) -> tuple[int, ...]:
+        """The plant's bodies the gate may switch off (MuJoCo's body ids)."""
+        rows = range(gk.INT_HEADER + gk.BODY_ID, gk.INT_HEADER + gk.BODY * self.bodies, gk.BODY)
+        return tuple(int(self._ints[row]) for row in rows)
+
     def engage(self) -> None:
         """Before a tick's step: switch off the bodies clear of the world for it, the others on.
 
         The flags hold until the next :meth:`engage` or :meth:`release`: call
         :meth:`release` before colliding or stepping the plant otherwise.
         """
-        self.gated = gk.gate_into(
-            self._contype,
-            self._conaffinity,
-            self._xipos,
-            self._ximat,
-            self._qpos,
-            self._data.time,
-            self._version,
-            self._state,
-            self._ints,
-            self._bvh_aabb,
-            self._bvh_child,
-            self._bvh_nodeid,
-        )
+        self.gated = gk.engage_into(self._ints, self._data.time)
 
     def release(self) -> None:
         """Every body's compiled contype and conaffinity again; the next :meth:`engage` gates nothing."""
-        gk.release_into(self._contype, self._conaffinity, self._ints)
-        self._state[gk.STATE_SEEN] = 0.0
+        gk.release(self._ints)
         self.gated = 0

@@ -7,9 +7,11 @@ import numpy as np
 import pytest
 
 from cosmos.obstacles import ContactGate, FieldParameters, ObstacleField, ObstacleScene, obstacle_scene_xml
+from cosmos.obstacles.gate import reach_m
 from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
 from cosmos.plant import Plant
 from cosmos.robot_model import build_robot_model
+from cosmos.robots import robot_named
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.rates import Rates
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -109,3 +111,43 @@ def test_a_tick_of_two_steps_switches_nothing_off() -> None:
         runtime.tick()
         assert gate.gated == 0
     assert gate.bodies == 7  # it could: six links and the tool can only touch the world
+
+
+@pytest.mark.parametrize("robot", ["puma560", "panda"])
+def test_a_body_reach_bounds_its_geoms_distance_from_every_joint_axis(robot: str) -> None:
+    """MuJoCo's own kinematics at 300 random configurations (each joint anywhere in its range): every
+    point of a gated body's geoms (each geom's centre plus its bounding radius) lies within
+    ``reach_m`` of the axis of each joint that carries it (MuJoCo's ``xanchor``, ``xaxis``). The gate
+    takes ``sum_j |dq_j| reach_j`` as the farthest the body can have moved; catches a reach that
+    leaves out an offset (the joint's anchor in its body, a body between the joint and the geoms,
+    a geom's offset in its body) and so a body switched off while it could touch."""
+    plant = Plant(obstacle_scene_xml(scene_xml=robot_named(robot).scene_xml))
+    model, data = plant.model, plant.data
+    gate = ContactGate(plant, np.zeros(1))
+    assert len(gate.body_ids) == {"puma560": 7, "panda": 8}[robot]  # the links and the tool
+    rng = np.random.default_rng(0)
+    for _ in range(300):
+        for joint in range(model.njnt):
+            data.qpos[model.jnt_qposadr[joint]] = rng.uniform(*model.jnt_range[joint])
+        mujoco.mj_kinematics(model, data)
+        for body in gate.body_ids:
+            first, count = int(model.body_geomadr[body]), int(model.body_geomnum[body])
+            for joint in range(model.njnt):
+                reach = reach_m(model, body, joint)
+                if not _carries(model, joint, body):
+                    assert reach == 0.0
+                    continue
+                anchor, axis = data.xanchor[joint], data.xaxis[joint]
+                for geom in range(first, first + count):
+                    offset = data.geom_xpos[geom] - anchor
+                    across = float(np.linalg.norm(offset - offset.dot(axis) * axis)) + model.geom_rbound[geom]
+                    assert across <= reach + 1e-12, (body, joint, geom)
+
+
+def _carries(model: mujoco.MjModel, joint: int, body: int) -> bool:
+    """Whether ``joint`` is on the way from the world to ``body`` (an independent walk)."""
+    while body > 0:
+        if int(model.jnt_bodyid[joint]) == body:
+            return True
+        body = int(model.body_parentid[body])
+    return False

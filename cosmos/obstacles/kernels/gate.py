@@ -6,21 +6,32 @@ world body in that step: it has no contact to find, and MuJoCo's walk of the
 world's tree (obstacles and fixtures, ``mj_collideTree``) for it is the most
 expensive part of a step among obstacles. The proof, per body:
 
-* MuJoCo collides the step at the joint angles ``q`` it starts from, with the
-  geoms' poses it then computes. The poses in ``data`` are those of the
-  previous step, at ``q_prev``, which the gate kept (one step before: the time
-  says so). A point of a geom carried by revolute joints moves by at most
-  ``sum_j |q_j - q_prev_j| * reach`` (an arc is longer than its chord; ``reach``
-  bounds the distance of any point of the arm from any joint's axis).
-* So the body's geoms lie, at ``q``, inside its box at ``q_prev`` (the root of
-  MuJoCo's own tree of the body, in its inertial frame, turned into world axes)
-  grown by that bound and MuJoCo's margins.
-* If that box meets no box of the world's tree leading to a geom that can touch
-  the body (contype/conaffinity), no pair of geoms can pass MuJoCo's own box
-  tests: the contacts are the same with the body switched off, and none is lost.
+* When the body's clearance is found, the poses in ``data`` are those MuJoCo
+  computed at the start of the previous step, at the joint angles ``q_found``
+  the gate saw then (one step before: the time says so). The body's box there
+  (the root of MuJoCo's own tree of the body, in its inertial frame, turned into
+  world axes) holds its geoms; its clearance is how far, along an axis, that box
+  is from every box of the world's tree leading to a geom that can touch the body.
+* MuJoCo collides a later step at the joint angles ``q`` it starts from. Turning
+  revolute joint ``j`` moves a point by at most ``|dq_j| reach_jb``, where
+  ``reach_jb`` bounds the distance of the body's geoms from the joint's axis in
+  every configuration (an arc is longer than its chord), so from ``q_found`` to
+  ``q`` (one joint after the other) no point of them moved more than
+  ``moved = sum_j |q_j - q_found_j| reach_jb``, whatever the way.
+* So while ``moved`` and MuJoCo's margins stay below the clearance, the body's
+  geoms lie inside a box that meets no box leading to a geom it can touch: no pair
+  of geoms can pass MuJoCo's own box tests, the contacts are the same with the body
+  switched off, and none is lost.
 
-Arrays are MuJoCo's own, read in place; the body flags are written in place
-(:func:`release_into` restores the compiled ones after the step).
+A body whose clearance is spent is looked at again at once; one not shown clear
+is looked at again once it may have moved by as much as its box overlapped the
+world's, at least :data:`RETRY_M` (it collides as compiled meanwhile: waiting only
+costs MuJoCo's test). A change of the world's tree forgets every clearance.
+
+The arrays are MuJoCo's own, read in place, and the gate's; :func:`engage_into` and
+:func:`release` find them all in ``ints`` (:class:`cosmos.obstacles.kernels.arrays.ArrayTable`:
+the call from Python every tick takes one array instead of twelve). The body flags are
+written in place (:func:`release_into` restores the compiled ones).
 """
 
 from __future__ import annotations
@@ -28,23 +39,40 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.jit import kernel
+from cosmos.obstacles.kernels.arrays import ENTRY, float_rows, floats, int32_rows, int32s
 
 FloatArray = np.ndarray
 
-# ``ints`` (int64): the counts, then per gated body its id, the node of its tree's root (its box in
-# its inertial frame) and its compiled contype and conaffinity; the qpos indices of the arm's joints;
-# per world geom (from the world's first) a bit per gated body that it can touch.
-INT_BODIES, INT_WORLD_ROOT, INT_JOINTS = range(3)
-INT_HEADER = 3
+RETRY_M = 1e-3
+"""A body not shown clear is looked at again once it may have moved at least this far [m]."""
+
+# ``ints`` (int64): the counts, where the stack and the arrays' table start; per gated body its id,
+# the node of its tree's root (its box in its inertial frame) and its compiled contype and
+# conaffinity; the qpos indices of the arm's joints; per world geom (from the world's first) a bit
+# per gated body that it can touch; room for the stack of a walk of the world's tree (written by
+# the walk); then the table of the arrays (ARRAY_*, each ENTRY long: cosmos.obstacles.kernels.arrays).
+INT_BODIES, INT_WORLD_ROOT, INT_JOINTS, INT_STACK, INT_ARRAYS = range(5)
+INT_HEADER = 5
+ARRAY_CONTYPE, ARRAY_CONAFFINITY, ARRAY_QPOS, ARRAY_XIPOS, ARRAY_XIMAT = range(5)
+ARRAY_BVH_AABB, ARRAY_BVH_CHILD, ARRAY_BVH_NODEID, ARRAY_VERSION, ARRAY_STATE = range(5, 10)
+ARRAYS = 10
 BODY_ID, BODY_NODE, BODY_CONTYPE, BODY_CONAFFINITY = range(4)
 BODY = 4
 
-# ``state`` (float64): the time and the joint angles of the last step seen, whether they are set,
-# the physics time step [s], the reach [m], the slack [m] (MuJoCo's margins and a rounding
-# allowance), the largest clearance worth finding [m], the world's tree's version when the
-# clearances were found; then the joint angles, then per gated body its clearance [m] (negative:
-# none known) and how far it may have moved since [m].
-STATE_TIME, STATE_SEEN, STATE_DT, STATE_REACH, STATE_SLACK, STATE_CAP, STATE_VERSION, STATE_Q = range(8)
+# ``state`` (float64): the time of the last step seen and whether it is set, the physics time
+# step [s], the slack [m] (MuJoCo's margins and a rounding allowance), the largest clearance worth
+# finding [m], the world's tree's version when the clearances were found; the joint angles of the
+# last step seen; then per gated body: its clearance [m], how far it may move before it is looked at
+# again [m], the joint angles its clearance was found at, and per joint its reach [m] (0: the joint
+# does not carry it).
+STATE_TIME, STATE_SEEN, STATE_DT, STATE_SLACK, STATE_CAP, STATE_VERSION, STATE_Q = range(7)
+STATE_CLEARANCE, STATE_RETRY, STATE_FOUND_Q = range(3)
+
+
+@kernel
+def body_state_size(joints: int) -> int:
+    """Floats of ``state`` per gated body."""
+    return STATE_FOUND_Q + 2 * joints
 
 
 @kernel
@@ -61,23 +89,23 @@ def clearance(
     bvh_aabb: FloatArray,
     bvh_child: np.ndarray,
     bvh_nodeid: np.ndarray,
-    stack: np.ndarray,
 ) -> float:
     """How far, along an axis, the box ``lo``..``hi`` is from every world geom that can touch body ``bit``.
 
     The smallest of the separations of the box from the leaves of the world's tree
     whose geom can touch it (a separation along one axis is a lower bound on the
-    distance), at most ``cap``; zero or less if it meets one. Nodes farther than
-    the best found so far are not opened.
+    distance), at most ``cap``; zero or less if it meets one (then the first such
+    separation found). Nodes farther than the best found so far are not opened.
     """
     root = ints[INT_WORLD_ROOT]
     compat = INT_HEADER + BODY * ints[INT_BODIES] + ints[INT_JOINTS]
+    stack = ints[INT_STACK]
     best = cap
-    stack[0] = root
+    ints[stack] = root
     count = 1
     while count:
         count -= 1
-        node = stack[count]
+        node = ints[stack + count]
         box = bvh_aabb[node]
         gap = max(
             box[0] - box[3] - hi_x,
@@ -97,10 +125,10 @@ def clearance(
                     return best
             continue
         if left >= 0:
-            stack[count] = root + left
+            ints[stack + count] = root + left
             count += 1
         if right >= 0:
-            stack[count] = root + right
+            ints[stack + count] = root + right
             count += 1
     return best
 
@@ -115,13 +143,26 @@ def release_into(contype: np.ndarray, conaffinity: np.ndarray, ints: np.ndarray)
 
 
 @kernel
-def refind(state: FloatArray, found: int, bodies: int, moved: float) -> bool:
-    """Whether some body's clearance is spent (or unknown) this step: a walk of the world's tree."""
-    slack = state[STATE_SLACK]
-    for k in range(bodies):
-        if state[found + 2 * k] <= state[found + 2 * k + 1] + moved + slack:
-            return True
-    return False
+def moved_since_found(state: FloatArray, ints: np.ndarray, qpos: FloatArray, k: int) -> float:
+    """How far body ``k``'s geoms may have moved since its clearance was found [m]."""
+    joints = ints[INT_JOINTS]
+    first_joint = INT_HEADER + BODY * ints[INT_BODIES]
+    at = STATE_Q + joints + k * body_state_size(joints)
+    found, reach = at + STATE_FOUND_Q, at + STATE_FOUND_Q + joints
+    moved = 0.0
+    for j in range(joints):
+        if state[reach + j] > 0.0:
+            moved += abs(qpos[ints[first_joint + j]] - state[found + j]) * state[reach + j]
+    return moved
+
+
+@kernel
+def _keep(state: FloatArray, ints: np.ndarray, qpos: FloatArray, time_s: float) -> None:
+    """Keep the time and the joint angles of the step about to be taken."""
+    first_joint = INT_HEADER + BODY * ints[INT_BODIES]
+    for j in range(ints[INT_JOINTS]):
+        state[STATE_Q + j] = qpos[ints[first_joint + j]]
+    state[STATE_TIME], state[STATE_SEEN] = time_s, 1.0
 
 
 @kernel
@@ -144,38 +185,30 @@ def gate_into(
     Every other gated body gets its compiled flags back. Only when exactly one
     step was taken since the last call (``time_s`` is the last time plus the time
     step): then ``data``'s poses are at the kept joint angles, and the step
-    collides at ``qpos``; else every body gets its flags back. A body's clearance, once found, is
-    spent by the bound on its motion step by step and found again when spent, or
-    when the world's tree changed (``version[0]`` raised). Returns how many bodies were
-    switched off.
+    collides at ``qpos``; else every body gets its flags back and every clearance
+    is forgotten, as when the world's tree changed (``version[0]`` raised). Returns
+    how many bodies were switched off.
     """
-    joints = ints[INT_JOINTS]
-    bodies = ints[INT_BODIES]
-    first_joint = INT_HEADER + BODY * bodies
+    joints, bodies = ints[INT_JOINTS], ints[INT_BODIES]
+    size = body_state_size(joints)
     seen = state[STATE_SEEN] > 0.0 and abs(time_s - state[STATE_TIME] - state[STATE_DT]) <= 1e-9
-    turned = 0.0
-    for j in range(joints):
-        q = qpos[ints[first_joint + j]]
-        turned += abs(q - state[STATE_Q + j])
-        state[STATE_Q + j] = q
-    state[STATE_TIME], state[STATE_SEEN] = time_s, 1.0
-    found = STATE_Q + joints  # per body: clearance, motion since
     if not seen or version[0] != state[STATE_VERSION]:
         state[STATE_VERSION] = version[0]
         for k in range(bodies):
-            state[found + 2 * k] = -1.0
+            at = STATE_Q + joints + k * size
+            state[at + STATE_CLEARANCE], state[at + STATE_RETRY] = -1.0, -1.0
         if not seen:
             release_into(contype, conaffinity, ints)
+            _keep(state, ints, qpos, time_s)
             return 0
-    moved = state[STATE_REACH] * turned
     slack, cap = state[STATE_SLACK], state[STATE_CAP]
-    stack = np.empty(bvh_child.shape[0] if refind(state, found, bodies, moved) else 0, dtype=np.int64)
     gated = 0
     for k in range(bodies):
-        row = INT_HEADER + BODY * k
-        body = ints[row + BODY_ID]
-        spent = state[found + 2 * k + 1] + moved
-        if state[found + 2 * k] <= spent + slack:  # spent, or none known: find it again
+        at = STATE_Q + joints + k * size
+        moved = moved_since_found(state, ints, qpos, k)
+        if moved >= state[at + STATE_RETRY]:  # spent, or not shown clear and moved enough: look again
+            row = INT_HEADER + BODY * k
+            body = ints[row + BODY_ID]
             box, rot, pos = bvh_aabb[ints[row + BODY_NODE]], ximat[body], xipos[body]
             # the body's box (its inertial frame) in world axes, as the poses in data have it
             c0 = rot[0] * box[0] + rot[1] * box[1] + rot[2] * box[2] + pos[0]
@@ -184,26 +217,50 @@ def gate_into(
             h0 = abs(rot[0]) * box[3] + abs(rot[1]) * box[4] + abs(rot[2]) * box[5]
             h1 = abs(rot[3]) * box[3] + abs(rot[4]) * box[4] + abs(rot[5]) * box[5]
             h2 = abs(rot[6]) * box[3] + abs(rot[7]) * box[4] + abs(rot[8]) * box[5]
-            state[found + 2 * k] = clearance(
-                c0 - h0,
-                c1 - h1,
-                c2 - h2,
-                c0 + h0,
-                c1 + h1,
-                c2 + h2,
-                1 << k,
-                cap,
-                ints,
-                bvh_aabb,
-                bvh_child,
-                bvh_nodeid,
-                stack,
-            )
-            spent = moved  # from the poses in data to the step's
-        state[found + 2 * k + 1] = spent
-        if spent + slack < state[found + 2 * k]:
+            low, high = (c0 - h0, c1 - h1, c2 - h2), (c0 + h0, c1 + h1, c2 + h2)
+            found = clearance(*low, *high, 1 << k, cap, ints, bvh_aabb, bvh_child, bvh_nodeid)
+            for j in range(joints):  # the poses in data are those of the last step seen
+                state[at + STATE_FOUND_Q + j] = state[STATE_Q + j]
+            moved = moved_since_found(state, ints, qpos, k)
+            state[at + STATE_CLEARANCE] = found
+            if moved + slack < found:
+                state[at + STATE_RETRY] = found - slack
+            else:
+                state[at + STATE_RETRY] = moved + max(-found, RETRY_M)
+        row = INT_HEADER + BODY * k
+        body = ints[row + BODY_ID]
+        if moved + slack < state[at + STATE_CLEARANCE]:
             contype[body], conaffinity[body] = 0, 0
             gated += 1
         else:
             contype[body], conaffinity[body] = ints[row + BODY_CONTYPE], ints[row + BODY_CONAFFINITY]
+    _keep(state, ints, qpos, time_s)
     return gated
+
+
+@kernel
+def engage_into(ints: np.ndarray, time_s: float) -> int:
+    """:func:`gate_into` on the arrays listed in ``ints`` (``ARRAY_*``) for a step at ``time_s`` [s]."""
+    at = ints[INT_ARRAYS]
+    return gate_into(
+        int32s(ints, at + ENTRY * ARRAY_CONTYPE),
+        int32s(ints, at + ENTRY * ARRAY_CONAFFINITY),
+        float_rows(ints, at + ENTRY * ARRAY_XIPOS),
+        float_rows(ints, at + ENTRY * ARRAY_XIMAT),
+        floats(ints, at + ENTRY * ARRAY_QPOS),
+        time_s,
+        floats(ints, at + ENTRY * ARRAY_VERSION),
+        floats(ints, at + ENTRY * ARRAY_STATE),
+        ints,
+        float_rows(ints, at + ENTRY * ARRAY_BVH_AABB),
+        int32_rows(ints, at + ENTRY * ARRAY_BVH_CHILD),
+        int32s(ints, at + ENTRY * ARRAY_BVH_NODEID),
+    )
+
+
+@kernel
+def release(ints: np.ndarray) -> None:
+    """:func:`release_into` on the flags listed in ``ints``, and the last step seen forgotten."""
+    at = ints[INT_ARRAYS]
+    release_into(int32s(ints, at + ENTRY * ARRAY_CONTYPE), int32s(ints, at + ENTRY * ARRAY_CONAFFINITY), ints)
+    floats(ints, at + ENTRY * ARRAY_STATE)[STATE_SEEN] = 0.0
