@@ -16,6 +16,8 @@ listed).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numba
 import numpy as np
 from llvmlite import ir
@@ -27,8 +29,7 @@ from cosmos.jit import kernel
 ENTRY = 3  # per array: its address, rows, columns (1 for a vector)
 
 
-@intrinsic
-def _pointer(typingctx: object, address: types.Type) -> tuple[types.Type, object] | None:
+def _as_pointer(typingctx: object, address: types.Type) -> tuple[Any, Any] | None:
     """The integer ``address`` as a ``void *`` (for ``numba.carray``)."""
     if not isinstance(address, types.Integer):
         return None
@@ -37,6 +38,9 @@ def _pointer(typingctx: object, address: types.Type) -> tuple[types.Type, object
         return builder.inttoptr(args[0], cgutils.voidptr_t)
 
     return types.voidptr(address), codegen
+
+
+_pointer: Any = intrinsic(_as_pointer)  # called as _pointer(address) in compiled code
 
 
 @kernel
