@@ -15,10 +15,10 @@ and the bounding volumes the collision phases use: ``geom_rbound``,
 ``geom_aabb``, and the world body's bounding-volume hierarchy (``bvh_aabb``:
 the slot's leaf and every node above it, refitted; the next :meth:`ObstacleScene.update`
 rebuilds the hierarchy's shape for the obstacles, :mod:`cosmos.obstacles.hierarchy`).
-Removing it parks the slot again. A ``MOVING`` obstacle is moved by :meth:`ObstacleScene.update`, which
-the executor calls every servo tick; its leaf is refitted every
-:data:`SWEEP_S` to the box it sweeps until the next refit, so the hierarchy
-always contains it without a refit per tick.
+Removing it parks the slot again. A ``MOVING`` obstacle is moved by :meth:`ObstacleScene.update`
+(compiled: :mod:`cosmos.obstacles.kernels.moving`), which the executor calls every servo
+tick; its leaf is refitted every :data:`SWEEP_S` to the box it sweeps until the next refit,
+so the hierarchy always contains it without a refit per tick.
 
 Contact filtering: the slot geoms have ``contype 0`` and ``conaffinity 6``, so
 they touch the arm's links (``contype 2``) and the tool (``contype 4``) but not
@@ -43,6 +43,7 @@ import numpy as np
 from cosmos.errors import CosmosError
 from cosmos.lang.check.limits import MAX_OBSTACLES
 from cosmos.obstacles.hierarchy import Group, install, layout, world_leaves
+from cosmos.obstacles.kernels import moving as mk
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.plan import ObstacleShape
 from cosmos.plant import Plant
@@ -164,9 +165,9 @@ class ObstacleScene:
         self._above: dict[int, list[tuple[int, int, int]]] = {}  # a slot's leaf -> the nodes above it
         self._leaf: list[int] = []
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
-        self._moving: list[
-            tuple[memoryview[float], int, float, float, float, float, float, float, float]
-        ] = []
+        self._moving: list[tuple[int, float, float, float, float, float, float, float]] = []
+        self._motions = np.zeros((0, mk.MOTION))  # the same, packed for the tick (kernels.moving)
+        self._geom_pos = plant.model.geom_pos
         self._moving_slots: list[tuple[int, Obstacle]] = []
         self._extents: dict[int, tuple[list[float], list[float]]] = {}
         self._obstacles: tuple[Obstacle, ...] = ()
@@ -258,34 +259,26 @@ class ObstacleScene:
         moving = self._moving
         if not moving:
             return
-        for position, _, x, y, z, vx, vy, vz, added_s in moving:
-            dt = t_s - added_s
-            position[0] = x + vx * dt
-            position[1] = y + vy * dt
-            position[2] = z + vz * dt
+        mk.move_into(self._geom_pos, self._motions, t_s)
         if t_s >= self._refit_s:  # in plain floats: the servo loop
             until = self._refit_s = t_s + SWEEP_S
-            for _, slot, x, y, z, vx, vy, vz, added_s in moving:
+            for slot, x, y, z, vx, vy, vz, added_s in moving:
                 dt, later = t_s - added_s, until - added_s
                 start = [x + vx * dt, y + vy * dt, z + vz * dt]
                 self._refit(slot, start, [x + vx * later, y + vy * later, z + vz * later])
 
     def _track_moving(self) -> None:
-        """Cache what :meth:`update` needs per tick: the slot's row of ``geom_pos``, plain floats."""
+        """Cache what :meth:`update` needs: the moving obstacles' motions, packed and as plain floats."""
         self._obstacles = tuple(obstacle for _, obstacle in self._by_name.values())
-        geom_pos = self._plant.model.geom_pos
         self._moving_slots = [(slot, o) for slot, o in self._by_name.values() if o.moving]
         self._extents = {slot: self._extent(slot) for slot, _ in self._moving_slots}  # they never turn
         self._moving = [
-            (
-                memoryview(geom_pos[self._slot_geom[slot]]).cast("B").cast("d"),  # writes reach MuJoCo
-                slot,
-                *obstacle.position_world.tolist(),
-                *obstacle.velocity_world_mps.tolist(),
-                obstacle.added_s,
-            )
+            (slot, *obstacle.position_world.tolist(), *obstacle.velocity_world_mps.tolist(), obstacle.added_s)
             for slot, obstacle in self._moving_slots
         ]
+        self._motions = np.array(
+            [(self._slot_geom[slot], *rest) for slot, *rest in self._moving], dtype=float
+        ).reshape(-1, mk.MOTION)
         self._refit_s = -np.inf
 
     def restore(self, t_s: float) -> None:
