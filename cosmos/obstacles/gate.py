@@ -104,9 +104,9 @@ class ContactGate:
         ]
         header = [len(bodies), int(model.body_bvhadr[0]), len(joints), 0, 0]
         ints: list[int] = header + [
-            value
+            int(value)
             for b in bodies
-            for value in (b, int(model.body_bvhadr[b]), int(contype[b]), int(conaffinity[b]))
+            for value in (b, model.body_bvhadr[b], model.body_bvhnum[b], contype[b], conaffinity[b])
         ]
         ints += [int(model.jnt_qposadr[j]) for j in joints]
         ints += compat

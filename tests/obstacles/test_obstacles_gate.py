@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import mujoco
 import numpy as np
 import pytest
 
 from cosmos.obstacles import ContactGate, FieldParameters, ObstacleField, ObstacleScene, obstacle_scene_xml
 from cosmos.obstacles.gate import reach_m
+from cosmos.obstacles.kernels import gate as gk
 from cosmos.obstacles.obstacle import Obstacle, box, cylinder, sphere
 from cosmos.plant import Plant
 from cosmos.robot_model import build_robot_model
@@ -151,3 +154,50 @@ def _carries(model: mujoco.MjModel, joint: int, body: int) -> bool:
             return True
         body = int(model.body_parentid[body])
     return False
+
+
+def test_a_body_clearance_is_never_more_than_mujoco_s_distance_to_what_it_can_touch() -> None:
+    """At 200 random configurations among random spheres, boxes and cylinders (some turned), each
+    gated body's clearance (its geoms' boxes from the world's tree) is at most MuJoCo's own distance
+    (``mj_geomDistance``) from any of its geoms to any world geom it can touch, and it is not
+    vacuous (many bodies are found clear). Catches a separation taken along a wrong axis (the
+    boxes' own axes as the rows of their rotation instead of its columns), a box in the wrong frame,
+    and a leaf of the world's tree skipped: all of them switch a body off that could touch."""
+    rng = np.random.default_rng(1)
+    plant = Plant(obstacle_scene_xml())
+    model, data = plant.model, plant.data
+    scene = ObstacleScene(plant)
+    for k in range(12):
+        center = (rng.uniform(-0.2, 0.9), rng.uniform(-0.7, 0.7), rng.uniform(0.3, 1.2))
+        size = rng.uniform(0.02, 0.15, 3)
+        if k % 3 == 0:
+            scene.add(sphere(f"s{k}", center, size[0]))
+        elif k % 3 == 1:
+            scene.add(cylinder(f"c{k}", center, size[0], 2.0 * size[2]))
+        else:  # a box turned anyhow
+            quat, turn = rng.normal(size=4), np.empty(9)
+            mujoco.mju_quat2Mat(turn, quat / np.linalg.norm(quat))
+            scene.add(dataclasses.replace(box(f"b{k}", center, size), rotation_world=turn.reshape(3, 3)))
+    scene.update(0.0)  # the world's tree rebuilt for them
+    gate = ContactGate(plant, scene.version)
+    world = range(int(model.body_geomadr[0]), int(model.body_geomadr[0] + model.body_geomnum[0]))
+    arrays = (data.xipos, data.ximat, gate._ints, model.bvh_aabb, model.bvh_child, model.bvh_nodeid)  # noqa: SLF001
+    clear = 0
+    for _ in range(200):
+        for joint in range(model.njnt):
+            data.qpos[model.jnt_qposadr[joint]] = rng.uniform(*model.jnt_range[joint])
+        mujoco.mj_kinematics(model, data)
+        for k, body in enumerate(gate.body_ids):
+            found = gk.body_clearance(k, 0.1, *arrays)
+            first, count = int(model.body_geomadr[body]), int(model.body_geomnum[body])
+            nearest = np.inf
+            for geom in range(first, first + count):
+                for other in world:
+                    touch = model.geom_contype[geom] & model.geom_conaffinity[other]
+                    if touch or model.geom_contype[other] & model.geom_conaffinity[geom]:
+                        distance = mujoco.mj_geomDistance(model, data, geom, other, 1.0, None)
+                        nearest = min(nearest, distance)
+            # found clear, it must be at least that far (touching, any overlap is a fair answer)
+            assert found <= max(nearest, 0.0) + 1e-9, (model.body(body).name, found, nearest)
+            clear += found > 0.0
+    assert clear > 400  # of 1400 (body, configuration) pairs: the bound is not vacuous

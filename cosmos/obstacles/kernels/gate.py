@@ -8,10 +8,10 @@ expensive part of a step among obstacles. The proof, per body:
 
 * When the body's clearance is found, the poses in ``data`` are those MuJoCo
   computed at the start of the previous step, at the joint angles ``q_found``
-  the gate saw then (one step before: the time says so). The body's box there
-  (the root of MuJoCo's own tree of the body, in its inertial frame, turned into
-  world axes) holds its geoms; its clearance is how far, along an axis, that box
-  is from every box of the world's tree leading to a geom that can touch the body.
+  the gate saw then (one step before: the time says so). Its geoms' boxes there
+  (the leaves of MuJoCo's own tree of the body, in its inertial frame) hold them;
+  its clearance is how far, along an axis, those boxes are from every box of the
+  world's tree leading to a geom that can touch the body.
 * MuJoCo collides a later step at the joint angles ``q`` it starts from. Turning
   revolute joint ``j`` moves a point by at most ``|dq_j| reach_jb``, where
   ``reach_jb`` bounds the distance of the body's geoms from the joint's axis in
@@ -47,8 +47,8 @@ RETRY_M = 1e-3
 """A body not shown clear is looked at again once it may have moved at least this far [m]."""
 
 # ``ints`` (int64): the counts, where the stack and the arrays' table start; per gated body its id,
-# the node of its tree's root (its box in its inertial frame) and its compiled contype and
-# conaffinity; the qpos indices of the arm's joints; per world geom (from the world's first) a bit
+# the first node of its tree and how many (boxes in its inertial frame) and its compiled contype
+# and conaffinity; the qpos indices of the arm's joints; per world geom (from the world's first) a bit
 # per gated body that it can touch; room for the stack of a walk of the world's tree (written by
 # the walk); then the table of the arrays (ARRAY_*, each ENTRY long: cosmos.obstacles.kernels.arrays).
 INT_BODIES, INT_WORLD_ROOT, INT_JOINTS, INT_STACK, INT_ARRAYS = range(5)
@@ -56,8 +56,8 @@ INT_HEADER = 5
 ARRAY_CONTYPE, ARRAY_CONAFFINITY, ARRAY_QPOS, ARRAY_XIPOS, ARRAY_XIMAT = range(5)
 ARRAY_BVH_AABB, ARRAY_BVH_CHILD, ARRAY_BVH_NODEID, ARRAY_VERSION, ARRAY_STATE = range(5, 10)
 ARRAYS = 10
-BODY_ID, BODY_NODE, BODY_CONTYPE, BODY_CONAFFINITY = range(4)
-BODY = 4
+BODY_ID, BODY_NODE, BODY_NODES, BODY_CONTYPE, BODY_CONAFFINITY = range(5)
+BODY = 5
 
 # ``state`` (float64): the time of the last step seen and whether it is set, the physics time
 # step [s], the slack [m] (MuJoCo's margins and a rounding allowance), the largest clearance worth
@@ -77,12 +77,9 @@ def body_state_size(joints: int) -> int:
 
 @kernel
 def clearance(
-    lo_x: float,
-    lo_y: float,
-    lo_z: float,
-    hi_x: float,
-    hi_y: float,
-    hi_z: float,
+    center: tuple[float, float, float],
+    rot: FloatArray,
+    half: tuple[float, float, float],
     bit: int,
     cap: float,
     ints: np.ndarray,
@@ -90,13 +87,22 @@ def clearance(
     bvh_child: np.ndarray,
     bvh_nodeid: np.ndarray,
 ) -> float:
-    """How far, along an axis, the box ``lo``..``hi`` is from every world geom that can touch body ``bit``.
+    """How far, along an axis, a box is from every world geom that can touch body ``bit``.
 
-    The smallest of the separations of the box from the leaves of the world's tree
-    whose geom can touch it (a separation along one axis is a lower bound on the
-    distance), at most ``cap``; zero or less if it meets one (then the first such
-    separation found). Nodes farther than the best found so far are not opened.
+    The box: its ``center`` [m] and its axes (the columns of ``rot``, row-major) in
+    world, its ``half`` sizes along them [m]. The smallest of its separations from
+    the leaves of the world's tree whose geom can touch it, at most ``cap``; zero
+    or less if it meets one (then the first such separation found). A separation
+    along any axis is a lower bound on the distance: the world's axes and the
+    box's own are tried (a link lying across the world's axes is far better
+    bounded along its own). Nodes farther than the best found so far are not opened.
     """
+    cx, cy, cz = center
+    h0, h1, h2 = half
+    # the box's extent along the world's axes
+    w0 = abs(rot[0]) * h0 + abs(rot[1]) * h1 + abs(rot[2]) * h2
+    w1 = abs(rot[3]) * h0 + abs(rot[4]) * h1 + abs(rot[5]) * h2
+    w2 = abs(rot[6]) * h0 + abs(rot[7]) * h1 + abs(rot[8]) * h2
     root = ints[INT_WORLD_ROOT]
     compat = INT_HEADER + BODY * ints[INT_BODIES] + ints[INT_JOINTS]
     stack = ints[INT_STACK]
@@ -107,14 +113,13 @@ def clearance(
         count -= 1
         node = ints[stack + count]
         box = bvh_aabb[node]
-        gap = max(
-            box[0] - box[3] - hi_x,
-            lo_x - box[0] - box[3],
-            box[1] - box[4] - hi_y,
-            lo_y - box[1] - box[4],
-            box[2] - box[5] - hi_z,
-            lo_z - box[2] - box[5],
-        )
+        d0, d1, d2 = cx - box[0], cy - box[1], cz - box[2]
+        gap = max(abs(d0) - w0 - box[3], abs(d1) - w1 - box[4], abs(d2) - w2 - box[5])
+        if gap < best:  # along the box's own axes
+            for i in range(3):
+                u0, u1, u2 = rot[i], rot[3 + i], rot[6 + i]
+                reach = abs(u0) * box[3] + abs(u1) * box[4] + abs(u2) * box[5]
+                gap = max(gap, abs(u0 * d0 + u1 * d1 + u2 * d2) - half[i] - reach)
         if gap >= best:
             continue
         left, right = bvh_child[node, 0], bvh_child[node, 1]
@@ -130,6 +135,43 @@ def clearance(
         if right >= 0:
             ints[stack + count] = root + right
             count += 1
+    return best
+
+
+@kernel
+def body_clearance(
+    k: int,
+    cap: float,
+    xipos: FloatArray,
+    ximat: FloatArray,
+    ints: np.ndarray,
+    bvh_aabb: FloatArray,
+    bvh_child: np.ndarray,
+    bvh_nodeid: np.ndarray,
+) -> float:
+    """Gated body ``k``'s clearance as the poses in data have it: the least of its geoms' boxes'.
+
+    Each leaf of MuJoCo's tree of the body (a geom's box, in the body's inertial
+    frame) is placed in the world and its :func:`clearance` found, up to the best
+    so far: a long link's own box holds much room its geoms do not.
+    """
+    row = INT_HEADER + BODY * k
+    body, first = ints[row + BODY_ID], ints[row + BODY_NODE]
+    rot, pos = ximat[body], xipos[body]
+    best = cap
+    for node in range(first, first + ints[row + BODY_NODES]):
+        if bvh_nodeid[node] < 0 or bvh_child[node, 0] >= 0 or bvh_child[node, 1] >= 0:
+            continue  # not a leaf
+        box = bvh_aabb[node]
+        c0 = rot[0] * box[0] + rot[1] * box[1] + rot[2] * box[2] + pos[0]
+        c1 = rot[3] * box[0] + rot[4] * box[1] + rot[5] * box[2] + pos[1]
+        c2 = rot[6] * box[0] + rot[7] * box[1] + rot[8] * box[2] + pos[2]
+        found = clearance(
+            (c0, c1, c2), rot, (box[3], box[4], box[5]), 1 << k, best, ints, bvh_aabb, bvh_child, bvh_nodeid
+        )
+        best = min(best, found)
+        if best <= 0.0:
+            break
     return best
 
 
@@ -207,18 +249,7 @@ def gate_into(
         at = STATE_Q + joints + k * size
         moved = moved_since_found(state, ints, qpos, k)
         if moved >= state[at + STATE_RETRY]:  # spent, or not shown clear and moved enough: look again
-            row = INT_HEADER + BODY * k
-            body = ints[row + BODY_ID]
-            box, rot, pos = bvh_aabb[ints[row + BODY_NODE]], ximat[body], xipos[body]
-            # the body's box (its inertial frame) in world axes, as the poses in data have it
-            c0 = rot[0] * box[0] + rot[1] * box[1] + rot[2] * box[2] + pos[0]
-            c1 = rot[3] * box[0] + rot[4] * box[1] + rot[5] * box[2] + pos[1]
-            c2 = rot[6] * box[0] + rot[7] * box[1] + rot[8] * box[2] + pos[2]
-            h0 = abs(rot[0]) * box[3] + abs(rot[1]) * box[4] + abs(rot[2]) * box[5]
-            h1 = abs(rot[3]) * box[3] + abs(rot[4]) * box[4] + abs(rot[5]) * box[5]
-            h2 = abs(rot[6]) * box[3] + abs(rot[7]) * box[4] + abs(rot[8]) * box[5]
-            low, high = (c0 - h0, c1 - h1, c2 - h2), (c0 + h0, c1 + h1, c2 + h2)
-            found = clearance(*low, *high, 1 << k, cap, ints, bvh_aabb, bvh_child, bvh_nodeid)
+            found = body_clearance(k, cap, xipos, ximat, ints, bvh_aabb, bvh_child, bvh_nodeid)
             for j in range(joints):  # the poses in data are those of the last step seen
                 state[at + STATE_FOUND_Q + j] = state[STATE_Q + j]
             moved = moved_since_found(state, ints, qpos, k)
