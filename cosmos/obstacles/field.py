@@ -117,7 +117,6 @@ class ObstacleField:
         self._kernel_parameters = np.zeros(fk.PARAMETERS)  # PARAMETER_*
         self.parameters = parameters
         self.enabled = True
-        """When False, :meth:`torque` is zero (the obstacles are still tracked)."""
         self._capsules = arm_capsules(robot)
         self._chain = chain_table(robot, joint_reach_m(robot, self._capsules))
         self._frames = np.zeros((robot.model.nv, fk.FRAMES))
@@ -146,6 +145,15 @@ class ObstacleField:
             parameters.damping_ns_per_m,
             parameters.force_cap_n,
         )
+
+    @property
+    def enabled(self) -> bool:
+        """When False, :meth:`torque` is zero (the obstacles are still tracked)."""
+        return bool(self._kernel_parameters[fk.PARAMETER_ENABLED])
+
+    @enabled.setter
+    def enabled(self, enabled: bool) -> None:
+        self._kernel_parameters[fk.PARAMETER_ENABLED] = 1.0 if enabled else 0.0
 
     @property
     def influences(self) -> tuple[Influence, ...]:
@@ -208,10 +216,10 @@ class ObstacleField:
         self._evaluated_s = t_s
         torque = self._torque = np.zeros(len(q))
         link_torque = self._link_torque = np.zeros(len(q))
-        self._nearest[:] = np.inf
-        geometry = self._geometry
+        geometry = self._geometry  # the torque kernels set the nearest link themselves
         if geometry is None:
             if not self._obstacles:
+                self._nearest[:] = np.inf
                 self._influences = ()
                 return torque
             geometry = self._geometry = ProximityModel(
@@ -221,7 +229,6 @@ class ObstacleField:
             self._evaluations = 0
             self._obstacle_speed = max(float(np.linalg.norm(o.velocity_world_mps)) for o in self.obstacles)
         frames, parameters = self._frames, self._kernel_parameters
-        parameters[fk.PARAMETER_ENABLED] = 1.0 if self.enabled else 0.0
         measuring = self._evaluations % self._parameters.geometry_every == 0
         self._evaluations += 1
         self._influences = None
