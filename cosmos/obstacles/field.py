@@ -45,8 +45,10 @@ import pinocchio as pin
 
 from cosmos.errors import CosmosError
 from cosmos.obstacles.capsules import arm_capsules, joint_reach_m
-from cosmos.obstacles.geometry import ProximityModel
+from cosmos.obstacles.geometry import CANDIDATE_MARGIN_M, ProximityModel
+from cosmos.obstacles.kernels import evaluation as ek
 from cosmos.obstacles.kernels import field as fk
+from cosmos.obstacles.kernels.arrays import ArrayTable
 from cosmos.obstacles.obstacle import Obstacle
 from cosmos.robot_model import RobotModel
 
@@ -122,12 +124,15 @@ class ObstacleField:
         self._frames = np.zeros((robot.model.nv, fk.FRAMES))
         self._obstacles: dict[str, Obstacle] = {}
         self._geometry: ProximityModel | None = None
-        self._obstacle_speed = 0.0
         self._evaluations = 0
-        self._speed_bound = 0.0
         self._evaluated_s = -np.inf
         self._torque = np.zeros(robot.model.nv)
         self._link_torque = np.zeros(robot.model.nv)
+        # What the evaluation's kernels write and keep (kernels.evaluation), listed once per geometry.
+        self._torque_out, self._link_torque_out = np.zeros(robot.model.nv), np.zeros(robot.model.nv)
+        self._scalars = np.zeros(ek.SCALARS)  # SCALAR_*
+        self._arrays: ArrayTable | None = None
+        self._table = np.zeros(0, dtype=np.int64)
         self._nearest = np.full(fk.NEAREST, np.inf)
         self._acting = np.zeros((0, fk.ACTING))  # per obstacle at the last evaluation (ACTING_*)
         self._influences: tuple[Influence, ...] | None = ()
@@ -214,46 +219,62 @@ class ObstacleField:
         if t_s - self._evaluated_s < self._parameters.period_s - 1e-9:
             return self._torque
         self._evaluated_s = t_s
-        torque = self._torque = np.zeros(len(q))
-        link_torque = self._link_torque = np.zeros(len(q))
-        geometry = self._geometry  # the torque kernels set the nearest link themselves
+        geometry, table = self._geometry, self._table
         if geometry is None:
             if not self._obstacles:
                 self._nearest[:] = np.inf
                 self._influences = ()
-                return torque
-            geometry = self._geometry = ProximityModel(
-                self._capsules, self.obstacles, obstacle_table(self.obstacles, self._parameters)
-            )
-            self._acting = np.zeros((len(self._obstacles), fk.ACTING))
-            self._evaluations = 0
-            self._obstacle_speed = max(float(np.linalg.norm(o.velocity_world_mps)) for o in self.obstacles)
-        frames, parameters = self._frames, self._kernel_parameters
+                self._torque, self._link_torque = np.zeros(len(q)), np.zeros(len(q))
+                return self._torque
+            geometry, table = self._measure_anew()
         measuring = self._evaluations % self._parameters.geometry_every == 0
         self._evaluations += 1
         self._influences = None
         if not measuring:  # one compiled call: kinematics, estimate, torques
-            speed = geometry.estimated_torque(
-                torque, link_torque, self._nearest, self._acting, self._chain, q, qd, frames, parameters, t_s
-            )
-            self._speed_bound = max(self._speed_bound, speed + self._obstacle_speed)
-            return torque
-        # |velocity| of any arm point <= sum |qd_j| * (its distance to axis j) <= sum |qd_j| reach_j.
-        speed = fk.chain_kinematics_into(frames, self._chain, q, qd) + self._obstacle_speed
-        count = geometry.measure(frames, t_s, max(self._speed_bound, speed))
-        self._speed_bound = speed
-        fk.field_torque_into(
-            torque,
-            link_torque,
+            ek.estimated_into(table, q, qd, t_s)
+        else:  # kinematics and the queries; MuJoCo's distances; the approaches and the torques
+            queued, remotes = ek.select_into(table, q, qd, t_s)
+            geometry.query(remotes)
+            count, touching = ek.nearest_into(table, queued, t_s)
+            if touching:  # firas's distances, points and normals first
+                geometry.touching(count, self._frames, t_s)
+                ek.torque_into(table, count)
+        # New arrays each evaluation: the runtime tells a new evaluation by its torque's identity.
+        self._torque, self._link_torque = self._torque_out.copy(), self._link_torque_out.copy()
+        return self._torque
+
+    def _measure_anew(self) -> tuple[ProximityModel, np.ndarray]:
+        """A proximity model for the obstacles now, and the table of an evaluation's arrays.
+
+        The bound on the arm's speed over the last estimates is kept; the candidates are
+        listed again at the next measurement (the next evaluation).
+        """
+        obstacles = self.obstacles
+        geometry = self._geometry = ProximityModel(
+            self._capsules, obstacles, obstacle_table(obstacles, self._parameters)
+        )
+        self._acting = np.zeros((len(obstacles), fk.ACTING))
+        self._evaluations = 0
+        scalars = self._scalars
+        scalars[ek.SCALAR_TRAVEL], scalars[ek.SCALAR_LAST_S], scalars[ek.SCALAR_COUNT] = 0.0, np.nan, -1.0
+        scalars[ek.SCALAR_HELD] = 0.0
+        scalars[ek.SCALAR_OBSTACLE_SPEED] = max(
+            float(np.linalg.norm(o.velocity_world_mps)) for o in obstacles
+        )
+        scalars[ek.SCALAR_MARGIN] = CANDIDATE_MARGIN_M
+        self._arrays = ArrayTable(
+            self._torque_out,
+            self._link_torque_out,
             self._nearest,
             self._acting,
-            geometry.approaches,
-            count,
-            frames,
-            geometry.table,
-            parameters,
+            self._frames,
+            self._chain,
+            self._kernel_parameters,
+            *geometry.arrays,
+            scalars,
         )
-        return torque
+        self._table = self._arrays.entries
+        return geometry, self._table
 
 
 def obstacle_table(obstacles: tuple[Obstacle, ...], parameters: FieldParameters) -> FloatArray:

@@ -102,7 +102,7 @@ class ContactGate:
             )
             for g in range(world_first, world_first + world_count)
         ]
-        header = [len(bodies), int(model.body_bvhadr[0]), len(joints), 0, 0]
+        header = [len(bodies), int(model.body_bvhadr[0]), len(joints), 0, 0, 0]
         ints: list[int] = header + [
             int(value)
             for b in bodies
@@ -112,6 +112,8 @@ class ContactGate:
         ints += compat
         ints[gk.INT_STACK] = len(ints)
         ints += [0] * int(model.body_bvhnum[0])  # a walk's stack: at most every node of the world's tree
+        ints[gk.INT_BODY_STACK] = len(ints)
+        ints += [0] * max((int(model.body_bvhnum[b]) for b in bodies), default=0)  # and of a body's
         margins = float(np.max(model.geom_margin + model.geom_gap)) if model.ngeom else 0.0
         size = gk.body_state_size(len(joints))
         state = np.zeros(gk.STATE_Q + len(joints) + size * len(bodies))

@@ -267,9 +267,7 @@ class ProximityModel:
             self._travel_m,
             CANDIDATE_MARGIN_M,
         )
-        model, data, reach, distance_of = self._model, self._data, self._reach, mujoco.mj_geomDistance
-        for c, capsule, geom in lists[:remotes, ck.LIST_REMOTE :].tolist():
-            distances[c] = distance_of(model, data, capsule, geom, reach[geom], fromtos[c])
+        self.query(remotes)
         count, touching = gk.nearest_into(
             self.approaches,
             self._held,
@@ -288,10 +286,39 @@ class ProximityModel:
             t_s,
         )
         self._held_count = count
-        for s in range(count if touching else 0):
+        if touching:
+            self.touching(count, frames, t_s)
+        return count
+
+    @property
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """Its arrays, in the order of ``ARRAY_APPROACHES`` .. ``ARRAY_SHAPES`` (kernels.evaluation)."""
+        return (
+            self.approaches,
+            self._held,
+            self.table,
+            self._candidates,
+            self._lists,
+            self._distances,
+            self._fromtos,
+            self._xpos,
+            self._xmat,
+            self._capsule_table,
+            self._shapes,
+        )
+
+    def query(self, remotes: int) -> None:
+        """MuJoCo's distance and closest points for the first ``remotes`` pairs listed for it."""
+        model, data, reach, distance_of = self._model, self._data, self._reach, mujoco.mj_geomDistance
+        distances, fromtos = self._distances, self._fromtos
+        for c, capsule, geom in self._lists[:remotes, ck.LIST_REMOTE :].tolist():
+            distances[c] = distance_of(model, data, capsule, geom, reach[geom], fromtos[c])
+
+    def touching(self, count: int, frames: FloatArray, t_s: float) -> None:
+        """Of the first ``count`` approaches, those that touch get firas's distance, point and normal."""
+        for s in range(count):
             if self.approaches[s, fk.APPROACH_DISTANCE] <= gk.NORMAL_FROM_POINTS_M:
                 self._touching(s, frames, t_s)
-        return count
 
     def _touching(self, s: int, frames: FloatArray, t_s: float) -> None:
         """Approach ``s`` touches or penetrates: the signed distance, point and normal of firas."""

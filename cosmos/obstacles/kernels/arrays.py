@@ -7,7 +7,7 @@ more in its call than in its work. :class:`ArrayTable` lists arrays that outlive
 their kernels' calls (MuJoCo's own, which it never moves, and buffers allocated
 once) by address and shape in an int64 table, and the kernel makes its views from
 that table (:func:`floats`, :func:`float_rows`, :func:`int32s`, :func:`int32_rows`,
-:func:`int64s`) at the cost of a few loads each.
+:func:`int64s`, :func:`int64_rows`) at the cost of a few loads each.
 
 The table holds the arrays themselves, so they live as long as it does; an array
 must be C-contiguous and of the dtype its view is made with (checked when it is
@@ -65,6 +65,12 @@ def int32s(table: np.ndarray, at: int) -> np.ndarray:
 def int32_rows(table: np.ndarray, at: int) -> np.ndarray:
     """The int32 matrix listed at ``table[at:at + ENTRY]``."""
     return numba.carray(_pointer(table[at]), (table[at + 1], table[at + 2]), np.int32)
+
+
+@kernel
+def int64_rows(table: np.ndarray, at: int) -> np.ndarray:
+    """The int64 matrix listed at ``table[at:at + ENTRY]``."""
+    return numba.carray(_pointer(table[at]), (table[at + 1], table[at + 2]), np.int64)
 
 
 @kernel

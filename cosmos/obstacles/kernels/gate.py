@@ -45,14 +45,17 @@ FloatArray = np.ndarray
 
 RETRY_M = 1e-3
 """A body not shown clear is looked at again once it may have moved at least this far [m]."""
+ENOUGH_M = 0.02
+"""A node of a body's tree this clear is clear enough: its geoms below are not looked at [m]."""
 
 # ``ints`` (int64): the counts, where the stack and the arrays' table start; per gated body its id,
 # the first node of its tree and how many (boxes in its inertial frame) and its compiled contype
 # and conaffinity; the qpos indices of the arm's joints; per world geom (from the world's first) a bit
-# per gated body that it can touch; room for the stack of a walk of the world's tree (written by
-# the walk); then the table of the arrays (ARRAY_*, each ENTRY long: cosmos.obstacles.kernels.arrays).
-INT_BODIES, INT_WORLD_ROOT, INT_JOINTS, INT_STACK, INT_ARRAYS = range(5)
-INT_HEADER = 5
+# per gated body that it can touch; room for the stacks of a walk of the world's tree and of a
+# body's (written by the walks); then the table of the arrays (ARRAY_*, each ENTRY long:
+# cosmos.obstacles.kernels.arrays).
+INT_BODIES, INT_WORLD_ROOT, INT_JOINTS, INT_STACK, INT_BODY_STACK, INT_ARRAYS = range(6)
+INT_HEADER = 6
 ARRAY_CONTYPE, ARRAY_CONAFFINITY, ARRAY_QPOS, ARRAY_XIPOS, ARRAY_XIMAT = range(5)
 ARRAY_BVH_AABB, ARRAY_BVH_CHILD, ARRAY_BVH_NODEID, ARRAY_VERSION, ARRAY_STATE = range(5, 10)
 ARRAYS = 10
@@ -151,17 +154,23 @@ def body_clearance(
 ) -> float:
     """Gated body ``k``'s clearance as the poses in data have it: the least of its geoms' boxes'.
 
-    Each leaf of MuJoCo's tree of the body (a geom's box, in the body's inertial
-    frame) is placed in the world and its :func:`clearance` found, up to the best
-    so far: a long link's own box holds much room its geoms do not.
+    MuJoCo's tree of the body (boxes in its inertial frame: a geom's box at each
+    leaf) is walked from its root, each node placed in the world and its
+    :func:`clearance` found up to the best so far: a node no nearer than that has
+    no leaf nearer either (its box holds theirs), so the walk stops there, as it
+    does at a node :data:`ENOUGH_M` clear (its clearance holds for its leaves). A
+    long link's or a tool's own box holds much room its geoms do not.
     """
     row = INT_HEADER + BODY * k
     body, first = ints[row + BODY_ID], ints[row + BODY_NODE]
     rot, pos = ximat[body], xipos[body]
+    stack = ints[INT_BODY_STACK]
     best = cap
-    for node in range(first, first + ints[row + BODY_NODES]):
-        if bvh_nodeid[node] < 0 or bvh_child[node, 0] >= 0 or bvh_child[node, 1] >= 0:
-            continue  # not a leaf
+    ints[stack] = first
+    count = 1
+    while count:
+        count -= 1
+        node = ints[stack + count]
         box = bvh_aabb[node]
         c0 = rot[0] * box[0] + rot[1] * box[1] + rot[2] * box[2] + pos[0]
         c1 = rot[3] * box[0] + rot[4] * box[1] + rot[5] * box[2] + pos[1]
@@ -169,9 +178,20 @@ def body_clearance(
         found = clearance(
             (c0, c1, c2), rot, (box[3], box[4], box[5]), 1 << k, best, ints, bvh_aabb, bvh_child, bvh_nodeid
         )
-        best = min(best, found)
-        if best <= 0.0:
-            break
+        if found >= best:
+            continue
+        left, right = bvh_child[node, 0], bvh_child[node, 1]
+        if (left < 0 and right < 0) or found >= ENOUGH_M:
+            best = found
+            if best <= 0.0:
+                return best
+            continue
+        if left >= 0:
+            ints[stack + count] = first + left
+            count += 1
+        if right >= 0:
+            ints[stack + count] = first + right
+            count += 1
     return best
 
 
