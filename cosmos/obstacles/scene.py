@@ -17,7 +17,8 @@ the slot's leaf and every node above it, refitted; the next :meth:`ObstacleScene
 rebuilds the hierarchy's shape for the obstacles, :mod:`cosmos.obstacles.hierarchy`).
 Removing it parks the slot again. A ``MOVING`` obstacle is moved by :meth:`ObstacleScene.update`
 (compiled: :mod:`cosmos.obstacles.kernels.moving`), which the executor calls every servo
-tick; its leaf is refitted every :data:`SWEEP_S` to the box it sweeps until the next refit,
+tick; its leaf is refitted every :data:`SWEEP_S` (or, if longer, as the fastest takes to go
+:data:`SWEEP_M`) to the box it sweeps until the next refit,
 so the hierarchy always contains it without a refit per tick.
 
 Contact filtering: the slot geoms have ``contype 0`` and ``conaffinity 6``, so
@@ -54,7 +55,10 @@ CAPACITY = MAX_OBSTACLES
 DEFAULT_SLOTS = CAPACITY
 """The slots :func:`obstacle_scene_xml` makes unless told otherwise."""
 SWEEP_S = 0.1
-"""A moving obstacle's bounding volume covers its path for this long, then is refitted [s]."""
+"""A moving obstacle's bounding volume covers its path for at least this long, then is refitted [s]."""
+SWEEP_M = 0.02
+"""... and over at least this much of its path [m]: a slow one is refitted less often (each refit
+changes the world's tree, which makes the contact gate look at every body again)."""
 SLOT_PREFIX = "obstacle_slot"
 OBSTACLE_CONTYPE = 0
 OBSTACLE_CONAFFINITY = 6  # arm links (contype 2) and tool (contype 4)
@@ -172,6 +176,7 @@ class ObstacleScene:
         self._extents: dict[int, tuple[list[float], list[float]]] = {}
         self._obstacles: tuple[Obstacle, ...] = ()
         self._refit_s = -np.inf
+        self._sweep_s = SWEEP_S
         self._stale = False  # the hierarchy's shape is older than the obstacles (rebuilt by update)
         self.version = np.zeros(1)
         """Raised whenever a box of the world's tree changes (cosmos.obstacles.gate)."""
@@ -261,7 +266,7 @@ class ObstacleScene:
             return
         mk.move_into(self._geom_pos, self._motions, t_s)
         if t_s >= self._refit_s:  # in plain floats: the servo loop
-            until = self._refit_s = t_s + SWEEP_S
+            until = self._refit_s = t_s + self._sweep_s
             for slot, x, y, z, vx, vy, vz, added_s in moving:
                 dt, later = t_s - added_s, until - added_s
                 start = [x + vx * dt, y + vy * dt, z + vz * dt]
@@ -272,6 +277,8 @@ class ObstacleScene:
         self._obstacles = tuple(obstacle for _, obstacle in self._by_name.values())
         self._moving_slots = [(slot, o) for slot, o in self._by_name.values() if o.moving]
         self._extents = {slot: self._extent(slot) for slot, _ in self._moving_slots}  # they never turn
+        speeds = [float(np.linalg.norm(o.velocity_world_mps)) for _, o in self._moving_slots]
+        self._sweep_s = max(SWEEP_S, SWEEP_M / max(speeds, default=np.inf))
         self._moving = [
             (slot, *obstacle.position_world.tolist(), *obstacle.velocity_world_mps.tolist(), obstacle.added_s)
             for slot, obstacle in self._moving_slots
