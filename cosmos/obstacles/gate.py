@@ -23,6 +23,8 @@ gates nothing).
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 
@@ -102,7 +104,8 @@ class ContactGate:
             )
             for g in range(world_first, world_first + world_count)
         ]
-        header = [len(bodies), int(model.body_bvhadr[0]), len(joints), 0, 0, 0]
+        size = gk.STATE_FOUND_Q + 2 * len(joints)  # a body's floats of state: found q and reach per joint
+        header = [len(bodies), int(model.body_bvhadr[0]), len(joints), size, 0, 0, 0]
         ints: list[int] = header + [
             int(value)
             for b in bodies
@@ -115,7 +118,6 @@ class ContactGate:
         ints[gk.INT_BODY_STACK] = len(ints)
         ints += [0] * max((int(model.body_bvhnum[b]) for b in bodies), default=0)  # and of a body's
         margins = float(np.max(model.geom_margin + model.geom_gap)) if model.ngeom else 0.0
-        size = gk.body_state_size(len(joints))
         state = np.zeros(gk.STATE_Q + len(joints) + size * len(bodies))
         for k, body in enumerate(bodies):
             at = gk.STATE_Q + len(joints) + k * size + gk.STATE_FOUND_Q + len(joints)
@@ -163,5 +165,5 @@ class ContactGate:
 
     def release(self) -> None:
         """Every body's compiled contype and conaffinity again; the next :meth:`engage` gates nothing."""
-        gk.release(self._ints)
+        gk.engage_into(self._ints, math.nan)  # no step follows: every flag back, every clearance forgotten
         self.gated = 0

@@ -28,10 +28,10 @@ is looked at again once it may have moved by as much as its box overlapped the
 world's, at least :data:`RETRY_M` (it collides as compiled meanwhile: waiting only
 costs MuJoCo's test). A change of the world's tree forgets every clearance.
 
-The arrays are MuJoCo's own, read in place, and the gate's; :func:`engage_into` and
-:func:`release` find them all in ``ints`` (:class:`cosmos.obstacles.kernels.arrays.ArrayTable`:
-the call from Python every tick takes one array instead of twelve). The body flags are
-written in place (:func:`release_into` restores the compiled ones).
+The arrays are MuJoCo's own, read in place, and the gate's; :func:`engage_into` finds
+them all in ``ints`` (:class:`cosmos.obstacles.kernels.arrays.ArrayTable`: the call from
+Python every tick takes one array instead of twelve). The body flags are written in
+place (:func:`release_into` restores the compiled ones).
 """
 
 from __future__ import annotations
@@ -48,14 +48,15 @@ RETRY_M = 1e-3
 ENOUGH_M = 0.02
 """A node of a body's tree this clear is clear enough: its geoms below are not looked at [m]."""
 
-# ``ints`` (int64): the counts, where the stack and the arrays' table start; per gated body its id,
+# ``ints`` (int64): the counts, the floats of ``state`` per body, where the stacks and the arrays'
+# table start; per gated body its id,
 # the first node of its tree and how many (boxes in its inertial frame) and its compiled contype
 # and conaffinity; the qpos indices of the arm's joints; per world geom (from the world's first) a bit
 # per gated body that it can touch; room for the stacks of a walk of the world's tree and of a
 # body's (written by the walks); then the table of the arrays (ARRAY_*, each ENTRY long:
 # cosmos.obstacles.kernels.arrays).
-INT_BODIES, INT_WORLD_ROOT, INT_JOINTS, INT_STACK, INT_BODY_STACK, INT_ARRAYS = range(6)
-INT_HEADER = 6
+INT_BODIES, INT_WORLD_ROOT, INT_JOINTS, INT_BODY_STATE, INT_STACK, INT_BODY_STACK, INT_ARRAYS = range(7)
+INT_HEADER = 7
 ARRAY_CONTYPE, ARRAY_CONAFFINITY, ARRAY_QPOS, ARRAY_XIPOS, ARRAY_XIMAT = range(5)
 ARRAY_BVH_AABB, ARRAY_BVH_CHILD, ARRAY_BVH_NODEID, ARRAY_VERSION, ARRAY_STATE = range(5, 10)
 ARRAYS = 10
@@ -70,12 +71,6 @@ BODY = 5
 # does not carry it).
 STATE_TIME, STATE_SEEN, STATE_DT, STATE_SLACK, STATE_CAP, STATE_VERSION, STATE_Q = range(7)
 STATE_CLEARANCE, STATE_RETRY, STATE_FOUND_Q = range(3)
-
-
-@kernel
-def body_state_size(joints: int) -> int:
-    """Floats of ``state`` per gated body."""
-    return STATE_FOUND_Q + 2 * joints
 
 
 @kernel
@@ -209,7 +204,7 @@ def moved_since_found(state: FloatArray, ints: np.ndarray, qpos: FloatArray, k: 
     """How far body ``k``'s geoms may have moved since its clearance was found [m]."""
     joints = ints[INT_JOINTS]
     first_joint = INT_HEADER + BODY * ints[INT_BODIES]
-    at = STATE_Q + joints + k * body_state_size(joints)
+    at = STATE_Q + joints + k * ints[INT_BODY_STATE]
     found, reach = at + STATE_FOUND_Q, at + STATE_FOUND_Q + joints
     moved = 0.0
     for j in range(joints):
@@ -252,7 +247,7 @@ def gate_into(
     how many bodies were switched off.
     """
     joints, bodies = ints[INT_JOINTS], ints[INT_BODIES]
-    size = body_state_size(joints)
+    size = ints[INT_BODY_STATE]
     seen = state[STATE_SEEN] > 0.0 and abs(time_s - state[STATE_TIME] - state[STATE_DT]) <= 1e-9
     if not seen or version[0] != state[STATE_VERSION]:
         state[STATE_VERSION] = version[0]
@@ -291,7 +286,11 @@ def gate_into(
 
 @kernel
 def engage_into(ints: np.ndarray, time_s: float) -> int:
-    """:func:`gate_into` on the arrays listed in ``ints`` (``ARRAY_*``) for a step at ``time_s`` [s]."""
+    """:func:`gate_into` on the arrays listed in ``ints`` (``ARRAY_*``) for a step at ``time_s`` [s].
+
+    At a ``time_s`` of NaN no step follows the last one seen, now or at the next call:
+    every body gets its compiled flags back and every clearance is forgotten (a release).
+    """
     at = ints[INT_ARRAYS]
     return gate_into(
         int32s(ints, at + ENTRY * ARRAY_CONTYPE),
@@ -307,11 +306,3 @@ def engage_into(ints: np.ndarray, time_s: float) -> int:
         int32_rows(ints, at + ENTRY * ARRAY_BVH_CHILD),
         int32s(ints, at + ENTRY * ARRAY_BVH_NODEID),
     )
-
-
-@kernel
-def release(ints: np.ndarray) -> None:
-    """:func:`release_into` on the flags listed in ``ints``, and the last step seen forgotten."""
-    at = ints[INT_ARRAYS]
-    release_into(int32s(ints, at + ENTRY * ARRAY_CONTYPE), int32s(ints, at + ENTRY * ARRAY_CONAFFINITY), ints)
-    floats(ints, at + ENTRY * ARRAY_STATE)[STATE_SEEN] = 0.0
