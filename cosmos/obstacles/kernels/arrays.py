@@ -6,8 +6,8 @@ on the 2-core target, so a kernel of twelve arrays called every servo tick spend
 more in its call than in its work. :class:`ArrayTable` lists arrays that outlive
 their kernels' calls (MuJoCo's own, which it never moves, and buffers allocated
 once) by address and shape in an int64 table, and the kernel makes its views from
-that table (:func:`floats`, :func:`float_rows`, :func:`int32s`, :func:`int32_rows`,
-:func:`int64s`, :func:`int64_rows`) at the cost of a few loads each.
+that table (:func:`float_rows`, :func:`int32_rows`, :func:`int64_rows`; a vector is
+listed as a matrix of one row, its view is that row) at the cost of a few loads each.
 
 The table holds the arrays themselves, so they live as long as it does; an array
 must be C-contiguous and of the dtype its view is made with (checked when it is
@@ -26,7 +26,7 @@ from numba.extending import intrinsic
 
 from cosmos.jit import kernel
 
-ENTRY = 3  # per array: its address, rows, columns (1 for a vector)
+ENTRY = 3  # per array: its address, rows, columns (a vector is one row)
 
 
 def _as_pointer(typingctx: object, address: types.Type) -> tuple[Any, Any] | None:
@@ -44,21 +44,9 @@ _pointer: Any = intrinsic(_as_pointer)  # called as _pointer(address) in compile
 
 
 @kernel
-def floats(table: np.ndarray, at: int) -> np.ndarray:
-    """The float64 vector listed at ``table[at:at + ENTRY]``."""
-    return numba.carray(_pointer(table[at]), (table[at + 1] * table[at + 2],), np.float64)
-
-
-@kernel
 def float_rows(table: np.ndarray, at: int) -> np.ndarray:
     """The float64 matrix listed at ``table[at:at + ENTRY]``."""
     return numba.carray(_pointer(table[at]), (table[at + 1], table[at + 2]), np.float64)
-
-
-@kernel
-def int32s(table: np.ndarray, at: int) -> np.ndarray:
-    """The int32 vector listed at ``table[at:at + ENTRY]``."""
-    return numba.carray(_pointer(table[at]), (table[at + 1] * table[at + 2],), np.int32)
 
 
 @kernel
@@ -71,12 +59,6 @@ def int32_rows(table: np.ndarray, at: int) -> np.ndarray:
 def int64_rows(table: np.ndarray, at: int) -> np.ndarray:
     """The int64 matrix listed at ``table[at:at + ENTRY]``."""
     return numba.carray(_pointer(table[at]), (table[at + 1], table[at + 2]), np.int64)
-
-
-@kernel
-def int64s(table: np.ndarray, at: int) -> np.ndarray:
-    """The int64 vector listed at ``table[at:at + ENTRY]``."""
-    return numba.carray(_pointer(table[at]), (table[at + 1] * table[at + 2],), np.int64)
 
 
 class ArrayTable:
@@ -97,8 +79,7 @@ class ArrayTable:
                 raise ValueError(f"a table lists C-contiguous vectors and matrices, not {array.shape}")
             if array.dtype not in (np.float64, np.int32, np.int64):
                 raise ValueError(f"a table lists float64, int32 and int64 arrays, not {array.dtype}")
-            rows = array.shape[0]
-            columns = array.shape[1] if array.ndim == 2 else 1
+            rows, columns = array.shape if array.ndim == 2 else (1, array.shape[0])
             entries += [int(array.ctypes.data), rows, columns]
         self.arrays = arrays
         """The arrays listed (kept alive with the table)."""

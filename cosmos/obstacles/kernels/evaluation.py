@@ -19,7 +19,7 @@ import numpy as np
 
 from cosmos.jit import kernel
 from cosmos.obstacles.kernels import geometry as gk
-from cosmos.obstacles.kernels.arrays import ENTRY, float_rows, floats, int64_rows
+from cosmos.obstacles.kernels.arrays import ENTRY, float_rows, int64_rows
 from cosmos.obstacles.kernels.field import chain_kinematics_into, field_torque_into
 
 FloatArray = np.ndarray
@@ -44,35 +44,33 @@ SCALARS = 7
 
 
 @kernel
-def _view(table: np.ndarray, array: int) -> FloatArray:
-    return float_rows(table, ENTRY * array)
-
-
-@kernel
 def estimated_into(table: np.ndarray, q: FloatArray, qd: FloatArray, t_s: float) -> None:
     """An evaluation between measurements: the held approaches carried to ``t_s`` [s], the torques.
 
     As :func:`cosmos.obstacles.kernels.geometry.estimated_torque_into`, into zeroed
     torques; the arm's speed bound is kept for the next measurement.
     """
-    torque, link_torque = floats(table, ENTRY * ARRAY_TORQUE), floats(table, ENTRY * ARRAY_LINK_TORQUE)
+    torque, link_torque = (
+        float_rows(table, ENTRY * ARRAY_TORQUE)[0],
+        float_rows(table, ENTRY * ARRAY_LINK_TORQUE)[0],
+    )
     torque[:] = 0.0
     link_torque[:] = 0.0
-    scalars = floats(table, ENTRY * ARRAY_SCALARS)
+    scalars = float_rows(table, ENTRY * ARRAY_SCALARS)[0]
     speed = gk.estimated_torque_into(
         torque,
         link_torque,
-        floats(table, ENTRY * ARRAY_NEAREST),
-        _view(table, ARRAY_ACTING),
-        _view(table, ARRAY_FRAMES),
-        _view(table, ARRAY_CHAIN),
+        float_rows(table, ENTRY * ARRAY_NEAREST)[0],
+        float_rows(table, ENTRY * ARRAY_ACTING),
+        float_rows(table, ENTRY * ARRAY_FRAMES),
+        float_rows(table, ENTRY * ARRAY_CHAIN),
         q,
         qd,
-        _view(table, ARRAY_APPROACHES),
-        _view(table, ARRAY_HELD),
+        float_rows(table, ENTRY * ARRAY_APPROACHES),
+        float_rows(table, ENTRY * ARRAY_HELD),
         int(scalars[SCALAR_HELD]),
-        _view(table, ARRAY_OBSTACLES),
-        floats(table, ENTRY * ARRAY_PARAMETERS),
+        float_rows(table, ENTRY * ARRAY_OBSTACLES),
+        float_rows(table, ENTRY * ARRAY_PARAMETERS)[0],
         t_s,
     )
     bound = speed + scalars[SCALAR_OBSTACLE_SPEED]
@@ -93,9 +91,12 @@ def select_into(table: np.ndarray, q: FloatArray, qd: FloatArray, t_s: float) ->
     Returns:
         How many candidates are queued, and how many of them MuJoCo answers.
     """
-    scalars = floats(table, ENTRY * ARRAY_SCALARS)
-    frames = _view(table, ARRAY_FRAMES)
-    speed = chain_kinematics_into(frames, _view(table, ARRAY_CHAIN), q, qd) + scalars[SCALAR_OBSTACLE_SPEED]
+    scalars = float_rows(table, ENTRY * ARRAY_SCALARS)[0]
+    frames = float_rows(table, ENTRY * ARRAY_FRAMES)
+    speed = (
+        chain_kinematics_into(frames, float_rows(table, ENTRY * ARRAY_CHAIN), q, qd)
+        + scalars[SCALAR_OBSTACLE_SPEED]
+    )
     if not np.isnan(scalars[SCALAR_LAST_S]):
         scalars[SCALAR_TRAVEL] += max(scalars[SCALAR_SPEED_BOUND], speed) * abs(t_s - scalars[SCALAR_LAST_S])
     scalars[SCALAR_LAST_S] = t_s
@@ -106,14 +107,14 @@ def select_into(table: np.ndarray, q: FloatArray, qd: FloatArray, t_s: float) ->
         scalars[SCALAR_TRAVEL], count = 0.0, -1  # list the candidates again
     count, queued, remotes = gk.place_and_select(
         int64_rows(table, ENTRY * ARRAY_LISTS),
-        _view(table, ARRAY_CANDIDATES),
+        float_rows(table, ENTRY * ARRAY_CANDIDATES),
         count,
-        _view(table, ARRAY_XPOS),
-        _view(table, ARRAY_XMAT),
+        float_rows(table, ENTRY * ARRAY_XPOS),
+        float_rows(table, ENTRY * ARRAY_XMAT),
         frames,
-        _view(table, ARRAY_CAPSULES),
-        _view(table, ARRAY_SHAPES),
-        _view(table, ARRAY_OBSTACLES),
+        float_rows(table, ENTRY * ARRAY_CAPSULES),
+        float_rows(table, ENTRY * ARRAY_SHAPES),
+        float_rows(table, ENTRY * ARRAY_OBSTACLES),
         t_s,
         scalars[SCALAR_TRAVEL],
         margin,
@@ -125,19 +126,22 @@ def select_into(table: np.ndarray, q: FloatArray, qd: FloatArray, t_s: float) ->
 @kernel
 def torque_into(table: np.ndarray, count: int) -> None:
     """The field's torques from the first ``count`` approaches, into zeroed torques."""
-    torque, link_torque = floats(table, ENTRY * ARRAY_TORQUE), floats(table, ENTRY * ARRAY_LINK_TORQUE)
+    torque, link_torque = (
+        float_rows(table, ENTRY * ARRAY_TORQUE)[0],
+        float_rows(table, ENTRY * ARRAY_LINK_TORQUE)[0],
+    )
     torque[:] = 0.0
     link_torque[:] = 0.0
     field_torque_into(
         torque,
         link_torque,
-        floats(table, ENTRY * ARRAY_NEAREST),
-        _view(table, ARRAY_ACTING),
-        _view(table, ARRAY_APPROACHES),
+        float_rows(table, ENTRY * ARRAY_NEAREST)[0],
+        float_rows(table, ENTRY * ARRAY_ACTING),
+        float_rows(table, ENTRY * ARRAY_APPROACHES),
         count,
-        _view(table, ARRAY_FRAMES),
-        _view(table, ARRAY_OBSTACLES),
-        floats(table, ENTRY * ARRAY_PARAMETERS),
+        float_rows(table, ENTRY * ARRAY_FRAMES),
+        float_rows(table, ENTRY * ARRAY_OBSTACLES),
+        float_rows(table, ENTRY * ARRAY_PARAMETERS)[0],
     )
 
 
@@ -152,20 +156,20 @@ def nearest_into(table: np.ndarray, queued: int, t_s: float) -> tuple[int, int]:
     Returns:
         How many approaches are held, and how many of them touch.
     """
-    scalars = floats(table, ENTRY * ARRAY_SCALARS)
+    scalars = float_rows(table, ENTRY * ARRAY_SCALARS)[0]
     count, touching = gk.nearest_into(
-        _view(table, ARRAY_APPROACHES),
-        _view(table, ARRAY_HELD),
-        _view(table, ARRAY_CANDIDATES),
-        floats(table, ENTRY * ARRAY_DISTANCES),
-        _view(table, ARRAY_FROMTOS),
+        float_rows(table, ENTRY * ARRAY_APPROACHES),
+        float_rows(table, ENTRY * ARRAY_HELD),
+        float_rows(table, ENTRY * ARRAY_CANDIDATES),
+        float_rows(table, ENTRY * ARRAY_DISTANCES)[0],
+        float_rows(table, ENTRY * ARRAY_FROMTOS),
         int64_rows(table, ENTRY * ARRAY_LISTS),
         queued,
-        _view(table, ARRAY_XPOS),
-        _view(table, ARRAY_XMAT),
-        _view(table, ARRAY_CAPSULES),
-        _view(table, ARRAY_SHAPES),
-        _view(table, ARRAY_OBSTACLES),
+        float_rows(table, ENTRY * ARRAY_XPOS),
+        float_rows(table, ENTRY * ARRAY_XMAT),
+        float_rows(table, ENTRY * ARRAY_CAPSULES),
+        float_rows(table, ENTRY * ARRAY_SHAPES),
+        float_rows(table, ENTRY * ARRAY_OBSTACLES),
         scalars[SCALAR_MARGIN],
         scalars[SCALAR_TRAVEL],
         t_s,

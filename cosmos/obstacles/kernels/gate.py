@@ -39,7 +39,7 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.obstacles.kernels.arrays import ENTRY, float_rows, floats, int32_rows, int32s
+from cosmos.obstacles.kernels.arrays import ENTRY, float_rows, int32_rows
 
 FloatArray = np.ndarray
 
@@ -214,15 +214,6 @@ def moved_since_found(state: FloatArray, ints: np.ndarray, qpos: FloatArray, k: 
 
 
 @kernel
-def _keep(state: FloatArray, ints: np.ndarray, qpos: FloatArray, time_s: float) -> None:
-    """Keep the time and the joint angles of the step about to be taken."""
-    first_joint = INT_HEADER + BODY * ints[INT_BODIES]
-    for j in range(ints[INT_JOINTS]):
-        state[STATE_Q + j] = qpos[ints[first_joint + j]]
-    state[STATE_TIME], state[STATE_SEEN] = time_s, 1.0
-
-
-@kernel
 def gate_into(
     contype: np.ndarray,
     conaffinity: np.ndarray,
@@ -254,13 +245,11 @@ def gate_into(
         for k in range(bodies):
             at = STATE_Q + joints + k * size
             state[at + STATE_CLEARANCE], state[at + STATE_RETRY] = -1.0, -1.0
-        if not seen:
-            release_into(contype, conaffinity, ints)
-            _keep(state, ints, qpos, time_s)
-            return 0
+    if not seen:
+        release_into(contype, conaffinity, ints)
     slack, cap = state[STATE_SLACK], state[STATE_CAP]
     gated = 0
-    for k in range(bodies):
+    for k in range(bodies if seen else 0):
         at = STATE_Q + joints + k * size
         moved = moved_since_found(state, ints, qpos, k)
         if moved >= state[at + STATE_RETRY]:  # spent, or not shown clear and moved enough: look again
@@ -280,7 +269,10 @@ def gate_into(
             gated += 1
         else:
             contype[body], conaffinity[body] = ints[row + BODY_CONTYPE], ints[row + BODY_CONAFFINITY]
-    _keep(state, ints, qpos, time_s)
+    first_joint = INT_HEADER + BODY * bodies  # the time and the joint angles of the coming step, kept
+    for j in range(joints):
+        state[STATE_Q + j] = qpos[ints[first_joint + j]]
+    state[STATE_TIME], state[STATE_SEEN] = time_s, 1.0
     return gated
 
 
@@ -293,16 +285,16 @@ def engage_into(ints: np.ndarray, time_s: float) -> int:
     """
     at = ints[INT_ARRAYS]
     return gate_into(
-        int32s(ints, at + ENTRY * ARRAY_CONTYPE),
-        int32s(ints, at + ENTRY * ARRAY_CONAFFINITY),
+        int32_rows(ints, at + ENTRY * ARRAY_CONTYPE)[0],
+        int32_rows(ints, at + ENTRY * ARRAY_CONAFFINITY)[0],
         float_rows(ints, at + ENTRY * ARRAY_XIPOS),
         float_rows(ints, at + ENTRY * ARRAY_XIMAT),
-        floats(ints, at + ENTRY * ARRAY_QPOS),
+        float_rows(ints, at + ENTRY * ARRAY_QPOS)[0],
         time_s,
-        floats(ints, at + ENTRY * ARRAY_VERSION),
-        floats(ints, at + ENTRY * ARRAY_STATE),
+        float_rows(ints, at + ENTRY * ARRAY_VERSION)[0],
+        float_rows(ints, at + ENTRY * ARRAY_STATE)[0],
         ints,
         float_rows(ints, at + ENTRY * ARRAY_BVH_AABB),
         int32_rows(ints, at + ENTRY * ARRAY_BVH_CHILD),
-        int32s(ints, at + ENTRY * ARRAY_BVH_NODEID),
+        int32_rows(ints, at + ENTRY * ARRAY_BVH_NODEID)[0],
     )
