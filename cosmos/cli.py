@@ -116,6 +116,8 @@ def run(
     whole = bool(_WHOLE_PROCESS)
     with collector_off(whole):  # until the session is open (collect_from_here)
         with process.mujoco_without_gl() if whole else nullcontext():  # a run never renders
+            if whole:
+                process.numba_alone()
             from cosmos.commands.run import Pace, run_program
         from cosmos.runtime.rates import Rates
 

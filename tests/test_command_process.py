@@ -18,12 +18,14 @@ COMMAND = """\
 import atexit, dataclasses, json, os, sys
 REPORT = {report!r}
 GL = ("mujoco.egl", "mujoco.glfw", "mujoco.osmesa", "glfw")
+GLANCED = ("scipy", "yaml", "numpy.ma")
 
 def report():
     with open(REPORT, "w") as out:
         json.dump({{
             "threads": len(os.listdir("/proc/self/task")),
             "gl": sorted(m for m in sys.modules if m in GL),
+            "glanced": sorted(m for m in sys.modules if m in GLANCED),
             "MUJOCO_GL": os.environ.get("MUJOCO_GL"),
             "OPENBLAS_NUM_THREADS": os.environ.get("OPENBLAS_NUM_THREADS"),
             "dataclass_texts": len(getattr(vars(dataclasses).get("exec"), "used", ())),
@@ -81,9 +83,11 @@ def test_the_command_loads_numpy_with_one_blas_thread_and_leaves_the_variable_un
         assert theirs["threads"] > 1
 
 
-def test_a_run_imports_mujoco_without_opengl_and_ends_through_the_exit_handlers(tmp_path: Path) -> None:
+def test_a_run_imports_mujoco_without_opengl_nor_what_numba_glances_at(tmp_path: Path) -> None:
     """Catches ``cosmos run`` importing MuJoCo's OpenGL backends (GLFW or EGL: 20-40 ms) though it
-    never renders, ``MUJOCO_GL`` changed for the processes it starts, and the command's quick end
+    never renders, ``MUJOCO_GL`` changed for the processes it starts, modules a run does not use
+    imported for numba's glance at them (SciPy's version, PyYAML for a configuration file there is
+    not, ``numpy.ma`` to see that an argument is not masked: 20-50 ms), and the command's quick end
     losing what the interpreter's exit did: exit handlers (the first run's compile summary), the
     stdout written into a pipe, the exit status."""
     command, report = _script(tmp_path, "cosmos")
@@ -96,6 +100,22 @@ def test_a_run_imports_mujoco_without_opengl_and_ends_through_the_exit_handlers(
     seen = json.loads(report.read_text())
     assert seen["gl"] == []
     assert seen["MUJOCO_GL"] == "egl"
+    assert seen["glanced"] == []
     usage = _start(command, "run", str(tmp_path / "missing.cos"))
     assert usage.returncode == 2
     assert "missing.cos" in usage.stderr and "Traceback" not in usage.stderr
+
+
+def test_numba_reads_its_configuration_file_in_a_run(tmp_path: Path) -> None:
+    """Catches the run's import of numba without PyYAML (:func:`cosmos.commands.process.numba_alone`)
+    hiding it where numba would read a ``.numba_config.yaml`` in the working directory: numba would
+    then warn that it cannot read it, and ignore the user's settings."""
+    pytest.importorskip("yaml")
+    command, report = _script(tmp_path, "cosmos")
+    (tmp_path / ".numba_config.yaml").write_text("# no settings\n", encoding="utf-8")
+    program = tmp_path / "wait.cos"
+    program.write_text("WAIT 10 ms\n", encoding="utf-8")
+    done = _start(command, "run", str(program), "--log", str(tmp_path / "wait.mcap"))
+    assert done.returncode == 0, done.stderr
+    assert "YAML" not in done.stderr
+    assert json.loads(report.read_text())["glanced"] == ["yaml"]

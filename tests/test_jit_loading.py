@@ -125,3 +125,46 @@ def test_an_object_that_is_not_elf_is_left_to_numba() -> None:
     assert loading.object_symbols(b"\xcf\xfa\xed\xfe" + bytes(200)) is None
     assert loading.object_symbols(b"\x7fELF\x01\x01" + bytes(200)) is None  # 32-bit
     assert loading.object_symbols(b"") is None
+
+
+def test_array_arguments_are_typed_as_numba_types_them() -> None:
+    """Catches cosmos's typing of a kernel's array argument (which skips importing ``numpy.ma``,
+    cosmos.jit.argument_types) differing from numba's own: a wrong layout, dtype, dimension
+    count or read-only flag would call the kernel's code on memory it was not compiled for;
+    and a masked array must still be refused, as numba refuses it."""
+    import numpy as np
+    from numba.core import errors
+    from numba.core.typing.typeof import Purpose, typeof, typeof_impl
+
+    from cosmos.jit import argument_types
+
+    assert loading.ENABLED
+    assert typeof_impl.dispatch(np.ndarray) is argument_types.array_type
+    base = np.arange(24.0).reshape(2, 3, 4)
+    frozen = np.ones((3, 3))
+    frozen.setflags(write=False)
+    arrays = [
+        base,
+        np.asfortranarray(base),
+        base[:, ::2],
+        base[0, 1],
+        np.zeros(0),
+        np.array(3.0),
+        np.arange(6, dtype=np.int32),
+        np.zeros(4, dtype=np.complex128),
+        np.zeros(3, dtype=bool),
+        frozen,
+        frozen.T,
+    ]
+    for array in arrays:
+        ours = typeof(array, Purpose.argument)
+        assert ours == argument_types.NUMBA_ARRAY_TYPE(array, None), array
+        assert (ours.layout, ours.ndim, ours.mutable) == (
+            "C" if array.flags.c_contiguous else "F" if array.flags.f_contiguous else "A",
+            array.ndim,
+            array.flags.writeable,
+        )
+    import numpy.ma
+
+    with pytest.raises(errors.NumbaTypeError, match="MaskedArray"):
+        typeof(numpy.ma.masked_array([1.0, 2.0], mask=[False, True]), Purpose.argument)

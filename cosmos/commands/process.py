@@ -15,6 +15,10 @@ changes, each for the time it saves a warm ``cosmos run`` (README, "start-up"):
 * :func:`mujoco_without_gl`: MuJoCo is imported without its OpenGL backends (GLFW,
   EGL: 20-40 ms): ``cosmos run`` never renders (``cosmos replay --view/--video`` does,
   and is left alone).
+* :func:`numba_alone`: numba is imported without the packages its import only looks at:
+  SciPy, for a check of its version (cosmos requires a newer one itself), and PyYAML, for a
+  ``.numba_config.yaml`` in the working directory (kept where there is one): 20-40 ms,
+  where they are installed (PyYAML comes with Dask, for one).
 * :func:`end_process`: the command ends without tearing the interpreter down (freeing
   every module's objects: 30-80 ms); what exit handlers there are still run.
 
@@ -83,6 +87,35 @@ def mujoco_without_gl() -> Iterator[None]:
             os.environ.pop(GL_BACKEND, None)
         else:
             os.environ[GL_BACKEND] = before
+
+
+NUMBA_GLANCES_AT = ("scipy", "yaml")
+"""What numba's import looks at and nothing else does before it: SciPy (``numba/__init__.py`` checks
+its version) and PyYAML (``numba.core.config`` reads ``.numba_config.yaml`` with it, if there is one)."""
+NUMBA_CONFIG_FILE = ".numba_config.yaml"
+
+
+def numba_alone() -> None:
+    """Import numba, if it is not imported yet, without the packages it only glances at.
+
+    Each of :data:`NUMBA_GLANCES_AT` not imported yet looks missing to numba's import (as if
+    not installed, which numba allows), and is importable again afterwards, by the first
+    that needs it (numba's linear algebra imports SciPy's when it compiles). PyYAML stays
+    visible where numba would read a configuration file with it.
+    """
+    if "numba" in sys.modules:
+        return
+    hidden = [name for name in NUMBA_GLANCES_AT if name not in sys.modules]
+    if os.path.isfile(NUMBA_CONFIG_FILE) and "yaml" in hidden:
+        hidden.remove("yaml")
+    for name in hidden:
+        sys.modules[name] = None  # type: ignore[assignment]  # import raises ImportError
+    try:
+        import numba  # noqa: F401
+    finally:
+        for name in hidden:
+            if name in sys.modules and sys.modules[name] is None:
+                del sys.modules[name]
 
 
 def end_process(code: str | int | None) -> NoReturn:

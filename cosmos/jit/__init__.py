@@ -29,13 +29,14 @@ from typing import Any
 import numba
 from numba.core import sigutils, types
 
+from cosmos.jit import argument_types, notice
 from cosmos.jit import beside as helpers
 from cosmos.jit import cache as kernel_cache
-from cosmos.jit import notice
 from cosmos.jit.cache import KernelCache, kernel_directory
 
 __all__ = ["KernelCache", "kernel", "kernel_directory"]
 
+argument_types.install()
 _NOTICE = notice.install(str(kernel_directory() or "no cache"))
 _NOTICE.on_first_compile = lambda: helpers.start(kernel_directory())
 _warned: list[bool] = []
