@@ -285,3 +285,43 @@ def test_the_home_scene_is_compiled_once_however_it_is_asked_for() -> None:
     first = workcell._scene_at_home(workcell.SCENE_XML)
     assert workcell._scene_at_home(workcell.SCENE_XML, Tool.PEG, "puma560") is first
     assert workcell.scene_model(workcell.SCENE_XML) is first[0]
+
+
+def _saved(model: mujoco.MjModel) -> bytes:
+    buffer = np.zeros(mujoco.mj_sizeModel(model), dtype=np.uint8)
+    mujoco.mj_saveModel(model, None, buffer)
+    return buffer.tobytes()
+
+
+@pytest.mark.parametrize("arm", ["puma560", "panda"])
+def test_the_written_out_sectors_are_a_replicate(arm: str) -> None:
+    """The hole's 16 sectors and the peg's 32 chamfer facets are written out as frames (MuJoCo
+    parses its ``<replicate>`` eight times slower, in every run); catches one of those 48 frames
+    with a wrong angle, name or class (a sector turned wrong, a facet missing) by compiling the
+    scene with each run of frames put back as the ``<replicate>`` it stands for, and comparing
+    MuJoCo's two models byte for byte."""
+    import re
+
+    from cosmos.robots import robot_named
+
+    text = robot_named(arm).scene_xml.read_text(encoding="utf-8")
+    runs = 0
+    for count, step, names in (
+        (16, 0.39269908169872414, "hole_wall hole_chamfer hole_top"),
+        (32, 0.19634954084936207, "peg_chamfer"),
+    ):
+        first, last = names.split()[0], f"{names.split()[-1]}{count - 1}"
+        opening = rf'<frame euler="0 0 [^"]+">\s*<geom name="{first}00"'
+        pattern = re.compile(rf'{opening}.*?<geom name="{last}"[^>]*/>\s*</frame>', re.S)
+        found = pattern.search(text)
+        assert found is not None, first
+        geoms = " ".join(f'<geom name="{name}" class="{name}"/>' for name in names.split())
+        text = (
+            text[: found.start()]
+            + f'<replicate count="{count}" euler="0 0 {step!r}">{geoms}</replicate>'
+            + text[found.end() :]
+        )
+        runs += 1
+    written = mujoco.MjModel.from_xml_path(str(robot_named(arm).scene_xml))
+    assert runs == 2
+    assert _saved(mujoco.MjModel.from_xml_string(text)) == _saved(written)
