@@ -26,10 +26,13 @@ def _clean_env(**changes: str) -> dict[str, str]:
     return env
 
 
-def test_read_only_home_runs_a_program(tmp_path: Path) -> None:
+def test_read_only_home_and_install_run_a_program(tmp_path: Path) -> None:
     """With no writable home (a system or container install), ``cosmos run`` used to die at import
     ("cannot cache function ...: no locator available"); it must run, caching under the temporary
-    directory and saying so. The temporary cache is this process's (linked), so nothing recompiles."""
+    directory and saying so. The temporary cache is this process's (linked), so nothing recompiles.
+    The package runs from a copy in which nothing can be written beside the source (each of its
+    directories holds a file named ``__pycache__``, as an install the user cannot write): catches
+    anything (bytecode aside, which Python skips) written next to the source, or needed there."""
     blocker = tmp_path / "not_a_directory"
     blocker.write_text("")
     temp = tmp_path / "tmp"
@@ -38,7 +41,14 @@ def test_read_only_home_runs_a_program(tmp_path: Path) -> None:
     warm = cache.kernel_directory()
     assert warm is not None
     (temp / f"cosmos-{uid}" / "kernels").symlink_to(warm.parent, target_is_directory=True)
-    env = _clean_env(HOME=str(blocker / "home"), TMPDIR=str(temp))
+    site = tmp_path / "site"
+    shutil.copytree(ROOT / "cosmos", site / "cosmos", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(ROOT / "grammar", site / "grammar")
+    for directory in [site, *(path for path in site.rglob("*") if path.is_dir())]:
+        (directory / "__pycache__").write_text("")
+    before = sorted(site.rglob("*"))
+    env = _clean_env(HOME=str(blocker / "home"), TMPDIR=str(temp), PYTHONPATH=str(site))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     result = subprocess.run(
         [
             sys.executable,
@@ -60,6 +70,7 @@ def test_read_only_home_runs_a_program(tmp_path: Path) -> None:
     assert "cannot keep compiled kernels in the user cache" in result.stderr
     assert str(temp / f"cosmos-{uid}" / "kernels") in result.stderr
     assert (tmp_path / "a.mcap").stat().st_size > 0
+    assert sorted(site.rglob("*")) == before
 
 
 def test_kernels_are_not_cached_next_to_the_source() -> None:
