@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from cosmos.bench.language import check_end_to_end_s
 from cosmos.bench.obstacles import bench_obstacles
@@ -108,3 +109,18 @@ def test_whole_runs_are_timed_as_a_user_starts_them(tmp_path: Path) -> None:
     assert "PYTHONDONTWRITEBYTECODE" not in user_environment({"PYTHONDONTWRITEBYTECODE": "1", "A": "b"})
     run = startup_run(tmp_path)
     assert run.cpu_s > 0.2 and run.wall_s > 0.0  # numpy, MuJoCo and numba alone take more
+
+
+def test_a_program_that_fails_is_timed_and_a_broken_run_is_one_clear_error(tmp_path: Path) -> None:
+    """A shipped program that fails still runs whole: its run is timed (its failure is the
+    executor run's ``ok``). A run that ends otherwise (a usage error, a crash) is a CosmosError the
+    command prints on one line. Catches the RuntimeError traceback `cosmos bench` died with
+    while peg_in_hole.cos failed its INSERT."""
+    from cosmos.bench.programs import program_run
+    from cosmos.errors import CosmosError
+
+    failing = tmp_path / "fails.cos"
+    failing.write_text("MOVE TO table + (0, 0, 20 mm)\nMOVE BY (0, 0, -40 mm)\n", encoding="utf-8")
+    assert program_run(failing, tmp_path).wall_s > 0.0
+    with pytest.raises(CosmosError, match=r"exited with status 2: .*missing.cos"):
+        program_run(tmp_path / "missing.cos", tmp_path)

@@ -178,8 +178,11 @@ def process_run(args: list[str], env: dict[str, str] | None = None) -> ProcessRu
     )
     wall = time.perf_counter() - start
     after = os.times()
-    if done.returncode != 0:
-        raise RuntimeError(f"cosmos {' '.join(args)} failed: {done.stderr[-500:]}")
+    if done.returncode not in (0, 1):  # 1: the program failed, and ran whole (the figures say `ok`)
+        from cosmos.errors import CosmosError
+
+        said = done.stderr.strip().splitlines()[-1:] or ["no message"]
+        raise CosmosError(f"cosmos {' '.join(args)} exited with status {done.returncode}: {said[0]}")
     cpu = after.children_user + after.children_system - before.children_user - before.children_system
     return ProcessRun(wall, cpu, done.stderr)
 
