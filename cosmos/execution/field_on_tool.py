@@ -55,7 +55,7 @@ class FieldOnToolWatch:
             influences: The obstacles whose field acts on the arm now.
         """
         told = self._links(null_space, field, deviation_m)
-        if field.tool.any():  # the field on the tool's own link
+        if influences and field.tool.any():  # the field on the tool's own link (none acts: no look)
             if not self._tool_obstacle:  # an obstacle nearest the tool's link (the last: link6 on the PUMA)
                 tool_link = f"link{field.tool.shape[0]}"
                 self._tool_obstacle = next((i.obstacle for i in influences if i.link == tool_link), "")
