@@ -215,8 +215,9 @@ class Executor:
             if infeasible is not None:
                 return Outcome(Verdict.FAILED, infeasible)
         goal_index = 0
-        fields = self.obstacles is not None and self.obstacles.active  # goal motions give way to them
-        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture, fields)
+        obstacles = self.obstacles if self.obstacles is not None and self.obstacles.active else None
+        # Among obstacles a goal motion gives way to their field: no reference tracked (resolve).
+        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture, obstacles is not None)
         search = search_phase(segment, start_s, start_position, start_rotation)  # INSERT ... SEARCH
         if search is not None:
             setpoint = search.setpoint(setpoint)
@@ -250,7 +251,6 @@ class Executor:
         supervisor.start(segment, start_position, goals[0][0])
         via_radius = segment.via_radius_m or 0.01
         ticks = 0
-        obstacles = self.obstacles if self.obstacles is not None and self.obstacles.active else None
         watch_minima = obstacles is not None and isinstance(segment.completion, GoalReached)
         if self.obstacles is not None:
             self.obstacles.start_goal()
