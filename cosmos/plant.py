@@ -41,6 +41,7 @@ from cosmos.hand.gripper_scene import DRIVE
 from cosmos.plant_scene import check_arm, geom_owners, wrench_index
 from cosmos.realism.plant_realism import PlantRealism
 from cosmos.realism.sensing import Sensing
+from cosmos.realism.tare import payload_tare
 from cosmos.workcell import FORCE_SENSOR, HOME_KEY, SCENE_XML, TORQUE_SENSOR
 
 
@@ -191,6 +192,10 @@ class Plant:
             )
         )
         self.reset()
+        # The cell tares the sensor at home with the tool as mounted (cosmos.realism.tare).
+        self._noise_bias -= payload_tare(spec, model, self._data)
+        if sensor_noise is None:
+            self._noise[0] = self._noise_bias
 
     @property
     def model(self) -> mujoco.MjModel:

@@ -17,6 +17,7 @@ import mujoco
 import numpy as np
 
 from cosmos.plant import SensorNoise
+from cosmos.realism.tare import PAYLOAD_GEOM
 from cosmos.sweep.parameters import BIAS_AXES, FIXTURES, MODEL_ERROR, PARAMETERS, POSE_AXES, SEED, Kind, Vary
 from cosmos.workcell import TOOL, TOOL_BODY, fixture_frames
 
@@ -102,7 +103,7 @@ class WorkcellVariation:
         if self.payload_kg > 0.0:
             # The tool body's frame is the flange frame (scene.xml), as TOOL's quantities are.
             spec.body(TOOL_BODY).add_geom(
-                name="payload",
+                name=PAYLOAD_GEOM,
                 type=mujoco.mjtGeom.mjGEOM_SPHERE,
                 size=[PAYLOAD_RADIUS_M, 0.0, 0.0],
                 pos=np.asarray(TOOL.com_in_flange),
