@@ -164,6 +164,13 @@ def is_command(text: str) -> bool:
     return text.lstrip().startswith(":")
 
 
+def command_hint(text: str) -> str:
+    """For an input that failed as a statement: the ``:command`` its bare word would be, if any."""
+    word = text.strip().lower()
+    name = "quit" if word == "exit" else word
+    return f"REPL commands start with ':': type :{name}" if name in COMMANDS else ""
+
+
 def run_command(engine: ReplEngine, text: str) -> bool:
     """Run a ``:command``; returns False to end the session."""
     name, _, argument = text.strip()[1:].partition(" ")

@@ -26,6 +26,7 @@ KEYS = (
     + "MOVE BY (0, 0, 15 mm)" + ENTER
     + "END" + ENTER
     + "up" + ENTER
+    + "help" + ENTER
     + CTRL_D
 )  # fmt: skip
 
@@ -76,6 +77,12 @@ def test_syntax_error_is_shown_with_a_caret_and_the_session_goes_on(session: Dri
     assert "    MOVE BY (0, 0, 1 mx)\n                     ^^\n" in out
     assert "Traceback" not in out
     assert "ok  MOVE BY (0, 0, 15 mm) (PROC up called at line 12)" in out
+
+
+def test_a_command_typed_without_its_colon_is_told_the_colon(session: Driven) -> None:
+    """Catches 'help' typed bare answered only "unknown procedure 'help'", the user left guessing."""
+    assert "unknown procedure 'help'" in session.output
+    assert "REPL commands start with ':': type :help" in session.output
 
 
 def test_frames_lists_fixtures_and_session_frames(session: Driven) -> None:
