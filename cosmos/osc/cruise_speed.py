@@ -66,17 +66,26 @@ import numpy as np
 from cosmos.osc._types import FloatArray
 
 
-def speed_limit_binds(error: FloatArray, kp: FloatArray, kv: FloatArray, max_speed: float) -> bool:
-    """Eq. 21's ``nu < 1`` for the translation: ``|(kp / kv) (x_d - x)| > V_max``.
+def speed_limit_binds(
+    error: FloatArray, kp: FloatArray, kv: FloatArray, max_speed: float, line: FloatArray
+) -> bool:
+    """Eq. 21's ``nu < 1`` for the translation, ``|(kp / kv) (x_d - x)| > V_max``, the goal ahead.
+
+    Only while the goal is still ahead along the line (``u . (x_d - x) > 0``): a tool carried
+    past its goal (a wound integral let go by the bore a peg left, on a heavier arm than
+    modelled) is far from it again, and cruising on there ran it 38 mm past a MOVE BY's goal
+    at its SPEED, the integral holding it against eq. 20-21's pull back.
 
     Args:
         error: ``x - x_d``, in [m] then [rad]. # (6,)
         kp: Position gains, in [1/s^2]; the translation's smallest ratio is used. # (6,)
         kv: Velocity gains, in [1/s]. # (6,)
         max_speed: V_max now (ramped), in [m/s].
+        line: Unit line from the motion's start to its goal, world (zeros: none). # (3,)
     """
     ratio = float(np.min(np.asarray(kp[:3]) / np.asarray(kv[:3])))
-    return ratio * float(np.linalg.norm(error[:3])) > max_speed
+    ahead = float(np.dot(error[:3], line)) < 0.0
+    return ahead and ratio * float(np.linalg.norm(error[:3])) > max_speed
 
 
 def cruise_integral_step(

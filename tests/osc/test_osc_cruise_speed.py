@@ -71,7 +71,7 @@ def _unit_mass(speed: float, disturbance: float, seconds: float) -> tuple[np.nda
     error = -1.0 * np.concatenate((LINE, np.zeros(3)))  # a metre short of the goal: the limit binds
     for _ in range(int(seconds / DT_S)):
         velocity = np.concatenate((v * LINE, np.zeros(3)))
-        binds = speed_limit_binds(error, np.full(6, KP), np.full(6, KV), speed)
+        binds = speed_limit_binds(error, np.full(6, KP), np.full(6, KV), speed, LINE)
         cruise = cruise_integral_step(
             cruise, LINE, velocity, np.zeros(6), speed, binds, (KV, KP / KV), DT_S, GATE
         )
@@ -154,10 +154,14 @@ def test_it_bleeds_out_at_the_approach_rate_once_the_limit_lets_go() -> None:
 
 
 def test_the_limit_binds_where_eq_21s_nu_drops_below_one() -> None:
-    """Catches a wrong ``nu``: it binds where ``(kp / kv) |x_d - x| > V_max`` and not closer."""
+    """Catches a wrong ``nu``: it binds where ``(kp / kv) |x_d - x| > V_max`` and not closer, and
+    not past the goal (there the integral held a tool at its SPEED 38 mm past a MOVE BY's goal:
+    tests/run/test_run_payload.py)."""
     gains = np.full(6, KP), np.full(6, KV)
-    assert speed_limit_binds(np.array([0.0, 0.0, 0.0011, 0.0, 0.0, 0.0]), *gains, 0.01)
-    assert not speed_limit_binds(np.array([0.0, 0.0, 0.0009, 0.0, 0.0, 0.0]), *gains, 0.01)
+    down = np.array([0.0, 0.0, -1.0])  # the goal below the tool
+    assert speed_limit_binds(np.array([0.0, 0.0, 0.0011, 0.0, 0.0, 0.0]), *gains, 0.01, down)
+    assert not speed_limit_binds(np.array([0.0, 0.0, 0.0009, 0.0, 0.0, 0.0]), *gains, 0.01, down)
+    assert not speed_limit_binds(np.array([0.0, 0.0, 0.0011, 0.0, 0.0, 0.0]), *gains, 0.01, -down)
 
 
 def test_the_compiled_step_matches_the_reference_on_random_inputs() -> None:
@@ -175,7 +179,7 @@ def test_the_compiled_step_matches_the_reference_on_random_inputs() -> None:
         force = rng.normal(size=6) * rng.choice([0.1, 3.0])
         cruise = (float(rng.uniform(-2.5, 2.5)), float(rng.uniform(0.0, 0.3)))
         kp, kv = np.full(6, KP), np.full(6, KV)
-        binds = speed_limit_binds(error, kp, kv, speed)
+        binds = speed_limit_binds(error, kp, kv, speed, line)
         expected = cruise_integral_step(
             cruise, line, velocity, force, speed, binds, (KV, KP / KV), DT_S, GATE
         )

@@ -97,7 +97,8 @@ def cruise_into(
     if k_c == 0.0 or (line[0] == 0.0 and line[1] == 0.0 and line[2] == 0.0):
         return False
     force, error, velocity, cruise = state[0], state[1], state[2], state[CRUISE]
-    binds = ratio * math.sqrt(error[0] ** 2 + error[1] ** 2 + error[2] ** 2) > max_speed
+    ahead = error[0] * line[0] + error[1] * line[1] + error[2] * line[2] < 0.0  # not past the goal
+    binds = ahead and ratio * math.sqrt(error[0] ** 2 + error[1] ** 2 + error[2] ** 2) > max_speed
     along = velocity[0] * line[0] + velocity[1] * line[1] + velocity[2] * line[2]
     push = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
     if not binds:
