@@ -62,7 +62,8 @@ def summarize(
 
     Returns:
         ``ok``, ``outcome`` (``ok``, ``failed``, ``interrupted``), ``line``, ``statement`` and
-        ``reason`` of the first failure (as ``cosmos.run_result`` reads them from a log),
+        ``reason`` of the first failure that no TRY took over (as ``cosmos.run_result`` reads
+        them from a log),
         ``duration_s``, ``peak_force_n`` and ``statements`` (``line``, ``statement``,
         ``duration_s``, ``peak_force_n`` each).
     """
@@ -72,8 +73,13 @@ def summarize(
     statements = []
     starts: dict[int, tuple[float, str]] = {}
     failure: EventRecord | None = None
-    for event in events:
-        if failure is None and (event.kind in ("failed", "interrupted") or _old_interrupted(event)):
+    for index, event in enumerate(events):
+        recovered = index + 1 < len(events) and events[index + 1].kind == "recovery"  # a TRY took it over
+        if (
+            failure is None
+            and not recovered
+            and (event.kind in ("failed", "interrupted") or _old_interrupted(event))
+        ):
             failure = event
         if event.kind == "start":
             starts[event.line] = (event.t, event.statement)

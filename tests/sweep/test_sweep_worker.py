@@ -47,6 +47,20 @@ def test_tap_summary_equals_the_summary_of_the_run_s_log(tmp_path: Path, table_z
     assert result["overhead_s"] + result["simulate_s"] == pytest.approx(result["wall_s"])
 
 
+def test_a_failure_a_try_takes_over_is_not_the_run_s_failure(tmp_path: Path) -> None:
+    """Catches the tap counting the first failed event as the run's failure: a TRY's ON FAIL
+    took it over and the run succeeded (cosmos run exits 0), yet every sweep run of the shipped
+    touch_and_recover.cos was counted failed ("line 17 INSERT DOWN: jammed", 0 of 6)."""
+    source = "TRY\n  MOVE BY (0, 0, 10 mm) UNTIL FORCE > 50 N TIMEOUT 0.05 s\nON FAIL\n  WAIT 0.1 s\nEND\n"
+    task = RunTask(0, "recover.cos", source, {"seed": 1.0}, keep_log=True)
+    result = run_task(task)
+    log = tmp_path / "run.mcap"
+    log.write_bytes(result["log_bytes"])
+    run = cosmos.load(log)
+    assert [e.kind for e in run.events if e.kind in ("failed", "recovery")] == ["failed", "recovery"]
+    assert run.ok and result["ok"] and result["outcome"] == "ok" and result["line"] is None
+
+
 def test_tap_reads_an_interrupted_run_as_cosmos_load_does(tmp_path: Path) -> None:
     """Catches the tap missing the executor's interruption event (a stopped run counted a success)."""
     from cosmos.execution.session import Session
