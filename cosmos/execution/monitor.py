@@ -269,20 +269,24 @@ class SegmentMonitor:
             return None
         error = goal_error(snap.position, snap.rotation, self.goal_position, self.goal_rotation)
         r_t = self._rotation_t
+        # The error's length on the motion axes (a force axis's position is the force's):
+        # "1 mm and 1 deg" as the reason reports them.
         position_off = _length(r_t.dot(error.position_m)[self._motion[:3]])
-        # The error's length on the motion axes: "1 mm and 1 deg" as the reason reports them.
+        rotation_off = _length(r_t.dot(error.rotation_rad)[self._motion[3:]])
         arrived = (
             speed <= goal.speed_tolerance_mps
             and position_off <= goal.position_tolerance_m
-            and _length(r_t.dot(error.rotation_rad)[self._motion[3:]]) <= goal.orientation_tolerance_rad
+            and rotation_off <= goal.orientation_tolerance_rad
         )
         if arrived:
             if self._settled_since is None:
                 self._settled_since = snap.t_s
             if snap.t_s - self._settled_since >= SETTLE_S - 1e-9:
-                free = f"{error.distance_m * 1e3:.1f} mm from its goal, orientation free"
+                off = f"{position_off * 1e3:.1f} mm"
+                if self.segment.orientation_free:
+                    return Outcome(Verdict.DONE, f"arrived: {off} from its goal, orientation free")
                 return Outcome(
-                    Verdict.DONE, f"arrived: {free if self.segment.orientation_free else error.text()}"
+                    Verdict.DONE, f"arrived: {off} and {math.degrees(rotation_off):.1f} deg from its goal"
                 )
             return None
         self._settled_since = None

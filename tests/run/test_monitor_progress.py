@@ -46,3 +46,21 @@ def test_far_under_pi_the_unwrap_keeps_the_short_way() -> None:
             continue
         previous *= rng.uniform(0.0, room) / np.linalg.norm(previous)
         assert unwrap_rotation_vector(log, previous) is log
+
+
+def test_a_slide_s_arrival_reports_its_motion_axes_not_its_force_axis() -> None:
+    """Catches the reason reporting the whole error where the judge reads the motion axes: a held
+    block slid 40 mm was "arrived: 1.4 mm and 0.2 deg from its goal", over the 1 mm tolerance, the
+    1.35 mm being its force axis's depth (what the force set, not a goal), 0.3 mm its motion's."""
+    plan = compile_program("CONTACT DOWN FORCE 10 N\nSLIDE +X BY 40 mm\n", "s.cos", fixture_frames())
+    (segment,) = [s for s in plan.segments if s.kind.value == "slide"]
+    goal = (np.array([0.64, -0.25, 0.20]), np.diag([1.0, -1.0, -1.0]))
+    start = goal[0] - np.array([0.04, 0.0, 0.0])
+    monitor = SegmentMonitor(segment, 0.0, start, 0.0, start, None, goal, lambda: "")
+    position = goal[0] + np.array([-0.0003, 0.0, -0.00135])
+    outcome = None
+    for k in range(100):
+        outcome = monitor.check(Snapshot(0.001 * k, position, goal[1], np.zeros(6), np.zeros(6)))
+        if outcome is not None:
+            break
+    assert outcome is not None and outcome.reason == "arrived: 0.3 mm and 0.0 deg from its goal", outcome
