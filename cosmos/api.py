@@ -16,7 +16,7 @@ from __future__ import annotations
 import os
 import threading
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from contextlib import nullcontext
 from datetime import UTC, datetime
 from pathlib import Path
@@ -129,6 +129,7 @@ def run(
     progress: Callable[[Progress], None] | None = None,
     ideal: bool = False,
     robot: str | None = None,
+    vary: Mapping[str, float | str] | None = None,
 ) -> Run:
     """Run a program on the simulated arm, as ``cosmos run`` does, and return what the log records.
 
@@ -146,6 +147,8 @@ def run(
             and velocities) instead of the realistic one (``cosmos.realism``).
         robot: The arm (``--robot``: ``puma560`` or ``panda``); a program's ROBOT must agree.
             Default: the program's ROBOT, else the PUMA 560.
+        vary: The real workcell varied (``--vary``, docs/sweep.md): a value per parameter, a
+            number in its SI unit or a string with units (``{"hole.x": "1 mm", "payload": 0.3}``).
 
     Returns:
         The run, read from its log. A statement that failed on the arm does not raise:
@@ -154,7 +157,7 @@ def run(
 
     Raises:
         ProgramError: The program does not compile (with file, line and column).
-        UsageError: The file cannot be read, or a rate is out of range.
+        UsageError: The file cannot be read, a rate is out of range, or a ``vary`` is not known.
     """
     from cosmos.execution.program import stop_on_signals
     from cosmos.execution.session import Session
@@ -171,6 +174,15 @@ def run(
         None if servo_hz is None else _rate(servo_hz, "servo_hz"),
         None if param_hz is None else _rate(param_hz, "param_hz"),
     )
+    variation = None
+    if vary:
+        from cosmos.sweep.variation import constant_variation
+
+        texts = [
+            f"{key}={value!r}" if isinstance(value, float | int) else f"{key}={value}"
+            for key, value in vary.items()
+        ]
+        variation = constant_variation(texts, seed, ideal)
     plan = check(program, name=name, robot=robot)
     for warning in plan.warnings:
         warnings.warn(warning.render(plan.source), CosmosWarning, stacklevel=2)
@@ -185,6 +197,7 @@ def run(
             rates,
             seed,
             progress,
+            variation,
             ideal=ideal,
             robot=robot_named(plan.robot),
             tool=Tool(plan.tool),

@@ -16,9 +16,9 @@ import click
 
 from cosmos.errors import UsageError
 from cosmos.realism.plant_realism import IDEAL
-from cosmos.sweep.parameters import SEED, Kind, parse_varies
+from cosmos.sweep.parameters import parse_varies
 from cosmos.sweep.results import RESULTS_NAME, Keep, ResultsFile, SweepSpec, log_name, results_list, sample
-from cosmos.sweep.variation import WorkcellVariation
+from cosmos.sweep.variation import WorkcellVariation, constant_variation
 
 EXIT_INTERRUPTED = 130
 """Exit status of a sweep stopped by Ctrl-C (its finished runs are in the results file)."""
@@ -172,12 +172,4 @@ def variation_for_run(
                 f"{path}: the sweep ran another text of the program; running {program} as it is", err=True
             )
         return WorkcellVariation.from_values(values, ideal=ideal or header.get("plant") == IDEAL)
-    if not vary:
-        return None
-    varies = parse_varies(vary)
-    distributions = [text for text, v in zip(vary, varies, strict=True) if v.kind is not Kind.CONSTANT]
-    if distributions:
-        raise UsageError(f"--vary {distributions[0]}: cosmos run takes one value, not a distribution")
-    values = {v.name: v.a for v in varies}
-    values.setdefault(SEED, float(seed))
-    return WorkcellVariation.from_values(values, ideal=ideal)
+    return constant_variation(vary, seed, ideal) if vary else None

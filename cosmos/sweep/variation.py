@@ -10,15 +10,26 @@ that the hole sits 1 mm off. That difference is the uncertainty a sweep measures
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
+from cosmos.errors import UsageError
 from cosmos.plant import SensorNoise
 from cosmos.realism.tare import PAYLOAD_GEOM
-from cosmos.sweep.parameters import BIAS_AXES, FIXTURES, MODEL_ERROR, PARAMETERS, POSE_AXES, SEED, Kind, Vary
+from cosmos.sweep.parameters import (
+    BIAS_AXES,
+    FIXTURES,
+    MODEL_ERROR,
+    PARAMETERS,
+    POSE_AXES,
+    SEED,
+    Kind,
+    Vary,
+    parse_varies,
+)
 from cosmos.workcell import TOOL, TOOL_BODY, fixture_frames
 
 FIXTURE_FRAMES = {"hole": "hole_fixture", "table": "table", "slope": "slope_fixture"}
@@ -139,6 +150,23 @@ class WorkcellVariation:
             out.append(Vary(MODEL_ERROR, Kind.CONSTANT, self.model_error))
         out.append(Vary(SEED, Kind.CONSTANT, float(self.noise_seed)))
         return tuple(out)
+
+
+def constant_variation(texts: Sequence[str], seed: int, ideal: bool = False) -> WorkcellVariation:
+    """The workcell of ``NAME=VALUE`` constants (``cosmos run --vary``, ``cosmos.run(vary=...)``).
+
+    ``seed`` is the noise seed unless ``seed`` is among them.
+
+    Raises:
+        UsageError: A text that does not parse, a name given twice, or a distribution.
+    """
+    varies = parse_varies(texts)
+    distributions = [text for text, v in zip(texts, varies, strict=True) if v.kind is not Kind.CONSTANT]
+    if distributions:
+        raise UsageError(f"--vary {distributions[0]}: cosmos run takes one value, not a distribution")
+    values = {v.name: v.a for v in varies}
+    values.setdefault(SEED, float(seed))
+    return WorkcellVariation.from_values(values, ideal=ideal)
 
 
 def rotation_world_xyz(rx: float, ry: float, rz: float) -> np.ndarray:
