@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 
     from cosmos.execution.executor import Executor
     from cosmos.runtime.loop import Recorder
+    from cosmos.sweep.variation import WorkcellVariation
 
 REPL_PROGRAM = "<repl>"
 """The ``program`` of a REPL session's log; its source is the session's transcript."""
@@ -88,6 +89,7 @@ class RunSettings:
     ideal: bool = True
     model_error: float | None = None
     robot: str = "puma560"
+    variation: WorkcellVariation | None = None
 
 
 def settings_from_log(record: RunRecord) -> RunSettings:
@@ -95,7 +97,8 @@ def settings_from_log(record: RunRecord) -> RunSettings:
 
     The plant is the metadata's ``plant`` (``realistic`` with its ``model_error``, drawn
     again from the seed; ``ideal``); a log from before the realistic plant has none and
-    was made on the ideal one.
+    was made on the ideal one. A run in a varied workcell (``cosmos run --vary``, a sweep's
+    run) has the variation as ``cosmos run`` arguments (``variation``): it is made again.
 
     Raises:
         CosmosError: If the log has no program source or lacks a setting.
@@ -116,6 +119,7 @@ def settings_from_log(record: RunRecord) -> RunSettings:
             raise ValueError("seed is outside 0 .. 2**63 - 1")
         rates = Rates(servo_hz, param_hz, state_hz)
         ideal, model_error = _plant_settings(meta)
+        variation = _variation(meta.get("variation", ""), seed)
     except KeyError as missing:
         raise CosmosError(f"{record.path}: the metadata has no {missing}: cannot re-run alike") from None
     except (ValueError, UsageError) as error:
@@ -135,7 +139,24 @@ def settings_from_log(record: RunRecord) -> RunSettings:
         ideal=ideal,
         model_error=model_error,
         robot=robot,
+        variation=variation,
     )
+
+
+def _variation(arguments: str, seed: int) -> WorkcellVariation | None:
+    """The workcell of the metadata's ``variation`` (``--ideal --vary 'NAME=VALUE' ...``), if any."""
+    import shlex
+
+    from cosmos.sweep.variation import constant_variation
+
+    if not arguments:
+        return None
+    words = shlex.split(arguments)
+    ideal = words[:1] == ["--ideal"]
+    pairs = words[1:] if ideal else words
+    if len(pairs) % 2 or any(option != "--vary" for option in pairs[::2]):
+        raise ValueError(f"variation = {arguments[:80]!r} is not cosmos run's --vary arguments")
+    return constant_variation(pairs[1::2], seed, ideal)
 
 
 def _plant_settings(meta: Mapping[str, str]) -> tuple[bool, float | None]:
@@ -194,6 +215,7 @@ def rerun(settings: RunSettings, log_path: Path, limit_s: float = math.inf) -> f
             rates,
             seed,
             progress,
+            settings.variation,
             ideal=settings.ideal,
             model_error=settings.model_error,
             robot=robot_named(plan.robot),

@@ -140,3 +140,16 @@ def test_interrupted_run_is_compared_up_to_the_interruption(tmp_path: Path) -> N
     assert verification.matches, verification.render()
     assert any("interrupted" in note for note in verification.notes)
     assert verification.samples == len(messages(log, STATE))
+
+
+def test_a_run_in_a_varied_workcell_verifies(tmp_path: Path) -> None:
+    """Catches --verify re-running a varied run (cosmos run --vary, a sweep's kept log) in the
+    nominal workcell: a run with a 0.5 kg payload and the hole 1 mm off "departs at t = 0.001 s"
+    (its wrench differs), though nothing was edited."""
+    import cosmos as api
+
+    log = tmp_path / "varied.mcap"
+    run = api.run("MOVE BY (0, 0, 20 mm)\n", log=log, vary={"payload": 0.5, "hole.x": "1 mm"}, seed=3)
+    assert run.ok and "payload=0.5" in run.record.metadata["variation"]
+    verification = verify_log(read_log(log))
+    assert verification.departure is None, verification

@@ -219,6 +219,10 @@ def test_malformed_protobuf_scene_messages_are_one_located_line(tmp_path: Path) 
         ({"param_hz": "1e-300"}, "param_hz = 1e-300 is outside"),
         ({"seed": "-5"}, "seed is outside"),
         ({"seed": "9" * 5000}, "malformed"),
+        ({"variation": "--vary 'mass=3'"}, "unknown parameter 'mass'"),
+        ({"variation": "--vary 'hole.x=normal(0,1mm)'"}, "one value, not a distribution"),
+        ({"variation": "rm -rf /"}, "is not cosmos run's --vary arguments"),
+        ({"variation": "--vary 'unclosed"}, "malformed"),
     ],
 )
 def test_settings_that_verify_would_run_with_are_checked(
