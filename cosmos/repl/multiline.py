@@ -1,7 +1,7 @@
 """When an input is complete: the rule that lets Enter run it or start a new line.
 
-An input is complete unless a PROC or REPEAT block is open (the parser says it
-needs an END) or the last line ends in a backslash (a continuation). Two empty
+An input is complete unless a block is open (PROC, REPEAT, IF, WHILE, TRY: the
+parser says it needs an END, or a TRY its ON FAIL) or the last line ends in a backslash (a continuation). Two empty
 lines in a row end an input regardless, so an unfinished block can always be
 handed over (and reported). An open parenthesis does not continue the input:
 the language ends a statement at the end of its line, so the parser's "expected
@@ -16,7 +16,7 @@ from cosmos.lang import needs_more_input
 
 INDENT = "    "
 """What a line inside a block is indented by."""
-_BLOCK_START = re.compile(r"\s*(PROC|REPEAT)\b", re.IGNORECASE)
+_BLOCK_START = re.compile(r"\s*(PROC|REPEAT|IF|WHILE|TRY|ELSE|ON\s+FAIL)\b", re.IGNORECASE)
 _BLOCK_END = re.compile(r"\s*END\b", re.IGNORECASE)
 
 
@@ -33,7 +33,7 @@ def input_complete(text: str) -> bool:
 
 
 def next_indent(line: str) -> str:
-    """Indentation for the line after ``line``: deeper after PROC or REPEAT, shallower after END."""
+    """Indentation for the line after ``line``: deeper after a block's start, shallower after END."""
     indent = line[: len(line) - len(line.lstrip())]
     if _BLOCK_START.match(line):
         return indent + INDENT

@@ -37,6 +37,13 @@ from cosmos.workcell import fixture_frames
         ("MOVE TO (0.5, 0.1, 0.3) # a comment \\", True),
         ("PROC pick\n    \n    ", True),  # two empty lines hand an open block over
         ("MOVE SPED 3", True),  # a mistake is complete: Enter shows it
+        # A TRY typed line by line ran "TRY" alone ("this TRY has no END"): it wants its ON FAIL.
+        ("TRY", False),
+        ("TRY\n    CONTACT DOWN FORCE 5 N TIMEOUT 1 s", False),
+        ("TRY\n    CONTACT DOWN FORCE 5 N TIMEOUT 1 s\nON FAIL", False),
+        ("TRY\n    CONTACT DOWN FORCE 5 N TIMEOUT 1 s\nON FAIL\n    MOVE BY (0, 0, 10 mm)\nEND", True),
+        ("IF FORCE Z < -3 N\n    MOVE BY (0, 0, 1 mm)\nELSE", False),
+        ("WHILE FORCE > 1 N MAX 3", False),
     ],
 )
 def test_enter_runs_only_complete_inputs(text: str, complete: bool) -> None:
@@ -58,6 +65,7 @@ def test_indentation_follows_blocks() -> None:
     assert next_indent("    REPEAT 2") == "        "
     assert next_indent("        WAIT 1 s") == "        "
     assert next_indent("    END") == ""
+    assert next_indent("TRY") == next_indent("ON FAIL") == next_indent("IF FORCE > 1 N") == "    "
 
 
 def _completions(text: str) -> list[str]:

@@ -58,11 +58,14 @@ def parse_program(source: str, file: str = "<input>") -> ast.Program:
 
 
 def needs_more_input(text: str) -> bool:
-    """Whether ``text`` ends inside a PROC or REPEAT block (a REPL should read on)."""
+    """Whether ``text`` ends inside a block (PROC, REPEAT, IF, WHILE, TRY): a REPL should read on.
+
+    The parser then wants an END, or a TRY's ON FAIL, where the text ended.
+    """
     try:
         _raw_parse(text)
     except UnexpectedToken as error:
-        return error.token.type == "$END" and "END" in set(error.expected)
+        return error.token.type == "$END" and not {"END", "ON"}.isdisjoint(error.expected)
     except Exception:  # noqa: BLE001 - any other failure is reported by parse_program
         return False
     return False
