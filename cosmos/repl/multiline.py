@@ -1,11 +1,11 @@
 """When an input is complete: the rule that lets Enter run it or start a new line.
 
 An input is complete unless a block is open (PROC, REPEAT, IF, WHILE, TRY: the
-parser says it needs an END, or a TRY its ON FAIL) or the last line ends in a backslash (a continuation). Two empty
-lines in a row end an input regardless, so an unfinished block can always be
-handed over (and reported). An open parenthesis does not continue the input:
-the language ends a statement at the end of its line, so the parser's "expected
-')'" is the useful answer.
+parser says it needs an END, or a TRY its ON FAIL) or the last line ends in a
+backslash (a continuation). Two empty lines in a row end an input regardless,
+so an unfinished block can always be handed over (and reported). An open
+parenthesis does not continue the input: the language ends a statement at the
+end of its line, so the parser's "expected ')'" is the useful answer.
 """
 
 from __future__ import annotations
