@@ -244,6 +244,11 @@ class Plant:
         self._qvel[:] = 0.0
         self._ctrl[:] = 0.0
         mujoco.mj_forward(self._model, self._data)
+        # The sensors as the arm reads them held at rest (zero acceleration), not falling with
+        # its drives off as mj_forward has it: the wrist then read no weight of the tool, and a
+        # first statement's CONTACT DOWN felt the tool's 2.2 N as a touch at t = 0.001 s.
+        self._data.qacc[:] = 0.0
+        mujoco.mj_inverse(self._model, self._data)
         if self._sensing is not None:
             self._sensing.reset()
         if self._fingers is not None:

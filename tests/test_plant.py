@@ -139,6 +139,19 @@ def test_sensor_reads_the_tool_weight_and_its_moment(robot):
         np.testing.assert_allclose(torque, moment, atol=0.01 * TOOL.mass_kg * 9.81 * 0.1)
 
 
+def test_after_a_reset_the_sensor_reads_the_held_tool_before_any_step() -> None:
+    """Catches a reset leaving the sensors as mj_forward has them with the drives off (the arm
+    falling, the tool weightless on the sensor): the first tick's environment force was the
+    tool's whole weight, 2.2 N downward, and a program's first CONTACT DOWN took it for a touch
+    at t = 0.001 s. Before any step, the reading is the held tool's weight, as after a hold."""
+    weight = TOOL.mass_kg * -GRAVITY  # (0, 0, +m g)
+    for q5_offset_deg in (0.0, 40.0):
+        plant = Plant()
+        plant.reset(HOME_Q + np.radians([0, 0, 0, 0, q5_offset_deg, 0]))
+        force, _ = sensor_in_world(plant)
+        np.testing.assert_allclose(force, weight, atol=0.01 * weight[2])
+
+
 def contact_force_on_tool(plant: Plant) -> np.ndarray:
     """Sum of the contact forces the environment exerts on the tool, world axes (from MuJoCo)."""
     model, data = plant.model, plant.data

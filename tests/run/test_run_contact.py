@@ -178,3 +178,16 @@ def _assert_push_held(t: np.ndarray, push: np.ndarray, setpoint_n: float) -> Non
 def test_contact_program_file_is_kept(contact_run: ProgramRun) -> None:
     """The log carries the program's source as its attachment (what was run is on record)."""
     assert contact_run.log.source == Path(contact_run.program).read_text(encoding="utf-8")
+
+
+def test_a_first_statement_s_contact_feels_nothing_in_the_air(tmp_path: Path) -> None:
+    """Catches the first tick reading the tool weightless (the plant reset with its drives off):
+    a program (or a REPL session) whose first statement was CONTACT DOWN "touched: 2.17 N along
+    the approach" at t = 0.001 s, 260 mm above the table, then pushed down in the air under force
+    control until its 3 s ran out. It must find nothing within its TIMEOUT."""
+    program = write_program(tmp_path, "first", "CONTACT DOWN FORCE 5 N TIMEOUT 0.3 s\n")
+    run = run_in_process(program, tmp_path / "first.mcap")
+    assert run.returncode == 1
+    assert not run.events("contact"), run.describe()
+    (failed,) = run.events("failed")
+    assert failed.reason == "found no contact within 0.3 s", run.describe()
