@@ -62,6 +62,7 @@ def integrate_goal_error(
     force: FloatArray,
     dt_s: float,
     gate: tuple[float, float, float, float],
+    reach_m: float = float("inf"),
 ) -> FloatArray:
     """One step of the integral action on a free goal motion's translation error, near its goal.
 
@@ -75,6 +76,12 @@ def integrate_goal_error(
     without overshoot, and a motion blocked by something are left as they were), is
     clamped to ``+-limit`` per component (anti-windup) and restarts with every segment.
 
+    Near means within ``band`` and within ``reach_m``, where eq. 21's speed limit lets go
+    (``V_max kv / kp``): its linear approach. Within ``band`` alone, a slow MOVE's cruise (2 mm/s
+    among obstacles, eq. 20-21 there) wound the integral up over its last 3 mm; past the goal the
+    tool ran faster than ``slow``, which froze it pushing on, and it carried the tool 44 mm
+    beyond its goal at 23 mm/s.
+
     Args:
         integral: The integral so far, world, in [m s]. # (3,)
         error: ``x - x_d``, world, in [m] then [rad]. # (6,)
@@ -82,12 +89,14 @@ def integrate_goal_error(
         force: The wrench the tool applies, world, in [N] then [N m]. # (6,)
         dt_s: Servo period, in [s].
         gate: ``(limit [m s], band [m], slow [m/s], quiet [N])``.
+        reach_m: ``V_max kv / kp``, in [m] (eq. 21's ``nu = 1`` within it).
 
     Returns:
         The new integral. # (3,)
     """
     limit, band, slow, quiet = gate
-    near = float(np.linalg.norm(error[:3])) < band and float(np.linalg.norm(velocity[:3])) < slow
+    near = float(np.linalg.norm(error[:3])) < min(band, reach_m)
+    near = near and float(np.linalg.norm(velocity[:3])) < slow
     if not (near and float(np.linalg.norm(force[:3])) < quiet):
         return np.array(integral, dtype=float)
     return np.clip(integral + np.asarray(error[:3]) * dt_s, -limit, limit)

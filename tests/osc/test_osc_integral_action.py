@@ -46,3 +46,22 @@ def test_goal_integral_grows_only_near_slow_and_free() -> None:
     np.testing.assert_allclose(
         integrate_goal_error(held, error, rest, push, 10.0, gate), (1e-3, -2e-4, -1e-3)
     )
+
+
+def test_goal_integral_waits_for_eq_21s_limit_to_let_go() -> None:
+    """Within the band but where eq. 21's limit still binds (farther than ``V_max kv / kp``) the
+    integral is held. Catches a slow MOVE's cruise winding it up: at 2 mm/s (eq. 20-21 among
+    obstacles) its last 3 mm built 1.4 m/s^2 of push, frozen once the tool ran past the goal faster
+    than 5 mm/s, and the tool went on 44 mm beyond its goal at 23 mm/s (a MOVE BY 10 mm)."""
+    gate = (1e-3, 3e-3, 5e-3, 2.0)
+    held = np.zeros(3)
+    error = np.array((0.0, -2e-3, 0.0, 0.0, 0.0, 0.0))  # 2 mm short, moving at its 2 mm/s
+    cruising = np.array((0.0, 2e-3, 0.0, 0.0, 0.0, 0.0))
+    reach = 2e-3 * 40.0 / 400.0  # V_max kv / kp: 0.2 mm
+    np.testing.assert_array_equal(
+        integrate_goal_error(held, error, cruising, np.zeros(6), DT_S, gate, reach), held
+    )
+    close = np.array((0.0, -1e-4, 0.0, 0.0, 0.0, 0.0))
+    np.testing.assert_allclose(
+        integrate_goal_error(held, close, cruising, np.zeros(6), DT_S, gate, reach), close[:3] * DT_S
+    )

@@ -616,8 +616,15 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         motion_integral = st[sk.MOTION_INTEGRAL].copy()
         if sc[sk.MODE] == sk.MODE_GOAL and sc[sk.UNIFORM] and not sc[sk.ADMITTANCE]:  # near its goal
             gate = sc[sk.GOAL_INTEGRAL + 1 : sk.GOAL_INTEGRAL + 5]
+            reach = sc[sk.MAX_SPEED] * vec[sk.KV, 0] / vec[sk.KP, 0]  # where eq. 21 lets go
             motion_integral[:3] = integrate_goal_error(
-                motion_integral[:3], error, velocity, wrench, DT_S, (gate[0], gate[1], gate[2], gate[3])
+                motion_integral[:3],
+                error,
+                velocity,
+                wrench,
+                DT_S,
+                (gate[0], gate[1], gate[2], gate[3]),
+                reach,
             )
             motion = motion - np.concatenate((sc[sk.GOAL_INTEGRAL] * motion_integral[:3], np.zeros(3)))
         if sc[sk.MODE] == sk.MODE_HOLD and sc[sk.UNIFORM] and not sc[sk.ADMITTANCE]:  # a free hold

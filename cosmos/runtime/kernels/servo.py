@@ -235,7 +235,8 @@ def servo_tick(
         e2 = error[0] ** 2 + error[1] ** 2 + error[2] ** 2
         v2 = velocity[0] ** 2 + velocity[1] ** 2 + velocity[2] ** 2
         f2 = wrench[0] ** 2 + wrench[1] ** 2 + wrench[2] ** 2
-        if e2 < gate[1] ** 2 and v2 < gate[2] ** 2 and f2 < gate[3] ** 2:
+        band = min(gate[1], scalars[MAX_SPEED] * kv[0] / kp[0])  # where eq. 21 lets go (uniform gains)
+        if e2 < band**2 and v2 < gate[2] ** 2 and f2 < gate[3] ** 2:
             for i in range(3):
                 goal_integral[i] = min(max(goal_integral[i] + error[i] * scalars[DT_S], -gate[0]), gate[0])
         for i in range(3):
