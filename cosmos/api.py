@@ -163,7 +163,7 @@ def run(
     from cosmos.execution.session import Session
     from cosmos.hand.tool import Tool
     from cosmos.robots import robot_named
-    from cosmos.runlog.writer import default_log_path
+    from cosmos.runlog.writer import unused_log_path
     from cosmos.runtime.rates import Rates
 
     if isinstance(seed, bool) or not isinstance(seed, int):
@@ -187,7 +187,7 @@ def run(
     for warning in plan.warnings:
         warnings.warn(warning.render(plan.source), CosmosWarning, stacklevel=2)
     stem = Path("program" if plan.file == TEXT_NAME else plan.file)
-    log_path = Path(log) if log is not None else default_log_path(stem, datetime.now(UTC))
+    log_path = Path(log) if log is not None else unused_log_path(stem, datetime.now(UTC))
     failure: TaskFailure | None = None
     try:
         session = Session(

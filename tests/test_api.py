@@ -244,3 +244,14 @@ def test_compile_warnings_are_python_warnings(tmp_path: Path) -> None:
     with pytest.warns(cosmos.CosmosWarning, match=r"<program>:1:6: warning: PROC unused is never called"):
         run = cosmos.run(text, log=tmp_path / "w.mcap")
     assert run.ok
+
+
+def test_two_runs_in_one_second_keep_their_own_logs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Catches the API's default log path (logs/program-<UTC second>.mcap) taken again by a second
+    run in the same second: the first run's log was overwritten, and its Run no longer equalled
+    cosmos.load(run.log_path) (a loop of cosmos.run calls kept only the last log of each second)."""
+    monkeypatch.chdir(tmp_path)
+    first = cosmos.run("WAIT 10 ms\n")
+    second = cosmos.run("WAIT 20 ms\n")
+    assert first.log_path != second.log_path
+    assert cosmos.load(first.log_path) == first and cosmos.load(second.log_path) == second
