@@ -28,7 +28,7 @@ import numpy as np
 
 from cosmos.osc.motion import PoseTrajectory
 from cosmos.osc.orientation import so3_exp, so3_log
-from cosmos.plan import DepthReached, Posture, RelativeTarget, Segment, SegmentKind, Target
+from cosmos.plan import ContactTouch, DepthReached, Posture, RelativeTarget, Segment, SegmentKind, Target
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.setpoint import (
     DEFAULT_KP,
@@ -345,4 +345,5 @@ def setpoint_for(
         # SPEED (the cruise integral) the insertion rang past its cap (11.05 mm/s at 10, seed 0).
         # A spring renders k (x_anchor - x): no integral may turn it into a stiff servo.
         cruise_integral=not isinstance(segment.completion, DepthReached) and not sprung,
+        touch_braking=isinstance(segment.completion, ContactTouch),  # a CONTACT's approach, not an INSERT's
     )

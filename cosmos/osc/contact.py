@@ -1,4 +1,4 @@
-"""When the servo considers the tool in contact: the two latches of a segment.
+"""When the servo considers the tool in contact (the two latches of a segment), and how a CONTACT lands.
 
 Both are latched for the segment: once set they stay set until the next
 segment starts, so that a bounce off the surface does not switch the control
@@ -16,6 +16,22 @@ law back and forth.
 
 The compiled kernels of :mod:`cosmos.runtime.kernels.contact` run the same
 tests; these are their readable reference.
+
+**The landing.** A CONTACT approaches with every axis motion-controlled (eq. 20-21 at its
+SPEED) and switches its axis to force control (eq. 17-18, Figure 2) once the push felt along
+the approach exceeds the touch threshold (2 N, or half the FORCE). On the steel contact the
+switch alone comes too late: the arm's effective mass along the approach (some 40 kg with the
+rotors' inertia, at the table's work point) lands with ``m v^2 / 2`` (18 mJ at 30 mm/s) that
+the contact absorbs within a few tenths of a millimetre, and the sensor's reading crosses 2 N
+1-5 ms after the first touch (the realistic sensor's 200 Hz filter). A 3 N CONTACT landed at
+12 N at 30 mm/s and 32 N at 50 mm/s. So the approach brakes from the first push it feels,
+before the threshold (:func:`touch_braking`): eq. 20-21's ``F*_m`` loses ``k_b (n^T xd) n``
+along the push ``n`` it meets while the tool moves into it, the drives taking the momentum
+out (the held push's damping, :func:`cosmos.osc.held_push.touch_damping`, with the
+approach's gains). The hold then starts from a tool nearly at rest, its force reference ramped
+from the sensed push to FORCE (the executor's ramp) and its integral held until the push
+first reaches its goal (:func:`cosmos.osc.unified.force_goal_reached`) with the tool at rest
+along it (:func:`push_landed`).
 """
 
 from __future__ import annotations
@@ -23,6 +39,22 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.osc._types import FloatArray
+from cosmos.osc.held_push import touch_damping
+
+TOUCH_BRAKING_N = 0.5
+"""The push felt along a CONTACT's approach that starts its braking [N]: ten times the wrist
+sensor's noise, above the free tool's inertia error in a cruise, below every touch threshold
+that is not itself under 1 N."""
+
+LANDED_SPEED_MPS = 0.005
+"""A held push has landed once the tool moves along it slower than this [m/s]: above the
+realistic plant's velocity noise (1-3 mm/s at rest in contact) ..."""
+
+LANDED_PUSH = 1.1
+"""... and pushes no more than this share of its goal (:func:`push_landed`)."""
+
+TOUCH_BRAKING_PER_S = 300.0
+"""The braking's damping k_b, unit mass, at a 1 kHz servo [1/s] (``ServoGains.touch_braking``)."""
 
 
 def touch_latched(touching: bool, omega_bar: FloatArray, wrench: FloatArray, threshold_n: float) -> bool:
@@ -52,3 +84,74 @@ def contact_latched(latched: bool, wrench: FloatArray, threshold_n: float) -> bo
         ``latched or |f_s| > F_contact``, f_s the force part of the wrench.
     """
     return latched or float(np.linalg.norm(np.asarray(wrench)[:3])) > threshold_n
+
+
+def push_landed(
+    force_goal: FloatArray,
+    force_sensed: FloatArray,
+    velocity: FloatArray,
+    speed_mps: float = LANDED_SPEED_MPS,
+    share: float = LANDED_PUSH,
+) -> bool:
+    """Whether a held push has landed: the tool at rest along it, its push not over the goal.
+
+    ``|n^T xd| <= speed`` and ``n^T F_s <= share |F_d|``, ``n = F_d / |F_d|``. A held push
+    (CONTACT, SLIDE, WAIT in contact) counts its goal as reached
+    (:func:`cosmos.osc.unified.force_goal_reached`, which starts the force loop's integral,
+    eq. 17-18) only once landed: a landing's impact passes through the goal on its way to a
+    spike of a few times it, and an integral started there winds down against the spike and,
+    as the contact springs back, lets the tool drift off the surface (a 3 N CONTACT at 30 mm/s
+    fell to -0.1 N 70 ms after its touch on the ideal plant).
+
+    Args:
+        force_goal: F_d, world, [N, N m]. # (6,)
+        force_sensed: F_s, world, [N, N m]. # (6,)
+        velocity: Tool twist xd, world, [m/s, rad/s]. # (6,)
+        speed_mps: The speed along the push under which the tool is at rest, in [m/s].
+        share: The push, as a share of the goal, over which the impact is still spent.
+
+    Returns:
+        True when landed, or when F_d has no force.
+    """
+    goal = np.asarray(force_goal, dtype=float)[:3]
+    push = float(np.linalg.norm(goal))
+    if push == 0.0:
+        return True
+    n = goal / push
+    along = abs(float(n.dot(np.asarray(velocity)[:3])))
+    return along <= speed_mps and float(n.dot(np.asarray(force_sensed)[:3])) <= share * push
+
+
+def touch_braking(
+    motion: FloatArray,
+    wrench: FloatArray,
+    velocity: FloatArray,
+    tool_mass_kg: float,
+    threshold_n: float = TOUCH_BRAKING_N,
+    gain_per_s: float = TOUCH_BRAKING_PER_S,
+) -> FloatArray:
+    """A CONTACT's approach from its first felt push on: eq. 20-21's F*_m braked along it.
+
+    With ``c = f_s - m_tool a`` the push the tool meets (``a`` = F*_m's translation: the
+    tool's own inertia taken out of the sensed force), once ``|c| > threshold_n`` and the tool
+    moves toward it (``n^T xd > 0``, ``n = c / |c|``)::
+
+        F*_m -= k_b (n^T xd) n
+
+    a unit-mass damping of the motion into the surface (eq. 19-21's velocity term along n,
+    made strong): the drives take the approach's momentum while the contact builds up, before
+    the touch threshold ends the approach. It acts only while the tool moves into the push, so
+    a tool braked to rest is pushed on by eq. 20-21 until the threshold ends the approach.
+
+    Args:
+        motion: F*_m of eq. 20-21, unit-mass, world, [m/s^2, rad/s^2]. # (6,)
+        wrench: F_s, the wrench the tool applies, world, [N, N m]. # (6,)
+        velocity: Tool twist xd, world, [m/s, rad/s]. # (6,)
+        tool_mass_kg: The mass below the wrist sensor, in [kg].
+        threshold_n: The push that starts the braking, in [N].
+        gain_per_s: k_b, in [1/s].
+
+    Returns:
+        F*_m braked. # (6,)
+    """
+    return touch_damping(motion, wrench, velocity, gain_per_s, threshold_n, tool_mass_kg)

@@ -15,8 +15,6 @@ compensation, saturated to the drives. The arithmetic is compiled
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from cosmos.osc.dynamics import DEFAULT_POLICY, SingularityPolicy
@@ -36,10 +34,10 @@ from cosmos.runtime.null_space import LinkField, NullSpaceTerms
 from cosmos.runtime.parameters import Evaluation
 from cosmos.runtime.rotation_plan import ranges_for_goal
 from cosmos.runtime.servo_gains import (
-    HELD_PUSH_RATE_S,
     LIMIT_PROJECTION_MARGIN_RAD,
     LIMIT_PROJECTION_WHOLE_RAD,
     held_push_at,
+    touch_damping_for,
 )
 from cosmos.runtime.servo_gains import ServoGains as ServoGains  # the servo's gains, named here too
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -123,7 +121,6 @@ class ServoLevel:
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
         scalars[kernel.GOAL_INTEGRAL : kernel.GOAL_INTEGRAL + 5] = gains.goal_integral
         scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass
-        scalars[kernel.HELD_PUSH + 6] = gains.touch_damping * min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
         self._scalars = scalars
         # Rows of w = max(6, n): task-space rows use six entries, joint-space rows n (kernels.servo).
         self._vectors = workspace[vectors:matrices].reshape((kernel.VECTORS, w))
@@ -278,8 +275,10 @@ class ServoLevel:
             kernel.MODE_TRAJECTORY if tracking else _MODES.get(setpoint.mode, kernel.MODE_HOLD)
         )
         scalars[kernel.UNIFORM] = float(setpoint.uniform_gains)
-        # A touch is looked for where gains are given per axis (a COMPLY spring expects contact).
-        scalars[kernel.HELD_PUSH + 4] = math.inf if setpoint.uniform_gains else self.gains.touch_n
+        # A touch is looked for where gains are given per axis (a COMPLY spring expects contact),
+        # and from its first felt push in a CONTACT's approach (cosmos.osc.contact.touch_braking).
+        touch_n, touch_damping = touch_damping_for(self.gains, setpoint, scalars[kernel.DT_S])
+        scalars[kernel.HELD_PUSH + 4], scalars[kernel.HELD_PUSH + 6] = touch_n, touch_damping
         scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes[:3]))
         scalars[kernel.ADMITTANCE] = float(not all(setpoint.motion_axes[3:]))
         speed = approach_speed(setpoint.max_speed, self.gains.approach_speed_margin_mps)  # osc.push_speed

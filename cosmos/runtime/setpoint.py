@@ -70,6 +70,8 @@ class ServoSetpoint:
         cruise_integral: A GOAL motion's cruise held to ``max_speed`` by integral action
             (:mod:`cosmos.osc.cruise_speed`); False leaves eq. 20-21 proportional (an INSERT's
             approach, whose insertion is tuned to the landing it had).
+        touch_braking: A CONTACT's approach: the motion into the first push felt along it is damped
+            (:func:`cosmos.osc.contact.touch_braking`).
     """
 
     mode: MotionMode
@@ -93,6 +95,7 @@ class ServoSetpoint:
     posture_rad: FloatArray | None = None
     spring_masses: FloatArray = field(default_factory=lambda: np.zeros(6))
     cruise_integral: bool = True
+    touch_braking: bool = False
 
     force_world: FloatArray = field(init=False)
     """The force setpoint in world axes (derived from force_task). # (6,)."""

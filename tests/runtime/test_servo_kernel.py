@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from cosmos.osc.admittance import admittance_command, admittance_speed, low_pass, without_axes
-from cosmos.osc.contact import contact_latched, touch_latched
+from cosmos.osc.contact import contact_latched, push_landed, touch_latched
 from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
@@ -652,7 +652,9 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     # Figure 2's force loop: integral latched on the first push.
     touching = touch_latched(bool(st[sk.FLAGS, sk.TOUCHING]), sel.omega_bar, wrench, CONTACT_THRESHOLD_N)
     integral = st[sk.INTEGRAL].copy()
-    reached = bool(st[sk.FLAGS, sk.REACHED]) or force_goal_reached(vec[sk.FORCE_WORLD], wrench)
+    # A held push's goal counts only once landed (cosmos.osc.contact.push_landed).
+    landed = sc[sk.PUSH_SPEED] > 0.0 or push_landed(vec[sk.FORCE_WORLD], wrench, velocity)
+    reached = bool(st[sk.FLAGS, sk.REACHED]) or (landed and force_goal_reached(vec[sk.FORCE_WORLD], wrench))
     if touching and reached:
         integral = integrate_force_error(
             integral, setpoint, wrench, sel.omega_bar, DT_S, FORCE_GAINS.integral_limit
@@ -853,7 +855,9 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
         assert latched == case.touching and np.array_equal(expected[sk.INTEGRAL], integral_before)
         return
     assert latched == (case.touching or abs(case.force_axis_n) > CONTACT_THRESHOLD_N)
-    reached = case.touching or force_goal_reached(inputs.vectors[sk.FORCE_WORLD], expected[sk.WRENCH])
+    goal, wrench = inputs.vectors[sk.FORCE_WORLD], expected[sk.WRENCH]
+    landed = inputs.scalars[sk.PUSH_SPEED] > 0.0 or push_landed(goal, wrench, expected[sk.VELOCITY])
+    reached = case.touching or (landed and force_goal_reached(goal, wrench))
     if latched and reached:
         assert not np.array_equal(expected[sk.INTEGRAL], integral_before)
     elif latched:  # touching, the push short of its goal: the integral waits for it

@@ -6,6 +6,7 @@ at the edges (thresholds, bounds, clipping):
 
 * :func:`touch_latched`: :func:`cosmos.osc.contact.touch_latched` (the force integral's latch);
 * :func:`contact_latched`: :func:`cosmos.osc.contact.contact_latched` (the admittance latch);
+* :func:`push_landed`: :func:`cosmos.osc.contact.push_landed` (a held push's goal counts once at rest);
 * :func:`low_pass_into`: :func:`cosmos.osc.admittance.low_pass` (the sensed moment's filter);
 * :func:`admittance_speed`: :func:`cosmos.osc.admittance.admittance_speed`;
 * :func:`admittance_command`: :func:`cosmos.osc.admittance.admittance_command`;
@@ -45,6 +46,17 @@ def goal_reached(reached: bool, goal: FloatArray, wrench: FloatArray, fraction: 
         size += goal[i] * goal[i]
         felt += goal[i] * wrench[i]
     return felt >= fraction * size
+
+
+@kernel
+def push_landed(force_goal: FloatArray, wrench: FloatArray, velocity: FloatArray, limits: FloatArray) -> bool:
+    """:func:`cosmos.osc.contact.push_landed`; ``limits``: the speed [m/s], the share of the goal."""
+    push = math.sqrt(force_goal[0] ** 2 + force_goal[1] ** 2 + force_goal[2] ** 2)
+    if not push > 0.0:
+        return True
+    along = (force_goal[0] * velocity[0] + force_goal[1] * velocity[1] + force_goal[2] * velocity[2]) / push
+    felt = (force_goal[0] * wrench[0] + force_goal[1] * wrench[1] + force_goal[2] * wrench[2]) / push
+    return abs(along) <= limits[0] and felt <= limits[1] * push
 
 
 @kernel

@@ -32,6 +32,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
+from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS
 from cosmos.osc.unified import REACH_FRACTION
 from cosmos.runtime.kernels import commands
 from cosmos.runtime.kernels.commands import (
@@ -48,6 +49,7 @@ from cosmos.runtime.kernels.contact import (
     goal_reached,
     held_push_into,
     low_pass_into,
+    push_landed,
     tilt_window_into,
     touch_damping_into,
     touch_latched,
@@ -114,6 +116,8 @@ OBSERVING = 4  # FLAGS: 1 once a free hold's disturbance observer has its first 
 # Rows of a tick's work array (servo_tick).
 MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
 SCRATCH_ROWS = 5
+
+LANDED = np.array((LANDED_SPEED_MPS, LANDED_PUSH))  # cosmos.osc.contact.push_landed's limits
 
 
 @kernel
@@ -315,8 +319,10 @@ def servo_tick(
             slide_integral_into(motion, acceleration, state[MOTION_INTEGRAL, :6], error, omega_bar, gains)
         integral = state[INTEGRAL, :6]
         previous_integral = integral.copy()
-        # ... and once the push reached most of its goal (a contact building up would wind it up).
-        if goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
+        # ... and once the push reached most of its goal (a contact building up would wind it up);
+        # a held push's at rest along it (cosmos.osc.contact.push_landed: a landing's spike passes it).
+        landed = scalars[PUSH_SPEED] > 0.0 or push_landed(goal, wrench, velocity, LANDED)
+        if landed and goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
             flags[REACHED] = 1.0
         if flags[TOUCHING] != 0.0 and flags[REACHED] != 0.0:
             limit, dt = scalars[INTEGRAL_LIMIT], scalars[DT_S]

@@ -1,0 +1,91 @@
+"""A CONTACT's landing: the approach's braking and the held push's landed test (cosmos.osc.contact).
+
+The compiled :func:`cosmos.runtime.kernels.contact.push_landed` against its reference
+:func:`cosmos.osc.contact.push_landed` on seeded random inputs and at its edges, and which
+gains each kind of motion gets from :func:`cosmos.runtime.servo_gains.touch_damping_for`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS, TOUCH_BRAKING_N, push_landed, touch_braking
+from cosmos.runtime.kernels import contact as ck
+from cosmos.runtime.kernels.servo import LANDED
+from cosmos.runtime.servo_gains import ServoGains, touch_damping_for
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+SEEDS = range(12)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_push_landed_is_its_reference(seed: int) -> None:
+    """The kernel against cosmos.osc.contact.push_landed, at rest or not, over the goal or not.
+
+    Catches a kernel that reads the speed off the push (any direction, or the moment rows), or
+    that compares the push with the goal's size on a different scale."""
+    rng = np.random.default_rng(seed)
+    n = rng.normal(size=3)
+    n /= np.linalg.norm(n)
+    goal = np.concatenate((rng.uniform(1.0, 40.0) * n, rng.normal(0.0, 1.0, 3)))
+    push = float(np.linalg.norm(goal[:3]))
+    velocity = rng.normal(0.0, 0.05, 6)
+    velocity[:3] += (rng.uniform(-2.0, 2.0) * LANDED_SPEED_MPS - float(n @ velocity[:3])) * n
+    wrench = rng.normal(0.0, 2.0, 6)
+    wrench[:3] += (rng.uniform(0.5, 1.5) * LANDED_PUSH * push - float(n @ wrench[:3])) * n
+    expected = (
+        abs(float(n @ velocity[:3])) <= LANDED_SPEED_MPS and float(n @ wrench[:3]) <= LANDED_PUSH * push
+    )
+    assert push_landed(goal, wrench, velocity) == expected
+    assert ck.push_landed(goal, wrench, velocity, LANDED) == expected
+
+
+def test_push_landed_edges() -> None:
+    """At the speed and share exactly, just over either, and without a push (always landed).
+
+    Catches a strict comparison where the docstring promises ``<=``, and a division by a zero goal."""
+    goal = np.array([0.0, 0.0, -10.0, 0.0, 0.0, 0.0])
+    at_rest = np.array([0.0, 0.0, -LANDED_SPEED_MPS, 0.0, 0.0, 0.0])
+    pushing = np.array([0.0, 0.0, -LANDED_PUSH * 10.0, 0.0, 0.0, 0.0])
+    for landed in (push_landed, lambda g, w, v: ck.push_landed(g, w, v, LANDED)):
+        assert landed(goal, pushing, at_rest)
+        assert not landed(goal, pushing * 1.01, at_rest)
+        assert not landed(goal, pushing, at_rest * 1.01)
+        assert landed(goal, pushing, -at_rest)  # moving back out as slowly
+        assert landed(np.zeros(6), pushing * 10.0, at_rest * 10.0)
+
+
+def test_touch_braking_damps_the_motion_into_the_first_push() -> None:
+    """A tool moving down at 30 mm/s that feels 0.6 N from below loses 300/s x 30 mm/s downward.
+
+    Computed by hand: c = f_s (no commanded acceleration), n = -z, n^T xd = 0.03 m/s, so F*_m
+    gains +9 m/s^2 along +z. Catches braking that waits for the 2 N touch threshold, that
+    brakes a tool moving away from the push, or one whose push is under 0.5 N."""
+    motion, velocity = np.zeros(6), np.array([0.0, 0.0, -0.03, 0.0, 0.0, 0.0])
+    felt = np.array([0.0, 0.0, -0.6, 0.0, 0.0, 0.0])  # the tool pushes down on the table
+    braked = touch_braking(motion, felt, velocity, 0.65)
+    assert braked == pytest.approx(np.array([0.0, 0.0, 9.0, 0.0, 0.0, 0.0]))
+    assert np.array_equal(touch_braking(motion, felt, -velocity, 0.65), motion)  # moving away
+    assert np.array_equal(touch_braking(motion, felt * 0.4 / 0.6, velocity, 0.65), motion)  # 0.4 N
+
+
+def _setpoint(**kwargs: object) -> ServoSetpoint:
+    return ServoSetpoint(mode=MotionMode.GOAL, position=np.zeros(3), rotation_to_world=np.eye(3), **kwargs)  # type: ignore[arg-type]
+
+
+def test_only_a_contact_approach_brakes_at_its_first_push() -> None:
+    """A CONTACT's approach looks for 0.5 N and brakes at 300/s (at 1 kHz, scaled at 500 Hz); a
+    MOVE with uniform gains looks for no touch; one with gains per axis (a spring) for 8 N.
+
+    Catches the braking leaking into every MOVE (a tool's inertia read as a push would slow
+    it), its gain not scaled with the servo period, and the spring's touch damping lost."""
+    gains = ServoGains()
+    assert touch_damping_for(gains, _setpoint(touch_braking=True), 1e-3) == (TOUCH_BRAKING_N, 300.0)
+    assert touch_damping_for(gains, _setpoint(touch_braking=True), 2e-3) == (TOUCH_BRAKING_N, 150.0)
+    free = touch_damping_for(gains, _setpoint(), 1e-3)
+    assert math.isinf(free[0])
+    sprung = _setpoint(kp_task=np.array([400.0, 400.0, 100.0, 400.0, 400.0, 400.0]))
+    assert touch_damping_for(gains, sprung, 1e-3) == (gains.touch_n, gains.touch_damping)
