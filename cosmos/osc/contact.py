@@ -25,10 +25,9 @@ rotors' inertia, at the table's work point) lands with ``m v^2 / 2`` (18 mJ at 3
 the contact absorbs within a few tenths of a millimetre, and the sensor's reading crosses 2 N
 1-5 ms after the first touch (the realistic sensor's 200 Hz filter). A 3 N CONTACT landed at
 12 N at 30 mm/s and 32 N at 50 mm/s. So the approach brakes from the first push it feels,
-before the threshold (:func:`touch_braking`): eq. 20-21's ``F*_m`` loses ``k_b (n^T xd) n``
-along the push ``n`` it meets while the tool moves into it, the drives taking the momentum
-out (the held push's damping, :func:`cosmos.osc.held_push.touch_damping`, with the
-approach's gains). The hold then starts from a tool nearly at rest, its force reference ramped
+before the threshold (:func:`touch_braking`): eq. 20-21's ``F*_m`` loses ``k_b (n^T xd - v_l) n``
+along the push ``n`` it meets while the tool moves into it faster than ``v_l`` (5 mm/s), the
+drives taking the momentum out. The hold then starts from a tool nearly at rest, its force reference ramped
 from the sensed push to FORCE (the executor's ramp) and its integral held until the push
 first reaches its goal (:func:`cosmos.osc.unified.force_goal_reached`) with the tool at rest
 along it (:func:`push_landed`).
@@ -39,7 +38,6 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.osc._types import FloatArray
-from cosmos.osc.held_push import touch_damping
 
 TOUCH_BRAKING_N = 0.5
 """The push felt along a CONTACT's approach that starts its braking [N]: ten times the wrist
@@ -55,6 +53,10 @@ LANDED_PUSH = 1.1
 
 TOUCH_BRAKING_PER_S = 300.0
 """The braking's damping k_b, unit mass, at a 1 kHz servo [1/s] (``ServoGains.touch_braking``)."""
+
+LANDING_SPEED_MPS = 0.005
+"""The speed the braking leaves the tool landing at [m/s]: a landing at 5 mm/s peaked at
+1.08 times FORCE at most before the braking (tests/run/contact_impact_grid.py)."""
 
 
 def touch_latched(touching: bool, omega_bar: FloatArray, wrench: FloatArray, threshold_n: float) -> bool:
@@ -129,19 +131,22 @@ def touch_braking(
     tool_mass_kg: float,
     threshold_n: float = TOUCH_BRAKING_N,
     gain_per_s: float = TOUCH_BRAKING_PER_S,
+    landing_speed_mps: float = LANDING_SPEED_MPS,
 ) -> FloatArray:
     """A CONTACT's approach from its first felt push on: eq. 20-21's F*_m braked along it.
 
     With ``c = f_s - m_tool a`` the push the tool meets (``a`` = F*_m's translation: the
     tool's own inertia taken out of the sensed force), once ``|c| > threshold_n`` and the tool
-    moves toward it (``n^T xd > 0``, ``n = c / |c|``)::
+    moves toward it faster than the landing speed (``n^T xd > v_l``, ``n = c / |c|``)::
 
-        F*_m -= k_b (n^T xd) n
+        F*_m -= k_b (n^T xd - v_l) n
 
-    a unit-mass damping of the motion into the surface (eq. 19-21's velocity term along n,
-    made strong): the drives take the approach's momentum while the contact builds up, before
-    the touch threshold ends the approach. It acts only while the tool moves into the push, so
-    a tool braked to rest is pushed on by eq. 20-21 until the threshold ends the approach.
+    a unit-mass damping of the motion into the surface above ``v_l`` (eq. 19-21's velocity
+    term along n, made strong): the drives take the approach's momentum while the contact
+    builds up, before the touch threshold ends the approach, and leave it landing at ``v_l``
+    (braked to rest, the tool crept on at 0.6 mm/s against the braking, and a 10 N CONTACT at
+    5 mm/s took 0.2 s more to reach its 2 N threshold). With ``v_l = 0`` this is
+    :func:`cosmos.osc.held_push.touch_damping`, a COMPLY spring's touch.
 
     Args:
         motion: F*_m of eq. 20-21, unit-mass, world, [m/s^2, rad/s^2]. # (6,)
@@ -150,8 +155,18 @@ def touch_braking(
         tool_mass_kg: The mass below the wrist sensor, in [kg].
         threshold_n: The push that starts the braking, in [N].
         gain_per_s: k_b, in [1/s].
+        landing_speed_mps: v_l, the speed the braking leaves, in [m/s].
 
     Returns:
         F*_m braked. # (6,)
     """
-    return touch_damping(motion, wrench, velocity, gain_per_s, threshold_n, tool_mass_kg)
+    out = np.array(motion, dtype=float)
+    contact = np.asarray(wrench, dtype=float)[:3] - tool_mass_kg * out[:3]
+    push = float(np.linalg.norm(contact))
+    if not push > threshold_n:
+        return out
+    n = contact / push
+    along = float(n.dot(np.asarray(velocity)[:3])) - landing_speed_mps
+    if along > 0.0:
+        out[:3] -= gain_per_s * along * n
+    return out

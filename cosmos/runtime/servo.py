@@ -277,8 +277,9 @@ class ServoLevel:
         scalars[kernel.UNIFORM] = float(setpoint.uniform_gains)
         # A touch is looked for where gains are given per axis (a COMPLY spring expects contact),
         # and from its first felt push in a CONTACT's approach (cosmos.osc.contact.touch_braking).
-        touch_n, touch_damping = touch_damping_for(self.gains, setpoint, scalars[kernel.DT_S])
+        touch_n, touch_damping, landing_speed = touch_damping_for(self.gains, setpoint, scalars[kernel.DT_S])
         scalars[kernel.HELD_PUSH + 4], scalars[kernel.HELD_PUSH + 6] = touch_n, touch_damping
+        scalars[kernel.TOUCH_FREE_SPEED] = landing_speed
         scalars[kernel.HAS_FORCE] = float(not all(setpoint.motion_axes[:3]))
         scalars[kernel.ADMITTANCE] = float(not all(setpoint.motion_axes[3:]))
         speed = approach_speed(setpoint.max_speed, self.gains.approach_speed_margin_mps)  # osc.push_speed

@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from cosmos.osc.contact import TOUCH_BRAKING_N, TOUCH_BRAKING_PER_S
+from cosmos.osc.contact import LANDING_SPEED_MPS, TOUCH_BRAKING_N, TOUCH_BRAKING_PER_S
 from cosmos.osc.unified import ForceGains
 
 if TYPE_CHECKING:
@@ -111,16 +111,17 @@ class ServoGains:
         touch_damping: That damping, in [1/s] (a 100 N/m spring landing at 27 mm/s on the
             table: 33 N at 50/s, a protective stop; under 30 N at 200/s), at 1 kHz.
         touch_braking: A CONTACT's approach (:func:`cosmos.osc.contact.touch_braking`): the push
-            felt along it that starts the braking, in [N], and the braking's damping, in [1/s], at
-            1 kHz. Measured on ``tests/run/contact_impact_grid.py`` (FORCE 3-30 N, SPEED 5-50 mm/s,
-            table, tilted plate and a turned task frame, realistic seeds 0-4 and ideal): without
-            it a 3 N CONTACT landed at 12 N at 30 mm/s and 32 N at 50 mm/s. 0.5 N is ten times the
+            felt along it that starts the braking, in [N], the braking's damping, in [1/s], at
+            1 kHz, and the landing speed it leaves, in [m/s]. Measured on
+            ``tests/run/contact_impact_grid.py`` (FORCE 3-30 N, SPEED 5-50 mm/s, the table, the
+            tilted plate and a turned task frame, realistic seeds 0-4 and ideal): without it a
+            3 N CONTACT landed at 12 N at 30 mm/s and 32 N at 50 mm/s. 0.5 N is ten times the
             sensor's noise and above the free tool's inertia error in a cruise (the approach's
             speed at the touch is unchanged); at 200/s 3 N at 30 mm/s still landed at 7 N; at
-            500/s the tool lost the table for a few ms after landing on the realistic plant (its
-            velocity observer's 8 ms delay makes the braking outlast the motion). Damping in the
-            hold after the switch at 100-300/s, tried for the same reason, lifted the tool off the
-            table for 10-300 ms on the realistic plant: the observer's delay again.
+            500/s the push fell to 0 after landing on the realistic plant (its velocity
+            observer's 8 ms delay makes the braking outlast the motion). Damping the hold after
+            the switch at 100-300/s, tried for the same reason, lifted the tool off the table
+            for 10-300 ms on the realistic plant: the observer's delay again.
         insert_tilt_window: An INSERT's compliant rotations turn freely within this angle of
             the segment's orientation, [rad], and beyond it back at this speed per radian
             over, [1/s] (:func:`cosmos.osc.tilt_window.tilt_window`). 10 deg: a peg landing
@@ -154,7 +155,7 @@ class ServoGains:
     cruise_integral: tuple[float, float, float, float] = (400.0, 2.0, 0.25, 2.0)
     touch_n: float = 8.0
     touch_damping: float = 200.0
-    touch_braking: tuple[float, float] = (TOUCH_BRAKING_N, TOUCH_BRAKING_PER_S)
+    touch_braking: tuple[float, float, float] = (TOUCH_BRAKING_N, TOUCH_BRAKING_PER_S, LANDING_SPEED_MPS)
     insert_tilt_window: tuple[float, float] = (0.1745, 20.0)
     posture_kp: float = 100.0
 
@@ -176,18 +177,23 @@ def held_push_at(gains: tuple[float, float, float, float], servo_dt_s: float) ->
     return (k_fh * scale, k_ih * scale, k_vh * scale, limit)
 
 
-def touch_damping_for(gains: ServoGains, setpoint: ServoSetpoint, servo_dt_s: float) -> tuple[float, float]:
-    """The touch a free motion looks for and the damping of the motion into it: ``(touch_n [N], k [1/s])``.
+def touch_damping_for(
+    gains: ServoGains, setpoint: ServoSetpoint, servo_dt_s: float
+) -> tuple[float, float, float]:
+    """The touch a free motion looks for, the damping of the motion into it and the speed it leaves.
 
-    A CONTACT's approach brakes from the first push it feels (:func:`cosmos.osc.contact.touch_braking`,
-    ``touch_braking``); a motion with gains per axis (a COMPLY spring, which expects contact) is damped
-    into a touch above ``touch_n``; other motions look for none (infinite threshold). The damping is
-    scaled by ``min(1, HELD_PUSH_RATE_S / dt)`` as the held push's is (:func:`held_push_at`).
+    ``(touch_n [N], k [1/s], v_l [m/s])``: a CONTACT's approach brakes from the first push it
+    feels down to its landing speed (:func:`cosmos.osc.contact.touch_braking`, ``touch_braking``); a
+    motion with gains per axis (a COMPLY spring, which expects contact) is damped into a touch
+    above ``touch_n`` (:func:`cosmos.osc.held_push.touch_damping`); other motions look for none
+    (an infinite threshold). The damping is scaled by ``min(1, HELD_PUSH_RATE_S / dt)`` as the
+    held push's is (:func:`held_push_at`).
     """
     scale = min(1.0, HELD_PUSH_RATE_S / servo_dt_s)
     if setpoint.touch_braking:
-        return gains.touch_braking[0], gains.touch_braking[1] * scale
-    return (math.inf if setpoint.uniform_gains else gains.touch_n), gains.touch_damping * scale
+        touch_n, gain, landing_speed = gains.touch_braking
+        return touch_n, gain * scale, landing_speed
+    return (math.inf if setpoint.uniform_gains else gains.touch_n), gains.touch_damping * scale, 0.0
 
 
 LIMIT_PROJECTION_MARGIN_RAD = 0.30

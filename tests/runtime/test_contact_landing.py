@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS, TOUCH_BRAKING_N, push_landed, touch_braking
+from cosmos.osc.held_push import touch_damping
 from cosmos.runtime.kernels import contact as ck
 from cosmos.runtime.kernels.servo import LANDED
 from cosmos.runtime.servo_gains import ServoGains, touch_damping_for
@@ -59,17 +60,40 @@ def test_push_landed_edges() -> None:
 
 
 def test_touch_braking_damps_the_motion_into_the_first_push() -> None:
-    """A tool moving down at 30 mm/s that feels 0.6 N from below loses 300/s x 30 mm/s downward.
+    """A tool moving down at 30 mm/s that feels 0.6 N from below: F*_m gains 300/s x 25 mm/s upward.
 
-    Computed by hand: c = f_s (no commanded acceleration), n = -z, n^T xd = 0.03 m/s, so F*_m
-    gains +9 m/s^2 along +z. Catches braking that waits for the 2 N touch threshold, that
-    brakes a tool moving away from the push, or one whose push is under 0.5 N."""
+    Computed by hand: c = f_s (no commanded acceleration), n = -z, n^T xd - v_l = 0.025 m/s, so
+    F*_m gains +7.5 m/s^2 along +z. Catches braking that waits for the 2 N touch threshold, that
+    brakes a tool moving away from the push or already at its landing speed, or one whose push
+    is under 0.5 N."""
     motion, velocity = np.zeros(6), np.array([0.0, 0.0, -0.03, 0.0, 0.0, 0.0])
     felt = np.array([0.0, 0.0, -0.6, 0.0, 0.0, 0.0])  # the tool pushes down on the table
     braked = touch_braking(motion, felt, velocity, 0.65)
-    assert braked == pytest.approx(np.array([0.0, 0.0, 9.0, 0.0, 0.0, 0.0]))
+    assert braked == pytest.approx(np.array([0.0, 0.0, 7.5, 0.0, 0.0, 0.0]))
     assert np.array_equal(touch_braking(motion, felt, -velocity, 0.65), motion)  # moving away
     assert np.array_equal(touch_braking(motion, felt * 0.4 / 0.6, velocity, 0.65), motion)  # 0.4 N
+    assert np.array_equal(touch_braking(motion, felt, velocity / 6.0, 0.65), motion)  # at 5 mm/s
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_touch_braking_kernel_is_its_reference(seed: int) -> None:
+    """The compiled braking against cosmos.osc.contact.touch_braking, the tool's inertia in the push,
+    toward the push or away, above the landing speed or under it; with v_l = 0 it is the spring's
+    touch damping (cosmos.osc.held_push.touch_damping).
+
+    Catches a kernel that leaves the landing speed out, brakes along the wrong direction, or
+    reads the push without the tool's own inertia."""
+    rng = np.random.default_rng(seed)
+    motion, velocity = rng.normal(0.0, 3.0, 6), rng.normal(0.0, 0.03, 6)
+    wrench = rng.normal(0.0, 2.0, 6)
+    params = np.array((rng.uniform(0.1, 1.0), 0.65, 300.0))
+    for landing in (0.0, rng.uniform(0.0, 0.02)):
+        expected = touch_braking(motion, wrench, velocity, 0.65, params[0], 300.0, landing)
+        got = motion.copy()
+        ck.touch_braking_into(got, wrench, velocity, params, landing)
+        assert got == pytest.approx(expected, rel=1e-12, abs=1e-12)
+    spring = touch_damping(motion, wrench, velocity, 300.0, params[0], 0.65)
+    assert touch_braking(motion, wrench, velocity, 0.65, params[0], 300.0, 0.0) == pytest.approx(spring)
 
 
 def _setpoint(**kwargs: object) -> ServoSetpoint:
@@ -83,9 +107,9 @@ def test_only_a_contact_approach_brakes_at_its_first_push() -> None:
     Catches the braking leaking into every MOVE (a tool's inertia read as a push would slow
     it), its gain not scaled with the servo period, and the spring's touch damping lost."""
     gains = ServoGains()
-    assert touch_damping_for(gains, _setpoint(touch_braking=True), 1e-3) == (TOUCH_BRAKING_N, 300.0)
-    assert touch_damping_for(gains, _setpoint(touch_braking=True), 2e-3) == (TOUCH_BRAKING_N, 150.0)
+    assert touch_damping_for(gains, _setpoint(touch_braking=True), 1e-3) == (TOUCH_BRAKING_N, 300.0, 0.005)
+    assert touch_damping_for(gains, _setpoint(touch_braking=True), 2e-3) == (TOUCH_BRAKING_N, 150.0, 0.005)
     free = touch_damping_for(gains, _setpoint(), 1e-3)
     assert math.isinf(free[0])
     sprung = _setpoint(kp_task=np.array([400.0, 400.0, 100.0, 400.0, 400.0, 400.0]))
-    assert touch_damping_for(gains, sprung, 1e-3) == (gains.touch_n, gains.touch_damping)
+    assert touch_damping_for(gains, sprung, 1e-3) == (gains.touch_n, gains.touch_damping, 0.0)

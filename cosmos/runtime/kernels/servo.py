@@ -51,7 +51,7 @@ from cosmos.runtime.kernels.contact import (
     low_pass_into,
     push_landed,
     tilt_window_into,
-    touch_damping_into,
+    touch_braking_into,
     touch_latched,
 )
 from cosmos.runtime.kernels.cruise import CRUISE, cruise_into, reference_speed
@@ -77,7 +77,8 @@ GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGUL
 GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
 HOLD_OBSERVER = 45  # a free hold's disturbance observer: L [1/s], bound [m/s^2], band [m], quiet [N]
 PUSH_SPEED_RATE = 56  # an INSERT's push: its speed reference's rise [1/s] (cosmos.osc.push_speed)
-SCALARS = 58  # 49-55, 57: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, mass, k_v
+TOUCH_FREE_SPEED = 58  # the speed a touch's damping leaves the motion into it [m/s] (osc.contact)
+SCALARS = 59  # 49-55, 57: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, mass, k_v
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -228,8 +229,9 @@ def servo_tick(
             rotate_blocks(r, vectors[GOAL_LINE, :6], True)[:3],
         )
         motion = rotate_blocks(r, motion_task, False)
-    if scalars[HAS_FORCE] == 0.0:  # a motion into something (cosmos.osc.held_push.touch_damping)
-        touch_damping_into(motion, wrench, velocity, scalars[HELD_PUSH + 4 : HELD_PUSH + 7])
+    if scalars[HAS_FORCE] == 0.0:  # a motion into something (cosmos.osc.contact.touch_braking)
+        touch = scalars[HELD_PUSH + 4 : HELD_PUSH + 7]
+        touch_braking_into(motion, wrench, velocity, touch, scalars[TOUCH_FREE_SPEED])
     spring_law_into(motion, state, vectors, matrices[ROTATION_TASK], scalars[DT_S])  # COMPLY springs' law
     if mode == MODE_GOAL and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0:
         # A free goal motion near its goal: eq. 20-21 plus integral action on the translation
