@@ -653,8 +653,14 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     touching = touch_latched(bool(st[sk.FLAGS, sk.TOUCHING]), sel.omega_bar, wrench, CONTACT_THRESHOLD_N)
     integral = st[sk.INTEGRAL].copy()
     # A held push's goal counts only once landed (cosmos.osc.contact.push_landed).
-    landed = sc[sk.PUSH_SPEED] > 0.0 or push_landed(vec[sk.FORCE_WORLD], wrench, velocity)
-    reached = bool(st[sk.FLAGS, sk.REACHED]) or (landed and force_goal_reached(vec[sk.FORCE_WORLD], wrench))
+    # A held push's goal counts only once landed, and then once its ramp is over even short of
+    # it (cosmos.osc.contact.push_landed).
+    goal_met = force_goal_reached(vec[sk.FORCE_WORLD], wrench)
+    if sc[sk.PUSH_SPEED] > 0.0:
+        reached = bool(st[sk.FLAGS, sk.REACHED]) or goal_met
+    else:
+        landed = push_landed(vec[sk.FORCE_WORLD], wrench, velocity)
+        reached = bool(st[sk.FLAGS, sk.REACHED]) or (landed and (fraction >= 1.0 or goal_met))
     if touching and reached:
         integral = integrate_force_error(
             integral, setpoint, wrench, sel.omega_bar, DT_S, FORCE_GAINS.integral_limit
@@ -856,8 +862,13 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
         return
     assert latched == (case.touching or abs(case.force_axis_n) > CONTACT_THRESHOLD_N)
     goal, wrench = inputs.vectors[sk.FORCE_WORLD], expected[sk.WRENCH]
-    landed = inputs.scalars[sk.PUSH_SPEED] > 0.0 or push_landed(goal, wrench, expected[sk.VELOCITY])
-    reached = case.touching or (landed and force_goal_reached(goal, wrench))
+    goal_met = force_goal_reached(goal, wrench)
+    if inputs.scalars[sk.PUSH_SPEED] > 0.0:
+        reached = case.touching or goal_met
+    else:
+        ramped = case.ramp_fraction >= 1.0
+        landed = push_landed(goal, wrench, expected[sk.VELOCITY])
+        reached = case.touching or (landed and (ramped or goal_met))
     if latched and reached:
         assert not np.array_equal(expected[sk.INTEGRAL], integral_before)
     elif latched:  # touching, the push short of its goal: the integral waits for it

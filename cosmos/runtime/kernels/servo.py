@@ -322,10 +322,14 @@ def servo_tick(
         integral = state[INTEGRAL, :6]
         previous_integral = integral.copy()
         # ... and once the push reached most of its goal (a contact building up would wind it up);
-        # a held push's at rest along it (cosmos.osc.contact.push_landed: a landing's spike passes it).
-        landed = scalars[PUSH_SPEED] > 0.0 or push_landed(goal, wrench, velocity, LANDED)
-        if landed and goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
-            flags[REACHED] = 1.0
+        # a held push's at rest along it (cosmos.osc.contact.push_landed: a landing's spike passes
+        # it), and once its ramp is over even short of it (its friction would hold it there).
+        if scalars[PUSH_SPEED] > 0.0:
+            if goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
+                flags[REACHED] = 1.0
+        elif push_landed(goal, wrench, velocity, LANDED):
+            if fraction >= 1.0 or goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
+                flags[REACHED] = 1.0
         if flags[TOUCHING] != 0.0 and flags[REACHED] != 0.0:
             limit, dt = scalars[INTEGRAL_LIMIT], scalars[DT_S]
             for i in range(6):
