@@ -59,12 +59,14 @@ class Landing:
         return "\n".join(rows)
 
 
-def land(tmp_path: Path, source: str, line: int, direction: np.ndarray, ideal: bool) -> Landing:
+def land(
+    tmp_path: Path, source: str, line: int, direction: np.ndarray, ideal: bool, seed: int = 0
+) -> Landing:
     """Run ``source`` in-process with the state logged at 1 kHz; the landing of the CONTACT on ``line``."""
     program = write_program(tmp_path, "landing", source)
     log = tmp_path / "landing.mcap"
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-        code = run_program(program, log, Rates(state_hz=1000.0), 0, ideal=ideal)
+        code = run_program(program, log, Rates(state_hz=1000.0), seed, ideal=ideal)
     record = read_log(log)
     events = "\n".join(f"{e.t:.3f} {e.kind} line {e.line}: {e.reason}" for e in record.events)
     assert code == 0, events
@@ -143,9 +145,24 @@ def test_contact_in_a_turned_task_frame_lands_without_a_spike(tmp_path: Path, id
     landing = land(tmp_path, source, 3, DOWN, ideal)
     peak = float(landing.push.max())
     assert peak < bar_n(5.0), f"peak {peak:.2f} N for FORCE 5 N\n{landing.describe()}"
-    segments = landing.record.segments
-    hold = next(s for s in segments if s.line == 3 and s.kind == "contact_hold")
-    after = next(s for s in segments if s.segment == hold.segment + 1)
-    done = [e for e in landing.record.events if e.line == 3 and e.kind == "done"]
-    assert done and done[0].reason == "force settled", done
-    assert after.t - hold.t < 1.0, f"the hold took {after.t - hold.t:.2f} s to settle"
+    assert_settles(landing.record, 3, 1.0)
+
+
+def assert_settles(record: RunRecord, line: int, within_s: float) -> None:
+    """The CONTACT on ``line`` ended "force settled", its contact_hold within ``within_s``."""
+    hold = next(s for s in record.segments if s.line == line and s.kind == "contact_hold")
+    after = next(s for s in record.segments if s.segment == hold.segment + 1)
+    done = [e.reason for e in record.events if e.line == line and e.kind == "done"]
+    assert done == ["force settled"], done
+    assert after.t - hold.t < within_s, f"the hold took {after.t - hold.t:.2f} s to settle"
+
+
+def test_light_contact_settles_where_friction_holds_it_short(tmp_path: Path) -> None:
+    """Realistic plant, seed 2: CONTACT DOWN FORCE 3 N SPEED 10 mm/s settles within 1 s.
+
+    On that seed's drawn arm the joints' friction holds the 3 N push under 90 % of its goal
+    once the ramp is over, and the force integral used to wait for 90 %: the hold ended after
+    its 3 s "contact held, force within 0.9 N of its setpoint but not settled". Catches an
+    integral that waits for a share of the goal the proportional loop alone cannot reach."""
+    landing = land(tmp_path, table_program(3.0, 10.0), 2, DOWN, False, seed=2)
+    assert_settles(landing.record, 2, 1.0)
