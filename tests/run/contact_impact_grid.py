@@ -1,6 +1,6 @@
 """CONTACT's landing (issue 14, item 5): forces x speeds x surfaces x seeds, both plants.
 
-Run ``python tests/run/contact_impact_grid.py`` (about 15 minutes on two cores; ``--forces 10``,
+Run ``python tests/run/contact_impact_grid.py`` (about 5 minutes on two cores; ``--forces 10``,
 ``--speeds 20,30``, ``--surfaces table``, ``--seeds 0,ideal`` to choose). Each case moves the
 tool above a surface, then ``CONTACT ... FORCE f SPEED v`` onto it and ``WAIT 0.3 s``:
 
