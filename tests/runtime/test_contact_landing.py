@@ -15,7 +15,6 @@ import pytest
 from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS, TOUCH_BRAKING_N, push_landed, touch_braking
 from cosmos.osc.held_push import touch_damping
 from cosmos.runtime.kernels import contact as ck
-from cosmos.runtime.kernels.servo import LANDED
 from cosmos.runtime.servo_gains import ServoGains, touch_damping_for
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -41,7 +40,7 @@ def test_push_landed_is_its_reference(seed: int) -> None:
         abs(float(n @ velocity[:3])) <= LANDED_SPEED_MPS and float(n @ wrench[:3]) <= LANDED_PUSH * push
     )
     assert push_landed(goal, wrench, velocity) == expected
-    assert ck.push_landed(goal, wrench, velocity, LANDED) == expected
+    assert ck.push_landed(goal, wrench, velocity, ck.LANDED) == expected
 
 
 def test_push_landed_edges() -> None:
@@ -51,7 +50,7 @@ def test_push_landed_edges() -> None:
     goal = np.array([0.0, 0.0, -10.0, 0.0, 0.0, 0.0])
     at_rest = np.array([0.0, 0.0, -LANDED_SPEED_MPS, 0.0, 0.0, 0.0])
     pushing = np.array([0.0, 0.0, -LANDED_PUSH * 10.0, 0.0, 0.0, 0.0])
-    for landed in (push_landed, lambda g, w, v: ck.push_landed(g, w, v, LANDED)):
+    for landed in (push_landed, lambda g, w, v: ck.push_landed(g, w, v, ck.LANDED)):
         assert landed(goal, pushing, at_rest)
         assert not landed(goal, pushing * 1.01, at_rest)
         assert not landed(goal, pushing, at_rest * 1.01)

@@ -6,7 +6,8 @@ at the edges (thresholds, bounds, clipping):
 
 * :func:`touch_latched`: :func:`cosmos.osc.contact.touch_latched` (the force integral's latch);
 * :func:`contact_latched`: :func:`cosmos.osc.contact.contact_latched` (the admittance latch);
-* :func:`push_landed`: :func:`cosmos.osc.contact.push_landed` (a held push's goal counts once at rest);
+* :func:`push_landed`, :func:`force_goal_latched`: :func:`cosmos.osc.contact.push_landed` (a held push's
+  goal counts once landed);
 * :func:`low_pass_into`: :func:`cosmos.osc.admittance.low_pass` (the sensed moment's filter);
 * :func:`admittance_speed`: :func:`cosmos.osc.admittance.admittance_speed`;
 * :func:`admittance_command`: :func:`cosmos.osc.admittance.admittance_command`;
@@ -25,9 +26,14 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
+from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS
+from cosmos.osc.unified import REACH_FRACTION
 from cosmos.runtime.kernels.linear import matvec, max_abs_product
 
 FloatArray = np.ndarray
+
+LANDED = np.array((LANDED_SPEED_MPS, LANDED_PUSH))
+"""cosmos.osc.contact.push_landed's limits: the speed [m/s], the share of the goal."""
 
 
 @kernel
@@ -58,6 +64,24 @@ def push_landed(force_goal: FloatArray, wrench: FloatArray, velocity: FloatArray
     along = (force_goal[0] * velocity[0] + force_goal[1] * velocity[1] + force_goal[2] * velocity[2]) / push
     felt = (force_goal[0] * wrench[0] + force_goal[1] * wrench[1] + force_goal[2] * wrench[2]) / push
     return abs(along) <= limits[0] and felt <= limits[1] * push
+
+
+@kernel
+def force_goal_latched(
+    reached: bool, goal: FloatArray, wrench: FloatArray, velocity: FloatArray, held: bool, ramped: bool
+) -> bool:
+    """The force integral's goal latch (:func:`goal_reached`), a held push's once landed.
+
+    A held push's goal counts only once :func:`push_landed`, and then also once its setpoint's
+    ramp is over (``ramped``); a push held to its speed (INSERT) latches on its goal alone.
+    """
+    if reached:
+        return True
+    if not held:
+        return goal_reached(False, goal, wrench, REACH_FRACTION)
+    if not push_landed(goal, wrench, velocity, LANDED):
+        return False
+    return ramped or goal_reached(False, goal, wrench, REACH_FRACTION)
 
 
 @kernel

@@ -32,8 +32,6 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS
-from cosmos.osc.unified import REACH_FRACTION
 from cosmos.runtime.kernels import commands
 from cosmos.runtime.kernels.commands import (
     environment_wrench_into,
@@ -46,10 +44,9 @@ from cosmos.runtime.kernels.contact import (
     admittance_speed,
     contact_latched,
     coulomb_compensation_into,
-    goal_reached,
+    force_goal_latched,
     held_push_into,
     low_pass_into,
-    push_landed,
     tilt_window_into,
     touch_braking_into,
     touch_latched,
@@ -117,8 +114,6 @@ OBSERVING = 4  # FLAGS: 1 once a free hold's disturbance observer has its first 
 # Rows of a tick's work array (servo_tick).
 MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
 SCRATCH_ROWS = 5
-
-LANDED = np.array((LANDED_SPEED_MPS, LANDED_PUSH))  # cosmos.osc.contact.push_landed's limits
 
 
 @kernel
@@ -322,14 +317,10 @@ def servo_tick(
         integral = state[INTEGRAL, :6]
         previous_integral = integral.copy()
         # ... and once the push reached most of its goal (a contact building up would wind it up);
-        # a held push's at rest along it (cosmos.osc.contact.push_landed: a landing's spike passes
-        # it), and once its ramp is over even short of it (its friction would hold it there).
-        if scalars[PUSH_SPEED] > 0.0:
-            if goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
-                flags[REACHED] = 1.0
-        elif push_landed(goal, wrench, velocity, LANDED):
-            if fraction >= 1.0 or goal_reached(flags[REACHED] != 0.0, goal, wrench, REACH_FRACTION):
-                flags[REACHED] = 1.0
+        # a held push's landed, or its ramp over even short of it (cosmos.osc.contact.push_landed).
+        held = not scalars[PUSH_SPEED] > 0.0
+        if force_goal_latched(flags[REACHED] != 0.0, goal, wrench, velocity, held, fraction >= 1.0):
+            flags[REACHED] = 1.0
         if flags[TOUCHING] != 0.0 and flags[REACHED] != 0.0:
             limit, dt = scalars[INTEGRAL_LIMIT], scalars[DT_S]
             for i in range(6):
