@@ -199,7 +199,8 @@ def test_the_servo_kernel_layout_leaves_the_cruise_its_slots() -> None:
     reference at 2 and 3: the cruise integral never runs there), and it reads the wrench, error and
     twist from rows 0-2."""
     assert sk.PUSH_SPEED_RATE == CRUISE_INTEGRAL + CRUISE_SLOTS
-    assert sk.PUSH_SPEED_RATE + 1 == TRACKED_UNTIL and sk.SCALARS == TRACKED_UNTIL + 1  # a slow MOVE's
+    assert sk.PUSH_SPEED_RATE + 1 == TRACKED_UNTIL  # a slow MOVE's
+    assert sk.TOUCH_FREE_SPEED == TRACKED_UNTIL + 1 and sk.SCALARS == sk.TOUCH_FREE_SPEED + 1  # CONTACT's
     assert sk.HOLD_OBSERVER + 4 <= CRUISE_INTEGRAL
     assert sk.STATE_ROWS > CRUISE and sk.MOTION_INTEGRAL < CRUISE  # the springs' rows follow (kernels.spring)
     assert (sk.WRENCH, sk.ERROR, sk.VELOCITY) == (0, 1, 2)
