@@ -28,9 +28,9 @@ CRUISE_INTEGRAL = 49
 cruise integral), the smallest ``kp / kv`` [1/s] and ``kv`` [1/s]."""
 CRUISE_SLOTS = 7
 TRACKED_UNTIL = 57
-"""The servo's scalar after the cruise's (kernels.servo's TOUCH_FREE_SPEED follows it), set per
-segment (:func:`tracked_until`): until when [s] a slow MOVE's tracked reference moves (a free
-trajectory with cruise timing and uniform gains: :func:`cosmos.execution.resolve.tracks_a_reference`), its Coulomb intent reading
+"""The servo's scalar 57 (kernels.servo's TOUCH_FREE_SPEED next), set per segment (:func:`tracked_until`):
+until when [s] a slow MOVE's tracked reference moves (a free trajectory with cruise timing and
+uniform gains: :func:`cosmos.execution.resolve.tracks_a_reference`), its Coulomb intent reading
 the reference (:func:`reference_speed`) from :data:`TRACKED_INTENT_MPS` on; 0 for any other segment."""
 TRACKED_INTENT_MPS = 0.0025
 """A slower reference leaves the intent as a trajectory's [m/s]. That intent weighs the sensed
