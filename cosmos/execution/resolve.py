@@ -26,7 +26,8 @@ import math
 
 import numpy as np
 
-from cosmos.osc.motion import PoseTrajectory
+from cosmos.capabilities import ARM_CAPABILITY
+from cosmos.osc.motion import PoseTrajectory, goal_ramp_acceleration
 from cosmos.osc.orientation import so3_exp, so3_log
 from cosmos.plan import ContactTouch, DepthReached, Posture, RelativeTarget, Segment, SegmentKind, Target
 from cosmos.runtime.parameters import Evaluation
@@ -323,6 +324,10 @@ def setpoint_for(
         mode = MotionMode.HOLD
     else:
         mode = MotionMode.GOAL
+    speed = segment.speed_limit_mps or HOLD_SPEED_MPS
+    acceleration = ARM_CAPABILITY.tool_acceleration_mps2
+    if segment.kind is SegmentKind.MOVE:  # its SPEED once the cruise's integral has learnt the arm
+        acceleration = goal_ramp_acceleration(speed, acceleration)
     return ServoSetpoint(
         mode=mode,
         position=goal_position,
@@ -333,7 +338,8 @@ def setpoint_for(
         force_start_world=wrench_world.copy(),
         ramp_s=FORCE_RAMP_S,
         start_s=start_s,
-        max_speed=segment.speed_limit_mps or HOLD_SPEED_MPS,
+        max_speed=speed,
+        acceleration=acceleration,
         kp_task=kp,
         kv_task=kv,
         trajectory=trajectory,

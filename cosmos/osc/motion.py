@@ -88,6 +88,30 @@ def ramped_speed_limit(limit: float, start_speed: float, acceleration: float, el
     return min(limit, start_speed + acceleration * max(elapsed_s, 0.0))
 
 
+GOAL_RAMP_MIN_S = 0.3
+"""A free MOVE's goal motion reaches its SPEED no sooner than this after it starts [s]."""
+
+
+def goal_ramp_acceleration(limit: float, acceleration: float) -> float:
+    """The acceleration at which a MOVE's eq. 21 limit ramps up: ``min(a, V_max / 0.3 s)``.
+
+    A goal motion's cruise holds its SPEED against the force the controller's model does not
+    explain with an integral (:mod:`cosmos.osc.cruise_speed`) that learns it only once the
+    tool moves; before that eq. 20's velocity servo leaves a speed error of up to ``d / (e p)``
+    for a step ``d`` of it (the loop's double root ``p = kv / 2``, 20 /s: peak at 50 ms).
+    On the realistic plant ``d`` is up to 0.3 m/s^2, 5.5 mm/s whatever the SPEED: at SPEED
+    20 mm/s a MOVE ran at 24.5 mm/s over 20 ms in its first 0.1 s (seed 0), ramped at the
+    arm's 5 m/s^2. Ramped over :data:`GOAL_RAMP_MIN_S` (the ramps of a cruise, :func:`cruise_ramp_s`)
+    the limit is a sixth of the SPEED when that error peaks, and the integral has settled when
+    it reaches the SPEED. The arm's acceleration still bounds the fast ones.
+
+    Args:
+        limit: V_max, in [m/s].
+        acceleration: The arm's tool acceleration, in [m/s^2].
+    """
+    return min(acceleration, limit / GOAL_RAMP_MIN_S)
+
+
 def on_the_line(desired: FloatArray, line: FloatArray, max_speed: float) -> FloatArray:
     """Eq. 21's translation kept on its line: the speed limit taken from the travel along it.
 

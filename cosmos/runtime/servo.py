@@ -25,9 +25,10 @@ from cosmos.osc.push_speed import approach_speed, push_aim
 from cosmos.plant import LiveSignals
 from cosmos.robot_model import GRAVITY
 from cosmos.runtime.goal_line import goal_line, kept_line
+from cosmos.runtime.kernels import cruise as cruise_kernel
 from cosmos.runtime.kernels import live as live_kernel
 from cosmos.runtime.kernels import servo as kernel
-from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, TRACKED_UNTIL, cruise_gains, tracked_until
+from cosmos.runtime.kernels.cruise import CRUISE_INTEGRAL, TRACKED_UNTIL, cruise_gains, tracked_until
 from cosmos.runtime.kernels.evaluation import LIMIT_MARGIN
 from cosmos.runtime.kernels.parameter import LIMITS_OFFSET, refold
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
@@ -249,8 +250,7 @@ class ServoLevel:
                 ends (:mod:`cosmos.runtime.rotation_plan`), in [rad]; None: none planned. # (n,)
         """
         self._limits_for_goal(goal_q)
-        previous = self._setpoint
-        state = self._state
+        previous, state = self._setpoint, self._state
         if previous is None or (
             previous.motion_axes != setpoint.motion_axes
             or previous.orientation_free != setpoint.orientation_free
@@ -268,7 +268,7 @@ class ServoLevel:
             )
         state[kernel.MOMENT_FILTERED] = state[kernel.WRENCH]  # both task rows: w long, six used
         state[kernel.FLAGS] = 0.0  # the latches, the held push's integral, the hold observer's start
-        state[kernel.MOTION_INTEGRAL] = state[CRUISE] = 0.0
+        state[kernel.MOTION_INTEGRAL] = 0.0
         scalars, vectors = self._scalars, self._vectors
         tracking = setpoint.mode is MotionMode.TRAJECTORY and setpoint.trajectory is not None
         scalars[kernel.MODE] = (
@@ -296,9 +296,7 @@ class ServoLevel:
         speeds = float(np.linalg.norm(moving[:3])), float(np.linalg.norm(moving[3:]))
         scalars[kernel.GOAL_START_SPEED : kernel.GOAL_START_ANGULAR_SPEED + 1] = speeds
         scalars[kernel.START_S] = setpoint.start_s
-        scalars[kernel.TRAJECTORY_END_S] = setpoint.start_s + (
-            setpoint.trajectory.duration_s if setpoint.trajectory is not None else 0.0
-        )
+        scalars[kernel.TRAJECTORY_END_S] = sp.start_s + (sp.trajectory.duration_s if sp.trajectory else 0.0)
         scalars[kernel.RAMP_S] = setpoint.ramp_s
         vectors[kernel.KP, :6] = setpoint.kp_task
         vectors[kernel.KV, :6] = setpoint.kv_task
@@ -308,6 +306,8 @@ class ServoLevel:
         vectors[kernel.REFERENCE_VELOCITY : kernel.REFERENCE_ACCELERATION + 1] = 0.0
         start = None if self._evaluation is None else self._evaluation.position
         self._goal_line = goal_line(start, setpoint.position, setpoint.mode is MotionMode.GOAL)
+        # The cruise's integral restarts, or carries on onto a MOVE ... VIA's next leg (kernels.cruise).
+        cruise_kernel.restart(state, previous, sp, vectors[kernel.GOAL_LINE, :3], self._goal_line, scalars)
         vectors[kernel.GOAL_LINE] = 0.0
         vectors[kernel.GOAL_LINE, :3] = kept_line(self._goal_line, self._field, self.null_space)
         # refold unwraps the orientation error against the row's content: the way round to start.

@@ -110,6 +110,21 @@ class ServoSetpoint:
         """
         return self.mode is MotionMode.GOAL and not self.cruise_integral and self.uniform_gains
 
+    def continues(self, previous: ServoSetpoint | None) -> bool:
+        """Whether this is the next leg of ``previous``'s goal motion: a MOVE's next VIA point or target.
+
+        The executor gives every leg of a segment the segment's start (``start_s``).
+        """
+        return (
+            previous is not None
+            and previous.mode is MotionMode.GOAL
+            and self.mode is MotionMode.GOAL
+            and previous.start_s == self.start_s
+            and previous.motion_axes == self.motion_axes
+            and previous.cruise_integral
+            and self.cruise_integral
+        )
+
     def __post_init__(self) -> None:
         r = self.rotation_task_to_world
         target = np.concatenate((r.dot(self.force_task[:3]), r.dot(self.force_task[3:])))

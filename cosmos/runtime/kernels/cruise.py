@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
+from cosmos.osc.cruise_speed import next_leg
 from cosmos.osc.motion import PoseTrajectory
 from cosmos.runtime.kernels.linear import matvec
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -66,6 +67,43 @@ def tracked_until(setpoint: ServoSetpoint) -> float:
     tracked = tracked and isinstance(trajectory, PoseTrajectory) and trajectory.cruise_ramp_s is not None
     tracked = tracked and setpoint.max_speed >= TRACKED_INTENT_MPS - 1e-9
     return setpoint.start_s + trajectory.duration_s if tracked and trajectory is not None else 0.0
+
+
+def restart(
+    state: FloatArray,
+    previous: ServoSetpoint | None,
+    setpoint: ServoSetpoint,
+    line_before: FloatArray,
+    line: FloatArray,
+    scalars: FloatArray,
+) -> None:
+    """Start a segment's cruise row at :data:`CRUISE`: zeros, or a MOVE ... VIA's next leg's.
+
+    On the next leg of the same goal motion (:meth:`ServoSetpoint.continues`) ``(a, v_m)``
+    carry over (:func:`cosmos.osc.cruise_speed.next_leg`), from the leg before's integral,
+    line (as the kernel kept it) and last error ``x - x_d`` (row 1).
+
+    Args:
+        state: The servo's state; row :data:`CRUISE` is written. # (rows, >= 6)
+        previous: The setpoint until now (None: none).
+        setpoint: The new one.
+        line_before: The line the kernel kept to until now, world. # (3,)
+        line: The new goal line, world. # (3,)
+        scalars: The servo's scalars; the integral's clamp at :data:`CRUISE_INTEGRAL` is read. # (SCALARS,)
+    """
+    carried = (0.0, 0.0)
+    if setpoint.continues(previous):
+        kp = float(np.min(setpoint.kp_task[:3]))
+        carried = next_leg(
+            (state[CRUISE, 0], state[CRUISE, 1]),
+            line_before,
+            line,
+            state[1, :3],
+            kp,
+            scalars[CRUISE_INTEGRAL],
+        )
+    state[CRUISE] = 0.0
+    state[CRUISE, :2] = carried
 
 
 @kernel
