@@ -304,7 +304,7 @@ class Executor:
                     goal_index += 1
                     supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
                     rt.set_setpoint(
-                        setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, start_s, posture)
+                        setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, now, posture)
                     )
                 outcome = monitor.check(snapshot, completion=False)
                 if outcome is not None:

@@ -272,6 +272,11 @@ def axis_gains(segment: Segment, evaluation: Evaluation) -> tuple[FloatArray, Fl
     return kp, kv
 
 
+def _first_goal(segment: Segment, goal_position: FloatArray) -> bool:
+    """Whether a goal is a MOVE ... VIA's first (its first VIA point); a later one is a next leg."""
+    return bool(np.allclose(goal_position, segment.via[0].position_world, rtol=0.0, atol=1e-9))
+
+
 def setpoint_for(
     segment: Segment,
     goal_position: FloatArray,
@@ -352,4 +357,5 @@ def setpoint_for(
         # A spring renders k (x_anchor - x): no integral may turn it into a stiff servo.
         cruise_integral=not isinstance(segment.completion, DepthReached) and not sprung,
         touch_braking=isinstance(segment.completion, ContactTouch),  # a CONTACT's approach, not an INSERT's
+        leg=mode is MotionMode.GOAL and bool(segment.via) and not _first_goal(segment, goal_position),
     )

@@ -224,3 +224,19 @@ def next_leg(
     disturbance = kp * (e - float(e.dot(u0)) * u0) - cruise[0] * u0
     turn = float(u0.dot(u))
     return float(np.clip(-disturbance.dot(u), -limit, limit)), cruise[1] * turn
+
+
+def leg_start_speed(velocity: FloatArray, line: FloatArray) -> float:
+    """The speed from which eq. 21's limit ramps up on a goal motion's next leg: ``max(u . xd, 0)``, [m/s].
+
+    A leg's unmodelled force is not the leg before's where a joint turns back (its friction
+    error changes sign): at a 135 deg turn on the realistic plant (seed 0, SPEED 20 mm/s) the
+    next leg ran at 26.7 mm/s over 20 ms while the integral learnt it again. Ramped up from the
+    speed the tool already has along the new line (:func:`cosmos.osc.motion.goal_ramp_acceleration`),
+    a slight turn keeps its speed, and a sharp one starts again as a new motion does.
+
+    Args:
+        velocity: The tool's velocity, world, in [m/s]. # (3,)
+        line: The new leg's unit line, world. # (3,)
+    """
+    return max(float(np.dot(velocity[:3], line)), 0.0)

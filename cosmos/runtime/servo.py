@@ -292,9 +292,6 @@ class ServoLevel:
         scalars[kernel.MAX_ANGULAR_SPEED] = setpoint.max_angular_speed
         accelerations = setpoint.acceleration, setpoint.angular_acceleration
         scalars[kernel.GOAL_ACCELERATION : kernel.GOAL_ANGULAR_ACCELERATION + 1] = accelerations
-        moving = self.last_velocity  # the goal motion's speed limits ramp up from the tool's speeds
-        speeds = float(np.linalg.norm(moving[:3])), float(np.linalg.norm(moving[3:]))
-        scalars[kernel.GOAL_START_SPEED : kernel.GOAL_START_ANGULAR_SPEED + 1] = speeds
         scalars[kernel.START_S] = setpoint.start_s
         scalars[kernel.TRAJECTORY_END_S] = sp.start_s + (sp.trajectory.duration_s if sp.trajectory else 0.0)
         scalars[kernel.RAMP_S] = setpoint.ramp_s
@@ -305,9 +302,11 @@ class ServoLevel:
         vectors[kernel.FORCE_START, :6] = setpoint.force_start_world
         vectors[kernel.REFERENCE_VELOCITY : kernel.REFERENCE_ACCELERATION + 1] = 0.0
         start = None if self._evaluation is None else self._evaluation.position
-        self._goal_line = goal_line(start, setpoint.position, setpoint.mode is MotionMode.GOAL)
-        # The cruise's integral restarts, or carries on onto a MOVE ... VIA's next leg (kernels.cruise).
-        cruise_kernel.restart(state, previous, sp, vectors[kernel.GOAL_LINE, :3], self._goal_line, scalars)
+        line = self._goal_line = goal_line(start, setpoint.position, setpoint.mode is MotionMode.GOAL)
+        # The goal motion's speed limits ramp up from the tool's speeds; the cruise's integral restarts
+        # or, on a MOVE ... VIA's next leg, carries on (kernels.cruise.restart).
+        speeds = cruise_kernel.restart(state, previous, sp, vectors[kernel.GOAL_LINE, :3], line, scalars)
+        scalars[kernel.GOAL_START_SPEED : kernel.GOAL_START_ANGULAR_SPEED + 1] = speeds
         vectors[kernel.GOAL_LINE] = 0.0
         vectors[kernel.GOAL_LINE, :3] = kept_line(self._goal_line, self._field, self.null_space)
         # refold unwraps the orientation error against the row's content: the way round to start.

@@ -72,6 +72,8 @@ class ServoSetpoint:
             approach, whose insertion is tuned to the landing it had).
         touch_braking: A CONTACT's approach: the motion into the first push felt along it is damped
             (:func:`cosmos.osc.contact.touch_braking`).
+        leg: A MOVE ... VIA's goal motion after its first VIA point: the next leg of the motion
+            before, which starts at ``start_s`` (:func:`cosmos.runtime.kernels.cruise.restart`).
     """
 
     mode: MotionMode
@@ -96,6 +98,7 @@ class ServoSetpoint:
     spring_masses: FloatArray = field(default_factory=lambda: np.zeros(6))
     cruise_integral: bool = True
     touch_braking: bool = False
+    leg: bool = False
 
     force_world: FloatArray = field(init=False)
     """The force setpoint in world axes (derived from force_task). # (6,)."""
@@ -111,15 +114,12 @@ class ServoSetpoint:
         return self.mode is MotionMode.GOAL and not self.cruise_integral and self.uniform_gains
 
     def continues(self, previous: ServoSetpoint | None) -> bool:
-        """Whether this is the next leg of ``previous``'s goal motion: a MOVE's next VIA point or target.
-
-        The executor gives every leg of a segment the segment's start (``start_s``).
-        """
+        """Whether this is the next leg (``leg``) of ``previous``'s goal motion, with its cruise integral."""
         return (
-            previous is not None
+            self.leg
+            and previous is not None
             and previous.mode is MotionMode.GOAL
             and self.mode is MotionMode.GOAL
-            and previous.start_s == self.start_s
             and previous.motion_axes == self.motion_axes
             and previous.cruise_integral
             and self.cruise_integral

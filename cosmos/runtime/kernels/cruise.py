@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.osc.cruise_speed import next_leg
+from cosmos.osc.cruise_speed import leg_start_speed, next_leg
 from cosmos.osc.motion import PoseTrajectory
 from cosmos.runtime.kernels.linear import matvec
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -76,34 +76,38 @@ def restart(
     line_before: FloatArray,
     line: FloatArray,
     scalars: FloatArray,
-) -> None:
-    """Start a segment's cruise row at :data:`CRUISE`: zeros, or a MOVE ... VIA's next leg's.
+) -> tuple[float, float]:
+    """Start a segment's cruise row at :data:`CRUISE`; return the speeds its limits ramp up from.
 
-    On the next leg of the same goal motion (:meth:`ServoSetpoint.continues`) ``(a, v_m)``
-    carry over (:func:`cosmos.osc.cruise_speed.next_leg`), from the leg before's integral,
-    line (as the kernel kept it) and last error ``x - x_d`` (row 1).
+    A new motion starts ``(a, v_m)`` at zero, and eq. 21's limits ramp up from the tool's
+    speeds (:func:`cosmos.osc.motion.ramped_speed_limit`). On the next leg of a goal motion
+    (:meth:`ServoSetpoint.continues`: MOVE ... VIA) ``(a, v_m)`` carry over
+    (:func:`cosmos.osc.cruise_speed.next_leg`), and the limit ramps up from the tool's speed
+    along the new line (none where it turns back: :func:`cosmos.osc.cruise_speed.leg_start_speed`).
 
     Args:
-        state: The servo's state; row :data:`CRUISE` is written. # (rows, >= 6)
+        state: The servo's state; rows 1-2 (``x - x_d``, the twist) read, :data:`CRUISE` written.
+            # (rows, >= 6)
         previous: The setpoint until now (None: none).
         setpoint: The new one.
         line_before: The line the kernel kept to until now, world. # (3,)
         line: The new goal line, world. # (3,)
         scalars: The servo's scalars; the integral's clamp at :data:`CRUISE_INTEGRAL` is read. # (SCALARS,)
+
+    Returns:
+        The start speeds of the translation [m/s] and the rotation [rad/s].
     """
+    velocity = state[2, :6]
+    speeds = float(np.linalg.norm(velocity[:3])), float(np.linalg.norm(velocity[3:]))
     carried = (0.0, 0.0)
     if setpoint.continues(previous):
         kp = float(np.min(setpoint.kp_task[:3]))
-        carried = next_leg(
-            (state[CRUISE, 0], state[CRUISE, 1]),
-            line_before,
-            line,
-            state[1, :3],
-            kp,
-            scalars[CRUISE_INTEGRAL],
-        )
+        before = (float(state[CRUISE, 0]), float(state[CRUISE, 1]))
+        carried = next_leg(before, line_before, line, state[1, :3], kp, scalars[CRUISE_INTEGRAL])
+        speeds = leg_start_speed(velocity[:3], line), speeds[1]
     state[CRUISE] = 0.0
     state[CRUISE, :2] = carried
+    return speeds
 
 
 @kernel
