@@ -25,6 +25,7 @@ from cosmos.runtime.kernels.cruise import (
     CRUISE,
     CRUISE_INTEGRAL,
     CRUISE_SLOTS,
+    CRUISE_TURNS,
     TRACKED_UNTIL,
     cruise_into,
     reference_speed,
@@ -42,6 +43,7 @@ def _compiled(
     velocity: np.ndarray,
     force: np.ndarray,
     speed: float,
+    turns: bool = False,
 ) -> tuple[bool, np.ndarray]:
     """One compiled step on the servo's own layout; ``(binds, commanded speed)``, ``cruise`` stepped."""
     state = np.zeros((sk.STATE_ROWS, 6))
@@ -56,6 +58,7 @@ def _compiled(
         KP / KV,
         KV,
     )
+    scalars[CRUISE_TURNS] = float(turns)
     commanded = np.full(6, np.nan)
     binds = cruise_into(motion, commanded, state, line, speed, scalars)
     cruise[:] = state[CRUISE, :2]
@@ -122,7 +125,7 @@ def test_without_a_line_it_neither_grows_nor_acts() -> None:
     binds, commanded = _compiled(motion, cruise, error, zeros, velocity, np.zeros(6), 0.01)
     assert not binds and not commanded.any()
     assert not motion.any() and list(cruise) == [0.5, 0.01]
-    assert not cruise_intent(True, zeros, velocity, 0.01).any()
+    assert not cruise_intent(True, zeros, velocity, np.ones(6), KV, True).any()
 
 
 def test_a_stalled_tool_keeps_a_push_and_drops_a_hold_back() -> None:
@@ -186,11 +189,12 @@ def test_the_compiled_step_matches_the_reference_on_random_inputs() -> None:
         motion = rng.normal(size=6)
         before = motion.copy()
         state = np.array(cruise)
-        got, commanded = _compiled(motion, state, error, line, velocity, force, speed)
+        turns = bool(rng.random() > 0.5)
+        got, commanded = _compiled(motion, state, error, line, velocity, force, speed, turns)
         assert state == pytest.approx(np.array(expected), abs=1e-12)
         assert motion - before == pytest.approx(cruise_command(expected[0], line), abs=1e-12)
-        assert commanded[:3] == pytest.approx(cruise_intent(binds, line, velocity, speed), abs=1e-12)
-        assert got == (binds and bool(line.any())) and not commanded[3:].any()
+        assert commanded == pytest.approx(cruise_intent(binds, line, velocity, before, KV, turns), abs=1e-12)
+        assert got == (binds and bool(line.any()))
 
 
 def test_the_servo_kernel_layout_leaves_the_cruise_its_slots() -> None:
@@ -200,7 +204,8 @@ def test_the_servo_kernel_layout_leaves_the_cruise_its_slots() -> None:
     twist from rows 0-2."""
     assert sk.PUSH_SPEED_RATE == CRUISE_INTEGRAL + CRUISE_SLOTS
     assert sk.PUSH_SPEED_RATE + 1 == TRACKED_UNTIL  # a slow MOVE's
-    assert sk.TOUCH_FREE_SPEED == TRACKED_UNTIL + 1 and sk.SCALARS == sk.TOUCH_FREE_SPEED + 1  # CONTACT's
+    assert sk.TOUCH_FREE_SPEED == TRACKED_UNTIL + 1 and CRUISE_TURNS == sk.TOUCH_FREE_SPEED + 1  # CONTACT's
+    assert sk.SCALARS == CRUISE_TURNS + 1
     assert sk.HOLD_OBSERVER + 4 <= CRUISE_INTEGRAL
     assert sk.STATE_ROWS > CRUISE and sk.MOTION_INTEGRAL < CRUISE  # the springs' rows follow (kernels.spring)
     assert (sk.WRENCH, sk.ERROR, sk.VELOCITY) == (0, 1, 2)

@@ -33,6 +33,10 @@ TRACKED_UNTIL = 57
 until when [s] a slow MOVE's tracked reference moves (a free trajectory with cruise timing and
 uniform gains: :func:`cosmos.execution.resolve.tracks_a_reference`), its Coulomb intent reading
 the reference (:func:`reference_speed`) from :data:`TRACKED_INTENT_MPS` on; 0 for any other segment."""
+CRUISE_TURNS = 59
+"""The servo's last scalar (kernels.servo's SCALARS is 60; TOUCH_FREE_SPEED before it), set per segment (:func:`restart`): 1 where
+the cruise's Coulomb intent covers the rotation too (every rotation motion-controlled, the orientation
+the task's), else 0 (:func:`cosmos.osc.cruise_speed.cruise_intent`)."""
 TRACKED_INTENT_MPS = 0.0025
 """A slower reference leaves the intent as a trajectory's [m/s]. That intent weighs the sensed
 speed ``L kv`` = 0.8 where a trajectory's weighs it ``1 - L kv`` = 0.2, and at a few mm/s the
@@ -107,6 +111,7 @@ def restart(
         speeds = leg_start_speed(velocity[:3], line), speeds[1]
     state[CRUISE] = 0.0
     state[CRUISE, :2] = carried
+    scalars[CRUISE_TURNS] = float(all(setpoint.motion_axes[3:]) and not setpoint.orientation_free)
     return speeds
 
 
@@ -121,9 +126,10 @@ def cruise_into(
 ) -> bool:
     """Step ``cruise = (a, v_m)`` (:func:`cosmos.osc.cruise_speed.cruise_integral_step`), add ``a u``.
 
-    ``commanded_speed`` is set to zeros or, while a cruise's limit binds, to
-    ``max(V_max - u . xd, 0) u``: the speed along ``u`` the Coulomb intent takes in place of the
-    sensed one (:func:`cosmos.osc.cruise_speed.cruise_intent`); returns whether it binds.
+    ``commanded_speed`` is set to zeros or, while a cruise's limit binds, to ``2 v_d - xd``
+    (``motion`` on entry is ``kv (v_d - xd)``; the rotation's zeros unless :data:`CRUISE_TURNS`):
+    the speed the Coulomb intent adds
+    (:func:`cosmos.osc.cruise_speed.cruise_intent`); returns whether it binds.
 
     Args:
         motion: F*_m, world; ``a u`` is added. # (6,)
@@ -157,10 +163,11 @@ def cruise_into(
         floor = along + moving * max_speed
         if cruise[1] > floor:
             cruise[1] += ratio * (floor - cruise[1]) * dt_s
+    if binds:  # 2 v_d - xd, with F*_m = kv (v_d - xd) before a u
+        for i in range(6 if scalars[CRUISE_TURNS] != 0.0 else 3):
+            commanded_speed[i] = velocity[i] + 2.0 * motion[i] / kv
     for i in range(3):
         motion[i] += cruise[0] * line[i]
-        if binds:
-            commanded_speed[i] = max(max_speed - along, 0.0) * line[i]
     return binds
 
 
