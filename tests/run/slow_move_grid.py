@@ -141,7 +141,7 @@ def via_grid(speeds: list[float | None], seeds: list[str]) -> tuple[int, int]:
                 met, total = met + ok, total + 1
                 case = "turning" if turning else "fixed"
                 print(
-                    f"{speed or DEFAULT_SPEED_MMPS:5.1f} mm/s {case:7s} {seed:5s} "
+                    f"{f'{speed:5.1f} mm/s' if speed else 'default   '} {case:7s} {seed:5s} "
                     f"fastest {f['fastest']:.3f} median {f['median']:.3f} slowest {f['slowest']:.3f} "
                     f"VIA within {f['via_mm']:.1f} mm"
                     f"{'' if f['arrived'] == 1.0 else ' NOT ARRIVED'}{'' if ok else '  <- misses the bar'}",
