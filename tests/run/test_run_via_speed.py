@@ -5,11 +5,11 @@ at 135 deg to the goal, at SPEED 20 mm/s. The tool point's speed is its travel o
 of the log's state (250 Hz: 20 ms), measured by MuJoCo, against the SPEED written; each VIA
 point must still be passed within its radius (10 mm, docs/language.md).
 
-Before: the fastest 20 ms ran at 24.5 mm/s in the first 0.1 s (the cruise integral learning the
-arm's unmodelled force while the tool was already at its SPEED), 24.9 mm/s after the 45 deg
-turn (the integral restarted at zero on each leg), 26.7 after the 135 deg one (the friction of
-joints that turn back changes sign), and, on seed 3, 32.7 (joint 5 stuck at 0.004 rad/s, its
-Coulomb compensation reading its own speed, then broke away).
+Before (main of 4e5f165), on the realistic plant: the fastest 20 ms ran at 27.2 mm/s 60 ms
+after the start (seed 0: eq. 21's limit reached the SPEED in 4 ms, before the cruise integral had
+learnt the arm's unmodelled force), and at 23.9 (seed 0) and 26.9 mm/s (seed 2) after the 135 deg
+turn (the integral restarted at zero on each leg, and the joints that turn back change their
+friction's sign). ``python tests/run/slow_move_grid.py --via`` measures more legs and SPEEDs.
 """
 
 from __future__ import annotations
@@ -47,13 +47,12 @@ def _speeds(t: np.ndarray, x: np.ndarray, ticks: int) -> np.ndarray:
     return np.linalg.norm(x[ticks:] - x[:-ticks], axis=1) / (t[ticks:] - t[:-ticks])
 
 
-@pytest.mark.parametrize(("seed", "ideal"), [(0, True), (0, False), (3, False)])
+@pytest.mark.parametrize(("seed", "ideal"), [(0, True), (0, False), (2, False)])
 def test_no_20_ms_of_a_via_move_runs_over_its_speed(tmp_path: Path, seed: int, ideal: bool) -> None:
     """The fastest 20 ms of the whole statement within 10 % of its SPEED, the median between the
     legs' ramps within 5 %, every VIA point passed within its radius and the goal reached.
-    Catches the cruise integral restarting at each VIA point (24.9 mm/s after a 45 deg turn), a
-    leg that turns back started at the SPEED (26.7 mm/s), the start's overshoot (24.5 mm/s) and
-    the wrist sticking and slipping (32.7 mm/s, seed 3)."""
+    Catches the start's overshoot (27.2 mm/s, seed 0) and a leg that turns back started at the
+    SPEED with the integral at zero (23.9 mm/s on seed 0, 26.9 on seed 2)."""
     t, x, run = _leg_run(tmp_path, seed, ideal)
     assert run.ok, run
     fine = _speeds(t, x, 5)
