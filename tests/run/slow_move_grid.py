@@ -13,13 +13,14 @@ the fastest 100 ms window of the first 0.25 s. A case meets the bar with the med
 ``--via`` runs ``MOVE TO ... VIA`` instead (``--speeds 5,20,50,100,default``): from the same
 start, three VIA points then the goal, legs of 2 s at the SPEED (20 mm to 100 mm) turning
 45, 90 and 135 deg; ``turning`` gives the VIA points orientations 20 deg apart about the
-vertical (a pose at each). It reports the fastest 20 ms anywhere in the statement, the median
-over 20 ms outside each leg's first 0.3 s (the ramp of its speed limit, from the speed the tool
-has along it) and the final approach (within ``V / 10 + 2 mm`` of the goal, where eq. 21 stops
-binding), the slowest 100 ms window there away from the corners (15 mm of a VIA point), and how
-close the tool came to each VIA point. A case meets the bar with
-the fastest 20 ms at most 110 %, the median within 5 %, the slowest window at least 90 % and
-every VIA point passed within its radius (10 mm).
+vertical (a pose at each). Each leg starts with a ramp: its first 0.3 s (a goal motion's speed
+limit ramps up from the speed the tool has along it; a tracked reference's cruise ramps from
+rest). Outside the ramps and the final approach (within ``V / 10 + 2 mm`` of the goal) it
+reports the fastest 20 ms and the median over 20 ms, the slowest 100 ms window away from the
+corners (15 mm of a VIA point); within the ramps the fastest 100 ms window (as the first 0.25 s
+above); and how close the tool came to each VIA point. A case meets the bar with both fastest at
+most 110 %, the median within 5 %, the slowest window at least 90 % and every VIA point passed
+within its radius (10 mm).
 """
 
 from __future__ import annotations
@@ -115,7 +116,8 @@ def measure_via(
     straight = cruising[25:] & cruising[:-25] & ~near_via[25:] & ~near_via[:-25]
     return {
         "arrived": float(run.ok),
-        "fastest": float(fine.max()) / speed,
+        "fastest": float(fine[cruising[5:] & cruising[:-5]].max()) / speed,
+        "ramps": float(coarse[ramping[25:] & ramping[:-25]].max()) / speed,
         "median": float(np.median(fine[cruising[5:]])) / speed,
         "slowest": float(coarse[straight].min()) / speed,
         "via_mm": float(np.max(np.min(np.linalg.norm(x[:, None, :] - points[None, :3, :], axis=2), axis=0)))
@@ -134,6 +136,7 @@ def via_grid(speeds: list[float | None], seeds: list[str]) -> tuple[int, int]:
                 ok = (
                     f["arrived"] == 1.0
                     and f["fastest"] <= 1.1
+                    and f["ramps"] <= 1.1
                     and abs(f["median"] - 1.0) <= 0.05
                     and f["slowest"] >= 0.9
                     and f["via_mm"] <= 10.0
@@ -143,6 +146,7 @@ def via_grid(speeds: list[float | None], seeds: list[str]) -> tuple[int, int]:
                 print(
                     f"{f'{speed:5.1f} mm/s' if speed else 'default   '} {case:7s} {seed:5s} "
                     f"fastest {f['fastest']:.3f} median {f['median']:.3f} slowest {f['slowest']:.3f} "
+                    f"ramps {f['ramps']:.3f} "
                     f"VIA within {f['via_mm']:.1f} mm"
                     f"{'' if f['arrived'] == 1.0 else ' NOT ARRIVED'}{'' if ok else '  <- misses the bar'}",
                     flush=True,
