@@ -48,7 +48,8 @@ WINDOW_TICKS = 5
 
 REALISTIC_SLOW = pytest.mark.xfail(
     strict=True,
-    reason="realistic plant at SPEED 5 mm/s: peaks 6.50 mm/s (30 % over; seeds 1-4: 5.85, 5.0, 5.3, 4.8) "
+    reason="realistic plant at SPEED 5 mm/s: peaks 5.80 mm/s on seed 1 (16 % over; seeds 0, 2-4: 5.45, 5.15, "
+    "4.55, 4.75 since a MOVE ramps to its SPEED over 0.3 s; 6.50, 5.85, 5.0, 5.3, 4.8 before) "
     "0.5 s into the push, on the chamfer, where the true speed rings 1-8.5 mm/s at about 30 Hz around "
     "the cap's 4 mm/s. Cause, measured: the speed the push's cap reads, the 40 Hz observer's on the "
     "encoders' counts, a bump of 3-5 mm/s at each count at this speed: the same cap reading "
@@ -68,7 +69,7 @@ REALISTIC_SLOW = pytest.mark.xfail(
         (30.0, True, 0),
         (5.0, True, 0),
         (5.0, True, 1),
-        pytest.param(5.0, False, 0, marks=REALISTIC_SLOW),
+        pytest.param(5.0, False, 1, marks=REALISTIC_SLOW),
         (10.0, False, 0),
         (10.0, False, 1),
         (20.0, False, 1),
