@@ -96,7 +96,8 @@ def restart(
         setpoint: The new one.
         line_before: The line the kernel kept to until now, world. # (3,)
         line: The new goal line, world. # (3,)
-        scalars: The servo's scalars; the integral's clamp at :data:`CRUISE_INTEGRAL` is read. # (SCALARS,)
+        scalars: The servo's scalars; the integral's clamp at :data:`CRUISE_INTEGRAL` read,
+            :data:`CRUISE_TURNS` written. # (SCALARS,)
 
     Returns:
         The start speeds of the translation [m/s] and the rotation [rad/s].
