@@ -34,9 +34,10 @@ until when [s] a slow MOVE's tracked reference moves (a free trajectory with cru
 uniform gains: :func:`cosmos.execution.resolve.tracks_a_reference`), its Coulomb intent reading
 the reference (:func:`reference_speed`) from :data:`TRACKED_INTENT_MPS` on; 0 for any other segment."""
 CRUISE_TURNS = 59
-"""The servo's last scalar (kernels.servo's SCALARS is 60; TOUCH_FREE_SPEED before it), set per segment (:func:`restart`): 1 where
-the cruise's Coulomb intent covers the rotation too (every rotation motion-controlled, the orientation
-the task's), else 0 (:func:`cosmos.osc.cruise_speed.cruise_intent`)."""
+"""The servo's last scalar (kernels.servo's SCALARS is 60; TOUCH_FREE_SPEED before it), set per
+segment (:func:`restart`): 1 where the cruise's Coulomb intent covers the rotation too (every
+rotation motion-controlled, the orientation the task's), else 0
+(:func:`cosmos.osc.cruise_speed.cruise_intent`)."""
 TRACKED_INTENT_MPS = 0.0025
 """A slower reference leaves the intent as a trajectory's [m/s]. That intent weighs the sensed
 speed ``L kv`` = 0.8 where a trajectory's weighs it ``1 - L kv`` = 0.2, and at a few mm/s the
