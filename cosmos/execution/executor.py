@@ -257,10 +257,9 @@ class Executor:
         supervisor.field_acting = False
         # Looked up once: the loop below runs every servo tick. The arrays are live views,
         # rewritten in place by the servo and the physics.
-        data = rt.plant.data
         tick, check, judge = rt.tick, supervisor.check, monitor.judge
         wrench, torque, position, grip = rt.wrench, rt.servo.torque, meter.position, self.hand.grip_n
-        snapshot = Snapshot(data.time, position, meter.rotation, rt.servo.last_velocity, wrench, grip)
+        snapshot = Snapshot(start_s, position, meter.rotation, rt.servo.last_velocity, wrench, grip)
         last_goal = len(goals) - 1
         progress, progress_every = self.progress, self.progress_every
         self._field_watch = field_watch = FieldOnToolWatch()
@@ -273,9 +272,8 @@ class Executor:
         while True:
             if obstacles is not None:
                 obstacles.before_tick()
-            tick()
+            now = tick()
             ticks += 1
-            now = data.time
             if obstacles is not None:
                 for reason in obstacles.after_tick():
                     self._event("collision", segment, reason)

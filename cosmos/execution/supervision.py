@@ -131,6 +131,7 @@ class Supervisor:
         self._owners = plant.geom_owners
         self._torque_limits = [float(t) for t in torque_limits_nm]
         self._saturated_at = [SATURATION_FRACTION * t for t in self._torque_limits]
+        self._lowest_saturation = min(self._saturated_at)
         self._saturated_ticks = [0] * len(self._torque_limits)
         self._counting = False  # a drive's looks at its limit are being counted
         self._saturation_looks = max(1, math.ceil(SATURATION_S / (SLOW_CHECK_EVERY * servo_dt_s) - 1e-9))
@@ -255,8 +256,12 @@ class Supervisor:
         if self._tick % SLOW_CHECK_EVERY:
             return None
         taus = torque.tolist()
-        # No drive at its limit and none counting: every count stays 0 (the loop is 3x dearer).
-        if self._counting or any(map(ge, map(abs, taus), self._saturated_at)):
+        # No drive at its limit and none counting: every count stays 0 (the loop is 3x dearer). No
+        # torque as large as the lowest limit: none at its own (a largest and a least cost a third).
+        lowest = self._lowest_saturation
+        if self._counting or (
+            (max(taus) >= lowest or -min(taus) >= lowest) and any(map(ge, map(abs, taus), self._saturated_at))
+        ):
             stop = self._saturation(taus, t_s)
             if stop is not None:
                 return stop

@@ -143,6 +143,8 @@ class Runtime:
         """The way round the current goal motion turns (None outside goal motions)."""
         self.setpoint: ServoSetpoint | None = None
         """The segment's command the servo runs (None before the first)."""
+        self.record_ns = 0
+        """Wall-clock nanoseconds the ticks spent recording, all told (``cosmos bench``)."""
         self.reset_clocks()
 
     def carry(self, robot: RobotModel) -> None:
@@ -260,13 +262,18 @@ class Runtime:
         )
         return wrench
 
-    def tick(self) -> None:
-        """One servo period: sense, evaluate if due, command, step the physics, record."""
+    def tick(self) -> float:
+        """One servo period: sense, evaluate if due, command, step the physics, record.
+
+        Returns:
+            The simulated time after it, in [s] (:attr:`time_s`, which costs the executor's
+            loop a read of MuJoCo's data every tick).
+        """
         now, noise_row = self._sense()
         if now + self._eps_s >= self._next_param_s:
             self._evaluate(now)
         self.servo.command(now, self._live, noise_row)
-        self._advance(now)
+        return self._advance(now)
 
     def timed_tick(self, phases: PhaseTimes) -> None:
         """:meth:`tick`, adding the wall-clock time of each phase to ``phases`` (``cosmos bench``).
@@ -282,8 +289,10 @@ class Runtime:
         t2 = clock()
         self.servo.command(now, self._live, noise_row)
         t3 = clock()
-        record_ns = self._advance(now)
+        recorded_ns = self.record_ns
+        self._advance(now)
         t4 = clock()
+        record_ns = self.record_ns - recorded_ns
         ns = phases.ns
         ns["sense"] += t1 - t0
         ns["parameters"] += t2 - t1
@@ -309,11 +318,12 @@ class Runtime:
         self._evaluate_fields(now)
         self._next_param_s += self._param_period_s
 
-    def _advance(self, now: float) -> int:
+    def _advance(self, now: float) -> float:
         """Record a sample due now, then step the physics to the next servo instant.
 
         The torque is held (zero-order hold); a sample due inside the hold is sensed
-        on its own. Returns the wall-clock nanoseconds spent recording.
+        on its own. Returns the simulated time reached, in [s]; the wall-clock
+        nanoseconds spent recording are added to :attr:`record_ns`.
         """
         clock = time.perf_counter_ns
         record_ns = 0
@@ -339,7 +349,9 @@ class Runtime:
                 self._record()
                 self._next_state_s += self._state_period_s
                 record_ns += clock() - r0
-        return record_ns
+        if record_ns:
+            self.record_ns += record_ns
+        return t_s
 
     def _record(self) -> None:
         assert self.recorder is not None
