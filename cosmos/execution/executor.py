@@ -24,13 +24,8 @@ from cosmos.errors import TaskFailure
 from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, singularity, stall_cause
 from cosmos.execution.expected import FREE_MOTION_FORCE_N
 from cosmos.execution.field_on_tool import FieldOnToolWatch
-from cosmos.execution.monitor import (
-    Outcome,
-    SegmentMonitor,
-    Snapshot,
-    Verdict,
-    distance_to_point,
-)
+from cosmos.execution.float_maths import distance_to_point
+from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, posture_joints, segment_goals, setpoint_for
@@ -257,7 +252,7 @@ class Executor:
         supervisor.field_acting = False
         # Looked up once: the loop below runs every servo tick. The arrays are live views,
         # rewritten in place by the servo and the physics.
-        tick, check, judge = rt.tick, supervisor.check, monitor.judge
+        tick, check, judge, idle_until = rt.tick, supervisor.check, monitor.judge, monitor.idle_until_s
         wrench, torque, position, grip = rt.wrench, rt.servo.torque, meter.position, self.hand.grip_n
         snapshot = Snapshot(start_s, position, meter.rotation, rt.servo.last_velocity, wrench, grip)
         last_goal = len(goals) - 1
@@ -322,8 +317,7 @@ class Executor:
                     here = (position.copy(), meter.rotation.copy())
                     rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture))
                     monitor.searching = search = None
-            outcome = judge(snapshot)
-            if outcome is not None:
+            if now >= idle_until and (outcome := judge(snapshot)) is not None:
                 return outcome
             if progress is not None and ticks % progress_every == 0:
                 progress(Progress(segment.line, segment.statement, now))

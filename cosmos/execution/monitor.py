@@ -18,6 +18,8 @@ import numpy as np
 
 from cosmos.execution.arrival import GoalError, goal_error
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
+from cosmos.execution.float_maths import block_diagonal, length, norm3
+from cosmos.execution.float_maths import distance_to_point as distance_to_point  # re-exported: its old home
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.execution.wording import failure_text as failure_text  # re-exported: its old home
 from cosmos.execution.wording import statement_head as statement_head  # re-exported
@@ -94,22 +96,6 @@ class Snapshot:
     grip: Callable[[], float] = lambda: 0.0
 
 
-def _norm3(v: FloatArray) -> float:
-    x, y, z = v.tolist()
-    return math.sqrt(x * x + y * y + z * z)
-
-
-def _length(v: FloatArray) -> float:
-    """``np.linalg.norm`` of a vector, to the last bit (its very sum), without its checks (microseconds)."""
-    return math.sqrt(v.dot(v))
-
-
-def distance_to_point(position: FloatArray, point: tuple[float, ...]) -> float:
-    """The distance from ``position`` (3,) to ``point``, in floats (cheaper than an array's norm)."""
-    x, y, z = position.tolist()
-    return math.sqrt((x - point[0]) ** 2 + (y - point[1]) ** 2 + (z - point[2]) ** 2)
-
-
 class SegmentMonitor:
     """Judges one segment; built when it starts."""
 
@@ -158,8 +144,7 @@ class SegmentMonitor:
         self._deadline_s = math.inf if timeout is None else statement_start_s + timeout - 1e-9
         # A force-settled ending compares the force axes of the wrench in the task frame with
         # their setpoints: one product per tick with the rows of diag(R^T, R^T) it needs.
-        rows = np.kron(np.eye(2), self._rotation_t)[self._force_axes]
-        self._force_rows = np.ascontiguousarray(rows)
+        self._force_rows = np.ascontiguousarray(block_diagonal(self._rotation_t)[self._force_axes])
         self._force_goal = np.asarray(segment.force_setpoint, dtype=float)[self._force_axes]
         # An axis made a spring by COMPLY ... STIFFNESS settles where its spring and the
         # world balance, which need not be the goal: there a stall is an arrival.
@@ -182,6 +167,10 @@ class SegmentMonitor:
         )
         """Judges a tick of the last leg: :meth:`check`, or the segment's own ending alone where
         that is all there is to judge (no UNTIL, no TIMEOUT): one call a tick, not two."""
+        alone = self.judge is self._complete and isinstance(segment.completion, GoalReached)
+        self.idle_until_s = timed_until_s if alone and timed_until_s is not None else -math.inf
+        """Before this time :attr:`judge` finds nothing and changes nothing (a timed goal motion's
+        arrival is judged from its time on): the executor need not call it."""
 
     def check(self, snap: Snapshot, completion: bool = True) -> Outcome | None:
         """The outcome if the segment ends at this tick, else None.
@@ -194,7 +183,7 @@ class SegmentMonitor:
         seg = self.segment
         if seg.until is not None:
             force = snap.wrench[:3]
-            distance = _norm3(snap.position - self.statement_start_position)
+            distance = norm3(snap.position - self.statement_start_position)
             grip = snap.grip() if self._reads_grip else 0.0  # read once: the value told is the one that fired
             if condition_holds(seg.until, force, snap.wrench[3:], distance, grip):
                 measured = measured_text(seg.until, force, snap.wrench[3:], distance, grip)
@@ -271,8 +260,8 @@ class SegmentMonitor:
         r_t = self._rotation_t
         # The error's length on the motion axes (a force axis's position is the force's):
         # "1 mm and 1 deg" as the reason reports them.
-        position_off = _length(r_t.dot(error.position_m)[self._motion[:3]])
-        rotation_off = _length(r_t.dot(error.rotation_rad)[self._motion[3:]])
+        position_off = length(r_t.dot(error.position_m)[self._motion[:3]])
+        rotation_off = length(r_t.dot(error.rotation_rad)[self._motion[3:]])
         arrived = (
             speed <= goal.speed_tolerance_mps
             and position_off <= goal.position_tolerance_m
@@ -300,16 +289,16 @@ class SegmentMonitor:
             )
         # Turning the long way round (cosmos.runtime.rotation_plan) the shortest angle first
         # grows: progress counts the rotation left the way the arm turns (kept continuous).
-        left, angle = error.rotation_rad, _length(error.rotation_rad)
+        left, angle = error.rotation_rad, length(error.rotation_rad)
         if not self._turns:  # no orientation to make progress in
             left, angle = np.zeros(3), 0.0
         elif self._turn is None:
             if self.turn_long_way and angle > 1e-3:
                 left = left * (1.0 - 2.0 * math.pi / angle)
-                angle = _length(left)
+                angle = length(left)
         elif angle + self._turn_angle >= math.pi - 0.1:  # else the short way is by far the nearer:
             left = unwrap_rotation_vector(left, self._turn)  # what this returns, without its 10 us
-            angle = _length(left)
+            angle = length(left)
         self._turn, self._turn_angle = left, angle
         return self._stalled(snap, position_off + STALL_ANGLE_SCALE_M * angle, error)
 
@@ -374,7 +363,7 @@ class SegmentMonitor:
         x0, y0, z0 = self._statement_xyz  # DEPTH counts from the statement's start
         travelled = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
         if depth.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
-            push = _norm3(snap.wrench[:3])
+            push = norm3(snap.wrench[:3])
             if push > depth.touch_n:
                 return Outcome(Verdict.DONE, f"touched: {push:.2f} N", touched=True)
             if travelled < depth.depth_m:
