@@ -264,8 +264,10 @@ class Executor:
 
         goal_points = [tuple(goal[0].tolist()) for goal in goals]  # as floats: distances every tick
 
+        # Obstacles move only if one is MOVING; the first tick rebuilds the world's tree after an OBSTACLE.
+        moving = obstacles is not None and any(obstacle.moving for obstacle in obstacles.scene.obstacles)
         while True:
-            if obstacles is not None:
+            if obstacles is not None and (moving or not ticks):
                 obstacles.before_tick()
             now = tick()
             ticks += 1
