@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.osc._types import FloatArray
+from cosmos.osc.contact import touch_braking
 from cosmos.osc.unified import push_axis
 
 
@@ -105,13 +106,4 @@ def touch_damping(
     Returns:
         F*_m with the damping. # (6,)
     """
-    out = np.array(motion, dtype=float)
-    contact = np.asarray(wrench[:3]) - tool_mass_kg * out[:3]
-    push = float(np.linalg.norm(contact))
-    if not push > touch_n:
-        return out
-    n = contact / push
-    along = float(n.dot(velocity[:3]))
-    if along > 0.0:
-        out[:3] -= gain * along * n
-    return out
+    return touch_braking(motion, wrench, velocity, tool_mass_kg, touch_n, gain, 0.0)

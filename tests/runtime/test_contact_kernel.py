@@ -306,7 +306,7 @@ def test_touch_damping_is_its_reference(seed: int) -> None:
     wrench[:3] += mass * motion[:3]  # the tool's own inertia at the commanded acceleration
     expected = touch_damping(motion, wrench, velocity, 1000.0, touch_n, mass)
     got = motion.copy()
-    ck.touch_damping_into(got, wrench, velocity, np.array((touch_n, mass, 1000.0)))
+    ck.touch_braking_into(got, wrench, velocity, np.array((touch_n, mass, 1000.0)), 0.0)  # as a spring's
     _close(got, expected)
     damped = not np.array_equal(got, motion)
     assert damped == toward

@@ -14,7 +14,7 @@ at the edges (thresholds, bounds, clipping):
 * :func:`coulomb_compensation_into`: :func:`cosmos.osc.friction.friction_intent` and
   :func:`cosmos.osc.friction.coulomb_compensation`;
 * :func:`speed_limited_push_into`: :func:`cosmos.osc.unified.speed_limited_push` (a push's SPEED);
-* :func:`held_push_into`, :func:`touch_damping_into`: :mod:`cosmos.osc.held_push`;
+* :func:`held_push_into`: :mod:`cosmos.osc.held_push`;
 * :func:`touch_braking_into`: :func:`cosmos.osc.contact.touch_braking` (a CONTACT's approach);
 * :func:`tilt_window_into`: :func:`cosmos.osc.tilt_window.tilt_window` (an INSERT's rotations).
 """
@@ -281,30 +281,12 @@ def held_push_into(
 
 
 @kernel
-def touch_damping_into(
-    motion: FloatArray, wrench: FloatArray, velocity: FloatArray, params: FloatArray
-) -> None:
-    """:func:`cosmos.osc.held_push.touch_damping` in place; ``params``: touch_n, m_tool, k_v."""
-    touch_n, mass, gain = params[0], params[1], params[2]
-    c0, c1, c2 = wrench[0] - mass * motion[0], wrench[1] - mass * motion[1], wrench[2] - mass * motion[2]
-    push = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
-    if not push > touch_n:
-        return
-    n0, n1, n2 = c0 / push, c1 / push, c2 / push
-    along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
-    if along > 0.0:
-        motion[0] -= gain * along * n0
-        motion[1] -= gain * along * n1
-        motion[2] -= gain * along * n2
-
-
-@kernel
 def touch_braking_into(
     motion: FloatArray, wrench: FloatArray, velocity: FloatArray, params: FloatArray, free_speed: float
 ) -> None:
     """:func:`cosmos.osc.contact.touch_braking` in place; ``params``: touch_n, m_tool, k_b.
 
-    With ``free_speed`` 0 it is :func:`touch_damping_into` (a COMPLY spring's touch).
+    With ``free_speed`` 0 it is :func:`cosmos.osc.held_push.touch_damping` (a COMPLY spring's touch).
     """
     touch_n, mass, gain = params[0], params[1], params[2]
     c0, c1, c2 = wrench[0] - mass * motion[0], wrench[1] - mass * motion[1], wrench[2] - mass * motion[2]
