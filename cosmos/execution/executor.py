@@ -25,6 +25,7 @@ from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, singul
 from cosmos.execution.expected import FREE_MOTION_FORCE_N
 from cosmos.execution.field_on_tool import FieldOnToolWatch
 from cosmos.execution.float_maths import distance_to_point
+from cosmos.execution.holding import brake_to_rest, hold_pose
 from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
@@ -47,7 +48,7 @@ from cosmos.plan import (
 )
 from cosmos.runlog.writer import RunLog
 from cosmos.runtime.loop import Runtime
-from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+from cosmos.runtime.setpoint import ServoSetpoint
 from cosmos.workcell import home_q
 
 HOLD_AFTER_FAILURE_S = 0.3
@@ -128,6 +129,8 @@ class Executor:
             if outcome.verdict is Verdict.STOPPED:
                 self._event("stopped", segment, outcome.reason)
                 self._stopped_at = self.runtime.time_s
+                if bool(np.all(segment.motion_axes)) and not any(segment.stiffness):
+                    brake_to_rest(self.runtime)  # a held contact or a spring keeps its force
                 break
             if segment.kind is SegmentKind.CONTACT_APPROACH and outcome.touched:
                 self._event("contact", segment, outcome.reason)
@@ -326,21 +329,7 @@ class Executor:
 
     def hold(self, duration_s: float = 0.0) -> None:
         """Hold the measured pose with every axis under position control (no force)."""
-        rt = self.runtime
-        rt.reset_clocks()
-        ev = rt.evaluation
-        rt.set_setpoint(
-            ServoSetpoint(
-                mode=MotionMode.HOLD,
-                position=ev.position.copy(),
-                rotation_to_world=ev.rotation_tool_to_world.copy(),
-                start_s=rt.time_s,
-                force_start_world=rt.wrench.copy(),
-            )
-        )
-        end = rt.time_s + duration_s
-        while rt.time_s < end - 1e-9:
-            rt.tick()
+        hold_pose(self.runtime, duration_s)
 
     def _fail(self, segment: Segment, outcome: Outcome) -> None:
         reason = outcome.reason

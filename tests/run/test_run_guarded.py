@@ -6,9 +6,11 @@ the arm holds where it stopped. Judged against the table top's height, z = 0.20 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
-from run_support import TABLE_TOP_Z_M, ProgramRun, run_in_process, write_program
+from run_support import BOTH_PLANTS, TABLE_TOP_Z_M, ProgramRun, run_in_process, write_program
 
 GUARDED_PROGRAM = """\
 SPEED 0.25 m/s
@@ -49,3 +51,37 @@ def test_guarded_move_stops_on_the_table(guarded_run: ProgramRun) -> None:
     assert np.all(np.abs(z_after_m - TABLE_TOP_Z_M) <= 2e-3), (
         f"held between z = {z_after_m.min() * 1e3:.2f} and {z_after_m.max() * 1e3:.2f} mm"
     )
+
+
+REVERSAL_PROGRAM = """\
+MOVE TO table + (0, 40 mm, 30 mm)
+MOVE BY (0, 0, 100 mm) SPEED 0.2 m/s UNTIL DISTANCE > 50 mm
+CONTACT DOWN FORCE 5 N SPEED 30 mm/s TIMEOUT 5 s
+MOVE BY (0, 0, 60 mm) SPEED 0.2 m/s UNTIL DISTANCE > 40 mm
+MOVE BY (0, 0, -100 mm) SPEED 20 mm/s UNTIL FORCE > 3 N TIMEOUT 8 s
+"""
+
+
+@pytest.mark.parametrize("ideal", BOTH_PLANTS)
+def test_a_stopped_motion_brakes_before_the_next_statement(tmp_path: Path, ideal: bool) -> None:
+    """After an UNTIL stops a fast motion, the next statement's touch is the table's, not the tool's inertia.
+
+    Catches the next statement started with the tool still at speed: after a lift stopped at
+    200 mm/s by UNTIL DISTANCE, a CONTACT DOWN "touched: 11.92 N along the approach" 2 ms in,
+    80 mm above the table (the wrist read the tool's inertia as it turned round), then pressed
+    down through the air and hit the table at 129 N (a protective stop); a guarded MOVE down
+    stopped on ``FORCE > 3 N`` 4 ms in. Judged against the table top's height."""
+    program = write_program(tmp_path, "reversal", REVERSAL_PROGRAM)
+    run = run_in_process(program, tmp_path / "reversal.mcap", ideal=ideal)
+    assert run.returncode == 0, run.describe()
+    state = run.log.state
+    for kind, line in (("contact", 3), ("stopped", 5)):
+        (event,) = run.events(kind, line)
+        z_m = float(state.x[min(int(np.searchsorted(state.t, event.t)), len(state) - 1), 2])
+        assert abs(z_m - TABLE_TOP_Z_M) <= 2e-3, f"line {line} {kind} at z = {z_m * 1e3:.1f} mm"
+    for line in (2, 4):  # each stopped lift came to rest before the next statement began
+        (stopped,) = run.events("stopped", line)
+        (start,) = run.events("start", line + 1)
+        resting = (state.t >= start.t) & (state.t < start.t + 0.01)
+        assert np.all(np.linalg.norm(state.v[resting, :3], axis=1) < 0.01), f"line {line + 1} started moving"
+        assert start.t - stopped.t < 0.5
