@@ -164,6 +164,11 @@ class Supervisor:
         self._pair_kinds = np.asarray(PAIR_KINDS, dtype=np.int8)[
             roles[:, None].astype(np.int64) * ROLES + roles[None, :]
         ]
+        self._tool_fixture_pairs = pairs = np.argwhere(np.triu(self._pair_kinds == TOOL_FIXTURE))  # (k, 2)
+        model = self._plant.model
+        plane = model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE
+        bound = np.where(plane, np.inf, model.geom_rbound)  # a plane's is 0
+        self._pair_reach = bound[pairs[:, 0]] + bound[pairs[:, 1]]  # the bounding spheres' radii, summed
 
     def holding(self, body: int) -> None:
         """The object of MuJoCo body ``body`` is held (-1: none): part of the tool until let go.
@@ -194,7 +199,8 @@ class Supervisor:
         self._saturated_ticks = [0] * len(self._saturated_at)
         self._counting = False
         self._tick = 0
-        self._inherited = worked_in_contact or self._tool_touches_fixture()
+        # At a fixture, touching or not: a block just grasped off the table may rest 0.1 mm above it.
+        self._inherited = worked_in_contact or self._tool_touches_fixture() or self._tool_at_fixture()
         self._touched = False
         self._since_touch = 0
         self._start = tuple(np.asarray(position, dtype=float).tolist())
@@ -299,12 +305,16 @@ class Supervisor:
         Touched: MuJoCo's contacts. At: within :data:`NEAR_FIXTURE_M` (MuJoCo's distances), as a peg
         that slid into its bore's clearance untouched is.
         """
-        if self._touched:
-            return True
+        return self._touched or self._tool_at_fixture()
+
+    def _tool_at_fixture(self) -> bool:
+        """Whether the tool is within :data:`NEAR_FIXTURE_M` of a fixture (MuJoCo's distances)."""
         model, data, fromto = self._plant.model, self._data, np.zeros(6)
-        pairs = np.argwhere(np.triu(self._pair_kinds == TOOL_FIXTURE)).tolist()
-        near = NEAR_FIXTURE_M
-        return any(mujoco.mj_geomDistance(model, data, g1, g2, near, fromto) < near for g1, g2 in pairs)
+        pairs, near = self._tool_fixture_pairs, NEAR_FIXTURE_M
+        # Only the pairs whose bounding spheres come that close (a MuJoCo distance costs 10-100 us).
+        apart = np.linalg.norm(data.geom_xpos[pairs[:, 0]] - data.geom_xpos[pairs[:, 1]], axis=1)
+        close = pairs[apart - self._pair_reach < near].tolist()
+        return any(mujoco.mj_geomDistance(model, data, g1, g2, near, fromto) < near for g1, g2 in close)
 
     def _tool_touches_fixture(self) -> bool:
         data = self._data

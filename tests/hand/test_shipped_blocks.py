@@ -84,3 +84,24 @@ def test_blocks_at_rest_sleep(tmp_path: Path) -> None:
             touching = [c for c in data.contact[: data.ncon] if geom in (c.geom1, c.geom2)]
             assert touching == [], name
         assert model.opt.enableflags & int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+
+
+@pytest.mark.parametrize("height_mm", [12.5, 15.0, 20.0])
+def test_a_block_lifted_off_the_table_is_no_collision(tmp_path: Path, height_mm: float) -> None:
+    """A block grasped where it stands lifts off the table without a protective stop.
+
+    Catches the lift's start judged by MuJoCo's contacts alone: block_b grasped 15 mm up
+    (ideal plant) rested a fraction of a millimetre above the table when the lift began, no
+    contact in MuJoCo's list, so the table it touched again 4 ms later was a new contact:
+    "protective stop: block_b hit fixture 'table' at 5.20 s, 0.4 N". A tool *at* a fixture
+    (within 0.5 mm, MuJoCo's distances) starts in contact with it, as a touching one does.
+    """
+    program = PICK_B.replace("100 mm)", "80 mm)").replace("12.5 mm) SPEED 50", f"{height_mm} mm) SPEED 40")
+    program = program.replace("FORCE 30 N WIDTH 30 mm", "FORCE 35 N").replace(
+        "(0, 0, 50 mm) SPEED 0.1 m/s", "(0, 0, 80 mm)"
+    )
+    log = tmp_path / "lift.mcap"
+    run = run_in_process(write_program(tmp_path, "lift", program), log, ideal=True)
+    assert run.returncode == 0, run.describe()
+    position, _ = tf_last_pose(log, "block_b")
+    assert position[2] > TABLE_TOP_Z_M + 0.015 + 0.075, position  # lifted 80 mm (the grip may slip 5 mm)
