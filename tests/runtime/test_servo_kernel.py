@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from cosmos.osc.admittance import admittance_command, admittance_speed, low_pass, without_axes
-from cosmos.osc.contact import contact_latched, push_landed, touch_latched
+from cosmos.osc.contact import LANDED_PUSH, contact_latched, push_landed, touch_latched
 from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
@@ -652,14 +652,15 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     # Figure 2's force loop: integral latched on the first push.
     touching = touch_latched(bool(st[sk.FLAGS, sk.TOUCHING]), sel.omega_bar, wrench, CONTACT_THRESHOLD_N)
     integral = st[sk.INTEGRAL].copy()
-    # A held push's goal counts only once landed (cosmos.osc.contact.push_landed).
     # A held push's goal counts only once landed, and then once its ramp is over even short of
-    # it (cosmos.osc.contact.push_landed).
+    # it or over it (cosmos.osc.contact.push_landed).
     goal_met = force_goal_reached(vec[sk.FORCE_WORLD], wrench)
     if sc[sk.PUSH_SPEED] > 0.0:
         reached = bool(st[sk.FLAGS, sk.REACHED]) or goal_met
     else:
-        landed = push_landed(vec[sk.FORCE_WORLD], wrench, velocity)
+        landed = push_landed(
+            vec[sk.FORCE_WORLD], wrench, velocity, share=np.inf if fraction >= 1.0 else LANDED_PUSH
+        )
         reached = bool(st[sk.FLAGS, sk.REACHED]) or (landed and (fraction >= 1.0 or goal_met))
     if touching and reached:
         integral = integrate_force_error(

@@ -34,6 +34,8 @@ FloatArray = np.ndarray
 
 LANDED = np.array((LANDED_SPEED_MPS, LANDED_PUSH))
 """cosmos.osc.contact.push_landed's limits: the speed [m/s], the share of the goal."""
+LANDED_AFTER_RAMP = np.array((LANDED_SPEED_MPS, np.inf))
+"""... once the setpoint's ramp is over: at rest along the push, whatever it pushes."""
 
 
 @kernel
@@ -73,13 +75,16 @@ def force_goal_latched(
     """The force integral's goal latch (:func:`goal_reached`), a held push's once landed.
 
     A held push's goal counts only once :func:`push_landed`, and then also once its setpoint's
-    ramp is over (``ramped``); a push held to its speed (INSERT) latches on its goal alone.
+    ramp is over (``ramped``), when a push over its goal counts too (at rest, it is no impact:
+    a held block landed on another at 19 N and stayed at 14 N for a 4 N CONTACT, the joints'
+    friction holding the arm, the integral waiting for the push to fall); a push held to its
+    speed (INSERT) latches on its goal alone.
     """
     if reached:
         return True
     if not held:
         return goal_reached(False, goal, wrench, REACH_FRACTION)
-    if not push_landed(goal, wrench, velocity, LANDED):
+    if not push_landed(goal, wrench, velocity, LANDED_AFTER_RAMP if ramped else LANDED):
         return False
     return ramped or goal_reached(False, goal, wrench, REACH_FRACTION)
 
