@@ -56,19 +56,32 @@ def expects_contact(segment: Segment) -> bool:
     return any(s is not None and s > 0.0 for s in segment.stiffness)  # a COMPLY spring
 
 
-def force_limit_n(segment: Segment, free_limit_n: float) -> float:
+def spring_press_n(segment: Segment, start: FloatArray, goal: FloatArray) -> float:
+    """The hardest a COMPLY spring of the segment can press [N].
+
+    Its stiffness times its anchor's travel along its axis (the MOVE from ``start`` to ``goal``,
+    world [m]), the largest axis's: ``COMPLY Z STIFFNESS 4000 N/m`` moved 25 mm down, 15 mm to the
+    table, presses 40 N, which the 30 N of a statement without FORCE stopped.
+    """
+    travel = segment.frame_rotation.T @ (np.asarray(goal, dtype=float) - start)
+    presses = [k * abs(float(d)) for k, d in zip(segment.stiffness[:3], travel, strict=True) if k]
+    return max(presses, default=0.0)
+
+
+def force_limit_n(segment: Segment, free_limit_n: float, spring_press: float = 0.0) -> float:
     """The largest force the statement may see at the wrist [N] (module docstring).
 
     Args:
         segment: The running segment.
         free_limit_n: The free-motion limit in force (default or ``LIMIT FORCE``).
+        spring_press: :func:`spring_press_n`: a spring's press counts as a FORCE [N].
     """
     limit = free_limit_n
     guarded, threshold = has_force_term(segment.until)
     if guarded:
         limit = max(limit, 2.0 * threshold + CONTACT_FORCE_MARGIN_N)
     if expects_contact(segment):
-        setpoint = float(np.max(np.abs(segment.force_setpoint[:3])))
+        setpoint = max(float(np.max(np.abs(segment.force_setpoint[:3]))), spring_press)
         limit = max(limit, 2.0 * setpoint + CONTACT_FORCE_MARGIN_N)
     return min(limit, WRIST_SENSOR.force_n)
 

@@ -52,6 +52,7 @@ from cosmos.execution.expected import (
     force_limit_n,
     has_force_term,
     off_line,
+    spring_press_n,
 )
 from cosmos.plan import Segment
 from cosmos.plant import Plant
@@ -193,7 +194,8 @@ class Supervisor:
         worked_in_contact = self._expect_fixture  # the previous statement's: a peg may graze its hole
         self._expect_fixture = expects_contact(segment)
         self._guarded = has_force_term(segment.until)[0]
-        self._force_limit = force_limit_n(segment, self.free_force_limit_n)
+        press = spring_press_n(segment, position, goal_position)
+        self._force_limit = force_limit_n(segment, self.free_force_limit_n, press)
         self._force_limit2 = self._force_limit**2
         self._over = 0
         self._saturated_ticks = [0] * len(self._saturated_at)

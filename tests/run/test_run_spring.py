@@ -125,3 +125,22 @@ def test_a_spring_move_in_free_space_arrives_at_its_speed(tmp_path: Path, ideal:
     cruise = (t[:-5] >= start + RAMP_S) & (t[5:] <= start + 0.015 / SPEED_M_S)
     assert float(speeds[cruise].mean()) >= 0.8 * SPEED_M_S, speeds[cruise].mean()
     assert float(speeds.max()) <= 1.1 * SPEED_M_S, speeds.max()
+
+
+def test_a_stiff_spring_presses_past_the_default_limit(tmp_path: Path) -> None:
+    """``COMPLY Z STIFFNESS 4000 N/m`` moved 25 mm down, the table 15 mm below: it presses
+    k x shortfall (about 40 N), without a protective stop.
+
+    Catches a spring's press judged against a statement without FORCE's limit (30 N): the
+    MOVE stopped at 30.3 N ("above this statement's limit of 30 N") while doing what the
+    program asks. Judged against the spring's law from the program's numbers and the log."""
+    source = (
+        "MOVE TO table + (-20 mm, 0, 15 mm)\nCOMPLY Z STIFFNESS 4000 N/m\n"
+        "MOVE BY (0, 0, -25 mm) SPEED 10 mm/s\nWAIT 1 s\n"
+    )
+    record = _run(tmp_path, source, seed=0, ideal=True)
+    _, end, _ = _window(record, 4)
+    start_z = record.state.x[record.state.t <= _window(record, 3)[0] + 1e-9, 2][-1]
+    end_z = record.state.x[record.state.t <= end, 2][-1]
+    shortfall = end_z - (start_z - 0.025)
+    assert abs(_pressing_n(record, end) - 4000.0 * shortfall) < 0.1 * 4000.0 * shortfall
