@@ -48,6 +48,8 @@ class Failure:
         statement: The statement's text as logged.
         reason: The measured reason, as logged (``found no contact within 1.5 s``).
         source: The program text, to show the line.
+        context: Where the statement was expanded from, as logged
+            (``"PROC probe called at line 5"``; "" at top level or in an older log).
     """
 
     kind: OutcomeKind
@@ -56,6 +58,7 @@ class Failure:
     statement: str
     reason: str
     source: str | None = field(default=None, repr=False)
+    context: str = ""
 
     @property
     def location(self) -> str:
@@ -64,12 +67,20 @@ class Failure:
 
     @property
     def message(self) -> str:
-        """``CONTACT UP found no contact within 1.5 s``: the statement's head and the reason."""
-        from cosmos.execution.monitor import failure_text, statement_head  # as the executor words them
+        """``CONTACT UP found no contact within 1.5 s``: the statement's head, the reason, its origin.
+
+        A statement of a PROC or a loop's pass ends with where it came from, as the
+        compiler's errors do: ``... within 0.5 s (in PROC probe called at line 5)``.
+        """
+        from cosmos.execution.wording import (
+            failure_text,
+            origin,
+            statement_head,
+        )  # as the executor words them
 
         if self.kind is OutcomeKind.INTERRUPTED:  # as the executor's Interrupted says it
-            return f"{statement_head(self.statement)} interrupted"
-        return failure_text(self.statement, self.reason)
+            return f"{statement_head(self.statement)} interrupted{origin(self.context)}"
+        return failure_text(self.statement, self.reason, self.context)
 
     def error(self) -> TaskFailure:
         """The failure as the exception ``cosmos run`` reports (``raise run.outcome.error()``)."""
@@ -249,7 +260,7 @@ def _failure(
     t: float | None = None,
 ) -> Failure:
     span = statement_span(program, event.line, event.statement, source)
-    return Failure(kind, event.t if t is None else t, span, event.statement, reason, source)
+    return Failure(kind, event.t if t is None else t, span, event.statement, reason, source, event.context)
 
 
 def statement_span(program: str, line: int, statement: str, source: str | None) -> Span | None:

@@ -33,7 +33,7 @@ from cosmos.execution.resolve import effective_masses, posture_joints, segment_g
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
 from cosmos.execution.walker import NO_HAND, HandSteps, PlanWalker, Senses
-from cosmos.execution.wording import failure_text, statement_head
+from cosmos.execution.wording import failure_text, origin, statement_head
 from cosmos.lang.check.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
@@ -163,7 +163,9 @@ class Executor:
         self.hold(HOLD_AFTER_FAILURE_S)
         if self.log is not None:
             self.log.flush()
-        raise TaskFailure(failure_text(step.statement, reason), step.span, self._source)
+        raise TaskFailure(
+            failure_text(step.statement, reason, self.walker.context_of(step)), step.span, self._source
+        )
 
     def recoverable(self, failure: TaskFailure) -> bool:
         """A TRY takes over any failure but an interruption from outside."""
@@ -178,7 +180,9 @@ class Executor:
         except TaskFailure as failure:
             self._event("failed", step, failure.message)
             self.hold(HOLD_AFTER_FAILURE_S)
-            raise TaskFailure(failure.message, step.span, self._source) from None
+            raise TaskFailure(
+                failure.message + origin(self.walker.context_of(step)), step.span, self._source
+            ) from None
         self._event("done", step, "")
         self.supervisor.obstacle_names = self.obstacles.scene.body_names()
 
@@ -341,7 +345,11 @@ class Executor:
         self.hold(HOLD_AFTER_FAILURE_S)
         if self.log is not None:
             self.log.flush()
-        raise TaskFailure(failure_text(segment.statement, reason), segment.span, self._source)
+        raise TaskFailure(
+            failure_text(segment.statement, reason, self.walker.context_of(segment)),
+            segment.span,
+            self._source,
+        )
 
     # ------------------------------------------------------------------- log
 
@@ -350,7 +358,10 @@ class Executor:
             return
         line = segment.line if segment is not None else 0
         statement = segment.statement if segment is not None else ""
-        self.log.event(self.runtime.time_s, kind, line=line, statement=statement, reason=reason)
+        context = self.walker.context_of(segment) if segment is not None else ""
+        self.log.event(
+            self.runtime.time_s, kind, line=line, statement=statement, reason=reason, context=context
+        )
 
     def _log_segment(self, segment: Segment, setpoint: ServoSetpoint) -> None:
         index = self.segment_count

@@ -16,6 +16,10 @@ reaches them:
 
 Every decision is an event in the log (``decision``, with the values read and
 the branch taken), and so is every recovery (``recovery``) and retry (``retry``).
+
+A statement's context (:meth:`PlanWalker.context_of`) is where it came from: the
+PROC calls and REPEAT passes it was compiled from, and the WHILE pass or TRY
+retry the walk is in, so a failure inside one names which.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from typing import NoReturn, Protocol
 import numpy as np
 
 from cosmos.errors import TaskFailure
+from cosmos.execution.wording import run_context
 from cosmos.plan import (
     AddObstacle,
     AllOf,
@@ -134,15 +139,16 @@ class _RetryRequest(Exception):
 
 
 _UNITS = {
-    Quantity.FORCE: (1.0, "N"),
-    Quantity.FORCE_ALONG: (1.0, "N"),
-    Quantity.TORQUE: (1.0, "N m"),
-    Quantity.TORQUE_ABOUT: (1.0, "N m"),
-    Quantity.POSITION_ALONG: (1e3, "mm"),
-    Quantity.DISTANCE_FROM: (1e3, "mm"),
-    Quantity.FINGER_FORCE: (1.0, "N"),
+    Quantity.FORCE: (1.0, "N", 2),
+    Quantity.FORCE_ALONG: (1.0, "N", 2),
+    Quantity.TORQUE: (1.0, "N m", 2),
+    Quantity.TORQUE_ABOUT: (1.0, "N m", 2),
+    Quantity.POSITION_ALONG: (1e3, "mm", 1),
+    Quantity.DISTANCE_FROM: (1e3, "mm", 1),
+    Quantity.FINGER_FORCE: (1.0, "N", 2),
 }
-"""How a value read is written in the log: scale from SI and unit."""
+"""How a value read is written in the log: scale from SI, unit, and decimals (as the
+other reasons write forces and distances: ``read -10.09 N``, ``read 24.8 mm``)."""
 _ENDED = {None: "was done", Ending.FAILED: "failed", Ending.STOPPED: "ended on its UNTIL"}
 
 
@@ -160,6 +166,20 @@ class PlanWalker:
     def __init__(self, runner: StepRunner):
         self.runner = runner
         self.last: Ending | None = None
+        self.frames: list[tuple[str, str]] = []
+        """The WHILE passes and TRY retries being walked, outermost first: (its step's context, its text)."""
+
+    def context_of(self, step: Step) -> str:
+        """Where ``step`` came from: ``"REPEAT pass 2 of 2 at line 6; PROC probe called at line 7"``."""
+        return run_context(getattr(step, "context", ""), self.frames)  # scene and hand steps have none
+
+    def _walk_in(self, step: Loop | Attempt, text: str, steps: tuple[Step, ...]) -> None:
+        """Walk ``steps`` as a pass of ``step`` (``text``: ``"WHILE pass 2 at line 6"``)."""
+        self.frames.append((step.context, text))
+        try:
+            self.walk(steps)
+        finally:
+            self.frames.pop()
 
     def walk(self, steps: tuple[Step, ...]) -> None:
         """Run ``steps`` in order, deciding each IF, WHILE and TRY when it is reached.
@@ -218,13 +238,16 @@ class PlanWalker:
                 self.runner.fail(step, f"still holds after {passes} passes (MAX {step.max_passes})")
             passes += 1
             self.runner.note("decision", step, f"{read}; holds: pass {passes}")
-            self.walk(step.body)
+            self._walk_in(step, f"WHILE pass {passes} at line {step.line}", step.body)
 
     def _attempt(self, step: Attempt) -> None:
-        retries = 0
+        retries, times = 0, 0
         while True:
             try:
-                self.walk(step.body)
+                if retries:
+                    self._walk_in(step, f"TRY retry {retries} of {times} at line {step.line}", step.body)
+                else:
+                    self.walk(step.body)
                 return
             except TaskFailure as failure:
                 if not self.runner.recoverable(failure):
@@ -245,7 +268,7 @@ class PlanWalker:
                         f"the TRY block (line {step.line}) failed again after {retries} "
                         f"retr{'y' if retries == 1 else 'ies'}: {last_failure.message}",
                     )
-                retries += 1
+                retries, times = retries + 1, retry.times
                 self.runner.note(
                     "retry",
                     retry,
@@ -272,8 +295,8 @@ def _holds(condition: Condition, senses: Senses, last: Ending | None, readings: 
         readings.append(f"{condition.text}: the last statement {_ENDED[last]}")
         return last is condition.ending
     measured = measure(condition, senses)
-    scale, unit = _UNITS.get(condition.quantity, (1.0, ""))
-    readings.append(f"{condition.text}: read {measured * scale:.6g} {unit}".rstrip())
+    scale, unit, decimals = _UNITS.get(condition.quantity, (1.0, "", 3))
+    readings.append(f"{condition.text}: read {measured * scale:.{decimals}f} {unit}".rstrip())
     return condition.op.holds(measured, condition.value)
 
 

@@ -5,7 +5,8 @@
 - the state samples, one by one: same times (within :data:`TIME_TOLERANCE_S`),
   and every vector field (q, qd, tau, x, quat, v, wrench) within ``tolerance``
   (default one unit of the log's 1e-6 rounding), and the same segment and line;
-- the events: same kind, line, statement, reason, and time;
+- the events: same kind, line, statement, reason, time, and context (where the log has one:
+  logs written before events carried it have none);
 - the segments: same index, kind, line, statement, time, selection and setpoints.
 
 A log cut short (killed run) or interrupted (Ctrl-C) is compared up to where it
@@ -221,13 +222,19 @@ def _describe(name: str, old: np.ndarray, new: np.ndarray) -> str:
 
 def _event_text(event: EventRecord) -> str:
     reason = f" ({event.reason})" if event.reason else ""
-    return f"{event.kind} of line {event.line} '{event.statement}' at t = {event.t:.3f} s{reason}"
+    where = f" in {event.context}" if event.context else ""
+    return f"{event.kind} of line {event.line} '{event.statement}'{where} at t = {event.t:.3f} s{reason}"
 
 
 def _event_departure(ours: Sequence[EventRecord], theirs: Sequence[EventRecord]) -> Departure | None:
     for old, new in zip(ours, theirs, strict=False):
         same_time = abs(old.t - new.t) <= TIME_TOLERANCE_S
-        if (old.kind, old.line, old.reason) == (new.kind, new.line, new.reason) and same_time:
+        same_context = not old.context or old.context == new.context  # "" in logs before it was kept
+        if (
+            (old.kind, old.line, old.reason) == (new.kind, new.line, new.reason)
+            and same_time
+            and same_context
+        ):
             if old.statement == new.statement:
                 continue
             what = (

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+from cosmos.execution.wording import short_context
 from cosmos.replay.timeline import StatementRun
 from cosmos.runlog.reader import RunRecord
 
@@ -54,6 +55,11 @@ def _channel_table(record: RunRecord) -> list[str]:
     return lines
 
 
+def _with_origin(reason: str, context: str) -> str:
+    """A row's reason led by where its statement came from: ``[pass 2/2 @6 > probe @7] found no ...``."""
+    return f"[{short_context(context)}] {reason}" if context else reason
+
+
 def format_summary(record: RunRecord, timeline: Sequence[StatementRun]) -> str:
     """Header (program, versions, rates, duration, channels) and the statement timeline."""
     meta = record.metadata
@@ -92,7 +98,7 @@ def format_summary(record: RunRecord, timeline: Sequence[StatementRun]) -> str:
         lines.append(
             f"{run.line:>5}  {text:<{_STATEMENT_WIDTH}}  {run.start:>8.3f}  {run.end:>8.3f}  "
             f"{run.outcome:<10}  {_newtons(run.peak_force):>9}  {_newtons(run.final_force):>9}  "
-            f"{run.reason}".rstrip()
+            f"{_with_origin(run.reason, run.context)}".rstrip()
         )
         for note in run.notes:
             lines.append(f"{'':>5}  {'':<{_STATEMENT_WIDTH}}  - {note}")

@@ -29,6 +29,8 @@ class StatementRun:
         final_force: |f| at the last sample of the statement [N] (NaN: no sample).
         notes: Contacts, collisions and warnings during it, as ``kind: reason``.
         depth: Nesting depth (a statement started while another was running).
+        context: Where an expanded statement came from, as its start event logs it
+            (``"PROC probe called at line 5"``); "" at top level or in an older log.
     """
 
     line: int
@@ -41,6 +43,7 @@ class StatementRun:
     final_force: float
     notes: tuple[str, ...]
     depth: int
+    context: str = ""
 
     @property
     def between(self) -> bool:
@@ -54,6 +57,7 @@ class _Open:
     statement: str
     start: float
     depth: int
+    context: str = ""
     notes: list[str] = field(default_factory=list)
 
 
@@ -97,16 +101,17 @@ def statement_timeline(record: RunRecord) -> list[StatementRun]:
                 final_force=final,
                 notes=tuple(item.notes),
                 depth=item.depth,
+                context=item.context,
             )
         )
 
     for event in record.events:
         if event.kind == EventKind.START:
-            stack.append(_Open(event.line, event.statement, event.t, len(stack)))
+            stack.append(_Open(event.line, event.statement, event.t, len(stack), event.context))
         elif event.kind in OUTCOME_KINDS:
             match = _innermost(stack, event.line)
             if match is None:  # an end without a start: show it as an instant
-                item = _Open(event.line, event.statement, event.t, len(stack))
+                item = _Open(event.line, event.statement, event.t, len(stack), event.context)
                 close(item, event.t, event.kind, event.reason)
                 continue
             while len(stack) > match + 1:
@@ -119,7 +124,17 @@ def statement_timeline(record: RunRecord) -> list[StatementRun]:
             nan = float("nan")
             runs.append(
                 StatementRun(
-                    event.line, event.statement, event.t, event.t, event.kind, event.reason, nan, nan, (), 0
+                    event.line,
+                    event.statement,
+                    event.t,
+                    event.t,
+                    event.kind,
+                    event.reason,
+                    nan,
+                    nan,
+                    (),
+                    0,
+                    event.context,
                 )
             )
     end = record.end_time

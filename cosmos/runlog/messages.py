@@ -149,7 +149,9 @@ def event_kind(kind: str) -> EventKind:
         raise ValueError(f"event kind must be one of {known}; got {kind!r}") from None
 
 
-def event_message(t: float, kind: EventKind, line: int, statement: str, reason: str) -> bytes:
+def event_message(
+    t: float, kind: EventKind, line: int, statement: str, reason: str, context: str = ""
+) -> bytes:
     """JSON of a ``/cosmos/event`` message."""
     message = {
         "t": t,
@@ -157,11 +159,16 @@ def event_message(t: float, kind: EventKind, line: int, statement: str, reason: 
         "line": line,
         "statement": statement,
         "reason": reason,
+        "context": context,
     }
     return json.dumps(message).encode()
 
 
-def event_log_line(kind: EventKind, statement: str, reason: str) -> tuple[LogLevel, str]:
+def event_log_line(kind: EventKind, statement: str, reason: str, context: str = "") -> tuple[LogLevel, str]:
     """Level and text of the ``/log`` line that shows an event in Foxglove."""
-    text = f"{kind.value}: {statement}" + (f": {reason}" if reason else "")
+    text = (
+        f"{kind.value}: {statement}"
+        + (f": {reason}" if reason else "")
+        + (f" (in {context})" if context else "")
+    )
     return _EVENT_LEVELS.get(kind, LogLevel.INFO), text

@@ -62,6 +62,8 @@ class EventRecord:
     line: int
     statement: str
     reason: str
+    context: str = ""
+    """Where an expanded statement came from (``"PROC probe called at line 5"``); "" at top level."""
 
 
 @dataclass(frozen=True)
@@ -329,6 +331,7 @@ def _event(m: Json) -> EventRecord:
         line=validate.count(m, "line", limits.MAX_LINE),
         statement=validate.text(m, "statement"),
         reason=validate.text(m, "reason", default=""),
+        context=validate.text(m, "context", default=""),  # "" in logs written before it was
     )
 
 

@@ -238,6 +238,11 @@ EVENT_SCHEMA: Final = _object(
         "line": _integer("source line of the statement concerned (0: none)"),
         "statement": _string("source text of the statement concerned"),
         "reason": _string("why, in words (empty if there is nothing to add)"),
+        "context": _string(
+            "where a statement expanded from a PROC, REPEAT, WHILE or TRY came from, outermost "
+            "first ('REPEAT pass 2 of 2 at line 6; PROC probe called at line 7'); empty at top "
+            "level and in logs written before it was recorded"
+        ),
     },
 )
 

@@ -274,7 +274,9 @@ class RunLog(StateBatches):
         )
         self._stage(self._segment, log_time_ns(t), data)
 
-    def event(self, t: float, kind: str, *, line: int, statement: str, reason: str = "") -> None:
+    def event(
+        self, t: float, kind: str, *, line: int, statement: str, reason: str = "", context: str = ""
+    ) -> None:
         """Record a change of outcome on ``/cosmos/event`` (and ``/log`` for Foxglove).
 
         Args:
@@ -283,15 +285,17 @@ class RunLog(StateBatches):
             line: Source line of the statement concerned (0: none).
             statement: Its source text.
             reason: Why, in words.
+            context: Where an expanded statement came from, outermost first
+                (``"REPEAT pass 2 of 2 at line 6; PROC probe called at line 7"``; "" at top level).
 
         Raises:
             ValueError: If ``kind`` is not an event kind.
         """
         event = event_kind(kind)
-        data = event_message(t, event, line, statement, reason)
+        data = event_message(t, event, line, statement, reason, context)
         t_ns = log_time_ns(t)
         self._stage(self._event, t_ns, data)
-        level, text = event_log_line(event, statement, reason)
+        level, text = event_log_line(event, statement, reason, context)
         self._stage(self._log, t_ns, foxglove.log_message(t_ns, level, text, self.program, line))
 
     def scene(self, t: float, add: Sequence[Primitive] = (), remove: Sequence[str] = ()) -> None:

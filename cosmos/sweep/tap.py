@@ -29,9 +29,11 @@ class LogTap:
         self.samples: list[tuple[float, int, float]] = []  # (t [s], line, |f| [N])
         write_event, write_state = log.event, log.state
 
-        def event(t: float, kind: str, *, line: int, statement: str, reason: str = "") -> None:
-            write_event(t, kind, line=line, statement=statement, reason=reason)
-            self.events.append(EventRecord(t, kind, line, statement, reason))
+        def event(
+            t: float, kind: str, *, line: int, statement: str, reason: str = "", context: str = ""
+        ) -> None:
+            write_event(t, kind, line=line, statement=statement, reason=reason, context=context)
+            self.events.append(EventRecord(t, kind, line, statement, reason, context))
 
         def state(t: float, *vectors: Any) -> None:
             write_state(t, *vectors)
