@@ -186,7 +186,6 @@ def test_a_top_level_failure_adds_no_origin(tmp_path_factory: pytest.TempPathFac
     assert outcome is not None and outcome.message == NO_CONTACT
 
 
-
 def test_the_repl_names_the_call_that_failed(tmp_path: Path) -> None:
     """A procedure defined in the REPL and called there fails at its CONTACT: the REPL's error
     names the call as ``cosmos run`` does. Catches the origin shown in files only."""
