@@ -124,6 +124,7 @@ def test_segment_and_event_messages_round_trip_exactly(run_log: tuple[Path, Writ
         "line": 2,
         "statement": "MOVE TO hole + (0, 0, 80 mm)",
         "reason": "",
+        "context": "",
     }
     failed = next(e for e in events if e["kind"] == "failed")
     assert failed == {
@@ -132,6 +133,7 @@ def test_segment_and_event_messages_round_trip_exactly(run_log: tuple[Path, Writ
         "line": 5,
         "statement": "INSERT DOWN DEPTH 30 mm FORCE 15 N",
         "reason": "jammed at 10 mm",
+        "context": "",
     }
 
 
