@@ -196,3 +196,15 @@ def test_the_repl_names_the_call_that_failed(tmp_path: Path) -> None:
     (failed,) = [e for e in session.log.events if e.kind == "failed"]
     assert failed.context.startswith("PROC probe called at line "), failed
     assert f"{NO_CONTACT} (in {failed.context})" in session.output, session.output
+
+
+def test_a_failure_in_a_retry_names_the_retry(tmp_path_factory: pytest.TempPathFactory) -> None:
+    """A TRY block fails, its RETRY 1 runs it again and it fails again: the first failure has no
+    origin (top level), the second names the retry, and so does the message the run ends with.
+    Catches a retry's failure that reads the same as the first attempt's."""
+    source = f"MOVE TO (0.5, 0.0, 0.3) SPEED 0.2 m/s\nTRY\n  {AIR}\nON FAIL\n  RETRY 1\nEND\n"
+    run = _run(tmp_path_factory, "retried", source)
+    assert run.returncode == 1, run.describe()
+    context = "TRY retry 1 of 1 at line 2"
+    assert _failed(run, 3) == ["", context]
+    assert f"{NO_CONTACT} (in {context})" in run.stderr, run.stderr
