@@ -285,16 +285,14 @@ class RunLog(StateBatches):
             line: Source line of the statement concerned (0: none).
             statement: Its source text.
             reason: Why, in words.
-            context: Where an expanded statement came from, outermost first
-                (``"REPEAT pass 2 of 2 at line 6; PROC probe called at line 7"``; "" at top level).
+            context: Where an expanded statement came from ("PROC p called at line 7"; "": top level).
 
         Raises:
             ValueError: If ``kind`` is not an event kind.
         """
         event = event_kind(kind)
-        data = event_message(t, event, line, statement, reason, context)
         t_ns = log_time_ns(t)
-        self._stage(self._event, t_ns, data)
+        self._stage(self._event, t_ns, event_message(t, event, line, statement, reason, context))
         level, text = event_log_line(event, statement, reason, context)
         self._stage(self._log, t_ns, foxglove.log_message(t_ns, level, text, self.program, line))
 
