@@ -231,7 +231,8 @@ class PlanWalker:
         while True:
             holds, read = self.decide(step.condition)
             if not holds:
-                self.runner.note("decision", step, f"{read}; does not hold: ends after {passes} passes")
+                said = f"{passes} pass" + ("" if passes == 1 else "es")
+                self.runner.note("decision", step, f"{read}; does not hold: ends after {said}")
                 return
             if passes == step.max_passes:
                 self.runner.note("decision", step, f"{read}; holds after {passes} passes")
