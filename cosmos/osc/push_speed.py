@@ -44,6 +44,14 @@ Measured and not kept (2026-11-24; realistic plant, seeds 0-4, unless said):
 * Integral action on the push's speed error (100-300/s with 300-2,500/s^2, gated to a moving
   tool): the bore's grazes became stick-slip (1.5-7 mm/s at SPEED 5 on the ideal plant).
 
+* The approach landing at 10 mm/s whatever the SPEED (with the cruise integral, or without it at
+  8 mm/s), braked (:func:`cosmos.osc.contact.touch_braking`): the shipped peg sweep's INSERT
+  peaked at 16.7 N at the 95th percentile, 23.0 N at most (run 7, a peg pressed on the mouth's
+  edge 0.65 s after its touch), against 19.5 N and 37.4 N braked at its SPEED, and 60/60; but
+  the insertion after that gentle landing stalled in the bore at SPEED 20 and 30 mm/s (the share
+  of the insertion within half its SPEED 0.93 -> 0.40 at SPEED 30 on the ideal plant, 0.97 ->
+  0.61 at SPEED 20 on the realistic plant's seed 1; tests/run/test_run_insert_speed.py fails).
+
 SPEED 5 mm/s on the realistic plant still peaks 30 % over (6.50 mm/s, seed 0; a strict xfail in
 tests/run/test_run_insert_speed.py). The cause, measured (2026-11-24, seeds 0-4, peaks in mm/s):
 the speed this servo reads. At 5 mm/s a joint turns one encoder count every 6-9 ms, and the
