@@ -356,12 +356,12 @@ def setpoint_for(
         # SPEED (the cruise integral) the insertion rang past its cap (11.05 mm/s at 10, seed 0).
         # A spring renders k (x_anchor - x): no integral may turn it into a stiff servo.
         cruise_integral=not isinstance(segment.completion, DepthReached) and not sprung,
-        touch_braking=_approach(segment),  # a CONTACT's or an INSERT's (cosmos.osc.contact.touch_braking)
+        touch_braking=brakes_at_its_touch(segment),  # cosmos.osc.contact.touch_braking
         leg=mode is MotionMode.GOAL and bool(segment.via) and not _first_goal(segment, goal_position),
     )
 
 
-def _approach(segment: Segment) -> bool:
+def brakes_at_its_touch(segment: Segment) -> bool:
     """A CONTACT's or an INSERT's approach: every axis held until the tool touches.
 
     Both brake from the first push they feel (:func:`cosmos.osc.contact.touch_braking`). An

@@ -43,4 +43,5 @@ def test_insert_landing_peak_within_the_contact_bound(tmp_path: Path, ideal: boo
     window = (state.t >= touch - 0.01) & (state.t <= touch + WINDOW_S)
     peak = float(np.linalg.norm(state.wrench[window, :3], axis=1).max())
     assert peak > 0.5 * FORCE_N, f"no landing seen ({peak:.1f} N)"
-    assert peak <= max(1.5 * FORCE_N, FORCE_N + 5.0), f"landing peaked at {peak:.1f} N for FORCE {FORCE_N:g} N"
+    bound = max(1.5 * FORCE_N, FORCE_N + 5.0)
+    assert peak <= bound, f"landing peaked at {peak:.1f} N for FORCE {FORCE_N:g} N"

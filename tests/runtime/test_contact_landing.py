@@ -8,10 +8,13 @@ gains each kind of motion gets from :func:`cosmos.runtime.servo_gains.touch_damp
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 
+from cosmos.execution.resolve import brakes_at_its_touch
+from cosmos.lang import compile_program
 from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS, TOUCH_BRAKING_N, push_landed, touch_braking
 from cosmos.osc.held_push import touch_damping
 from cosmos.runtime.kernels import contact as ck
@@ -85,18 +88,60 @@ def test_touch_braking_kernel_is_its_reference(seed: int) -> None:
     rng = np.random.default_rng(seed)
     motion, velocity = rng.normal(0.0, 3.0, 6), rng.normal(0.0, 0.03, 6)
     wrench = rng.normal(0.0, 2.0, 6)
-    params = np.array((rng.uniform(0.1, 1.0), 0.65, 300.0))
+    mass = rng.uniform(0.3, 2.5)  # the peg tool's 0.66 kg to a gripper holding a peg
+    params = np.array((rng.uniform(0.1, 1.0), mass, 300.0))
     for landing in (0.0, rng.uniform(0.0, 0.02)):
-        expected = touch_braking(motion, wrench, velocity, 0.65, params[0], 300.0, landing)
+        expected = touch_braking(motion, wrench, velocity, mass, params[0], 300.0, landing)
         got = motion.copy()
         ck.touch_braking_into(got, wrench, velocity, params, landing)
         assert got == pytest.approx(expected, rel=1e-12, abs=1e-12)
-    spring = touch_damping(motion, wrench, velocity, 300.0, params[0], 0.65)
-    assert touch_braking(motion, wrench, velocity, 0.65, params[0], 300.0, 0.0) == pytest.approx(spring)
+    spring = touch_damping(motion, wrench, velocity, 300.0, params[0], mass)
+    assert touch_braking(motion, wrench, velocity, mass, params[0], 300.0, 0.0) == pytest.approx(spring)
+
+
+def test_touch_braking_threshold_grows_with_the_mass_below_the_sensor() -> None:
+    """A 2 kg tool (a gripper holding the peg) brakes from 1.5 N (0.75 N/kg), not from 0.5 N; the
+    0.66 kg peg tool still from 0.5 N. Computed by hand: 0.75 x 2 = 1.5 N > 0.5 N.
+
+    Catches the braking reading a heavy tool's inertia as a push: grasp_and_insert.cos's INSERT
+    (seed 7 of tests/hand/test_grasp_and_insert.py) braked on the hand's inertia, read its own
+    braking as a 2 N touch 1.6 mm above the hole and jammed 8.3 mm in."""
+    motion, velocity = np.zeros(6), np.array([0.0, 0.0, -0.03, 0.0, 0.0, 0.0])
+    down = np.array([0.0, 0.0, -1.0, 0.0, 0.0, 0.0])
+    assert np.array_equal(touch_braking(motion, 1.4 * down, velocity, 2.0), motion)
+    assert touch_braking(motion, 1.6 * down, velocity, 2.0)[2] == pytest.approx(7.5)
+    assert touch_braking(motion, 0.6 * down, velocity, 0.66)[2] == pytest.approx(7.5)
+    for push, braked in ((1.4, False), (1.6, True)):
+        got = motion.copy()
+        ck.touch_braking_into(got, push * down, velocity, np.array((0.5, 2.0, 300.0)), 0.005)
+        assert (got[2] > 0.0) == braked
 
 
 def _setpoint(**kwargs: object) -> ServoSetpoint:
     return ServoSetpoint(mode=MotionMode.GOAL, position=np.zeros(3), rotation_to_world=np.eye(3), **kwargs)  # type: ignore[arg-type]
+
+
+def test_insert_approach_brakes_as_a_contact_approach() -> None:
+    """An INSERT's approach brakes at its first push as a CONTACT's does; its insertion (a force axis) and
+    a MOVE do not. Read from the compiled plan of a program and the setpoints the executor makes.
+
+    Catches the INSERT's approach left unbraked: it landed on the hole's chamfer at its SPEED,
+    33.5-45 N for FORCE 15 N (tests/run/test_run_insert_landing.py)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        plan = compile_program(
+            "MOVE TO (600 mm, 150 mm, 264 mm)\nINSERT DOWN DEPTH 27 mm FORCE 15 N COMPLY X Y RX RY\n"
+            "MOVE BY (0, 0, 30 mm)\nCONTACT DOWN FORCE 5 N\n"
+        )
+    kinds = [(s.kind.value, brakes_at_its_touch(s)) for s in plan.segments]
+    assert kinds == [
+        ("move", False),
+        ("contact_approach", True),
+        ("insert", False),
+        ("move", False),
+        ("contact_approach", True),
+        ("contact_hold", False),
+    ]
 
 
 def test_only_a_contact_approach_brakes_at_its_first_push() -> None:

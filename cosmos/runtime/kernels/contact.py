@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS
+from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS, TOUCH_BRAKING_N_PER_KG
 from cosmos.osc.unified import REACH_FRACTION
 from cosmos.runtime.kernels.linear import matvec, max_abs_product
 
@@ -296,7 +296,7 @@ def touch_braking_into(
     touch_n, mass, gain = params[0], params[1], params[2]
     c0, c1, c2 = wrench[0] - mass * motion[0], wrench[1] - mass * motion[1], wrench[2] - mass * motion[2]
     push = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
-    if not push > touch_n:
+    if not push > max(touch_n, TOUCH_BRAKING_N_PER_KG * mass):
         return
     n0, n1, n2 = c0 / push, c1 / push, c2 / push
     along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2] - free_speed
