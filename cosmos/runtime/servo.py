@@ -149,13 +149,9 @@ class ServoLevel:
         self._stacked = workspace[stacked:state].reshape((n, live_kernel.STACKED_COLUMNS + n))
 
     def set_tool_weight(self, tool_weight_z_n: float) -> None:
-        """The world z component of the weight below the wrist sensor from now on [N] (a held payload).
-
-        Its mass is the one a touch's braking takes the tool's inertia out with
-        (:func:`cosmos.osc.contact.touch_braking`).
-        """
+        """The world z component of the weight below the wrist sensor from now on [N] (a held payload)."""
         self._scalars[kernel.TOOL_WEIGHT_Z_N] = tool_weight_z_n
-        self._scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])
+        self._scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # osc.contact.touch_braking
 
     @property
     def torque(self) -> FloatArray:
