@@ -23,9 +23,8 @@ from typing import Protocol
 
 import numpy as np
 import pinocchio as pin
-from numpy.linalg import _umath_linalg
 
-from cosmos.osc.orientation import so3_exp, so3_log
+from cosmos.osc.orientation import so3_log
 
 FloatArray = np.ndarray
 
@@ -152,16 +151,6 @@ def other_wrists(robot: Kinematics, q: FloatArray, margin_rad: float = LIMIT_MAR
     return found
 
 
-def _solve(a: FloatArray, b: FloatArray) -> FloatArray:
-    """``np.linalg.solve(a, b)`` for a non-singular float ``a`` (n, n) and ``b`` (n,): the same LAPACK call.
-
-    NumPy's own function wraps it in checks and an error state that cost 9 of its 13 us; the
-    plan solves twice per point of its path (100-250 times a goal motion). ``a`` here is
-    ``J J^T`` plus a damping, never singular.
-    """
-    return _umath_linalg.solve1(a, b, signature="dd->d")
-
-
 def _in_range(q: list[float], lowest: list[float], highest: list[float]) -> bool:
     """Whether every joint of ``q`` is within ``[lowest, highest]`` (as floats: once a point of the path)."""
     return all(low <= x <= high for x, low, high in zip(q, lowest, highest, strict=True))
@@ -182,6 +171,8 @@ def _follow(
         The joint it would push past a limit (or None), and the configuration where it
         stopped (the path's end if none). # (n,)
     """
+    from cosmos.runtime.kernels.path_step import path_step_into  # numba: not for the JointAtLimit it holds
+
     model, data, frame = robot.model, robot.model.createData(), robot.tool_frame
     steps = max(
         1,
@@ -192,19 +183,17 @@ def _follow(
     already = first_joint_past_limits(robot, q, margin_rad)  # a joint starting in the margin may stay
     # The same bounds as first_joint_past_limits's, as floats: it is asked only of a point outside them.
     lowest, highest = (robot.q_lower_rad + margin_rad).tolist(), (robot.q_upper_rad - margin_rad).tolist()
-    damping = DAMPING * np.eye(6)
+    start, line, turn, start_rotation = (
+        np.ascontiguousarray(v, dtype=float) for v in (position, displacement, rotation_vector, rotation)
+    )
+    oMf = data.oMf
     for k in range(1, steps + 1):
         s = k / steps
-        target_p = position + s * displacement
-        target_r = so3_exp(s * rotation_vector).dot(rotation)
         for _ in range(2):  # two Newton steps per path point
             # The LOCAL_WORLD_ALIGNED Jacobian places the frame first (data.oMf), by the same
             # products as pin.framesForwardKinematics: one pass of the kinematics, not two.
             jacobian = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)
-            pose = data.oMf[frame]
-            error = np.concatenate((target_p - pose.translation, so3_log(target_r.dot(pose.rotation.T))))
-            jjt = jacobian.dot(jacobian.T) + damping
-            q = q + jacobian.T.dot(_solve(jjt, error))
+            path_step_into(jacobian, oMf[frame].homogeneous, s, start, line, turn, start_rotation, q, DAMPING)
         if _in_range(q.tolist(), lowest, highest):
             continue
         hit = first_joint_past_limits(robot, q, margin_rad)
