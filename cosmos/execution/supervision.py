@@ -59,6 +59,7 @@ from cosmos.plant import Plant
 from cosmos.workcell import WRIST_SENSOR
 
 FloatArray = np.ndarray
+IntArray = np.ndarray
 
 FORCE_TICKS = 3
 """Ticks in a row above the range before the stop (a one-tick impact spike is not a stop)."""
@@ -157,6 +158,19 @@ class Supervisor:
         # The commanded line as floats (the check runs every tick): start, direction, length^2.
         self._line: tuple[tuple[float, ...], tuple[float, ...], float] = ((0.0,) * 3, (0.0,) * 3, 0.0)
         self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
+        self._geoms: IntArray = np.zeros((0, 2), dtype=np.int32)  # contact_geoms's view
+
+    def contact_geoms(self, ncon: int) -> IntArray:
+        """The geom pairs of MuJoCo's ``ncon`` contacts now (``data.contact.geom``), a live view. # (ncon, 2).
+
+        The bindings build the contact list and a view of it on every call (0.5-1 us, every
+        tick in contact); MuJoCo writes the contacts at the same place every step (the start
+        of its arena), so the view is kept while their count stays the same.
+        """
+        view = self._geoms
+        if view.shape[0] != ncon:
+            view = self._geoms = self._data.contact.geom
+        return view
 
     def _set_roles(self, roles: np.ndarray) -> None:
         self._roles = roles
@@ -239,8 +253,8 @@ class Supervisor:
             torque: The torques the drives apply [N m]. # (6,)
             position: The measured tool point, world [m]. # (3,)
         """
-        if self._data.ncon:
-            stop = self._contacts(t_s, wrench, position)
+        if ncon := self._data.ncon:
+            stop = self._contacts(ncon, t_s, wrench, position)
             if stop is not None:
                 return stop
         elif self._inherited:
@@ -319,20 +333,22 @@ class Supervisor:
         return any(mujoco.mj_geomDistance(model, data, g1, g2, near, fromto) < near for g1, g2 in close)
 
     def _tool_touches_fixture(self) -> bool:
-        data = self._data
-        if not data.ncon:
+        ncon = self._data.ncon
+        if not ncon:
             return False
         kinds = self._pair_kinds
-        return any(kinds[g1, g2] == TOOL_FIXTURE for g1, g2 in data.contact.geom.tolist())
+        return any(kinds[g1, g2] == TOOL_FIXTURE for g1, g2 in self.contact_geoms(ncon).tolist())
 
     def _away(self, position: FloatArray) -> bool:
         """Whether the tool point is more than :data:`INHERITED_REACH_M` from the statement's start."""
         x, y, z = position[0] - self._start[0], position[1] - self._start[1], position[2] - self._start[2]
         return x * x + y * y + z * z > INHERITED_REACH_M * INHERITED_REACH_M
 
-    def _contacts(self, t_s: float, wrench: FloatArray, position: FloatArray) -> ProtectiveStop | None:
+    def _contacts(
+        self, ncon: int, t_s: float, wrench: FloatArray, position: FloatArray
+    ) -> ProtectiveStop | None:
         """A stop for the first contact the statement does not expect; tracks inherited ones."""
-        geom = self._data.contact.geom
+        geom = self.contact_geoms(ncon)
         index, touching_fixture = first_unexpected_contact(
             geom, self._pair_kinds, self._expect_fixture or self._guarded or self._inherited, self._guarded
         )
