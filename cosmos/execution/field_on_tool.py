@@ -38,6 +38,10 @@ class FieldOnToolWatch:
         self._deviation_m = 0.0
         self._tool_obstacle = ""  # whose field acts on the tool's own link ("": none does)
         self._tool_deviation_m = 0.0
+        self._field: LinkField | None = (
+            None  # the last field looked at, and whether it acts on the tool's link
+        )
+        self._on_tool = False
 
     def update(
         self,
@@ -55,7 +59,9 @@ class FieldOnToolWatch:
             influences: The obstacles whose field acts on the arm now.
         """
         told = self._links(null_space, field, deviation_m)
-        if influences and field.tool.any():  # the field on the tool's own link (none acts: no look)
+        if field is not self._field:  # a new field at an evaluation (every 4th tick): looked at once
+            self._field, self._on_tool = field, any(field.tool.tolist())
+        if influences and self._on_tool:  # the field on the tool's own link (none acts: no look)
             if not self._tool_obstacle:  # an obstacle nearest the tool's link (the last: link6 on the PUMA)
                 tool_link = f"link{field.tool.shape[0]}"
                 self._tool_obstacle = next((i.obstacle for i in influences if i.link == tool_link), "")
