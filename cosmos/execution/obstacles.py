@@ -143,7 +143,12 @@ class ObstacleWorld:
             moving = [primitive(o, t_s) for o in self.scene.obstacles if o.moving]
             if moving:
                 self.log.scene(t_s, add=moving)
-        found = {(c.arm_body, c.other) for c in collisions(self.runtime.plant, self.scene.body_names())}
+        plant = self.runtime.plant
+        found = (  # no contact: no collision (the scene's names not gathered for nothing)
+            {(c.arm_body, c.other) for c in collisions(plant, self.scene.body_names())}
+            if plant.data.ncon
+            else set()
+        )
         new = sorted(found - self._touching)
         self._touching = found
         return [f"{arm} touches {other}" for arm, other in new]
