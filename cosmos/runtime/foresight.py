@@ -124,7 +124,7 @@ def _follow_from_home(steps: tuple[plan.Step, ...], robot_name: str, tool: str) 
         else:
             known = None
             continue
-        route = plan_rotation(model, known, position, rotation, goal_position, goal_rotation)
+        route = plan_rotation(model, known, position, rotation, goal_position, goal_rotation, compiled=False)
         if route.blocked_by is not None:
             found.append((index, f"{_keyword(step)}: {_foreseen(route.blocked_by.message, since)}"))
             known = None

@@ -24,7 +24,7 @@ from typing import Protocol
 import numpy as np
 import pinocchio as pin
 
-from cosmos.osc.orientation import so3_log
+from cosmos.osc.orientation import so3_exp, so3_log
 
 FloatArray = np.ndarray
 
@@ -156,6 +156,25 @@ def _in_range(q: list[float], lowest: list[float], highest: list[float]) -> bool
     return all(low <= x <= high for x, low, high in zip(q, lowest, highest, strict=True))
 
 
+def _numpy_step(
+    jacobian: FloatArray,
+    pose: FloatArray,
+    s: float,
+    position: FloatArray,
+    displacement: FloatArray,
+    rotation_vector: FloatArray,
+    rotation: FloatArray,
+    q: FloatArray,
+    damping: float,
+) -> None:
+    """:func:`cosmos.runtime.kernels.path_step.path_step_into` in NumPy (the checker: no numba to load)."""
+    target_p = position + s * displacement
+    target_r = so3_exp(s * rotation_vector).dot(rotation)
+    error = np.concatenate((target_p - pose[:3, 3], so3_log(target_r.dot(pose[:3, :3].T))))
+    jjt = jacobian.dot(jacobian.T) + damping * np.eye(6)
+    q += jacobian.T.dot(np.linalg.solve(jjt, error))
+
+
 def _follow(
     robot: Kinematics,
     q_start: FloatArray,
@@ -164,14 +183,18 @@ def _follow(
     displacement: FloatArray,
     rotation_vector: FloatArray,
     margin_rad: float,
+    compiled: bool = True,
 ) -> tuple[JointAtLimit | None, FloatArray]:
-    """Follow the path with closed-loop IK.
+    """Follow the path with closed-loop IK (each step compiled, or in NumPy).
 
     Returns:
         The joint it would push past a limit (or None), and the configuration where it
         stopped (the path's end if none). # (n,)
     """
-    from cosmos.runtime.kernels.path_step import path_step_into  # numba: not for the JointAtLimit it holds
+    if compiled:  # numba is loaded here, not by what imports this module for its JointAtLimit
+        from cosmos.runtime.kernels.path_step import path_step_into as step
+    else:
+        step = _numpy_step
 
     model, data, frame = robot.model, robot.model.createData(), robot.tool_frame
     steps = max(
@@ -193,7 +216,7 @@ def _follow(
             # The LOCAL_WORLD_ALIGNED Jacobian places the frame first (data.oMf), by the same
             # products as pin.framesForwardKinematics: one pass of the kinematics, not two.
             jacobian = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)
-            path_step_into(jacobian, oMf[frame].homogeneous, s, start, line, turn, start_rotation, q, DAMPING)
+            step(jacobian, oMf[frame].homogeneous, s, start, line, turn, start_rotation, q, DAMPING)
         if _in_range(q.tolist(), lowest, highest):
             continue
         hit = first_joint_past_limits(robot, q, margin_rad)
@@ -228,6 +251,7 @@ def plan_rotation(
     goal_position: FloatArray,
     goal_rotation: FloatArray,
     margin_rad: float = LIMIT_MARGIN_RAD,
+    compiled: bool = True,
 ) -> RotationPlan:
     """The way round a goal motion from ``(position, rotation)`` to the goal turns.
 
@@ -239,24 +263,28 @@ def plan_rotation(
         goal_position: The goal tool point, in [m]. # (3,)
         goal_rotation: The goal orientation. # (3, 3)
         margin_rad: How near a limit a predicted joint may come, in [rad].
+        compiled: Each step of the path compiled (the runtime: 2-3 times faster); False in NumPy,
+            where loading numba would cost more than it saves (the checker's foresight).
 
     Returns:
         The rotation to make and, if every way is stopped, the joint that stops the shortest.
     """
     shortest = so3_log(goal_rotation.dot(rotation.T))
     displacement = np.asarray(goal_position, dtype=float) - position
-    blocked, end = _follow(robot, q, position, rotation, displacement, shortest, margin_rad)
+    blocked, end = _follow(robot, q, position, rotation, displacement, shortest, margin_rad, compiled)
     if blocked is None:
         return RotationPlan(shortest, None, False, end)
     angle = float(np.linalg.norm(shortest))
     if angle > math.radians(1.0):
         long_way = shortest * (1.0 - 2.0 * math.pi / angle)
-        stopped, long_end = _follow(robot, q, position, rotation, displacement, long_way, margin_rad)
+        stopped, long_end = _follow(
+            robot, q, position, rotation, displacement, long_way, margin_rad, compiled
+        )
         if stopped is None:
             return RotationPlan(long_way, None, True, long_end)
     # The goal may lie within the ranges in another configuration of the wrist, which no MOVE
     # turns into (the flip passes the wrist singularity, q5 = 0): the message says which.
-    _, unbounded = _follow(robot, q, position, rotation, displacement, shortest, -math.inf)
+    _, unbounded = _follow(robot, q, position, rotation, displacement, shortest, -math.inf, compiled)
     for other in other_wrists(robot, unbounded, margin_rad):
         blocked = JointAtLimit(blocked.joint, blocked.limit_rad, (other[3], other[4], other[5]))
         break
