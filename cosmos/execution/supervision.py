@@ -54,6 +54,7 @@ from cosmos.execution.expected import (
     off_line,
     spring_press_n,
 )
+from cosmos.execution.supervision_kernel import LINE_SIZE, slow_look
 from cosmos.plan import Segment
 from cosmos.plant import Plant
 from cosmos.workcell import WRIST_SENSOR
@@ -159,6 +160,9 @@ class Supervisor:
         self._line: tuple[tuple[float, ...], tuple[float, ...], float] = ((0.0,) * 3, (0.0,) * 3, 0.0)
         self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
         self._geoms: IntArray = np.zeros((0, 2), dtype=np.int32)  # contact_geoms's view
+        self._line_array = np.zeros(LINE_SIZE)  # the line and the axes as slow_look takes them
+        self._axes = np.zeros((0, 3))
+        self._look_at_path = False
 
     def contact_geoms(self, ncon: int) -> IntArray:
         """The geom pairs of MuJoCo's ``ncon`` contacts now (``data.contact.geom``), a live view. # (ncon, 2).
@@ -225,6 +229,8 @@ class Supervisor:
             for i in range(3)
             if segment.motion_axes[i] and segment.stiffness[i] is None
         ]
+        self._axes = np.array(self._path_axes, dtype=float).reshape(-1, 3)
+        self._look_at_path = bool(self._path_axes)
         self.leg(position, goal_position)
 
     def leg(self, start: FloatArray, end: FloatArray) -> None:
@@ -235,6 +241,7 @@ class Supervisor:
             tuple(line.tolist()),
             float(line @ line),
         )
+        self._line_array = np.array([*self._line[0], *self._line[1], self._line[2]])  # slow_look's
 
     def path_deviation_m(self, position: FloatArray) -> float:
         """The tool point's distance from the segment's commanded line (as the PATH stop measures it) [m]."""
@@ -277,24 +284,22 @@ class Supervisor:
         self._tick += 1
         if self._tick % SLOW_CHECK_EVERY:
             return None
-        taus = torque.tolist()
-        # No drive at its limit and none counting: every count stays 0 (the loop is 3x dearer). No
-        # torque as large as the lowest limit: none at its own (a largest and a least cost a third).
-        lowest = self._lowest_saturation
-        if self._counting or (
-            (max(taus) >= lowest or -min(taus) >= lowest) and any(map(ge, map(abs, taus), self._saturated_at))
-        ):
-            stop = self._saturation(taus, t_s)
+        # Every 4th tick, in one compiled call: a torque as large as the lowest limit (only then
+        # is each drive held against its own), and the tool's distance from its line.
+        look_at_path = self._look_at_path and not self.field_acting
+        at_lowest, off = slow_look(
+            torque, self._lowest_saturation, position, self._line_array, self._axes, look_at_path
+        )
+        if self._counting or (at_lowest and any(map(ge, map(abs, torque.tolist()), self._saturated_at))):
+            stop = self._saturation(torque.tolist(), t_s)
             if stop is not None:
                 return stop
-        if self._path_axes and not self.field_acting:
-            off = off_line(position.tolist(), *self._line, self._path_axes)
-            if off > PATH_DEVIATION_M:
-                return ProtectiveStop(
-                    StopKind.PATH,
-                    f"protective stop: the tool is {off * 1e3:.0f} mm off its path at {t_s:.2f} s "
-                    f"(limit {PATH_DEVIATION_M * 1e3:g} mm)",
-                )
+        if look_at_path and off > PATH_DEVIATION_M:
+            return ProtectiveStop(
+                StopKind.PATH,
+                f"protective stop: the tool is {off * 1e3:.0f} mm off its path at {t_s:.2f} s "
+                f"(limit {PATH_DEVIATION_M * 1e3:g} mm)",
+            )
         return None
 
     def _saturation(self, taus: list[float], t_s: float) -> ProtectiveStop | None:

@@ -203,3 +203,28 @@ def test_the_kept_contact_view_reads_mujocos_own_contact_list() -> None:
             counts.add(ncon)
             assert supervisor.contact_geoms(ncon).tolist() == plant.data.contact.geom.tolist()
     assert len(counts) > 2  # the count changed, and held: both ways of the view were read
+
+
+def test_the_compiled_slow_look_measures_as_the_path_stop_does() -> None:
+    """The drives' and the path's looks every 4th tick are one compiled call. Catches its distance
+    from the line differing from the float one's (:func:`off_line`, which the field's events report)
+    or from NumPy's :func:`path_deviation`, the ends of the line not clamped, or a torque as large
+    as the lowest limit (either sign) missed."""
+    from cosmos.execution.expected import off_line
+    from cosmos.execution.supervision_kernel import slow_look
+
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        start, end, position = rng.normal(0.0, 0.2, 3), rng.normal(0.0, 0.2, 3), rng.normal(0.0, 0.3, 3)
+        axes = np.linalg.qr(rng.normal(size=(3, 3)))[0][: rng.integers(1, 4)]
+        line = end - start
+        packed = np.array([*start, *line, float(line @ line)])
+        torque = rng.normal(0.0, 10.0, 6)
+        at_lowest, off = slow_look(torque, 15.0, position, packed, axes, True)
+        floats = off_line(
+            position.tolist(), tuple(start.tolist()), tuple(line.tolist()), float(line @ line), axes.tolist()
+        )
+        assert off == floats
+        assert off == pytest.approx(path_deviation(position, start, end, axes), abs=1e-12)
+        assert at_lowest == bool(np.any(np.abs(torque) >= 15.0))
+    assert slow_look(np.array([0.0, -20.0]), 15.0, np.ones(3), np.zeros(7), np.eye(3), False) == (True, 0.0)
