@@ -89,12 +89,14 @@ and 16 leaf tests a step, where obstacles and moving ones first joined the plane
 rest took 114 and 23 (:mod:`cosmos.bench.obstacles`)."""
 
 
-def layout(boxes: np.ndarray, groups: np.ndarray) -> Tree:
+def layout(boxes: np.ndarray, groups: np.ndarray, compiled: bool = True) -> Tree:
     """A tree over leaves with these ``boxes`` ``(n, 6)`` in these :class:`Group` ``groups`` ``(n,)``.
 
     The groups hang below the root as :data:`NESTING` says (an empty group is left
     out); inside a group, the leaves are split as MuJoCo's compiler splits them, but
-    by the surface-area heuristic (:func:`best_split`).
+    by the surface-area heuristic (:func:`best_split`): each group in one compiled call
+    (:func:`cosmos.obstacles.kernels.split.split_into`, the same tree), or, with
+    ``compiled=False``, node by node in NumPy.
     """
     count = len(boxes)
     unbounded = np.any(boxes[:, 3:] >= UNBOUNDED_HALF_M, axis=1)
@@ -113,6 +115,14 @@ def layout(boxes: np.ndarray, groups: np.ndarray) -> Tree:
         return index
 
     def split(members: np.ndarray, level: int) -> int:
+        if compiled:
+            from cosmos.obstacles.kernels.split import split_into
+
+            index = state["next"]
+            state["next"] = split_into(
+                boxes, members.astype(np.int64), QUERY_REACH_M, index, level, child, leaf, box, depth
+            )
+            return index
         index = new_node(members, level)
         if len(members) == 1:
             leaf[index] = members[0]

@@ -135,3 +135,23 @@ def test_a_slot_keeps_the_worlds_axes_only_when_its_obstacle_is_not_turned() -> 
     scene.remove("turned")
     assert int(model.geom_sameframe[slots[2]]) == int(mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT)
     np.testing.assert_array_equal(model.geom_quat[slots[2]], (1.0, 0.0, 0.0, 0.0))
+
+
+def test_the_compiled_split_builds_numpys_tree() -> None:
+    """Each group is split in one compiled call. Catches a tree that differs from the node-by-node
+    NumPy split in any node's children, leaf, box or depth (another tree changes the order MuJoCo
+    tests pairs in): ties among the centres (the stable sort), an unbounded box, groups of one,
+    and the cut chosen where two cost the same (the first, as NumPy's argmin takes it)."""
+    rng = np.random.default_rng(5)
+    for trial in range(120):
+        count = int(rng.integers(1, 50))
+        boxes = np.concatenate((rng.normal(0.0, 1.0, (count, 3)), rng.uniform(0.01, 0.5, (count, 3))), axis=1)
+        if trial % 3 == 0:
+            boxes[:, :3] = np.round(boxes[:, :3], 1)  # ties
+            boxes[:, 3:] = 0.1  # equal sizes: equal costs
+        if trial % 7 == 0:
+            boxes[0, 3:] = 1e10  # a plane
+        groups = rng.integers(0, len(Group), count)
+        numpy, compiled = layout(boxes, groups, compiled=False), layout(boxes, groups)
+        for field in ("child", "leaf", "box", "depth"):
+            np.testing.assert_array_equal(getattr(compiled, field), getattr(numpy, field), err_msg=field)
