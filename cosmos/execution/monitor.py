@@ -18,13 +18,13 @@ import numpy as np
 
 from cosmos.execution.arrival import GoalError
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
-from cosmos.execution.float_maths import block_diagonal, norm3
+from cosmos.execution.float_maths import block_diagonal, length_along, norm3, pose_error
 from cosmos.execution.float_maths import distance_to_point as distance_to_point  # re-exported: its old home
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.execution.wording import failure_text as failure_text  # re-exported: its old home
 from cosmos.execution.wording import statement_head as statement_head  # re-exported
 from cosmos.lang.check.limits import MAX_DURATION_S
-from cosmos.osc.orientation import _log_rows, unwrap_rotation_vector
+from cosmos.osc.orientation import unwrap_rotation_vector
 from cosmos.plan import (
     ContactTouch,
     DepthReached,
@@ -94,15 +94,6 @@ class Snapshot:
     velocity: FloatArray
     wrench: FloatArray
     grip: Callable[[], float] = lambda: 0.0
-
-
-def _along(rows: list[tuple[float, ...]], x: float, y: float, z: float) -> float:
-    """The length of the vector ``(x, y, z)`` along the orthonormal ``rows`` (in floats: every tick)."""
-    total = 0.0
-    for ax, ay, az in rows:
-        component = ax * x + ay * y + az * z
-        total += component * component
-    return math.sqrt(total)
 
 
 class SegmentMonitor:
@@ -268,23 +259,14 @@ class SegmentMonitor:
             self._settled_since = None
             return None
         # The error in floats (a 3 x 3 product and a log: 3 us, where arrays cost 10-25 us).
-        x, y, z = snap.position.tolist()
-        gx, gy, gz = self._goal_xyz
-        ex, ey, ez = x - gx, y - gy, z - gz
-        (a0, a1, a2), (b0, b1, b2), (c0, c1, c2) = snap.rotation.tolist()
-        (u0, u1, u2), (v0, v1, v2), (w0, w1, w2) = self._goal_rows
-        turned = _log_rows(
-            (
-                (a0 * u0 + a1 * u1 + a2 * u2, a0 * v0 + a1 * v1 + a2 * v2, a0 * w0 + a1 * w1 + a2 * w2),
-                (b0 * u0 + b1 * u1 + b2 * u2, b0 * v0 + b1 * v1 + b2 * v2, b0 * w0 + b1 * w1 + b2 * w2),
-                (c0 * u0 + c1 * u1 + c2 * u2, c0 * v0 + c1 * v1 + c2 * v2, c0 * w0 + c1 * w1 + c2 * w2),
-            )
+        (ex, ey, ez), turned = pose_error(
+            snap.position.tolist(), snap.rotation.tolist(), self._goal_xyz, self._goal_rows
         )
         rx, ry, rz = turned
         # The error's length on the motion axes (a force axis's position is the force's):
         # "1 mm and 1 deg" as the reason reports them.
-        position_off = _along(self._position_rows, ex, ey, ez)
-        rotation_off = _along(self._rotation_rows, rx, ry, rz)
+        position_off = length_along(self._position_rows, ex, ey, ez)
+        rotation_off = length_along(self._rotation_rows, rx, ry, rz)
         arrived = (
             speed <= goal.speed_tolerance_mps
             and position_off <= goal.position_tolerance_m

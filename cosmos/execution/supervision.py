@@ -161,15 +161,13 @@ class Supervisor:
         self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
         self._geoms: IntArray = np.zeros((0, 2), dtype=np.int32)  # contact_geoms's view
         self._line_array = np.zeros(LINE_SIZE)  # the line and the axes as slow_look takes them
-        self._axes = np.zeros((0, 3))
-        self._look_at_path = False
+        self._axes, self._look_at_path = np.zeros((0, 3)), False
 
     def contact_geoms(self, ncon: int) -> IntArray:
-        """The geom pairs of MuJoCo's ``ncon`` contacts now (``data.contact.geom``), a live view. # (ncon, 2).
+        """MuJoCo's ``ncon`` contacts' geom pairs (``data.contact.geom``), a live view. # (ncon, 2).
 
-        The bindings build the contact list and a view of it on every call (0.5-1 us, every
-        tick in contact); MuJoCo writes the contacts at the same place every step (the start
-        of its arena), so the view is kept while their count stays the same.
+        MuJoCo writes its contacts at the start of its arena every step: the view (whose list the
+        bindings build on every call, 0.5-1 us) is kept while their count stays the same.
         """
         view = self._geoms
         if view.shape[0] != ncon:
