@@ -21,7 +21,18 @@ IntArray = np.ndarray
 _INDEX = types.Array(types.int32, 1, "C")
 
 
-# Declared: on a first run it is compiled in a second process beside the others (8 s under load).
+@kernel
+def _stable_order_into(keys: FloatArray, order: IntArray) -> None:
+    """The indices that sort ``keys``, equal keys in their order (an insertion sort: a node has few)."""
+    for j in range(keys.shape[0]):
+        order[j] = j
+        i = j
+        while i > 0 and keys[order[i - 1]] > keys[j]:
+            order[i] = order[i - 1]
+            i -= 1
+        order[i] = j
+
+
 @kernel(
     types.int64(
         types.Array(types.float64, 2, "C", readonly=True),
@@ -33,8 +44,7 @@ _INDEX = types.Array(types.int32, 1, "C")
         _INDEX,
         types.Array(types.float64, 2, "C"),
         _INDEX,
-    ),
-    beside=True,
+    )
 )
 def split_into(
     boxes: FloatArray,
@@ -106,7 +116,7 @@ def split_into(
             centres = np.empty(k)
             for j in range(k):
                 centres[j] = boxes[order[lo + j], a]
-            sorted_along[a] = np.argsort(centres, kind="mergesort")  # stable, as NumPy's "stable"
+            _stable_order_into(centres, sorted_along[a])  # as NumPy's "stable" argsort
             lows = np.empty((k, 3))
             highs = np.empty((k, 3))
             for j in range(k):
