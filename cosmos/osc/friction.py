@@ -93,3 +93,69 @@ def coulomb_compensation(
     coulomb = np.where(np.asarray(intent) > 0.0, positive_nm, negative_nm)
     target = coulomb * np.clip(intent, -1.0, 1.0)
     return np.asarray(previous_nm) + blend * (target - np.asarray(previous_nm))
+
+
+COULOMB_ERROR_RANGE = 0.1
+"""The most a joint's Coulomb friction is taken to differ from the model's, as a share of it [1].
+
+Friction changes with temperature and wear more than a link's mass does; the realistic plant
+draws each joint's within 10 % (docs/plant.md)."""
+COULOMB_ADAPTATION_RATE_PER_S = 2.0
+"""r, the rate at which a joint's Coulomb error is learnt [1/s]: a decade below the servo's own
+loops (eq. 20-21's cruise integral at a double root of ``kv / 2`` = 20 /s), so that it does not
+fight them, and within about 0.5 s of motion."""
+
+
+def adapt_coulomb_error(
+    error: FloatArray,
+    reference_speed: FloatArray,
+    feedback_torque: FloatArray,
+    positive_nm: FloatArray,
+    negative_nm: FloatArray,
+    full_speed_rad_s: float,
+    dt_s: float,
+) -> FloatArray:
+    """One servo tick of each joint's Coulomb friction error ``eps``, learnt from what the servo corrects.
+
+    The compensation is ``(1 + eps) Gamma_c(sign intent) clip(intent, -1, 1)``
+    (:func:`coulomb_compensation` with the levels scaled). The joints' friction is the model error
+    that changes most along a motion: where the arm's is lower than the model's, the compensation
+    pushes the tool on, where higher it holds it back, and each joint's share of it turns with the
+    joint (its sign) and grows with the joint's speed within the compensation's ramp. Eq. 19 and
+    eq. 20-21 with their integrals (:mod:`cosmos.osc.cruise_speed`,
+    :mod:`cosmos.osc.integral_action`) answer it with an operational force, learnt again wherever it
+    changes: a MOVE ... VIA's leg whose joints turn otherwise (SPEED 5 and 10 mm/s on the realistic
+    plant, joint 1's friction drawn 7-10 % under the model's on seeds 0 and 2: legs started up to
+    1.57 times their SPEED), a slow MOVE whose shoulder turns within the compensation's ramp (1 mm/s
+    straight down: 0.97 of its SPEED, seeds 1-4). Here the error is learnt in the joints::
+
+        eps_i <- clip(eps_i + r sigma_i tau_i / Gamma_c,i(sign sigma_i) dt, -range, range)
+
+    with ``tau = J^T Lambda F*_fb``, the joint torques of the servo's feedback (eq. 19's
+    ``-kp e - kv (xd - xd_d)``, eq. 20's ``kv (v_d - xd)``: what the model's torque left to correct),
+    and ``sigma_i = clip(qd_r,i / v_c, -1, 1)`` the share of its friction the joint's reference motion
+    ``qd_r = Jbar v_r`` (eq. 28; ``v_r = xd + F*_fb / kv``, eq. 21's desired velocity on a goal
+    motion, ``xd_d - (kp / kv) e`` on a tracked one) asks compensated: a joint the servo pushes
+    along its motion is under-compensated. ``v_r`` holds no sensed speed (the velocity terms cancel),
+    so the sensed speed's noise, which ``tau`` carries, does not bias ``eps``. The error is the arm's:
+    it is kept from segment to segment, scales the compensation in every segment, and is learnt only
+    in free motion (no force axis, no compliant axis, no contact felt: a contact's force is not the
+    joints' friction) and not in a hold (nothing moves).
+
+    Args:
+        error: eps of the previous tick, per joint. # (n,)
+        reference_speed: ``qd_r = Jbar v_r``, the joints' reference motion, in [rad/s]. # (n,)
+        feedback_torque: ``tau = J^T Lambda F*_fb``, in [N m]. # (n,)
+        positive_nm: Gamma_c(+), in [N m]. # (n,)
+        negative_nm: Gamma_c(-), in [N m]. # (n,)
+        full_speed_rad_s: v_c, the joint speed at which the full torque is compensated, in [rad/s].
+        dt_s: Servo period, in [s].
+
+    Returns:
+        The new eps, within +-:data:`COULOMB_ERROR_RANGE`. # (n,)
+    """
+    sigma = np.clip(np.asarray(reference_speed, dtype=float) / full_speed_rad_s, -1.0, 1.0)
+    level = np.where(sigma > 0.0, positive_nm, negative_nm)
+    safe = np.where(level > 0.0, level, 1.0)
+    step = np.where(level > 0.0, COULOMB_ADAPTATION_RATE_PER_S * sigma * feedback_torque / safe * dt_s, 0.0)
+    return np.clip(np.asarray(error, dtype=float) + step, -COULOMB_ERROR_RANGE, COULOMB_ERROR_RANGE)

@@ -10,7 +10,7 @@ of the travel and the reference's final ramp (0.2 s of travel and 0.3 mm from th
 the fastest 100 ms window of the first 0.25 s. A case meets the bar with the median within
 5 %, every window within 10 % and the first 0.25 s at most 110 %.
 
-``--via`` runs ``MOVE TO ... VIA`` instead (``--speeds 5,20,50,100,default``): from the same
+``--via`` runs ``MOVE TO ... VIA`` instead (``--speeds 5,10,20,50,100,default``): from the same
 start, three VIA points then the goal, legs of 2 s at the SPEED (20 mm to 100 mm) turning
 45, 90 and 135 deg; ``turning`` gives the VIA points orientations 20 deg apart about the
 vertical (a pose at each). Each leg starts with a ramp: its first 0.3 s (a goal motion's speed
@@ -162,7 +162,7 @@ def main() -> int:
     args = parser.parse_args()
     seeds = args.seeds.split(",")
     if args.via:
-        speeds_via = args.speeds if args.speeds != parser.get_default("speeds") else "5,20,50,100,default"
+        speeds_via = args.speeds if args.speeds != parser.get_default("speeds") else "5,10,20,50,100,default"
         chosen = [None if s == "default" else float(s) for s in speeds_via.split(",")]
         met, total = via_grid(chosen, seeds)
         print(f"{met} of {total} cases meet the bar")

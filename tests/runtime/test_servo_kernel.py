@@ -16,7 +16,7 @@ from cosmos.osc.admittance import admittance_command, admittance_speed, low_pass
 from cosmos.osc.contact import LANDED_PUSH, contact_latched, push_landed, touch_latched
 from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
 from cosmos.osc.force import Selection, selection
-from cosmos.osc.friction import coulomb_compensation, friction_intent
+from cosmos.osc.friction import adapt_coulomb_error, coulomb_compensation, friction_intent
 from cosmos.osc.held_push import held_push, touch_damping
 from cosmos.osc.integral_action import integrate_goal_error, integrate_motion_error, observe_hold_disturbance
 from cosmos.osc.limits import saturate_torque
@@ -38,6 +38,7 @@ from cosmos.osc.unified import (
 from cosmos.robot_model import GRAVITY
 from cosmos.runtime.kernels import commands, linear
 from cosmos.runtime.kernels import servo as sk
+from cosmos.runtime.kernels.cruise import CRUISE_INTEGRAL
 from cosmos.runtime.wrench import environment_wrench
 
 RTOL = 1e-9
@@ -441,6 +442,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.ADMITTANCE_KV] = ADMITTANCE_KV
     scalars[sk.MOMENT_BLEND] = MOMENT_BLEND
     scalars[sk.TILT_WINDOW : sk.TILT_WINDOW + 2] = TILT_WINDOW
+    scalars[CRUISE_INTEGRAL + 2] = 1.0  # the cruise's quiet [N]: the Coulomb errors learn under it
 
     vectors = np.zeros((sk.VECTORS, 6))
     vectors[sk.KP], vectors[sk.KV] = (np.full(6, 400.0), np.full(6, 40.0)) if case.uniform else _gains(rng)
@@ -486,6 +488,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     state[sk.CRUISE, 2:4] = 0.5 * case.max_speed, 1.0
     state[sk.MOMENT_FILTERED] = rng.normal(0.0, 1.0, 6)
     state[sk.FLAGS, sk.ADMITTING] = float(case.admittance and case.touching)
+    state[sk.FRICTION_ERROR] = rng.uniform(-0.08, 0.08, 6)  # the joints' Coulomb errors learnt so far
     state[sk.MOTION_INTEGRAL] = 0.0
     state[sk.MOTION_INTEGRAL, :3] = sel.omega[:3, :3] @ rng.uniform(-0.002, 0.002, 3)  # on motion axes
     if case.mode == sk.MODE_HOLD:  # a free hold's observer: the velocity it predicted [m/s]
@@ -588,6 +591,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     else:
         motion_task = -kp * error_task - kv * velocity_task
     motion = rotation @ motion_task
+    fed_back = motion - accel_d  # F*_fb, what teaches the Coulomb levels (cosmos.osc.friction)
     if not sc[sk.HAS_FORCE]:  # a motion into something: damped along the push it meets
         motion = touch_damping(
             motion,
@@ -646,7 +650,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
         return _finish_tick(
             inputs, wrench, state_error, velocity, displacement, motion, torque,
-            motion_integral=motion_integral, speed=speed, admitting=admitting, extra=extra,
+            motion_integral=motion_integral, speed=speed, admitting=admitting, extra=extra, fed_back=fed_back,
         )  # fmt: skip
 
     # Figure 2's force loop: integral latched on the first push.
@@ -744,6 +748,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         speed=speed,
         admitting=admitting,
         extra={**extra, sk.CRUISE: cruise},
+        fed_back=fed_back,
     )
 
 
@@ -761,11 +766,33 @@ def _finish_tick(
     speed: np.ndarray | None = None,
     admitting: bool = False,
     extra: dict[int, np.ndarray] | None = None,
+    fed_back: np.ndarray | None = None,
 ) -> ReferenceTick:
-    """Coulomb compensation toward ``qd + Jbar (L a + xd_c)`` (low-passed) and the saturation about g."""
+    """Coulomb compensation toward ``qd + Jbar (L a + xd_c)`` (low-passed) and the saturation about g.
+
+    The levels are the model's times ``1 + eps``, each joint's error learnt in free motion, from the
+    torques ``J^T Lambda F*_fb`` of the command's feedback ``fed_back`` (:func:`adapt_coulomb_error`).
+    """
     vec, st = inputs.vectors, inputs.state
     commanded = np.zeros(6) if speed is None else speed
     sc = inputs.scalars
+    eps = st[sk.FRICTION_ERROR].copy()
+    free = sc[sk.MODE] != sk.MODE_HOLD and sc[sk.UNIFORM] and not (sc[sk.HAS_FORCE] or sc[sk.ADMITTANCE])
+    if free and fed_back is not None and np.linalg.norm(wrench[:3]) < sc[CRUISE_INTEGRAL + 2]:
+        dyn, sel = inputs.dynamics, inputs.selection
+        reference = dyn.jbar @ (fed_back / vec[sk.KV, 0] + velocity)  # qd_r = Jbar v_r (eq. 28)
+        feedback_torque = unified_torque(dyn, sel, fed_back, np.zeros(6)) - unified_torque(
+            dyn, sel, np.zeros(6), np.zeros(6)
+        )  # J^T Lambda Omega F*_fb (eq. 29's motion part)
+        eps = adapt_coulomb_error(
+            eps,
+            reference,
+            feedback_torque,
+            vec[sk.COULOMB_NM],
+            vec[sk.COULOMB_NEGATIVE_NM],
+            1.0 / INTENT_SCALE,
+            DT_S,
+        )
     moving = bool(sc[sk.MODE] != sk.MODE_HOLD or sc[sk.HAS_FORCE] or sc[sk.ADMITTANCE])
     intent = friction_intent(
         inputs.qd + vec[sk.NULL_INTENT],  # where the null space's torques turn the joints
@@ -776,9 +803,8 @@ def _finish_tick(
         1.0 / INTENT_SCALE,
         0.0 if moving else vec[sk.COULOMB_DEAD_BAND],  # the encoders' noise: a dither there
     )
-    coulomb = coulomb_compensation(
-        st[sk.COULOMB], vec[sk.COULOMB_NM], vec[sk.COULOMB_NEGATIVE_NM], intent, COULOMB_BLEND
-    )
+    positive, negative = (1.0 + eps) * vec[sk.COULOMB_NM], (1.0 + eps) * vec[sk.COULOMB_NEGATIVE_NM]
+    coulomb = coulomb_compensation(st[sk.COULOMB], positive, negative, intent, COULOMB_BLEND)
     torque = torque + coulomb
     saturated, _ = saturate_torque(torque, vec[sk.TORQUE_MAX], keep=vec[sk.GRAVITY])
     rows = {
@@ -791,6 +817,7 @@ def _finish_tick(
         sk.COULOMB: coulomb,
         sk.TORQUE: saturated,
         sk.CRUISE: st[sk.CRUISE],  # a push's speed reference at 2 and 3 (written by the caller)
+        sk.FRICTION_ERROR: eps,
         **(extra or {}),
     }
     latched = bool(st[sk.FLAGS, sk.TOUCHING]) if touching is None else touching
@@ -826,6 +853,7 @@ ROW_NAMES = {
     sk.MOTION_INTEGRAL: "MOTION_INTEGRAL",
     sk.MOMENT_FILTERED: "MOMENT_FILTERED",
     sk.CRUISE: "CRUISE",
+    sk.FRICTION_ERROR: "FRICTION_ERROR",
 }
 
 

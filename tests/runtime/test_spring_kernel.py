@@ -74,5 +74,5 @@ def test_the_observer_leaves_the_spring_law_at_rest_in_contact() -> None:
 
 def test_the_springs_rows_are_their_own() -> None:
     """Catches a spring row laid over another's: the cruise's state, the null space's intent."""
-    assert SPRING_LAW == CRUISE + 1 and sk.STATE_ROWS == SPRING_LAW + 2
+    assert SPRING_LAW == CRUISE + 1 and sk.STATE_ROWS == SPRING_LAW + 3  # FRICTION_ERROR last
     assert SPRINGS == sk.NULL_INTENT + 1 and sk.VECTORS == SPRINGS + 1

@@ -1,28 +1,25 @@
 """The servo level's per-tick arithmetic, compiled (numba): one call per servo tick.
 
 The maths are those of :mod:`cosmos.osc` (the readable reference; against it
-``tests/runtime/test_servo_kernel.py`` checks a whole tick on seeded random
-inputs): the wrench the tool applies to the environment from the wrist sensor
-(:func:`cosmos.runtime.wrench.environment_wrench`), the estimator
-``x = x_e + J (q - q_e)`` (section 3), the motion command (eq. 19, eq. 20-21,
-:mod:`cosmos.osc.motion`), the active force command (F_d fed forward, PI on the
-force error with its anti-windup clamp, eq. 17-18 and Figure 2,
-:func:`cosmos.osc.unified.integrate_force_error` and :func:`cosmos.osc.unified.force_feedback`,
-integral action only once :func:`cosmos.osc.contact.touch_latched`), a push held to
-its SPEED (:func:`cosmos.osc.unified.speed_limited_push`) or at a surface
-(:func:`cosmos.osc.held_push.held_push`), a slide's integral action
-(:func:`cosmos.osc.integral_action.integrate_motion_error`), a free hold's disturbance
-observer while the null space is driven (:mod:`cosmos.runtime.kernels.hold_observer`) or, on
-compliant moment axes in contact, admittance control (:mod:`cosmos.osc.admittance`; an
-INSERT's within its tilt window, :mod:`cosmos.osc.tilt_window`), eq. 29's single product
-with the folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction
-compensation (:mod:`cosmos.osc.friction`; toward the null space's intent too) and the
-saturation that scales the command about gravity (:func:`cosmos.osc.limits.saturate_torque`).
-Pieces with a kernel of their own are in :mod:`cosmos.runtime.kernels.commands`,
-:mod:`cosmos.runtime.kernels.contact` and :mod:`cosmos.runtime.kernels.spring` (COMPLY springs).
-
-Results are written in place into the arrays passed (``state``, ``out``), so a
-tick creates no Python objects.
+``tests/runtime/test_servo_kernel.py`` checks a whole tick on seeded random inputs): the wrench
+the tool applies from the wrist sensor (:func:`cosmos.runtime.wrench.environment_wrench`), the
+estimator ``x = x_e + J (q - q_e)`` (section 3), the motion command (eq. 19, eq. 20-21,
+:mod:`cosmos.osc.motion`), the active force command (F_d fed forward, PI on the force error with
+its anti-windup clamp, eq. 17-18 and Figure 2, :func:`cosmos.osc.unified.integrate_force_error`
+and :func:`cosmos.osc.unified.force_feedback`, integral action only once
+:func:`cosmos.osc.contact.touch_latched`), a push held to its SPEED
+(:func:`cosmos.osc.unified.speed_limited_push`) or at a surface (:func:`cosmos.osc.held_push.held_push`),
+a slide's integral action (:func:`cosmos.osc.integral_action.integrate_motion_error`), a free
+hold's disturbance observer while the null space is driven (:mod:`cosmos.runtime.kernels.hold_observer`)
+or, on compliant moment axes in contact, admittance control (:mod:`cosmos.osc.admittance`; an
+INSERT's within its tilt window, :mod:`cosmos.osc.tilt_window`), eq. 29's single product with the
+folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction compensation
+(:mod:`cosmos.osc.friction`; toward the null space's intent too; its levels' error learnt,
+:mod:`cosmos.runtime.kernels.friction_adaptation`) and the saturation that scales the command
+about gravity (:func:`cosmos.osc.limits.saturate_torque`). Pieces with a kernel of their own are in
+:mod:`cosmos.runtime.kernels.commands`, :mod:`cosmos.runtime.kernels.contact` and
+:mod:`cosmos.runtime.kernels.spring` (COMPLY springs). Results are written in place into the
+arrays passed (``state``, ``out``), so a tick creates no Python objects.
 """
 
 from __future__ import annotations
@@ -51,7 +48,8 @@ from cosmos.runtime.kernels.contact import (
     touch_braking_into,
     touch_latched,
 )
-from cosmos.runtime.kernels.cruise import CRUISE, cruise_into, reference_speed
+from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, cruise_into, reference_speed
+from cosmos.runtime.kernels.friction_adaptation import adapted_levels
 from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
 from cosmos.runtime.kernels.push_speed import push_at_speed_into
@@ -105,7 +103,8 @@ MATRICES = 6
 # Rows of the servo's state and outputs (``state``, (STATE_ROWS, w)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
 MOTION_INTEGRAL = 9  # integral of the translation error: a slide's in contact, a goal's near it [m s]
-STATE_ROWS = SPRING_LAW + SPRING_ROWS  # CRUISE: kernels.cruise's row; SPRING_LAW: kernels.spring's rows
+FRICTION_ERROR = SPRING_LAW + SPRING_ROWS  # each joint's Coulomb error (kernels.friction_adaptation)
+STATE_ROWS = FRICTION_ERROR + 1  # CRUISE: kernels.cruise's row; SPRING_LAW: kernels.spring's rows
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 REACHED, HELD_INTEGRAL = 2, 3  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
@@ -224,6 +223,7 @@ def servo_tick(
             rotate_blocks(r, vectors[GOAL_LINE, :6], True)[:3],
         )
         motion = rotate_blocks(r, motion_task, False)
+    fed_back = motion - acceleration_desired  # F*_fb: it teaches the Coulomb levels (osc.friction)
     if scalars[HAS_FORCE] == 0.0:  # a motion into something (cosmos.osc.contact.touch_braking)
         touch = scalars[HELD_PUSH + 4 : HELD_PUSH + 7]
         touch_braking_into(motion, wrench, velocity, touch, scalars[TOUCH_FREE_SPEED])
@@ -257,10 +257,9 @@ def servo_tick(
         )
     feedback = work[FEEDBACK]
     feedback[:] = 0.0
-    # Operational speed commanded outright, world: a tracked trajectory's xd_d on the motion
-    # axes, the admittance speed on compliant moment axes. Friction is compensated toward it.
-    commanded_speed = work[COMMANDED_SPEED]
-    # Zeros, or a cruise's SPEED along its line: eq. 20-21's velocity loop made PI (kernels.cruise).
+    # Operational speed commanded outright, world: a tracked trajectory's xd_d on the motion axes, the
+    # admittance speed on compliant moment axes, a cruise's 2 v_d - xd (eq. 20-21 made PI: kernels.cruise).
+    commanded_speed = work[COMMANDED_SPEED]  # Friction is compensated toward it.
     cruising = cruise_into(motion, commanded_speed, state, vectors[GOAL_LINE, :3], max_speed, scalars)
     if mode == MODE_TRAJECTORY:
         commanded_speed = reference_speed(velocity_desired, matrices[OMEGA_BAR], velocity, scalars, t_s)
@@ -378,14 +377,21 @@ def servo_tick(
     # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
     if admittance or mode == MODE_TRAJECTORY or pushing_at_speed or cruising:  # no slow joint left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
+    free = mode != MODE_HOLD and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0
+    free = free and wrench[0] ** 2 + wrench[1] ** 2 + wrench[2] ** 2 < scalars[CRUISE_INTEGRAL + 2] ** 2
+    adaption = np.array((kv[0], scalars[LOOKAHEAD_S], scalars[INTENT_SCALE], scalars[DT_S]))
+    published = (vectors[COULOMB_NM, :n], vectors[COULOMB_NEGATIVE_NM, :n])
+    levels = adapted_levels(
+        state[FRICTION_ERROR, :n], fed_back, velocity, stacked, jbar_lookahead, published, free, adaption
+    )
     coulomb_compensation_into(  # toward where the task and the null space's torques turn the joints
         torque,
         state[COULOMB, :n],
         qd + vectors[NULL_INTENT, :n],
         jbar_lookahead,
         acceleration,
-        vectors[COULOMB_NM, :n],
-        vectors[COULOMB_NEGATIVE_NM, :n],
+        levels[0],
+        levels[1],
         vectors[COULOMB_DEAD_BAND, :n],
         mode != MODE_HOLD or scalars[HAS_FORCE] != 0.0 or scalars[ADMITTANCE] != 0.0,
         scalars[INTENT_SCALE],
