@@ -266,7 +266,7 @@ class PlanWalker:
                 if retries >= retry.times:
                     self.runner.fail(
                         retry,
-                        f"the TRY block (line {step.line}) failed again after {retries} "
+                        f"ran out: the TRY block (line {step.line}) failed again after {retries} "
                         f"retr{'y' if retries == 1 else 'ies'}: {last_failure.message}",
                     )
                 retries, times = retries + 1, retry.times
