@@ -96,7 +96,8 @@ def test_the_retry_goes_into_the_hole_and_the_first_try_did_not(recovered: Progr
 
 def test_a_retry_that_fails_again_ends_the_program(exhausted: ProgramRun) -> None:
     """With RETRY 1 used up, the second jam ends the program: exit 1, a failed event at the RETRY
-    naming the jam, and no statement after the TRY ran. Catches retries without a bound."""
+    naming the jam, and no statement after the TRY ran. Catches retries without a bound, and a
+    message that reads "RETRY 1 the TRY block ..." (the statement's head run into the reason)."""
     assert exhausted.returncode == 1, exhausted.describe()
     assert len(exhausted.events("failed", INSERT_LINE)) == 2
     assert len(exhausted.events("retry")) == 1
@@ -104,4 +105,5 @@ def test_a_retry_that_fails_again_ends_the_program(exhausted: ProgramRun) -> Non
     assert final and re.search(r"failed again after 1 retry: .*jammed", final[0].reason), exhausted.describe()
     assert not exhausted.events(line=12), "the MOVE after the TRY must not run"
     assert "jammed" in exhausted.stderr
+    assert "RETRY 1 ran out: the TRY block" in exhausted.stderr
     assert not run_from_record(exhausted.log).ok
