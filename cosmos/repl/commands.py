@@ -164,6 +164,15 @@ def is_command(text: str) -> bool:
     return text.lstrip().startswith(":")
 
 
+BARE_COMMANDS = {"help": "help", "exit": "quit", "quit": "quit"}
+"""Words typed without their colon that run the command, unless a PROC has the name."""
+
+
+def bare_command(text: str) -> str:
+    """The ``:command`` a bare ``help``, ``exit`` or ``quit`` means ("" for any other input)."""
+    return BARE_COMMANDS.get(text.strip().lower(), "")
+
+
 def command_hint(text: str) -> str:
     """For an input that failed as a statement: the ``:command`` its bare word would be, if any."""
     word = text.strip().lower()

@@ -192,7 +192,8 @@ class ReplEngine:
                 if before.procedures.get(key) is not entry:
                     definition = entry.definition
                     self.printer.write(
-                        f"PROC {definition.name.name} defined ({len(definition.body)} statements)", Tone.NOTE
+                        f"PROC {definition.name.name} defined ({_count(len(definition.body), 'statement')})",
+                        Tone.NOTE,
                     )
         return True
 
@@ -282,3 +283,8 @@ def read_program_file(path: Path) -> str:
                 f"{path}: not a COSMOS program (it does not parse); a program file's name ends in .cos"
             ) from None
     return text
+
+
+def _count(n: int, noun: str) -> str:
+    """``1 statement``, ``2 statements``."""
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"

@@ -19,7 +19,7 @@ from contextlib import contextmanager
 from types import FrameType
 
 from cosmos.errors import CosmosError
-from cosmos.repl.commands import command_hint, is_command, run_command
+from cosmos.repl.commands import bare_command, command_hint, is_command, run_command
 from cosmos.repl.engine import ReplEngine
 from cosmos.repl.output import Tone
 from cosmos.repl.reader import Reader
@@ -52,6 +52,8 @@ def handle_input(engine: ReplEngine, text: str) -> bool:
         with ctrl_c_stops_arm(engine):
             if is_command(text):
                 return run_command(engine, text)
+            if (word := bare_command(text)) and word not in engine.state.procedures:
+                return run_command(engine, f":{word}")  # help, exit, quit: as typed elsewhere
             if not engine.submit(text) and command_hint(text):
                 printer.write(command_hint(text), Tone.NOTE)
             return True

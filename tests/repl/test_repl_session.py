@@ -79,10 +79,20 @@ def test_syntax_error_is_shown_with_a_caret_and_the_session_goes_on(session: Dri
     assert "ok  MOVE BY (0, 0, 15 mm) (PROC up called at line 12)" in out
 
 
-def test_a_command_typed_without_its_colon_is_told_the_colon(session: Driven) -> None:
-    """Catches 'help' typed bare answered only "unknown procedure 'help'", the user left guessing."""
-    assert "unknown procedure 'help'" in session.output
-    assert "REPL commands start with ':': type :help" in session.output
+def test_help_typed_without_its_colon_is_the_help(session: Driven) -> None:
+    """Catches 'help' typed bare (as in a shell or Python) answered "unknown procedure 'help'"
+    with a caret under it: it prints :help's list of commands."""
+    assert "unknown procedure 'help'" not in session.output
+    assert ":help" in session.output and ":quit" in session.output and ":frames" in session.output
+
+
+def test_a_procedure_named_help_is_called_not_the_command(tmp_path: Path) -> None:
+    """Catches the bare word taken from a program that defines it: ``PROC help`` then ``help``
+    runs the procedure (it moves the tool up 10 mm)."""
+    keys = "PROC help" + ENTER + "MOVE BY (0, 0, 10 mm)" + ENTER + "END" + ENTER + "help" + ENTER + CTRL_D
+    driven = drive(tmp_path, keys)
+    assert "ok  MOVE BY (0, 0, 10 mm)" in driven.output
+    assert "PROC help defined (1 statement)" in driven.output
 
 
 def test_frames_lists_fixtures_and_session_frames(session: Driven) -> None:
@@ -93,7 +103,7 @@ def test_frames_lists_fixtures_and_session_frames(session: Driven) -> None:
 
 
 def test_multi_line_proc_is_defined_then_called(session: Driven) -> None:
-    assert "PROC up defined (1 statements)" in session.output
+    assert "PROC up defined (1 statement)" in session.output
     np.testing.assert_allclose(session.tool_position[2], TABLE[2] + 0.015, atol=2e-3)
 
 
