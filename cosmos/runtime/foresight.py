@@ -38,7 +38,7 @@ def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
     found = foreseeable_joint_limits(compiled.steps, compiled.robot, compiled.tool)
     cell = foresight_cache.workcell(compiled.robot, compiled.tool)
     home = Pose(cell.home_tool_position, cell.home_tool_rotation)
-    tool = ToolShape(cell.tool_length_m, cell.tool_sections)
+    tool = ToolShape(cell.tool_length_m, cell.tool_sections, cell.tool_ahead_m)
     found += goals_inside_fixtures(compiled.steps, cell.solids, home, tool)
     if not found:
         return compiled

@@ -81,6 +81,8 @@ class Workcell:
             tool's far end if it reaches behind the flange [m].
         tool_sections: The tool's cylinders on its axis (:class:`cosmos.runtime.goals_in_fixtures.ToolShape`):
             from and to how far back from the tool point, and radius [m], each.
+        tool_ahead_m: How far the tool reaches past the tool point along its axis [m] (the
+            gripper's fingertips; 0 for the peg, whose tool point is its tip).
         solids: The fixtures' solids: the scene's world geoms that the tool can touch.
         model_text: The controller's Pinocchio model, serialised (:func:`kinematics` reads it).
         tool_frame: Frame id of the tool point in that model.
@@ -91,6 +93,7 @@ class Workcell:
     home_tool_rotation: np.ndarray
     tool_length_m: float
     tool_sections: tuple[tuple[float, float, float], ...]
+    tool_ahead_m: float
     solids: tuple[FixtureSolid, ...]
     model_text: str
     tool_frame: int
@@ -131,6 +134,28 @@ def _tool_sections(model: Any, data: Any, point: int) -> tuple[tuple[float, floa
         radius, half = float(model.geom_size[geom, 0]), float(model.geom_size[geom, 1])
         sections.append((-float(centre[2]) - half, -float(centre[2]) + half, radius))
     return tuple(sorted(sections))
+
+
+def _tool_ahead(model: Any, data: Any, point: int) -> float:
+    """How far the tool's collision geoms reach past the tool point along its axis, at home [m].
+
+    The corners of each geom's bounding box (MuJoCo's ``geom_aabb``) in the tool point's frame,
+    z along the tool: the largest z, or 0.
+    """
+    tool = model.body("tool").id
+    origin, axis = data.site_xpos[point], data.site_xmat[point].reshape(3, 3)[:, 2]
+    signs = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+    ahead = 0.0
+    for geom in range(model.ngeom):
+        body = int(model.geom_bodyid[geom])
+        while body not in (0, tool):
+            body = int(model.body_parentid[body])
+        if body != tool or (model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0):
+            continue
+        centre, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
+        corners = data.geom_xpos[geom] + (centre + signs * half) @ data.geom_xmat[geom].reshape(3, 3).T
+        ahead = max(ahead, float(np.max((corners - origin) @ axis)))
+    return ahead
 
 
 @functools.cache
@@ -185,6 +210,7 @@ def _to_json(cell: Workcell) -> str:
             "home_tool_rotation": cell.home_tool_rotation.tolist(),
             "tool_length_m": cell.tool_length_m,
             "tool_sections": [list(section) for section in cell.tool_sections],
+            "tool_ahead_m": cell.tool_ahead_m,
             "solids": [
                 {
                     "fixture": s.fixture,
@@ -225,6 +251,7 @@ def _from_json(text: str) -> Workcell:
         tool_sections=tuple(
             (float(start), float(end), float(radius)) for start, end, radius in entries["tool_sections"]
         ),
+        tool_ahead_m=float(entries["tool_ahead_m"]),
         solids=solids,
         model_text=entries["model"],
         tool_frame=int(entries["tool_frame"]),
@@ -286,6 +313,7 @@ def from_scene(robot: Robot, tool: str = "peg") -> Workcell:
             max((end for _, end, _ in sections), default=0.0),
         ),
         tool_sections=sections,
+        tool_ahead_m=_tool_ahead(model, data, point),
         solids=tuple(solids),
         model_text=arm.model.saveToString(),
         tool_frame=int(arm.tool_frame),

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -54,10 +54,12 @@ class ToolShape:
         length_m: From the tool point back to the flange [m].
         sections: Its round parts on the axis (the peg, its collar, the sensor's housing): from
             and to how far back from the tool point, and radius, each [m].
+        ahead_m: How far it reaches past the tool point (the gripper's fingertips) [m].
     """
 
     length_m: float
     sections: tuple[tuple[float, float, float], ...] = ()
+    ahead_m: float = 0.0
 
 
 POINT = ToolShape(0.0)
@@ -174,8 +176,11 @@ def _walk(
     A block's first steps start where the program is when it is reached; after a block
     (which may or may not run, or stop anywhere) the pose is not known.
     """
+    empty = tool
     for step in steps:
-        if isinstance(step, plan.AddObstacle | plan.RemoveObstacle):  # in a block: only there
+        if isinstance(step, plan.HandStep):  # held, the object is the tool: its tip is not known
+            tool = empty if step.action is plan.HandAction.RELEASE else replace(empty, ahead_m=0.0)
+        elif isinstance(step, plan.AddObstacle | plan.RemoveObstacle):  # in a block: only there
             kept = tuple(s for s in solids.all if not (s.obstacle and s.fixture == step.name))
             added = obstacle_solid(step) if isinstance(step, plan.AddObstacle) else None
             solids = packed(kept if added is None else (*kept, added))
@@ -188,10 +193,26 @@ def _walk(
             if isinstance(step, plan.Attempt):
                 yield from _walk(step.handler, solids, UNKNOWN, tool)
             pose = UNKNOWN
+        if _holds_hand_steps(step):  # a block that grasps or lets go: after it, not known either
+            tool = replace(empty, ahead_m=0.0)
         elif isinstance(step, plan.Segment):
             diagnostic, pose = _segment(step, solids, pose, tool)
             if diagnostic is not None:
                 yield diagnostic
+
+
+def _blocks(step: plan.Step) -> tuple[plan.Step, ...]:
+    """The steps of a block (both branches, a body and its handler); () for any other step."""
+    if isinstance(step, plan.Branch):
+        return (*step.then_steps, *step.else_steps)
+    if isinstance(step, plan.Attempt):
+        return (*step.body, *step.handler)
+    return step.body if isinstance(step, plan.Loop) else ()
+
+
+def _holds_hand_steps(step: plan.Step) -> bool:
+    """Whether a block has a GRASP or RELEASE in it, however deep."""
+    return any(isinstance(s, plan.HandStep) or _holds_hand_steps(s) for s in _blocks(step))
 
 
 def _segment(
@@ -240,6 +261,8 @@ def point_inside(
     """
     count = int(tool.length_m / AXIS_STEP_M) if rotation is not None else 0
     backs = np.arange(count + 1) * AXIS_STEP_M
+    if rotation is not None and tool.ahead_m > DEEPER_THAN_M:  # its tip past the tool point (fingertips)
+        backs = np.concatenate(([-tool.ahead_m], backs))
     axis = np.zeros(3) if rotation is None else rotation[:, 2]
     points = position[None, :] - backs[:, None] * axis[None, :]  # (count + 1, 3)
     sides = rotation is not None and bool(tool.sections)
@@ -325,6 +348,8 @@ def _said(keyword: str, step: plan.Segment, hit: Inside, what: str) -> str:
         )
     if hit.along_axis_m == 0.0:
         subject = f"the {what} is"
+    elif hit.along_axis_m < 0.0:
+        subject = f"at the {what} the tool's tip, {-back_mm:.1f} mm past the tool point, is"
     else:
         subject = f"at the {what} the tool's axis, {back_mm:.0f} mm back from the tool point, is"
     return (

@@ -170,3 +170,46 @@ def test_the_kept_chains_are_bounded(cache_dir: Path, monkeypatch: pytest.Monkey
     folder = next(path for path in cache_dir.glob("foresight/*") if path.is_dir())
     assert len(list(folder.glob("*.json"))) == 3
     assert foresight_cache.foreseen("puma560", "peg", b"chain 4") == [(4, "m")]
+
+
+@pytest.mark.parametrize(("height_mm", "foreseen"), [(12.0, True), (13.0, False)])
+def test_the_fingertips_past_the_tool_point_are_foreseen(height_mm: float, foreseen: bool) -> None:
+    """A gripper sent 12 mm above the table puts its fingertips 0.5 mm into it: the check warns,
+    and the run (MuJoCo's contacts) stops there; 13 mm: no warning, and the run arrives.
+
+    Catches the checker testing the tool's axis back from the tool point only: the gripper's
+    fingers reach 12.5 mm past it, and `MOVE TO table + (..., 12 mm)` before a GRASP passed the
+    check, then stopped: "protective stop: finger_left hit fixture 'table'"."""
+    import warnings
+
+    import cosmos
+    from cosmos.lang import compile_program
+    from cosmos.runtime.foresight import with_foreseen_limits
+    from cosmos.workcell import fixture_frames
+
+    program = "TOOL GRIPPER\nMOVE TO table + (-160 mm, 250 mm, 60 mm)\n"
+    program += f"MOVE TO table + (-160 mm, 250 mm, {height_mm} mm) SPEED 50 mm/s\n"
+    compiled = with_foreseen_limits(compile_program(program, "tip.cos", fixture_frames()))
+    said = [w.message for w in compiled.warnings if "tool's tip" in w.message]
+    assert bool(said) is foreseen, said
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cosmos.CosmosWarning)
+        run = cosmos.run(program, log=None, ideal=True)
+    assert run.ok is not foreseen, run.outcome
+    if foreseen:
+        assert run.outcome is not None and "finger" in run.outcome.reason and "table" in run.outcome.reason
+
+
+def test_a_held_object_is_the_tool_past_its_point() -> None:
+    """After GRASP the tool point is the held object's base: no fingertip warning for the
+    shipped pick_and_place.cos's set-down 3 mm above the table; after RELEASE, the fingers again.
+    Catches the gripper's fingertips tested below a held object's base."""
+    from cosmos.lang import compile_program
+    from cosmos.runtime.foresight import with_foreseen_limits
+    from cosmos.workcell import fixture_frames
+
+    source = (Path(__file__).parents[2] / "programs" / "pick_and_place.cos").read_text()
+    source += "MOVE TO table + (120 mm, 80 mm, 5 mm)\n"
+    compiled = with_foreseen_limits(compile_program(source, "pick.cos", fixture_frames()))
+    tips = [w for w in compiled.warnings if "tool's tip" in w.message]
+    assert [w.span.line for w in tips] == [len(source.splitlines())]

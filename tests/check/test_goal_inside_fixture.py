@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -17,7 +18,8 @@ PROGRAMS = sorted((Path(__file__).resolve().parents[2] / "programs").glob("*.cos
 INSIDE = re.compile(
     r"^(?P<keyword>MOVE TO|MOVE BY):(?: in (?P<context>[^,]+),)? "
     r"(?:the (?P<what>goal|VIA point \d) is|at the goal the tool's axis, (?P<back>\d+) mm back from the "
-    r"tool point, is) (?P<depth>[\d.]+) mm inside the (?P<kind>fixture|obstacle) '(?P<fixture>\w+)' "
+    r"tool point, is|at the goal the tool's tip, (?P<ahead>[\d.]+) mm past the tool point, is) "
+    r"(?P<depth>[\d.]+) mm inside the (?P<kind>fixture|obstacle) '(?P<fixture>\w+)' "
     r"\(below its top at z = (?P<top>-?[\d.]+) mm\); the run will stop (?P<ending>at the touch|short of it)$"
 )
 
@@ -237,7 +239,26 @@ def test_a_move_by_from_home_starts_where_the_programs_tool_is(robot: str) -> No
     drop_mm = round((home[2] - top + 0.02) * 1e3)
     found = inside_warnings(f"ROBOT {robot}\nTOOL GRIPPER\nMOVE BY (0, 0, -{drop_mm} mm)\n")
     assert [(at, m["fixture"]) for at, m in found] == [(3, "table")]
-    assert float(found[0][1]["depth"]) == pytest.approx((top - (home[2] - drop_mm / 1e3)) * 1e3, abs=0.051)
+    # The deepest point is the fingertips', the lowest corner of the gripper's geoms at home.
+    tip = min(_lowest_corner(model, data, g) for g in range(model.ngeom) if _on_the_tool(model, g))
+    assert float(found[0][1]["depth"]) == pytest.approx((top - (tip - drop_mm / 1e3)) * 1e3, abs=0.051)
+    assert float(found[0][1]["ahead"]) == pytest.approx((home[2] - tip) * 1e3, abs=0.051)
+
+
+def _on_the_tool(model: Any, geom: int) -> bool:
+    """Whether ``geom`` collides and belongs to the tool body or a body on it (the fingers)."""
+    body, tool = int(model.geom_bodyid[geom]), model.body("tool").id
+    while body not in (0, tool):
+        body = int(model.body_parentid[body])
+    return body == tool and bool(model.geom_contype[geom] != 0 or model.geom_conaffinity[geom] != 0)
+
+
+def _lowest_corner(model: Any, data: Any, geom: int) -> float:
+    """The lowest z of ``geom``'s bounding box (MuJoCo's ``geom_aabb``) as placed in ``data`` [m]."""
+    centre, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
+    signs = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+    corners = data.geom_xpos[geom] + (centre + signs * half) @ data.geom_xmat[geom].reshape(3, 3).T
+    return float(corners[:, 2].min())
 
 
 def test_points_inside_are_found_past_the_bounding_boxes() -> None:
