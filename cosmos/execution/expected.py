@@ -7,10 +7,9 @@ positions, documented in docs/language.md ("Protective stops").
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from cosmos.execution.float_maths import length_along
 from cosmos.plan import AllOf, AnyOf, Condition, LastOutcome, Quantity, Segment, SegmentKind
 from cosmos.workcell import WRIST_SENSOR
 
@@ -98,11 +97,7 @@ def off_line(
     if length2 > 1e-12:
         along = min(1.0, max(0.0, (rx * d[0] + ry * d[1] + rz * d[2]) / length2))
         rx, ry, rz = rx - along * d[0], ry - along * d[1], rz - along * d[2]
-    total = 0.0
-    for ax, ay, az in axes:
-        component = rx * ax + ry * ay + rz * az
-        total += component * component
-    return math.sqrt(total)
+    return length_along(axes, rx, ry, rz)
 
 
 def path_deviation(position: FloatArray, start: FloatArray, end: FloatArray, axes: FloatArray) -> float:

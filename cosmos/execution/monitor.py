@@ -19,7 +19,6 @@ import numpy as np
 from cosmos.execution.arrival import GoalError
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import block_diagonal, length_along, norm3, pose_error
-from cosmos.execution.float_maths import distance_to_point as distance_to_point  # re-exported: its old home
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.execution.wording import failure_text as failure_text  # re-exported: its old home
 from cosmos.execution.wording import statement_head as statement_head  # re-exported

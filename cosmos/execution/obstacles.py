@@ -15,7 +15,8 @@ import mujoco
 import numpy as np
 
 from cosmos.errors import TaskFailure
-from cosmos.execution.monitor import JUDGE_MOVING_EVERY, distance_to_point
+from cosmos.execution.float_maths import distance_to_point
+from cosmos.execution.monitor import JUDGE_MOVING_EVERY
 from cosmos.obstacles import (
     ContactGate,
     LocalMinimum,

@@ -5,9 +5,9 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
+from cosmos.plan.context import context_parts, joined_context, origin
+
 _CLAUSE_WORDS = frozenset(("UNTIL", "TIMEOUT", "IN", "SPEED"))
-_SEPARATOR = "; "
-"""Between the parts of a context, outermost first, as the compiler joins them."""
 
 
 def statement_head(statement: str) -> str:
@@ -27,21 +27,6 @@ def failure_text(statement: str, reason: str, context: str = "") -> str:
     """
     joiner = ": " if reason.startswith("protective stop") else " "
     return f"{statement_head(statement)}{joiner}{reason}".strip() + origin(context)
-
-
-def origin(context: str) -> str:
-    """`` (in PROC p called at line 3; ...)``: how the compiler ends an expanded statement's errors."""
-    return f" (in {context})" if context else ""
-
-
-def joined_context(parts: Sequence[str]) -> str:
-    """Context parts (outermost first) as one context string."""
-    return _SEPARATOR.join(part for part in parts if part)
-
-
-def context_parts(context: str) -> list[str]:
-    """A context string's parts, outermost first ([] at top level)."""
-    return [part for part in context.split(_SEPARATOR) if part]
 
 
 def run_context(static: str, frames: Sequence[tuple[str, str]]) -> str:

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from cosmos import __version__
+from cosmos.plan.context import origin
 from cosmos.runlog.foxglove import LogLevel
 from cosmos.runlog.schemas import EventKind
 
@@ -166,9 +167,5 @@ def event_message(
 
 def event_log_line(kind: EventKind, statement: str, reason: str, context: str = "") -> tuple[LogLevel, str]:
     """Level and text of the ``/log`` line that shows an event in Foxglove."""
-    text = (
-        f"{kind.value}: {statement}"
-        + (f": {reason}" if reason else "")
-        + (f" (in {context})" if context else "")
-    )
+    text = f"{kind.value}: {statement}" + (f": {reason}" if reason else "") + origin(context)
     return _EVENT_LEVELS.get(kind, LogLevel.INFO), text

@@ -24,6 +24,7 @@ from cosmos.lang.compile.state import CompileState, ProcEntry, frozen_map
 from cosmos.lang.evaluate.evaluator import suggest
 from cosmos.lang.evaluate.values import Binding, BindingKind, SuppressedError
 from cosmos.lang.parse.grammar import statement_keywords
+from cosmos.plan.context import joined_context
 
 MAX_STEPS = 100_000
 """Most steps a program may expand to (procedures and loops included)."""
@@ -224,7 +225,7 @@ def _bounded_depth(run: CompileContext, statement: ast.Call | ast.Repeat) -> Non
         ProgramError: At the CALL or REPEAT, naming the outermost expansions.
     """
     if len(run.context) >= MAX_EXPANSION_DEPTH:
-        outer = "; ".join(run.context[:3])
+        outer = joined_context(run.context[:3])
         raise ProgramError(
             f"procedure calls and REPEAT blocks nest more than {MAX_EXPANSION_DEPTH} deep here "
             f"(from {outer}; ...); call fewer procedures from inside each other",

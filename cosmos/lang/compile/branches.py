@@ -28,6 +28,7 @@ from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.decisions import compile_decision, decision_frame
 from cosmos.lang.compile.motion.conditions import require_gripper
 from cosmos.lang.compile.state import CompileState, HeldContact
+from cosmos.plan.context import joined_context
 
 DEFAULT_MAX_PASSES = 100
 """Passes a WHILE without MAX may make before it fails."""
@@ -127,7 +128,7 @@ def compile_retry(run: CompileContext, statement: ast.Retry, state: CompileState
 
 def _where(run: CompileContext, span: Span) -> tuple[Span, int, str, str]:
     """(span, line, statement text, context) of a node, as a segment has them."""
-    return span, span.line, run.text_of(span), "; ".join(run.context)
+    return span, span.line, run.text_of(span), joined_context(run.context)
 
 
 def _whole(run: CompileContext, state: CompileState, expr: ast.Expr, what: str, most: int) -> int:

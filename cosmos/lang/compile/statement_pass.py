@@ -24,6 +24,7 @@ from cosmos.lang.compile.motion.builder import BuildStatement, MotionBuilder
 from cosmos.lang.compile.state import CompileState, Defaults
 from cosmos.lang.evaluate.evaluator import Evaluator
 from cosmos.lang.evaluate.values import Binding, SuppressedError
+from cosmos.plan.context import joined_context, origin
 
 
 class StatementPass:
@@ -85,7 +86,7 @@ class StatementPass:
     def warn(self, message: str, span: Span) -> None:
         """Record a warning, naming where the statement was expanded from."""
         if self.context:
-            message += f" (in {'; '.join(self.context)})"
+            message += origin(joined_context(self.context))
         self.warnings.append(plan.Diagnostic(message, span))
 
     def emit(self, steps: Sequence[plan.Step]) -> None:
@@ -147,14 +148,14 @@ class StatementPass:
         except ProgramError as error:
             if error.source is None:  # not yet seen by an inner statement
                 if self.context and not isinstance(error, SuppressedError):
-                    error.message += f" (in {'; '.join(self.context)})"
+                    error.message += origin(joined_context(self.context))
                 error.with_source(self.source)
             raise
 
     def motion(self, build: BuildStatement, statement: Any, state: CompileState) -> CompileState:
         """Compile a motion statement with the builder's method for its type."""
         self.evaluator.names = state.names
-        context = "; ".join(self.context) if self.context else ""
+        context = joined_context(self.context)
         segments, state = self.builder.build(build, statement, state, context)
         self.emit(segments)
         return state
