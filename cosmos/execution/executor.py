@@ -219,7 +219,8 @@ class Executor:
         goal_index = 0
         obstacles = self.obstacles if self.obstacles is not None and self.obstacles.active else None
         # Among obstacles a goal motion gives way to their field: no reference tracked (resolve).
-        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture, obstacles is not None)
+        among = obstacles is not None
+        setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture, among)
         search = search_phase(segment, start_s, start_position, start_rotation)  # INSERT ... SEARCH
         if search is not None:
             setpoint = search.setpoint(setpoint)
@@ -306,7 +307,9 @@ class Executor:
                     goal_index += 1
                     supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
                     rt.set_setpoint(
-                        setpoint_for(segment, *goals[goal_index], rt.evaluation, rt.wrench, now, posture)
+                        setpoint_for(
+                            segment, *goals[goal_index], rt.evaluation, rt.wrench, now, posture, among, True
+                        )
                     )
                 outcome = monitor.check(snapshot, completion=False)
                 if outcome is not None:

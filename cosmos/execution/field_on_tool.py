@@ -38,9 +38,8 @@ class FieldOnToolWatch:
         self._deviation_m = 0.0
         self._tool_obstacle = ""  # whose field acts on the tool's own link ("": none does)
         self._tool_deviation_m = 0.0
-        self._field: LinkField | None = (
-            None  # the last field looked at, and whether it acts on the tool's link
-        )
+        # The last field looked at, and whether it acts on the tool's link.
+        self._field: LinkField | None = None
         self._on_tool = False
 
     def update(

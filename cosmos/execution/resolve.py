@@ -272,11 +272,6 @@ def axis_gains(segment: Segment, evaluation: Evaluation) -> tuple[FloatArray, Fl
     return kp, kv
 
 
-def _first_goal(segment: Segment, goal_position: FloatArray) -> bool:
-    """Whether a goal is a MOVE ... VIA's first (its first VIA point); a later one is a next leg."""
-    return bool(np.allclose(goal_position, segment.via[0].position_world, rtol=0.0, atol=1e-9))
-
-
 def setpoint_for(
     segment: Segment,
     goal_position: FloatArray,
@@ -286,11 +281,13 @@ def setpoint_for(
     start_s: float,
     posture_rad: FloatArray | None = None,
     among_obstacles: bool = False,
+    next_leg: bool = False,
 ) -> ServoSetpoint:
     """The servo setpoint that executes ``segment`` toward the given goal pose (and POSTURE, if any).
 
     Among obstacles (``among_obstacles``) a free MOVE keeps eq. 20-21's goal motion at any SPEED:
     it gives way to their field (seed section 6), where a tracked reference would pull against it.
+    ``next_leg``: the goal is a MOVE ... VIA's next one, after a VIA point passed.
     """
     kp, kv = axis_gains(segment, evaluation)
     trajectory = None
@@ -357,7 +354,7 @@ def setpoint_for(
         # A spring renders k (x_anchor - x): no integral may turn it into a stiff servo.
         cruise_integral=not isinstance(segment.completion, DepthReached) and not sprung,
         touch_braking=brakes_at_its_touch(segment),  # cosmos.osc.contact.touch_braking
-        leg=mode is MotionMode.GOAL and bool(segment.via) and not _first_goal(segment, goal_position),
+        leg=mode is MotionMode.GOAL and next_leg,
     )
 
 
