@@ -110,6 +110,18 @@ def digest(robot: Robot) -> str:
     return hashed.hexdigest()[:32]
 
 
+def _tool_geoms(model: Any, tool: int) -> list[int]:
+    """The geoms of body ``tool`` and of the bodies on it (the gripper's fingers)."""
+    found = []
+    for geom in range(model.ngeom):
+        body = int(model.geom_bodyid[geom])
+        while body not in (0, tool):
+            body = int(model.body_parentid[body])
+        if body == tool:
+            found.append(geom)
+    return found
+
+
 def _tool_sections(model: Any, data: Any, point: int) -> tuple[tuple[float, float, float], ...]:
     """The cylinders of the tool's body (and the bodies on it) centred on the tool's axis.
 
@@ -121,11 +133,8 @@ def _tool_sections(model: Any, data: Any, point: int) -> tuple[tuple[float, floa
     tool = model.body("tool").id
     origin, axes = data.site_xpos[point], data.site_xmat[point].reshape(3, 3)
     sections = []
-    for geom in range(model.ngeom):
-        body = int(model.geom_bodyid[geom])
-        while body not in (0, tool):
-            body = int(model.body_parentid[body])
-        if body != tool or model.geom_type[geom] != mujoco.mjtGeom.mjGEOM_CYLINDER:
+    for geom in _tool_geoms(model, tool):
+        if model.geom_type[geom] != mujoco.mjtGeom.mjGEOM_CYLINDER:
             continue
         centre = axes.T @ (data.geom_xpos[geom] - origin)
         along = axes.T @ data.geom_xmat[geom].reshape(3, 3)[:, 2]
@@ -146,11 +155,8 @@ def _tool_ahead(model: Any, data: Any, point: int) -> float:
     origin, axis = data.site_xpos[point], data.site_xmat[point].reshape(3, 3)[:, 2]
     signs = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
     ahead = 0.0
-    for geom in range(model.ngeom):
-        body = int(model.geom_bodyid[geom])
-        while body not in (0, tool):
-            body = int(model.body_parentid[body])
-        if body != tool or (model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0):
+    for geom in _tool_geoms(model, tool):
+        if model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0:
             continue
         centre, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
         corners = data.geom_xpos[geom] + (centre + signs * half) @ data.geom_xmat[geom].reshape(3, 3).T
