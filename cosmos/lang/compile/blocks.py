@@ -65,7 +65,7 @@ def expand_call(run: CompileContext, statement: ast.Call, state: CompileState) -
         )
     if key in run.call_stack:
         chain = " -> ".join([*run.call_stack, key])
-        raise ProgramError(f"procedures call each other without end: {chain}", statement.span)
+        raise EndlessCallsError(f"procedures call each other without end: {chain}", statement.span)
     _bounded_depth(run, statement)
     definition = entry.definition
     caller_names = state.names
@@ -133,6 +133,10 @@ def _restore_parameters(
     return frozen_map(restored)
 
 
+class EndlessCallsError(ProgramError):
+    """A call inside the procedures it calls: the call's fault, not its arguments'."""
+
+
 _CONTEXT = re.compile(r" \(in [^()]*\)$")
 """The ``(in PROC p called at line 3; ...)`` an error of an expanded statement ends with."""
 
@@ -148,7 +152,7 @@ def _argument_misfit(
         definition: The procedure called.
         text_of: Reads the caller's text.
     """
-    if isinstance(error, SuppressedError) or not definition.parameters:
+    if isinstance(error, SuppressedError | EndlessCallsError) or not definition.parameters:
         return None
     keys = [p.key for p in definition.parameters]
     span = error.span
