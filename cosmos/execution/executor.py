@@ -69,6 +69,8 @@ class Progress:
 
 
 ProgressCallback = Callable[[Progress], None]
+EventCallback = Callable[[str, Step, str, str], None]
+"""Told each event as it is logged: kind, step, reason and the step's context (the REPL's echo)."""
 
 
 class Executor:
@@ -87,6 +89,7 @@ class Executor:
         self.progress = progress
         self.progress_every = progress_every
         self.stop_requested = False
+        self.on_event: EventCallback | None = None
         self.recorder: LogRecorder | None = None
         if log is not None:
             self.recorder = LogRecorder(log, runtime.plant, runtime.robot.description.frames)
@@ -357,11 +360,13 @@ class Executor:
     # ------------------------------------------------------------------- log
 
     def _event(self, kind: str, segment: Step | None, reason: str) -> None:
+        context = self.walker.context_of(segment) if segment is not None else ""
+        if self.on_event is not None and segment is not None:
+            self.on_event(kind, segment, reason, context)
         if self.log is None:
             return
         line = segment.line if segment is not None else 0
         statement = segment.statement if segment is not None else ""
-        context = self.walker.context_of(segment) if segment is not None else ""
         self.log.event(
             self.runtime.time_s, kind, line=line, statement=statement, reason=reason, context=context
         )

@@ -206,16 +206,21 @@ class ReplEngine:
             raise Interrupted(f"interrupted before {statement_head(first.statement)}", first.span, source)
         start_s = self.session.runtime.time_s
         plan = Plan(file=REPL_FILE, source=source, steps=group, warnings=())
-        if self.show_progress:
-            progress = StatementProgress(start_s)
-            self.executor.progress = progress
-            try:
-                with progress:
-                    self.executor.run(plan)
-            finally:
-                self.executor.progress = None
-        else:
-            self.executor.run(plan)
+        # A block decided on the arm (IF, WHILE, TRY) says what it read and did as it goes.
+        self.executor.on_event = None if isinstance(first, Segment) else self._echo
+        try:
+            if self.show_progress:
+                progress = StatementProgress(start_s)
+                self.executor.progress = progress
+                try:
+                    with progress:
+                        self.executor.run(plan)
+                finally:
+                    self.executor.progress = None
+            else:
+                self.executor.run(plan)
+        finally:
+            self.executor.on_event = None
         if isinstance(first, Segment):
             status = self.status()
             where = f" ({first.context})" if first.context else ""
@@ -224,6 +229,21 @@ class ReplEngine:
                 f"|F| {status.force_n:.1f} N]",
                 Tone.OK,
             )
+
+    def _echo(self, kind: str, step: Step, reason: str, context: str) -> None:
+        """One line for each decision, each statement ended and each recovery inside a block.
+
+        A failure is not echoed: ON FAIL's ``recovery`` names it, or it ends the input.
+        """
+        where = f" ({context})" if context else ""
+        if kind == "decision":
+            keyword = step.statement.split(maxsplit=1)[0].upper()  # IF, WHILE: the reason reads on
+            self.printer.write(f"{keyword}{where} {reason}", Tone.NOTE)
+        elif kind in ("done", "stopped"):
+            said = f"  {reason}" if reason else ""
+            self.printer.write(f"ok  {step.statement}{where}{said}", Tone.OK)
+        elif kind in ("recovery", "retry"):
+            self.printer.write(reason, Tone.NOTE)
 
     # -------------------------------------------------------------- reset
 

@@ -26,6 +26,9 @@ KEYS = (
     + "MOVE BY (0, 0, 15 mm)" + ENTER
     + "END" + ENTER
     + "up" + ENTER
+    + "IF FORCE < 3 N" + ENTER
+    + "WAIT 0.1 s" + ENTER
+    + "END" + ENTER
     + "help" + ENTER
     + CTRL_D
 )  # fmt: skip
@@ -77,6 +80,15 @@ def test_syntax_error_is_shown_with_a_caret_and_the_session_goes_on(session: Dri
     assert "    MOVE BY (0, 0, 1 mx)\n                     ^^\n" in out
     assert "Traceback" not in out
     assert "ok  MOVE BY (0, 0, 15 mm) (PROC up called at line 12)" in out
+
+
+def test_a_block_decided_on_the_arm_says_what_it_read_and_ran(session: Driven) -> None:
+    """Catches an IF typed at the prompt that ran its branch and printed nothing: neither the
+    force it read nor the WAIT it ran (statements inside IF, WHILE and TRY were silent)."""
+    read = re.search(r"^IF FORCE < 3 N: read (\d+\.\d\d) N; holds: runs the IF branch", session.output, re.M)
+    assert read, session.output
+    assert float(read[1]) < 1.0  # the tool in free air, lifted by PROC up
+    assert re.search(r"^ok  WAIT 0\.1 s$", session.output, re.M), session.output
 
 
 def test_help_typed_without_its_colon_is_the_help(session: Driven) -> None:
