@@ -236,7 +236,7 @@ class PlanWalker:
                 return
             if passes == step.max_passes:
                 self.runner.note("decision", step, f"{read}; holds after {passes} passes")
-                self.runner.fail(step, f"still holds after {passes} passes (MAX {step.max_passes})")
+                self.runner.fail(step, f"still holds after {passes} passes (MAX {step.max_passes}): {read}")
             passes += 1
             self.runner.note("decision", step, f"{read}; holds: pass {passes}")
             self._walk_in(step, f"WHILE pass {passes} at line {step.line}", step.body)

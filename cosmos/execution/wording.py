@@ -11,8 +11,13 @@ _CLAUSE_WORDS = frozenset(("UNTIL", "TIMEOUT", "IN", "SPEED"))
 
 
 def statement_head(statement: str) -> str:
-    """The statement's keyword and its first operand, as messages name it (``CONTACT UP``, ``WAIT 2 s``)."""
+    """The statement's keyword and its first operand, as messages name it (``CONTACT UP``, ``WAIT 2 s``).
+
+    A decision's is its keyword alone: its condition's first word (``WHILE POSITION``) names nothing.
+    """
     words = statement.split()
+    if words and words[0].upper() in ("IF", "WHILE"):
+        return words[0]
     unit = len(words) > 2 and words[1][:1].isdigit() and words[2].isalpha()  # WAIT 2 s
     return " ".join(words[:3] if unit and words[2].upper() not in _CLAUSE_WORDS else words[:2])
 

@@ -137,8 +137,9 @@ def test_while_runs_until_its_condition_fails(near: ProgramRun, far: ProgramRun)
 
 
 def test_while_past_its_bound_fails(tmp_path_factory: pytest.TempPathFactory) -> None:
-    """A WHILE that still holds after MAX passes ends the program, naming the WHILE and its bound.
-    Catches an unbounded loop."""
+    """A WHILE that still holds after MAX passes ends the program, naming the WHILE, its bound
+    and the value it read last. Catches an unbounded loop, and the message headed by the
+    condition's first word ("WHILE POSITION still holds after 2 passes") without the reading."""
     source = (
         "MOVE TO table + (0, 0, 50 mm)\nWHILE POSITION Z < 0 m IN table MAX 2\n  MOVE BY (0, 0, 5 mm)\nEND\n"
     )
@@ -148,6 +149,9 @@ def test_while_past_its_bound_fails(tmp_path_factory: pytest.TempPathFactory) ->
     failed = run.events("failed", 2)
     assert failed and "still holds after 2 passes (MAX 2)" in failed[0].reason, run.describe()
     assert "WHILE" in run.stderr and "MAX 2" in run.stderr
+    assert re.search(
+        r":2:1: WHILE still holds after 2 passes \(MAX 2\): POSITION Z < 0 m: read -\d+\.\d mm", run.stderr
+    )
 
 
 # ------------------------------------------- the walker alone, on a runner that records
