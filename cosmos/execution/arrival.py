@@ -27,6 +27,7 @@ from cosmos.obstacles.field import Influence
 from cosmos.osc.orientation import so3_log
 from cosmos.plant import Plant
 from cosmos.robots import DEFAULT_ROBOT, Robot
+from cosmos.runtime.reach import beyond_reach
 from cosmos.runtime.rotation_plan import JointAtLimit
 from cosmos.workcell import TOOL_SITE, tool_spec
 
@@ -105,15 +106,7 @@ def out_of_reach(
     goal_position: FloatArray, goal_rotation: FloatArray, arm: Robot = DEFAULT_ROBOT
 ) -> str | None:
     """Why a goal pose is out of the arm's reach, or None if its flange is within reach of the shoulder."""
-    reach_m = arm.capability.reach_m
-    reach = float(np.linalg.norm(wrist_centre(goal_position, goal_rotation, arm) - np.array(arm.shoulder_m)))
-    if reach <= reach_m:
-        return None
-    beyond = (reach - reach_m) * 1e3
-    return (
-        f"the pose is out of the arm's reach: its wrist centre would be {beyond:.0f} mm beyond "
-        f"the arm's {reach_m * 1e3:.0f} mm"
-    )
+    return beyond_reach(wrist_centre(goal_position, goal_rotation, arm), arm)
 
 
 def stall_cause(

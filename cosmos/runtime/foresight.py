@@ -25,8 +25,10 @@ import dataclasses
 import numpy as np
 
 from cosmos import plan
+from cosmos.robots import ROBOTS
 from cosmos.runtime import foresight_cache
 from cosmos.runtime.goals_in_fixtures import Pose, ToolShape, goals_inside_fixtures
+from cosmos.runtime.reach import beyond_reach
 
 
 def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
@@ -98,6 +100,7 @@ def _follow_from_home(steps: tuple[plan.Step, ...], robot_name: str, tool: str) 
     from cosmos.runtime.rotation_plan import plan_rotation
 
     model = foresight_cache.kinematics(robot_name, tool)
+    flange_in_tool = foresight_cache.workcell(robot_name, tool).flange_in_tool
     data = model.model.createData()
     known: np.ndarray | None = np.array(model.home_q)
     since = "the home pose"  # where ``known`` comes from
@@ -122,6 +125,12 @@ def _follow_from_home(steps: tuple[plan.Step, ...], robot_name: str, tool: str) 
         elif isinstance(target, plan.RelativeTarget):
             goal_position, goal_rotation = position + np.asarray(target.offset_world), rotation
         else:
+            known = None
+            continue
+        if (
+            far := beyond_reach(goal_position + goal_rotation @ flange_in_tool, ROBOTS[robot_name])
+        ) is not None:
+            found.append((index, f"{_keyword(step)}: {far}"))
             known = None
             continue
         route = plan_rotation(model, known, position, rotation, goal_position, goal_rotation, compiled=False)

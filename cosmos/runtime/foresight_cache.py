@@ -43,6 +43,7 @@ DERIVING_CODE = (
     _ROOT / "osc" / "orientation.py",
     _ROOT / "runtime" / "rotation_plan.py",
     _ROOT / "runtime" / "foresight.py",
+    _ROOT / "runtime" / "reach.py",
     Path(__file__).resolve(),
 )
 """The source files whose code derives what is cached (a change to them changes the file's name)."""
@@ -81,6 +82,8 @@ class Workcell:
             tool's far end if it reaches behind the flange [m].
         tool_sections: The tool's cylinders on its axis (:class:`cosmos.runtime.goals_in_fixtures.ToolShape`):
             from and to how far back from the tool point, and radius [m], each.
+        flange_in_tool: Where the flange's origin (the PUMA's wrist centre) is in the tool point's
+            frame [m], read-only (:func:`cosmos.runtime.reach.beyond_reach` judges it). # (3,)
         tool_ahead_m: How far the tool reaches past the tool point along its axis [m] (the
             gripper's fingertips; 0 for the peg, whose tool point is its tip).
         solids: The fixtures' solids: the scene's world geoms that the tool can touch.
@@ -94,6 +97,7 @@ class Workcell:
     tool_length_m: float
     tool_sections: tuple[tuple[float, float, float], ...]
     tool_ahead_m: float
+    flange_in_tool: np.ndarray
     solids: tuple[FixtureSolid, ...]
     model_text: str
     tool_frame: int
@@ -217,6 +221,7 @@ def _to_json(cell: Workcell) -> str:
             "tool_length_m": cell.tool_length_m,
             "tool_sections": [list(section) for section in cell.tool_sections],
             "tool_ahead_m": cell.tool_ahead_m,
+            "flange_in_tool": cell.flange_in_tool.tolist(),
             "solids": [
                 {
                     "fixture": s.fixture,
@@ -258,6 +263,7 @@ def _from_json(text: str) -> Workcell:
             (float(start), float(end), float(radius)) for start, end, radius in entries["tool_sections"]
         ),
         tool_ahead_m=float(entries["tool_ahead_m"]),
+        flange_in_tool=cached_array(entries["flange_in_tool"], (3,)),
         solids=solids,
         model_text=entries["model"],
         tool_frame=int(entries["tool_frame"]),
@@ -310,16 +316,20 @@ def from_scene(robot: Robot, tool: str = "peg") -> Workcell:
         )
     arm = build_robot_model(robot, hand)
     point = model.site(TOOL_SITE).id
+    mounted = tool_spec(robot, hand)
     sections = _tool_sections(model, data, point)
     return Workcell(
         home_tool_position=cached_array(data.site_xpos[point], (3,)),
         home_tool_rotation=cached_array(data.site_xmat[point], (3, 3)),
         tool_length_m=max(
-            float(np.linalg.norm(tool_spec(robot, hand).tool_position_in_flange)),
+            float(np.linalg.norm(mounted.tool_position_in_flange)),
             max((end for _, end, _ in sections), default=0.0),
         ),
         tool_sections=sections,
         tool_ahead_m=_tool_ahead(model, data, point),
+        flange_in_tool=cached_array(
+            -mounted.tool_rotation_in_flange.T @ mounted.tool_position_in_flange, (3,)
+        ),
         solids=tuple(solids),
         model_text=arm.model.saveToString(),
         tool_frame=int(arm.tool_frame),

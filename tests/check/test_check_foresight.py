@@ -213,3 +213,30 @@ def test_a_held_object_is_the_tool_past_its_point() -> None:
     compiled = with_foreseen_limits(compile_program(source, "pick.cos", fixture_frames()))
     tips = [w for w in compiled.warnings if "tool's tip" in w.message]
     assert [w.span.line for w in tips] == [len(source.splitlines())]
+
+
+@pytest.mark.parametrize(
+    ("robot", "goal_x_m", "beyond"), [("puma560", 1.2, True), ("puma560", 0.8, False), ("panda", 0.9, True)]
+)
+def test_a_goal_out_of_reach_is_foreseen_as_the_run_fails(robot: str, goal_x_m: float, beyond: bool) -> None:
+    """The check names a goal out of the arm's reach with the run's own words and figure.
+
+    Catches `MOVE TO (1.2, 0, 0.4)` (325 mm beyond the PUMA's 877 mm) checked as "joint 5 would
+    reach its limit of -100 deg; the goal is within range in another configuration of the
+    wrist": the rotation plan's stop, while the run fails "the pose is out of the arm's reach"."""
+    import warnings
+
+    import cosmos
+    from cosmos.api import check
+
+    program = f"ROBOT {robot}\nMOVE TO ({goal_x_m}, 0, 0.4)\n"
+    said = [w.message for w in check(program).warnings if "reach" in w.message]
+    if not beyond:
+        assert not said, said
+        return
+    assert len(said) == 1 and said[0].startswith("MOVE TO: the pose is out of the arm's reach"), said
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cosmos.CosmosWarning)
+        run = cosmos.run(program, log=None, ideal=True)
+    assert run.outcome is not None and not run.ok
+    assert said[0].removeprefix("MOVE TO: ") in run.outcome.reason, (said, run.outcome.reason)
