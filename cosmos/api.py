@@ -166,8 +166,8 @@ def run(
     from cosmos.runlog.writer import unused_log_path
     from cosmos.runtime.rates import Rates
 
-    if isinstance(seed, bool) or not isinstance(seed, int):
-        raise UsageError(f"seed must be an integer; got {seed!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise UsageError(f"seed must be a whole number from 0 up; got {seed!r}")
     if not isinstance(ideal, bool):
         raise UsageError(f"ideal must be True or False; got {ideal!r}")
     rates = Rates.chosen(

@@ -65,7 +65,11 @@ def cli() -> None:
     help="Parameter-evaluation rate [Hz].",
 )
 @click.option(
-    "--seed", type=int, default=0, show_default=True, help="Seed of the wrist force/torque sensor's noise."
+    "--seed",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Seed of the wrist force/torque sensor's noise.",
 )
 @click.option("--force", is_flag=True, help="Overwrite the --log file if it exists.")
 @click.option("--vary", multiple=True, metavar="NAME=VALUE", help="Vary the real workcell (docs/sweep.md).")
@@ -247,7 +251,13 @@ def replay(
 @cli.command()
 @program_argument
 @click.option("--runs", type=click.IntRange(min=1), default=100, show_default=True, help="Runs to make.")
-@click.option("--seed", type=int, default=0, show_default=True, help="The sweep's seed: every run's draws.")
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="The sweep's seed: every run's draws.",
+)
 @click.option(
     "--vary", multiple=True, metavar="NAME=DIST", help="normal(mean, sd), uniform(lo, hi), a value."
 )
