@@ -140,6 +140,7 @@ class ResultsFile:
         self.path = path
         header = spec.header()
         self.done: dict[int, dict[str, Any]] = {}
+        complete: int | None = None  # the length of the runs kept, when the file is there
         if path.exists():
             found, self.done, complete = read_results(path)
             if found.get("cosmos") != header["cosmos"] and {**found, "cosmos": header["cosmos"]} == header:
@@ -153,12 +154,16 @@ class ResultsFile:
                     f"{path}: holds another sweep (program text, seed, --vary or --ideal differ); "
                     "give another --out or delete it"
                 )
-            with path.open("r+b") as stream:
-                stream.truncate(complete)
-        else:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_text(json.dumps(header) + "\n", encoding="utf-8")
-        self._stream: IO[str] = path.open("a", encoding="utf-8")
+        try:
+            if complete is not None:
+                with path.open("r+b") as stream:
+                    stream.truncate(complete)
+            else:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text(json.dumps(header) + "\n", encoding="utf-8")
+            self._stream: IO[str] = path.open("a", encoding="utf-8")
+        except OSError as error:
+            raise UsageError(f"{path}: cannot write the sweep's results: {error.strerror or error}") from None
 
     def add(self, result: dict[str, Any]) -> None:
         """Append one run's result and put it on the disk before going on."""

@@ -50,6 +50,14 @@ def test_another_sweep_in_the_same_folder_is_refused(tmp_path: Path, other: Swee
         ResultsFile(path, other)
 
 
+def test_an_out_folder_that_cannot_be_made_is_one_line(tmp_path: Path) -> None:
+    """Catches `cosmos sweep ... --out /proc/x` ending in pathlib's FileNotFoundError traceback."""
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(UsageError, match=r"file/sweep/results.jsonl: cannot write the sweep.s results"):
+        ResultsFile(blocker / "sweep" / "results.jsonl", spec())
+
+
 def test_sample_redraws_a_run_s_values_from_the_header(tmp_path: Path) -> None:
     """Catches --sample reading values that the header's seed and distributions do not give."""
     path = tmp_path / "results.jsonl"
