@@ -69,8 +69,7 @@ class Progress:
 
 
 ProgressCallback = Callable[[Progress], None]
-EventCallback = Callable[[str, Step, str, str], None]
-"""Told each event as it is logged: kind, step, reason and the step's context (the REPL's echo)."""
+EventCallback = Callable[[str, Step, str, str], None]  # kind, step, reason, context: the REPL's echo
 
 
 class Executor:
@@ -101,8 +100,7 @@ class Executor:
         self._stopped_at: float | None = None
         self._field_watch = FieldOnToolWatch()
         self.meter = ToolMeter(runtime.plant)
-        robot = runtime.robot
-        torque_limits = np.minimum(-robot.tau_lower_nm, robot.tau_upper_nm)
+        torque_limits = np.minimum(-runtime.robot.tau_lower_nm, runtime.robot.tau_upper_nm)
         self.supervisor = Supervisor(runtime.plant, torque_limits, 1.0 / runtime.rates.servo_hz)
         self.walker = PlanWalker(self)
         """Decides IF, WHILE and TRY; keeps how the last statement ended from one plan to the next."""
