@@ -9,9 +9,20 @@ first); their start pose is the body's, MuJoCo's ``qpos0`` for a free joint, whi
 
 Contacts: an object's friction is the one its contacts use (MuJoCo's geom ``priority``), so
 a program's ``FRICTION`` decides how well the pads hold it and how it slides on the table.
-``contype 1`` touches the fixtures and other objects (their ``conaffinity`` 1);
-``conaffinity 7`` lets the arm's links (``contype 2``) and the tool and fingers
-(``contype 4``) touch them.
+An object is two geoms of the same shape, one for what holds it, one for what it stands on:
+
+- its *grip* geom (``<name>_geom``, which carries the mass) touches only the arm's links
+  (``contype 2``) and the tool and fingers (``contype 4``): ``contype 0``, ``conaffinity 6``,
+  with the workcell's default contact, stiff from the first touch (the pads hold it without
+  sinking, and the wrist sensor measures it at once);
+- its *seat* geom (``<name>_seat``, massless) touches the fixtures (their ``contype 1``), the
+  hole's walls (``conaffinity 9``) and the other objects' seats (bit 16 both ways), with the
+  table's contact: its force builds up over 1.5 mm of penetration, as the tool's does on
+  the table, so a held object set down lands as gently as the tool (with the grip's stiff
+  contact the force rose within one physics step, before the controller could brake:
+  27-48 N where the tool peaks under 10 N).
+
+Each keeps the object's friction (priority 1 over the fixtures and the pads).
 """
 
 from __future__ import annotations
@@ -25,9 +36,19 @@ import numpy as np
 from cosmos.hand.work_object import ObjectShape, WorkObject
 
 OBJECT_CONTYPE, OBJECT_CONAFFINITY = 1, 7
+"""The peg's end disc: it touches everything (the table, the holder, the pads, the links)."""
+GRIP_CONTYPE, GRIP_CONAFFINITY = 0, 6
+"""An object's grip geom: touched by the links (``contype 2``) and the hand (``contype 4``)."""
+SEAT_CONTYPE, SEAT_CONAFFINITY = 8 | 16, 1 | 16
+"""An object's seat geom: the fixtures (``contype 1``), the hole (``conaffinity 9``), the other
+objects' seats and the peg's sleeve (bit 16); never the hand (``contype 4``, ``conaffinity 1``)."""
 OBJECT_PRIORITY = 1
 """Above every other geom's 0: an object's contacts (with the pads, the table, the fixtures)
 take its friction (the program's ``FRICTION``) and its contact parameters."""
+SEAT_SOLREF = (0.004, 1.0)
+SEAT_SOLIMP = (0.2, 0.99, 0.0015, 0.5, 2.0)
+"""The table's contact (``cosmos/models/puma560/scene.xml``, ``table_top``): 4 ms, its
+impedance from 0 at the touch to 0.99 over 1.5 mm, as the tool meets the table."""
 OBJECT_RGBA = (0.25, 0.55, 0.85, 1.0)
 _GEOM = {ObjectShape.BOX: mujoco.mjtGeom.mjGEOM_BOX, ObjectShape.CYLINDER: mujoco.mjtGeom.mjGEOM_CYLINDER}
 
@@ -50,12 +71,16 @@ def add_objects(spec: mujoco.MjSpec, objects: Sequence[WorkObject]) -> None:
             continue
         a, b, c = item.half_extents_m
         size = (a, b, c) if item.shape is ObjectShape.BOX else (a, c, 0.0)
-        geom = body.add_geom(name=f"{item.name}_geom", type=_GEOM[item.shape], size=size, mass=item.mass_kg)
-        geom.friction = (item.friction, 0.005, 0.0001)
-        geom.condim = 4
-        geom.contype, geom.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY
-        geom.priority = OBJECT_PRIORITY
-        geom.rgba = OBJECT_RGBA
+        grip = body.add_geom(name=f"{item.name}_geom", type=_GEOM[item.shape], size=size, mass=item.mass_kg)
+        seat = body.add_geom(name=f"{item.name}_seat", type=_GEOM[item.shape], size=size, mass=0.0)
+        for geom in (grip, seat):
+            geom.friction = (item.friction, 0.005, 0.0001)
+            geom.condim = 4
+            geom.priority = OBJECT_PRIORITY
+            geom.rgba = OBJECT_RGBA
+        grip.contype, grip.conaffinity = GRIP_CONTYPE, GRIP_CONAFFINITY
+        seat.contype, seat.conaffinity = SEAT_CONTYPE, SEAT_CONAFFINITY
+        seat.solref, seat.solimp = SEAT_SOLREF, SEAT_SOLIMP
 
 
 # The welded peg's chamfered end (cosmos/models/puma560/scene.xml, "Peg"), its +z end here.
@@ -126,7 +151,7 @@ def _peg(body: mujoco.MjsBody, item: WorkObject, tool: mujoco.MjsGeom) -> None:
     # same cylinder as a soft sleeve, and the hole's chamfer its soft facets; the end disc
     # stands stiff on the table, the holder's and the hole's bottoms.
     cylinder.contype, cylinder.conaffinity = 0, 6
-    sleeve.contype, sleeve.conaffinity = 8, 1
+    sleeve.contype, sleeve.conaffinity = 8, SEAT_CONAFFINITY  # and the other objects' seats
     disc.contype, disc.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY
     for geom in geoms[2:]:
         geom.solref, geom.solimp, geom.solmix = tool.solref, tool.solimp, tool.solmix
