@@ -2,7 +2,7 @@
 
 :func:`add_objects` appends each :class:`cosmos.hand.work_object.WorkObject` to a
 workcell's spec before it is compiled, as a body with a free joint and one geom of its
-shape, mass and friction. Being after the arm (and the gripper's fingers) in the body tree,
+shape, mass and friction (two: below). Being after the arm (and the gripper's fingers) in the body tree,
 their joints come after the arm's in ``qpos`` (:class:`cosmos.plant.Plant` needs the arm's
 first); their start pose is the body's, MuJoCo's ``qpos0`` for a free joint, which the
 ``home`` keyframe leaves as it is.
@@ -20,7 +20,7 @@ An object is two geoms of the same shape, one for what holds it, one for what it
   table's contact: its force builds up over 1.5 mm of penetration, as the tool's does on
   the table, so a held object set down lands as gently as the tool (with the grip's stiff
   contact the force rose within one physics step, before the controller could brake:
-  27-48 N where the tool peaks under 10 N).
+  27-67 N at 5-30 mm/s for FORCE 5 N, where the tool peaks under 10 N; docs/language.md).
 
 Each keeps the object's friction (priority 1 over the fixtures and the pads).
 """
@@ -47,8 +47,11 @@ OBJECT_PRIORITY = 1
 take its friction (the program's ``FRICTION``) and its contact parameters."""
 SEAT_SOLREF = (0.004, 1.0)
 SEAT_SOLIMP = (0.2, 0.99, 0.0015, 0.5, 2.0)
-"""The table's contact (``cosmos/models/puma560/scene.xml``, ``table_top``): 4 ms, its
-impedance from 0 at the touch to 0.99 over 1.5 mm, as the tool meets the table."""
+"""The table's contact (``cosmos/models/puma560/scene.xml``, ``table_top``: 4 ms, impedance
+0 -> 0.99 over 1.5 mm), from 0.2 at the touch: MuJoCo scales a contact's stiffness by the
+mass it moves, here the object's, not the arm's, and from 0 the seat was so soft that the
+realistic PUMA's force hold of a set-down block cycled between 3.8 and 8 N (its joints'
+static friction); an object at rest sinks 0.34 mm under its weight, whatever its mass."""
 OBJECT_RGBA = (0.25, 0.55, 0.85, 1.0)
 _GEOM = {ObjectShape.BOX: mujoco.mjtGeom.mjGEOM_BOX, ObjectShape.CYLINDER: mujoco.mjtGeom.mjGEOM_CYLINDER}
 

@@ -125,7 +125,8 @@ def measure(robot: str, speed_mmps: float, seed: int, ideal: bool, tmp: Path) ->
         code = run_program(path, log, Rates(state_hz=1000.0), seed, force=True, ideal=ideal)
     record = read_log(log)
     lines = program(robot, speed_mmps).splitlines()
-    line_of = {key: 1 + next(i for i, s in enumerate(lines) if s.startswith(key)) for key in ("GRASP", "CONTACT", "WAIT")}
+    keys = ("GRASP", "CONTACT", "WAIT")
+    line_of = {key: 1 + next(i for i, s in enumerate(lines) if s.startswith(key)) for key in keys}
     ct, cf = np.array(probe.t), np.array(probe.push)
     contact_start = [s.t for s in record.segments if s.line == line_of["CONTACT"]]
     grasped = [e.t for e in record.events if e.line == line_of["GRASP"] and e.kind == "done"]
