@@ -80,8 +80,8 @@ def test_blocks_at_rest_sleep(tmp_path: Path) -> None:
         for name in BLOCKS:
             body = model.body(name).id
             assert data.tree_asleep[model.body_treeid[body]] >= 0, name
-            geom = model.geom(f"{name}_geom").id
-            touching = [c for c in data.contact[: data.ncon] if geom in (c.geom1, c.geom2)]
+            geoms = {model.geom(f"{name}_geom").id, model.geom(f"{name}_seat").id}  # grip and seat
+            touching = [c for c in data.contact[: data.ncon] if geoms & {c.geom1, c.geom2}]
             assert touching == [], name
         assert model.opt.enableflags & int(mujoco.mjtEnableBit.mjENBL_SLEEP)
 
