@@ -39,7 +39,7 @@ def test_a_held_block_lands_under_the_tools_bar(tmp_path: Path, robot: str, idea
     Catches: a held object whose contacts with the table are the grip's stiff ones (the force
     rose within one physics step, before the controller could brake: 38-48 N on the PUMA, 25-33
     N on the Panda); a fix that softens the grip with it (the block sinks or slips in the
-    pads); a seat so soft that the PUMA's force hold cycles off its FORCE.
+    pads), or that leaves the hold off its FORCE.
     """
     path = tmp_path / "landing.cos"
     path.write_text(program(robot, 15.0), encoding="utf-8")
