@@ -35,13 +35,12 @@ import numpy as np
 
 from cosmos.hand.work_object import ObjectShape, WorkObject
 
-OBJECT_CONTYPE, OBJECT_CONAFFINITY = 1, 7
-"""The peg's end disc: it touches everything (the table, the holder, the pads, the links)."""
 GRIP_CONTYPE, GRIP_CONAFFINITY = 0, 6
 """An object's grip geom: touched by the links (``contype 2``) and the hand (``contype 4``)."""
 SEAT_CONTYPE, SEAT_CONAFFINITY = 8 | 16, 1 | 16
 """An object's seat geom: the fixtures (``contype 1``), the hole (``conaffinity 9``), the other
-objects' seats and the peg's sleeve (bit 16); never the hand (``contype 4``, ``conaffinity 1``)."""
+objects' seats, the peg's sleeve and end disc (bit 16); never the hand (``contype 4``,
+``conaffinity 1``)."""
 OBJECT_PRIORITY = 1
 """Above every other geom's 0: an object's contacts (with the pads, the table, the fixtures)
 take its friction (the program's ``FRICTION``) and its contact parameters."""
@@ -99,8 +98,9 @@ def _peg(body: mujoco.MjsBody, item: WorkObject, tool: mujoco.MjsGeom) -> None:
 
     Its sleeve and facets, which meet the hole's walls and chamfer, take the welded tool's
     steel contact (``tool``: the scene's ``tool`` default class; models README, "Contacts"),
-    so the held peg meets the hole as the welded one does. Its cylinder and end disc keep
-    the workcell's default contact, so it stands in its holder and in the fingers.
+    so the held peg meets the hole as the welded one does. Its cylinder keeps the workcell's
+    default contact, so it stands stiff in the fingers; its end disc is its seat (an object's,
+    module docstring), on which it stands in its holder and is set down.
     """
     radius, _, half = item.half_extents_m
     end = half
@@ -152,9 +152,10 @@ def _peg(body: mujoco.MjsBody, item: WorkObject, tool: mujoco.MjsGeom) -> None:
         geom.rgba = (0.8, 0.8, 0.85, 1.0)
     # The pads and links hold the stiff cylinder; the fixtures' walls (hole and holder) meet the
     # same cylinder as a soft sleeve, and the hole's chamfer its soft facets; the end disc
-    # stands stiff on the table, the holder's and the hole's bottoms.
+    # stands on the table, the holder's and the hole's bottoms as an object's seat.
     cylinder.contype, cylinder.conaffinity = 0, 6
     sleeve.contype, sleeve.conaffinity = 8, SEAT_CONAFFINITY  # and the other objects' seats
-    disc.contype, disc.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY
+    disc.contype, disc.conaffinity = SEAT_CONTYPE, SEAT_CONAFFINITY
+    disc.solref, disc.solimp = SEAT_SOLREF, SEAT_SOLIMP
     for geom in geoms[2:]:
         geom.solref, geom.solimp, geom.solmix = tool.solref, tool.solimp, tool.solmix
