@@ -1,6 +1,6 @@
 """A held object set down (docs/language.md, "A held OBJECT lands"): speeds x arms x plants.
 
-Run ``python tests/hand/held_landing_grid.py`` (about 4 minutes on two cores; ``--speeds 15``,
+Run ``python tests/hand/held_landing_grid.py`` (about 2 minutes on two cores; ``--speeds 15``,
 ``--robots panda``, ``--seeds 0,ideal`` to choose). Each case picks ``block_a`` (0.5 kg, 40 x 30
 x 50 mm) off the table with the gripper, lifts it 10 mm, sets it down with ``CONTACT DOWN
 FORCE 5 N SPEED v`` and holds it a ``WAIT 1 s``:
