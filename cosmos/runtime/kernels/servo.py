@@ -1,25 +1,24 @@
 """The servo level's per-tick arithmetic, compiled (numba): one call per servo tick.
 
 The maths are those of :mod:`cosmos.osc` (the readable reference; against it
-``tests/runtime/test_servo_kernel.py`` checks a whole tick on seeded random inputs): the wrench
-the tool applies from the wrist sensor (:func:`cosmos.runtime.wrench.environment_wrench`), the
-estimator ``x = x_e + J (q - q_e)`` (section 3), the motion command (eq. 19, eq. 20-21,
-:mod:`cosmos.osc.motion`), the active force command (F_d fed forward, PI on the force error with
-its anti-windup clamp, eq. 17-18 and Figure 2, :func:`cosmos.osc.unified.integrate_force_error`
-and :func:`cosmos.osc.unified.force_feedback`, integral action only once
-:func:`cosmos.osc.contact.touch_latched`), a push held to its SPEED
-(:func:`cosmos.osc.unified.speed_limited_push`) or at a surface (:func:`cosmos.osc.held_push.held_push`),
-a slide's integral action (:func:`cosmos.osc.integral_action.integrate_motion_error`), a free
-hold's disturbance observer while the null space is driven (:mod:`cosmos.runtime.kernels.hold_observer`)
-or, on compliant moment axes in contact, admittance control (:mod:`cosmos.osc.admittance`; an
-INSERT's within its tilt window, :mod:`cosmos.osc.tilt_window`), eq. 29's single product with the
-folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction compensation
+``tests/runtime/test_servo_kernel.py`` checks a whole tick on seeded random inputs): the wrench the tool
+applies from the wrist sensor (:func:`cosmos.runtime.wrench.environment_wrench`), the estimator
+``x = x_e + J (q - q_e)`` (section 3), the motion command (eq. 19, eq. 20-21, :mod:`cosmos.osc.motion`), the
+active force command (F_d fed forward, PI on the force error with its anti-windup clamp, eq. 17-18 and Figure
+2, :func:`cosmos.osc.unified.integrate_force_error` and :func:`cosmos.osc.unified.force_feedback`, integral
+action only once :func:`cosmos.osc.contact.touch_latched`), a push held to its SPEED
+(:func:`cosmos.osc.unified.speed_limited_push`) or at a surface (:func:`cosmos.osc.held_push.held_push`), a
+slide's integral action (:func:`cosmos.osc.integral_action.integrate_motion_error`) and surface friction
+(:mod:`cosmos.osc.surface_friction`), a free hold's disturbance observer while the null space is driven
+(:mod:`cosmos.runtime.kernels.hold_observer`) or, on compliant moment axes in contact, admittance control
+(:mod:`cosmos.osc.admittance`; an INSERT's within its tilt window, :mod:`cosmos.osc.tilt_window`), eq. 29's
+single product with the folded matrix (:func:`cosmos.osc.unified.servo_torque`), Coulomb friction compensation
 (:mod:`cosmos.osc.friction`; toward the null space's intent too; its levels' error learnt,
-:mod:`cosmos.runtime.kernels.friction_adaptation`) and the saturation that scales the command
-about gravity (:func:`cosmos.osc.limits.saturate_torque`). Pieces with a kernel of their own are in
+:mod:`cosmos.runtime.kernels.friction_adaptation`) and the saturation that scales the command about gravity
+(:func:`cosmos.osc.limits.saturate_torque`). Pieces with a kernel of their own are in
 :mod:`cosmos.runtime.kernels.commands`, :mod:`cosmos.runtime.kernels.contact` and
-:mod:`cosmos.runtime.kernels.spring` (COMPLY springs). Results are written in place into the
-arrays passed (``state``, ``out``), so a tick creates no Python objects.
+:mod:`cosmos.runtime.kernels.spring` (COMPLY springs). Results are written in place into the arrays passed
+(``state``, ``out``), so a tick creates no Python objects.
 """
 
 from __future__ import annotations
@@ -54,6 +53,7 @@ from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
 from cosmos.runtime.kernels.push_speed import push_at_speed_into
 from cosmos.runtime.kernels.spring import SPRING_LAW, SPRING_ROWS, SPRINGS, spring_law_into
+from cosmos.runtime.kernels.surface_friction import SURFACE, surface_friction_into
 
 FloatArray = np.ndarray
 
@@ -104,7 +104,7 @@ MATRICES = 6
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
 MOTION_INTEGRAL = 9  # integral of the translation error: a slide's in contact, a goal's near it [m s]
 FRICTION_ERROR = SPRING_LAW + SPRING_ROWS  # each joint's Coulomb error (kernels.friction_adaptation)
-STATE_ROWS = FRICTION_ERROR + 1  # CRUISE: kernels.cruise's row; SPRING_LAW: kernels.spring's rows
+STATE_ROWS = SURFACE + 1  # CRUISE, SPRING_LAW, SURFACE: kernels.cruise's, spring's, surface_friction's rows
 TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
 ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
 REACHED, HELD_INTEGRAL = 2, 3  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
@@ -307,10 +307,7 @@ def servo_tick(
         if touch_latched(flags[TOUCHING] != 0.0, omega_bar, wrench, scalars[CONTACT_THRESHOLD_N]):
             flags[TOUCHING] = 1.0
         if flags[TOUCHING] != 0.0 and mode == MODE_TRAJECTORY and t_s >= scalars[TRAJECTORY_END_S]:
-            # A SLIDE whose reference has stopped: eq. 19 plus integral action on the motion axes'
-            # translation error (cosmos.osc.integral_action.integrate_motion_error): static friction would
-            # hold the tool f / (Lambda kp), millimetres, short of its goal.
-            # Its part pushing the tool on past its goal is dropped first.
+            # A SLIDE whose reference has stopped: cosmos.osc.integral_action.integrate_motion_error.
             gains = np.array((scalars[MOTION_KI], scalars[MOTION_INTEGRAL_LIMIT], scalars[DT_S]))
             slide_integral_into(motion, acceleration, state[MOTION_INTEGRAL, :6], error, omega_bar, gains)
         integral = state[INTEGRAL, :6]
@@ -372,9 +369,9 @@ def servo_tick(
         for k in range(n):
             acc += stacked[i, 19 + k] * qd[k]
         torque[i] = acc
-    # Coulomb friction is compensated in the direction the joint is moving or, from rest,
-    # is being told to move (qd plus Jbar times the commanded acceleration over a short
-    # look-ahead), low-passed so that a new setpoint or a sign change never steps it.
+    # Coulomb friction is compensated in the direction the joint is moving or, from rest, is being told to
+    # move (qd plus Jbar times the commanded acceleration over a short look-ahead), low-passed so that a new
+    # setpoint or a sign change never steps it.
     if admittance or mode == MODE_TRAJECTORY or pushing_at_speed or cruising:  # no slow joint left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
     free = mode != MODE_HOLD and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0
@@ -384,6 +381,9 @@ def servo_tick(
     levels = adapted_levels(
         state[FRICTION_ERROR, :n], fed_back, velocity, stacked, jbar_lookahead, published, free, adaption
     )
+    slide = mode == MODE_TRAJECTORY and not scalars[PUSH_SPEED] > 0.0 and state[FLAGS, TOUCHING] != 0.0
+    args = (matrices[OMEGA_BAR], motion, commanded_speed, goal, scalars[HAS_FORCE] != 0.0, slide, adaption)
+    surface_friction_into(torque, state, jacobian, *args, scalars[COULOMB_BLEND])  # osc.surface_friction
     coulomb_compensation_into(  # toward where the task and the null space's torques turn the joints
         torque,
         state[COULOMB, :n],
