@@ -66,7 +66,7 @@ class SurfaceFrictionGains:
     """
 
     full_speed_mps: float = 0.005
-    sliding_mps: float = 0.005
+    sliding_mps: float = 0.010
     rate_per_s: float = 5.0
     share: float = 0.9
     max_coefficient: float = 1.5

@@ -23,6 +23,12 @@ from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, ramped_speed_limit, tracking_command
 from cosmos.osc.orientation import so3_exp
 from cosmos.osc.push_speed import follow_the_tool, speed_reference_step
+from cosmos.osc.surface_friction import (
+    SURFACE_FRICTION,
+    learn_surface_friction,
+    surface_friction_force,
+    surface_intent,
+)
 from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import (
     ForceGains,
@@ -491,6 +497,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     state[sk.FRICTION_ERROR] = rng.uniform(-0.08, 0.08, 6)  # the joints' Coulomb errors learnt so far
     state[sk.MOTION_INTEGRAL] = 0.0
     state[sk.MOTION_INTEGRAL, :3] = sel.omega[:3, :3] @ rng.uniform(-0.002, 0.002, 3)  # on motion axes
+    state[sk.SURFACE] = (0.3, 0.0, 0.5, -0.4, 0.2, 0.0)  # a surface's friction learnt (no draw)
     if case.mode == sk.MODE_HOLD:  # a free hold's observer: the velocity it predicted [m/s]
         state[sk.MOTION_INTEGRAL, 3:6] = rng.normal(0.0, 2e-3, 3)
         state[sk.FLAGS, sk.OBSERVING] = 1.0
@@ -727,6 +734,27 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     # Eq. 29 with the held potentials, eq. 34's null-space damping and viscous friction.
     torque = unified_torque(dyn, sel, motion, f_a) + inputs.held
     torque += null_space_damping(dyn, inputs.inertia, inputs.qd, XI_Q) + inputs.viscous * inputs.qd
+    # A SLIDE's surface friction, added to eq. 17's F at the tool point (cosmos.osc.surface_friction).
+    surface = st[sk.SURFACE].copy()
+    surface[2:5] = 0.0
+    if sc[sk.MODE] == sk.MODE_TRAJECTORY and not sc[sk.PUSH_SPEED] > 0.0 and touching:
+        push = float(np.linalg.norm(sel.omega_bar[:3, :3] @ vec[sk.FORCE_WORLD, :3]))
+        intent = surface_intent(velocity, fed_back, speed, sel.omega_bar, LOOKAHEAD_S)
+        mu, slid = learn_surface_friction(
+            surface[0],
+            bool(surface[1]),
+            wrench,
+            velocity,
+            intent,
+            sel.omega_bar,
+            push,
+            DT_S,
+            SURFACE_FRICTION,
+        )
+        force = surface_friction_force(st[sk.SURFACE, 2:5], mu, push, intent, COULOMB_BLEND, SURFACE_FRICTION)
+        surface[:5] = (mu, float(slid), *force)
+        torque += jacobian[:3].T @ force
+    extra = {**extra, sk.SURFACE: surface}
 
     # The motion axes' command counts toward the intent; on the force axes the joints' own motion
     # is taken out of it, and the force loop's acceleration put in before touching.
@@ -818,6 +846,7 @@ def _finish_tick(
         sk.TORQUE: saturated,
         sk.CRUISE: st[sk.CRUISE],  # a push's speed reference at 2 and 3 (written by the caller)
         sk.FRICTION_ERROR: eps,
+        sk.SURFACE: np.zeros(6),  # no held contact: its surface's friction forgotten
         **(extra or {}),
     }
     latched = bool(st[sk.FLAGS, sk.TOUCHING]) if touching is None else touching
@@ -854,6 +883,7 @@ ROW_NAMES = {
     sk.MOMENT_FILTERED: "MOMENT_FILTERED",
     sk.CRUISE: "CRUISE",
     sk.FRICTION_ERROR: "FRICTION_ERROR",
+    sk.SURFACE: "SURFACE",
 }
 
 

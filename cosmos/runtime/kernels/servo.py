@@ -382,7 +382,7 @@ def servo_tick(
         state[FRICTION_ERROR, :n], fed_back, velocity, stacked, jbar_lookahead, published, free, adaption
     )
     slide = mode == MODE_TRAJECTORY and not scalars[PUSH_SPEED] > 0.0 and state[FLAGS, TOUCHING] != 0.0
-    args = (matrices[OMEGA_BAR], motion, commanded_speed, goal, scalars[HAS_FORCE] != 0.0, slide, adaption)
+    args = (matrices[OMEGA_BAR], fed_back, commanded_speed, goal, scalars[HAS_FORCE] != 0.0, slide, adaption)
     surface_friction_into(torque, state, jacobian, *args, scalars[COULOMB_BLEND])  # osc.surface_friction
     coulomb_compensation_into(  # toward where the task and the null space's torques turn the joints
         torque,
