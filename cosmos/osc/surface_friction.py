@@ -1,44 +1,47 @@
-"""A held contact's sliding friction, measured and compensated toward the motion axes' intent (added to eq. 17-18).
+"""A held contact's sliding friction, measured, compensated toward the motion axes' intent (eq. 17-18).
 
-Eq. 17-18 decouple the end effector in free space: with ``F = Lambda F*_m + mu + p + F_a`` the
-tool moves as a unit mass on its motion axes, ``xdd = F*_m``. Sliding on a surface, the
-surface's Coulomb friction ``f_s = -mu_s N xd / |xd|`` acts on the tool too, and the arm moves as
-``xdd = F*_m + Lambda^-1 f_s``. Lambda^-1 is not isotropic (the PUMA's tool, 40 mm from the
-table in a frame turned 30 deg about z: 0.51, 0.14 and 0.09 1/kg on its diagonal, 0.10 off it),
-so the friction does not only hold the tool back along the slide, which eq. 19's tracking and
-its integral (:mod:`cosmos.osc.integral_action`) answer, it also pushes the tool across the
-slide and turns it: a 16 N friction (0.8 x 20 N) gave the tool 2.3 m/s^2 across, which eq. 19's
-``-kp e`` balanced only with a steady error, 2.2 mm across for the whole slide, and in the
-world frame at 30 N (friction 1.0) the tool ended 1.3 deg turned. Then, the reference stopped,
-the slide's integral had to beat the static friction (16 N) along and across, and the tool it
-broke loose ran on: it hunted +-2 mm at up to 42 mm/s and failed.
+Eq. 17-18 decouple the end effector in free space: with ``F = Lambda F*_m + mu + p + F_a`` the tool
+moves as a unit mass on its motion axes, ``xdd = F*_m``. Sliding on a surface, the surface's
+Coulomb friction ``f_s = -mu_s N xd / |xd|`` acts on the tool too, and the arm moves as
+``xdd = F*_m + Lambda^-1 f_s``. Lambda^-1 is not isotropic (the PUMA's tool 40 mm above the table
+in a frame turned 30 deg about z: 0.51, 0.14 and 0.09 1/kg on its diagonal, up to 0.10 off it), so
+the friction does not only hold the tool back along the slide, which eq. 19's tracking and its
+integral (:mod:`cosmos.osc.integral_action`) answer: it pushes the tool across the slide too. A
+16 N friction (0.8 x 20 N) gave the tool 2.3 m/s^2 across, which eq. 19's ``-kp e`` balanced only
+with a steady error, 2.2 mm off its line for the whole slide (the wrist sensing no force across:
+the push across is Lambda^-1's, not the surface's); then the slide's integral, at the
+reference's end, had to beat the static friction along and across, and the tool it broke loose
+hunted +-2 mm at up to 42 mm/s about its goal: the SLIDE failed.
 
-The wrist sensor measures that friction: the wrench the tool applies, on the motion-controlled
-translations (``Omega f``, the surface's tangent plane of a held contact) against the push's setpoint ``|F_d|`` (the
-sensed push dips and peaks as the tool slides, and a ratio to it took the peaks of the friction
-for the coefficient: a 5 N slide at 5 mm/s then kept 82-85 % of its push within 15 %, under the
-95 % of issue 14's item 5). Its coefficient is learnt while the tool slides on the surface
-faster than ``v_s``, and, until the contact's first slide, from rest: static friction holds any
-smaller force, so the tangential force the tool holds still while its intent asks it to move is
-a lower bound of the coefficient::
+The wrist sensor measures that friction: the wrench the tool applies on the motion-controlled
+translations (``Omega f``: the tangent plane of a held contact). Its coefficient is taken against
+the push's setpoint ``|F_d|`` (against the sensed push, whose dips make its peaks, a light push
+rippled), learnt while the tool slides faster than ``v_s`` and, until its first slide on the
+contact, from rest: static friction holds any smaller force, so the tangential force the tool holds
+still while its intent asks it to move is a lower bound of the coefficient::
 
     mu_s <- mu_s + r dt (|Omega f| / |F_d| - mu_s)      sliding (|Omega xd| > v_s)
-    mu_s <- max(mu_s, |Omega f| / |F_d|)                 not yet slid, still, asked to move
+    mu_s <- max(mu_s, |Omega f| / |F_d|)                 not yet slid, asked to move
 
-clamped to ``[0, mu_max]``. Eq. 17 gains the force that friction will take, toward where the
-tool moves or is told to move, as the joints' Coulomb compensation does
-(:mod:`cosmos.osc.friction`, with its look-ahead L and the commanded speed ``xd_c``)::
+clamped to ``[0, mu_max]``. Eq. 17 gains the force the friction will take, toward where the tool
+moves or is told to move, as the joints' Coulomb compensation (:mod:`cosmos.osc.friction`, with
+its look-ahead L and the commanded speed ``xd_c``)::
 
     F = Lambda F*_m + mu + p + F_a + F_s
-    s = Omega (xd + L F*_m + xd_c)
-    F_s = c mu_s |F_d| clip(|s| / v_c, 0, 1) s / |s|        (low-passed as the joints' is)
+    s = Omega (xd + L F*_fb + xd_c)
+    F_s = c max(mu_s |F_d| - f_0, 0) clip(|s| / v_c, 0, 1) s / |s|      (low-passed as the joints')
 
-with ``|F_d|`` the push's setpoint (the sensed push would feed its ripple back into the
-friction it scales: at 30 N and friction 1.0 the push then rang between 5 and 80 N) and ``c < 1`` the share compensated: what is left is the loops'. The tool is
-then a unit mass again on the surface, its error across corrected by eq. 19 as in free space,
-and at the slide's end a tool held by static friction within ``v_c / (L kp)`` of its goal
-(0.6 mm) stays, one further off is set sliding. The learnt coefficient is kept while the contact
-is held (a SLIDE after another starts with it) and forgotten with it.
+with ``F*_fb`` eq. 19's feedback without the slide's integral (the integral's push in the intent
+drove the compensation, and the compensation the integral, about the goal), ``c < 1`` the share
+compensated and ``f_0`` a floor left to eq. 19 and its integral: a table's 0.3 at 5 N (1.5 N) is
+what they answer well, and compensating it made a 5 N slide at 5 mm/s ripple its push (84-86 % of
+the slide within 15 %, for 99.8 % without) on the realistic plant. The tool slides as a unit mass
+again, its error across corrected by eq. 19 as in free space; at the slide's end a tool that static
+friction holds within ``v_c / (L kp)`` of its goal (0.6 mm) stays, one further off is set sliding.
+``v_s`` is above the realistic velocity observer's noise at rest (at 5 mm/s that noise counted as
+the first slide, the lower bound was lost, and a 30 N slide at friction 1.0 broke loose late,
+caught up at 40-80 mm/s and chattered on the table up to a 130 N protective stop). The coefficient
+is kept while the contact is held (the next SLIDE starts with it) and forgotten with it.
 
 The compiled kernel :mod:`cosmos.runtime.kernels.surface_friction` runs the same arithmetic.
 """
