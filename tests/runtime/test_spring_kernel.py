@@ -74,5 +74,6 @@ def test_the_observer_leaves_the_spring_law_at_rest_in_contact() -> None:
 
 def test_the_springs_rows_are_their_own() -> None:
     """Catches a spring row laid over another's: the cruise's state, the null space's intent."""
-    assert SPRING_LAW == CRUISE + 1 and sk.STATE_ROWS == SPRING_LAW + 3  # FRICTION_ERROR last
+    assert SPRING_LAW == CRUISE + 1 and sk.FRICTION_ERROR == SPRING_LAW + 2  # then SURFACE, last
+    assert sk.SURFACE == sk.FRICTION_ERROR + 1 and sk.STATE_ROWS == sk.SURFACE + 1
     assert SPRINGS == sk.NULL_INTENT + 1 and sk.VECTORS == SPRINGS + 1
