@@ -133,6 +133,8 @@ def cruise_integral_step(
         return integral, model + rates[0] * (max_speed - model) * dt_s
     if integral < 0.0 and quiet_enough:
         integral = min(integral + k_c * (max_speed - along) * dt_s, 0.0)
+    elif quiet_enough:  # stalled with nothing pushing back: break the joints' static friction
+        integral = min(integral + k_c * max(model - along, 0.0) * dt_s, limit)
     model += rates[0] * (max_speed - model) * dt_s
     floor = along + moving * max_speed
     return integral, model + rates[1] * (floor - model) * dt_s if model > floor else model

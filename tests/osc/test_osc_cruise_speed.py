@@ -128,12 +128,17 @@ def test_without_a_line_it_neither_grows_nor_acts() -> None:
     assert not cruise_intent(True, zeros, velocity, np.ones(6), KV, True).any()
 
 
-def test_a_stalled_tool_keeps_a_push_and_drops_a_hold_back() -> None:
+def test_a_stalled_tool_breaks_away_drops_a_hold_back_and_freezes_on_a_push() -> None:
     """Catches a frozen integral that holds back a tool it stalled (a 5 mm/s MOVE stood still),
-    and one that keeps winding up against whatever blocks the tool (it must freeze)."""
+    one that leaves a tool stalled from rest with nothing pushing back (the gripper's CONTACT at
+    3-5 mm/s never started on the realistic PUMA: the joints' static friction), and one that
+    keeps winding up against whatever blocks the tool with a push (it must freeze)."""
     stalled = np.zeros(6)
     args = (LINE, stalled, np.zeros(6), 0.01, True, (KV, 10.0), DT_S, GATE)
-    assert cruise_integral_step((0.8, 0.01), *args)[0] == 0.8
+    grown = cruise_integral_step((0.8, 0.01), *args)[0]
+    assert grown == pytest.approx(0.8 + GATE[0] * 0.01 * DT_S)  # k_c (v_m - u . xd)
+    assert cruise_integral_step((GATE[1] - 1e-6, 0.01), *args)[0] == GATE[1]  # bounded by the clamp
+    assert cruise_integral_step((0.8, 0.0), *args)[0] == 0.8  # nothing the model expects: nothing
     held = cruise_integral_step((-0.3, 0.01), *args)[0]
     assert held == pytest.approx(-0.3 + GATE[0] * 0.01 * DT_S)
     assert cruise_integral_step((-0.001, 0.01), *args)[0] == 0.0  # lets go, never turns into a push

@@ -160,6 +160,8 @@ def cruise_into(
     else:  # stalled, blocked or touching: a held back only lets go (it may be what stalled the tool)
         if cruise[0] < 0.0 and push < quiet:
             cruise[0] = min(cruise[0] + k_c * (max_speed - along) * dt_s, 0.0)
+        elif push < quiet:  # stalled, nothing pushing back: static friction, broken (osc.cruise_speed)
+            cruise[0] = min(cruise[0] + k_c * max(cruise[1] - along, 0.0) * dt_s, limit)
         # The model runs on, drawn down at kp / kv toward the tool in a lasting stall.
         cruise[1] += kv * (max_speed - cruise[1]) * dt_s
         floor = along + moving * max_speed
