@@ -70,6 +70,14 @@ import numpy as np
 
 from cosmos.osc._types import FloatArray
 
+BREAKAWAY_MPS = 0.0100001
+"""At or below this SPEED a stalled cruise's integral grows from rest [m/s]. From rest eq. 20 pulls
+the unit mass with ``kv V`` alone (0.2 m/s^2 at 5 mm/s, kv = 40: some 8 N along the PUMA's
+approach), less than the joints' static friction the model does not hold: the gripper's CONTACT
+DOWN stood still at 2-5 mm/s on the realistic plant (seeds 0-5), never at 8 mm/s or more.
+Faster, ``kv V`` breaks it, and a motion started just after another's stop, still settling, would
+only be pushed on (a MOVE at 20 mm/s after a stopped lift ran 10.7 mm/s 9 ms in)."""
+
 
 def speed_limit_binds(
     error: FloatArray, kp: FloatArray, kv: FloatArray, max_speed: float, line: FloatArray
@@ -103,6 +111,7 @@ def cruise_integral_step(
     rates: tuple[float, float],
     dt_s: float,
     gate: tuple[float, float, float, float],
+    breakaway: bool = True,
 ) -> tuple[float, float]:
     """One step of the cruise's integral ``a`` and model speed ``v_m`` (module docstring).
 
@@ -116,6 +125,7 @@ def cruise_integral_step(
         rates: ``(kv, kp / kv)``: the model's rate and the bleed's, in [1/s].
         dt_s: Servo period, in [s].
         gate: ``(k_c [1/s^2], limit [m/s^2], moving [1], quiet [N])``.
+        breakaway: Whether a tool at rest with nothing pushing back grows ``a`` (:func:`breaks_away`).
 
     Returns:
         The new ``(a, v_m)``.
@@ -133,11 +143,16 @@ def cruise_integral_step(
         return integral, model + rates[0] * (max_speed - model) * dt_s
     if integral < 0.0 and quiet_enough:
         integral = min(integral + k_c * (max_speed - along) * dt_s, 0.0)
-    elif quiet_enough:  # stalled with nothing pushing back: break the joints' static friction
+    elif breakaway and quiet_enough and along > -moving * max_speed:  # at rest, nothing pushing back
         integral = min(integral + k_c * max(model - along, 0.0) * dt_s, limit)
     model += rates[0] * (max_speed - model) * dt_s
     floor = along + moving * max_speed
     return integral, model + rates[1] * (floor - model) * dt_s if model > floor else model
+
+
+def breaks_away(speed_mps: float) -> bool:
+    """Whether a goal motion at ``speed_mps`` breaks a stall from rest (:data:`BREAKAWAY_MPS`)."""
+    return speed_mps <= BREAKAWAY_MPS
 
 
 def cruise_intent(

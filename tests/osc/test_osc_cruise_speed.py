@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from cosmos.osc.cruise_speed import (
+    breaks_away,
     cruise_command,
     cruise_integral_step,
     cruise_intent,
@@ -22,6 +23,7 @@ from cosmos.osc.cruise_speed import (
 )
 from cosmos.runtime.kernels import servo as sk
 from cosmos.runtime.kernels.cruise import (
+    BREAKAWAY,
     CRUISE,
     CRUISE_INTEGRAL,
     CRUISE_SLOTS,
@@ -44,6 +46,7 @@ def _compiled(
     force: np.ndarray,
     speed: float,
     turns: bool = False,
+    breakaway: bool = True,
 ) -> tuple[bool, np.ndarray]:
     """One compiled step on the servo's own layout; ``(binds, commanded speed)``, ``cruise`` stepped."""
     state = np.zeros((sk.STATE_ROWS, 6))
@@ -59,6 +62,7 @@ def _compiled(
         KV,
     )
     scalars[CRUISE_TURNS] = float(turns)
+    state[CRUISE, BREAKAWAY] = float(breakaway)
     commanded = np.full(6, np.nan)
     binds = cruise_into(motion, commanded, state, line, speed, scalars)
     cruise[:] = state[CRUISE, :2]
@@ -139,6 +143,11 @@ def test_a_stalled_tool_breaks_away_drops_a_hold_back_and_freezes_on_a_push() ->
     assert grown == pytest.approx(0.8 + GATE[0] * 0.01 * DT_S)  # k_c (v_m - u . xd)
     assert cruise_integral_step((GATE[1] - 1e-6, 0.01), *args)[0] == GATE[1]  # bounded by the clamp
     assert cruise_integral_step((0.8, 0.0), *args)[0] == 0.8  # nothing the model expects: nothing
+    assert cruise_integral_step((0.8, 0.01), *args, False)[0] == 0.8  # a fast motion's: frozen
+    backwards = np.concatenate((-0.005 * LINE, np.zeros(3)))  # carried back: no breakaway
+    back = (LINE, backwards, np.zeros(6), 0.01, True, (KV, 10.0), DT_S, GATE)
+    assert cruise_integral_step((0.8, 0.01), *back)[0] == 0.8
+    assert breaks_away(0.01) and not breaks_away(0.02)  # slow motions only
     held = cruise_integral_step((-0.3, 0.01), *args)[0]
     assert held == pytest.approx(-0.3 + GATE[0] * 0.01 * DT_S)
     assert cruise_integral_step((-0.001, 0.01), *args)[0] == 0.0  # lets go, never turns into a push
@@ -188,14 +197,15 @@ def test_the_compiled_step_matches_the_reference_on_random_inputs() -> None:
         cruise = (float(rng.uniform(-2.5, 2.5)), float(rng.uniform(0.0, 0.3)))
         kp, kv = np.full(6, KP), np.full(6, KV)
         binds = speed_limit_binds(error, kp, kv, speed, line)
+        breakaway = bool(rng.random() > 0.3)
         expected = cruise_integral_step(
-            cruise, line, velocity, force, speed, binds, (KV, KP / KV), DT_S, GATE
+            cruise, line, velocity, force, speed, binds, (KV, KP / KV), DT_S, GATE, breakaway
         )
         motion = rng.normal(size=6)
         before = motion.copy()
         state = np.array(cruise)
         turns = bool(rng.random() > 0.5)
-        got, commanded = _compiled(motion, state, error, line, velocity, force, speed, turns)
+        got, commanded = _compiled(motion, state, error, line, velocity, force, speed, turns, breakaway)
         assert state == pytest.approx(np.array(expected), abs=1e-12)
         assert motion - before == pytest.approx(cruise_command(expected[0], line), abs=1e-12)
         assert commanded == pytest.approx(cruise_intent(binds, line, velocity, before, KV, turns), abs=1e-12)

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.osc.cruise_speed import leg_start_speed, next_leg
+from cosmos.osc.cruise_speed import breaks_away, leg_start_speed, next_leg
 from cosmos.osc.motion import PoseTrajectory
 from cosmos.runtime.kernels.linear import matvec
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -23,6 +23,10 @@ CRUISE = 10
 """Row of the servo's ``state``: the integral ``a`` [m/s^2] and the model speed ``v_m`` [m/s].
 Rows 0-2 are the servo's wrench, error ``x - x_d`` and twist (kernels.servo's WRENCH, ERROR,
 VELOCITY), world."""
+BREAKAWAY = 4
+"""Column of :data:`CRUISE`, set per segment (:func:`restart`): 1 where a tool at rest with nothing
+pushing back grows the integral (:func:`cosmos.osc.cruise_speed.breaks_away`), else 0. Columns 2-3
+are an INSERT's push's speed reference (kernels.push_speed), where no cruise integral runs."""
 CRUISE_INTEGRAL = 49
 """First of seven ``scalars`` (49-55; kernels.servo's PUSH_SPEED_RATE follows), set per segment
 (:func:`cruise_gains`): limit [m/s^2], moving [1], quiet [N], dt [s], k_c [1/s^2] (0: no
@@ -113,6 +117,7 @@ def restart(
         speeds = leg_start_speed(velocity[:3], line), speeds[1]
     state[CRUISE] = 0.0
     state[CRUISE, :2] = carried
+    state[CRUISE, BREAKAWAY] = float(breaks_away(setpoint.max_speed))
     scalars[CRUISE_TURNS] = float(all(setpoint.motion_axes[3:]) and not setpoint.orientation_free)
     return speeds
 
@@ -157,10 +162,10 @@ def cruise_into(
     elif along > moving * max_speed and push < quiet:
         cruise[0] = min(max(cruise[0] + k_c * (cruise[1] - along) * dt_s, -limit), limit)
         cruise[1] += kv * (max_speed - cruise[1]) * dt_s
-    else:  # stalled, blocked or touching: a held back only lets go (it may be what stalled the tool)
+    else:  # stalled, blocked or touching: a held back lets go; a slow one at rest breaks away
         if cruise[0] < 0.0 and push < quiet:
             cruise[0] = min(cruise[0] + k_c * (max_speed - along) * dt_s, 0.0)
-        elif push < quiet:  # stalled, nothing pushing back: static friction, broken (osc.cruise_speed)
+        elif cruise[BREAKAWAY] != 0.0 and push < quiet and along > -moving * max_speed:  # at rest, free
             cruise[0] = min(cruise[0] + k_c * max(cruise[1] - along, 0.0) * dt_s, limit)
         # The model runs on, drawn down at kp / kv toward the tool in a lasting stall.
         cruise[1] += kv * (max_speed - cruise[1]) * dt_s
