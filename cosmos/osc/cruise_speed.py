@@ -29,8 +29,24 @@ the limit above the tool's speed, is drawn down toward it at ``kp / kv``: from r
 the start's own response, a lasting stall does not wind the integral up once the tool
 moves again, and the sensed speed's dips below the gate (one encoder count, at 5 mm/s) do
 not drag it down (clamped to the tool's speed plus the gate, it held a 5 mm/s MOVE to
-3.15 mm/s). A disturbance that holds the tool under ``moving`` times its SPEED is taken
-for a block (steadily: ``d > (1 - moving) kv V_max``, 0.3 m/s^2 at 10 mm/s).
+3.15 mm/s). Faster than :data:`BREAKAWAY_MPS`, a disturbance that holds the tool under
+``moving`` times its SPEED is taken for a block (steadily: ``d > (1 - moving) kv V_max``).
+
+Breakaway: at a SPEED of :data:`BREAKAWAY_MPS` or less, a tool stalled at rest (neither moving
+on at ``moving`` times the limit nor carried back faster) with no push over ``quiet`` grows a
+pushing ``a`` by ``k_c (v_m - u . xd)``, up to ``limit``: eq. 20 from rest pulls with ``kv V``
+alone (0.12 m/s^2 at 3 mm/s), and where the joints' static friction the model does not hold is
+more, nothing broke it: the gripper's slow CONTACT never moved ("found no contact"; seeds 0-5 at
+3 mm/s on the realistic plant). Once the tool moves, ``a`` learns the kinetic friction as above.
+A slow MOVE tracks a reference instead (eq. 19, :func:`cosmos.execution.resolve.tracks_a_reference`),
+but a CONTACT's approach keeps eq. 20-21, so that its landing (eq. 20's motion braked from the
+first push, :func:`cosmos.osc.contact.touch_braking`, and the grid it was measured on) stays as
+it was: a reference runs on into the surface until the touch, and presses its lead there with
+``Lambda kp`` (16 N/mm at kp = 400 /s^2 and 40 kg). The breakaway runs up to the touch (under 2 N): at
+rest on the table at 1.6 N, short of the touch, static friction held the gripper too, and with
+the breakaway stopped at the braking's 0.5 N it stayed there until its TIMEOUT. The landing's
+peak stays under the bar (docs/language.md, CONTACT): at the touch the hold takes over and the
+integral restarts.
 
 Once the limit no longer binds (the approach, ``nu = 1``) ``a`` bleeds out at eq. 20-21's
 own approach rate ``kp / kv``, leaving the goal to eq. 20-21 and the integral near the
@@ -74,7 +90,8 @@ BREAKAWAY_MPS = 0.0100001
 """At or below this SPEED a stalled cruise's integral grows from rest [m/s]. From rest eq. 20 pulls
 the unit mass with ``kv V`` alone (0.2 m/s^2 at 5 mm/s, kv = 40: some 8 N along the PUMA's
 approach), less than the joints' static friction the model does not hold: the gripper's CONTACT
-DOWN stood still at 2-5 mm/s on the realistic plant (seeds 0-5), never at 8 mm/s or more.
+DOWN from rest stood still on the realistic plant at 3 mm/s on seeds 0-5, at 5 mm/s on 0 and 2-5,
+at 8 mm/s on 0, 2, 4 and 5, at 10 mm/s on none.
 Faster, ``kv V`` breaks it, and a motion started just after another's stop, still settling, would
 only be pushed on (a MOVE at 20 mm/s after a stopped lift ran 10.7 mm/s 9 ms in)."""
 
