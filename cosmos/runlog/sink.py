@@ -24,6 +24,12 @@ from foxglove.mcap import MCAPWriter
 
 from cosmos.runlog.output import cannot_write
 
+SYNC_EVERY_S = 1.0
+"""Wall time between the log's fsyncs while it is written [s]: what a power loss (or the
+machine stopping) can lose of a run, beside the fsync's own time. A process killed in any
+way (SIGKILL, a crash) loses nothing the writer has handed to the OS (the flushes:
+:mod:`cosmos.runlog.writer`), so the fsyncs guard against the OS going down alone, which
+needs no fsync per statement."""
 
 class LogSink(io.RawIOBase):
     """An open output file that records its first write error instead of raising it.
@@ -31,9 +37,10 @@ class LogSink(io.RawIOBase):
     Args:
         path: The file's path, for the error message.
         stream: The file, opened unbuffered for writing.
+        sync_every_s: Wall time between the fsyncs of the data :meth:`sync` was asked for [s].
     """
 
-    def __init__(self, path: Path, stream: BinaryIO):
+    def __init__(self, path: Path, stream: BinaryIO, sync_every_s: float = SYNC_EVERY_S):
         super().__init__()
         self.path = path
         self._stream = stream
@@ -41,6 +48,7 @@ class LogSink(io.RawIOBase):
         self.reported = False  # whether check() has raised the error
         self._position = 0  # where the writer believes it is: the file's, until an error
         self._end = 0
+        self.sync_every_s = sync_every_s
         # One fsync thread for the file's life, started by the first sync: a thread started
         # per statement cost the loop up to 2 ms each on a loaded machine (waiting for it to run).
         self._syncer: threading.Thread | None = None
@@ -48,6 +56,7 @@ class LogSink(io.RawIOBase):
         self._asked = 0  # syncs asked for
         self._synced = 0  # of them, those on disk (one fsync covers all asked before it began)
         self._closing = False
+        self._now = False  # wait() wants the syncs asked for done now
 
     def writable(self) -> bool:
         """Yes."""
@@ -93,10 +102,13 @@ class LogSink(io.RawIOBase):
     def sync(self) -> None:
         """Ask the OS to put the data written so far on disk, beside the caller (who does not wait).
 
-        The ``fsync`` runs in the file's sync thread (it waits for the disk: milliseconds,
-        which the servo loop need not wait for); syncs asked for while one runs are done
-        by the next, one at a time, and :meth:`close` waits for the last. Its error is
-        kept like a write error.
+        The ``fsync`` runs in the file's sync thread, at most once every :attr:`sync_every_s`
+        of wall time: it covers every sync asked for before it began, :meth:`wait` has the
+        thread do it at once, and :meth:`close` waits for the last. Asking only counts (the
+        thread is not woken): each wake-up of a thread from the loop's statement boundaries
+        cost the loop the interpreter's lock twice (the thread's return from its wait and
+        from ``fsync``), milliseconds a statement on a loaded machine. Its error is kept
+        like a write error.
         """
         if self.error is not None:
             return
@@ -105,16 +117,17 @@ class LogSink(io.RawIOBase):
             if self._syncer is None:
                 self._syncer = threading.Thread(target=self._sync_loop, name="cosmos-log-fsync", daemon=True)
                 self._syncer.start()
-            self._sync_state.notify_all()
 
     def _sync_loop(self) -> None:
         state = self._sync_state
         while True:
             with state:
-                while self._synced == self._asked and not self._closing:
-                    state.wait()
-                if self._synced == self._asked:  # closing, nothing left
-                    return
+                state.wait_for(lambda: self._closing or self._now, timeout=self.sync_every_s)
+                self._now = False
+                if self._synced == self._asked:
+                    if self._closing:  # nothing left
+                        return
+                    continue
                 asked = self._asked
             try:
                 os.fsync(self._stream.fileno())
@@ -128,8 +141,13 @@ class LogSink(io.RawIOBase):
     def wait(self) -> None:
         """Wait until every :meth:`sync` asked for so far has put the data on disk."""
         with self._sync_state:
+            self._now = True
+            self._sync_state.notify_all()
             while self._synced < self._asked and self._syncer is not None and self._syncer.is_alive():
                 self._sync_state.wait()
+                if self._synced < self._asked:  # asked for during the fsync that ended
+                    self._now = True
+                    self._sync_state.notify_all()
 
     def _stop_syncing(self) -> None:
         """Wait for the last sync and end the sync thread."""

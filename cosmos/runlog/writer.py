@@ -7,8 +7,9 @@ run, ``round(t * 1e9)``; ``t`` in a message is the same time in seconds.
 Durability: every :data:`FLUSH_EVERY_S` of simulated time (checked at each
 state sample) the chunk in progress is closed and handed to the operating
 system, so a run killed with SIGKILL loses at most that much; :meth:`RunLog.flush`
-(called by the executor at statement boundaries) does the same and also fsyncs
-(in a thread beside the run: :meth:`cosmos.runlog.sink.LogSink.sync`).
+(called by the executor at the end of a plan, and of a failed statement) does the same
+at once. Each asks for an fsync, which a thread beside the run does at most once a second
+of wall time (:meth:`cosmos.runlog.sink.LogSink.sync`: only the OS going down needs it).
 A run killed after a flush leaves a file that :func:`cosmos.runlog.read_log`
 reads up to that flush and :func:`cosmos.runlog.recover` completes.
 :meth:`RunLog.close` writes the summary and footer; leaving the ``with`` block
@@ -342,22 +343,25 @@ class RunLog(StateBatches):
         return server
 
     def flush(self) -> None:
-        """Write everything so far to disk: pending states, the open chunk, an fsync.
+        """Hand everything so far to the OS (pending states, the open chunk) and ask for an fsync.
 
         Raises:
             UsageError: If a write to the file failed (since the last check).
         """
         self._flush_states()
-        self._sink.sync()
-        self._sink.check()
 
     def _flush_states(self) -> None:
-        """Hand pending states and the open chunk to the OS (no fsync): what a SIGKILL keeps."""
+        """Hand pending states and the open chunk to the OS (what a SIGKILL keeps); ask for an fsync.
+
+        The fsync (what a power loss keeps) is done beside the run, at most once a second
+        (:meth:`cosmos.runlog.sink.LogSink.sync`).
+        """
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
         self._write_states()
         self._writer.flush()
         self._flush_due = self._last_ns / 1e9 + self._flush_every_s
+        self._sink.sync()
         self._sink.check()
 
     def close(self) -> None:
