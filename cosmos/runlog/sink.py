@@ -31,6 +31,7 @@ way (SIGKILL, a crash) loses nothing the writer has handed to the OS (the flushe
 :mod:`cosmos.runlog.writer`), so the fsyncs guard against the OS going down alone, which
 needs no fsync per statement."""
 
+
 class LogSink(io.RawIOBase):
     """An open output file that records its first write error instead of raising it.
 

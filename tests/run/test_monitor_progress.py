@@ -94,3 +94,26 @@ def test_the_arrival_in_floats_reports_numpys_error() -> None:
                 Snapshot(0.001 * k, position, rotation, np.zeros(6), np.zeros(6))
             )
         assert outcome is not None and outcome.reason == expected
+
+
+def test_a_wait_is_judged_from_its_end_on_and_ends_at_the_same_tick() -> None:
+    """Catches the executor's skip of a WAIT's judge (``idle_until_s``) skipping the tick it ends
+    at, or a WAIT with an UNTIL or TIMEOUT skipped at all (those are judged every tick): on the
+    servo's grid from odd start times, the judge is called from the tick whose ``t - start >=
+    duration`` (its own test) or one before it (rounding), finding nothing until that tick."""
+    plan = compile_program("WAIT 0.3 s\nWAIT 0.3 s UNTIL FORCE Z > 5 N\n", "w.cos", fixture_frames())
+    plain, until = plan.segments
+    position, goal = np.zeros(3), (np.zeros(3), np.eye(3))
+    for start_s in (0.0, 0.1, 1.7, 2.3, 12.345, 99.999):
+        monitor = SegmentMonitor(plain, start_s, position, start_s, position, None, goal, str)
+        ticks, t_s = [], start_s
+        for _ in range(400):  # as the plant adds its steps
+            ticks.append(t_s)
+            t_s += 0.001
+        called = [t for t in ticks if t >= monitor.idle_until_s]
+        still = (np.eye(3), np.zeros(6), np.zeros(6))
+        done = [t for t in called if monitor.judge(Snapshot(t, position, *still))]
+        first_done = next(t for t in ticks if t - start_s >= 0.3)
+        assert done[0] == first_done and called.index(first_done) <= 1
+        waiting = SegmentMonitor(until, start_s, position, start_s, position, None, goal, str)
+        assert waiting.idle_until_s == -np.inf

@@ -86,7 +86,9 @@ def _counting_fsync(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     return calls
 
 
-def test_statement_syncs_within_the_interval_make_one_fsync(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_statement_syncs_within_the_interval_make_one_fsync(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Catches an fsync per statement again (each woke the thread, whose takes of the interpreter's
     lock cost the servo loop milliseconds a statement on a loaded machine): fifty statements' syncs
     within the interval are one fsync, done when the file closes, with all the data on disk."""
@@ -102,7 +104,9 @@ def test_statement_syncs_within_the_interval_make_one_fsync(tmp_path: Path, monk
     assert (tmp_path / "f").read_bytes() == b"".join(b"%d," % k for k in range(50))
 
 
-def test_an_asked_sync_is_done_within_the_interval_unasked(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_an_asked_sync_is_done_within_the_interval_unasked(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Catches syncs left to the close (a power loss during a long run would lose all of it): the
     thread wakes on its own after the interval and puts what was asked for on disk, nobody waiting."""
     calls = _counting_fsync(monkeypatch)
