@@ -116,10 +116,8 @@ class Executor:
             # fired it is in the log (one state period at most).
             self.hold(1.0 / self.runtime.rates.state_hz)
             self._stopped_at = None
-        # The plan's end (a REPL's input done, waiting for the next): all of it to the OS. Within
-        # a plan the log goes to the OS every 0.24 s of simulated time (cosmos.runlog.writer), which
-        # bounds what a SIGKILL loses; a flush at each statement's end closed a chunk more and
-        # encoded the states waiting there, 1-2 ms a statement on a loaded machine.
+        # The plan's end (a REPL waits for its next input): all of it to the OS. Within a plan, every
+        # 0.24 s of simulated time (cosmos.runlog.writer): a flush per statement cost 1-2 ms each.
         if self.log is not None:
             self.log.flush()
 
@@ -147,10 +145,6 @@ class Executor:
 
     # ------------------------------------------- what the plan walker asks
 
-    def scene_step(self, step: AddObstacle | RemoveObstacle) -> None:
-        """Add or remove an obstacle."""
-        self._scene_step(step)
-
     def senses(self) -> Senses:
         """The wrist's force and moment (world) and the measured tool point, now."""
         wrench = self.runtime.wrench
@@ -174,7 +168,8 @@ class Executor:
         """A TRY takes over any failure but an interruption from outside."""
         return not isinstance(failure, Interrupted)
 
-    def _scene_step(self, step: AddObstacle | RemoveObstacle) -> None:
+    def scene_step(self, step: AddObstacle | RemoveObstacle) -> None:
+        """Add or remove an obstacle."""
         if self.obstacles is None:
             raise TaskFailure("this workcell has no room for obstacles", step.span, self._source)
         self._event("start", step, "")

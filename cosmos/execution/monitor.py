@@ -168,15 +168,11 @@ class SegmentMonitor:
         )
         """Judges a tick of the last leg: :meth:`check`, or the segment's own ending alone where
         that is all there is to judge (no UNTIL, no TIMEOUT): one call a tick, not two."""
-        alone = self.judge is self._complete
-        self.idle_until_s = -math.inf
-        """Before this time :attr:`judge` finds nothing and changes nothing (a timed goal motion's
-        arrival is judged from its time on, a WAIT's end from its duration on, 1e-9 s early so
-        that no rounding skips the tick it ends at): the executor need not call it."""
-        if alone and isinstance(segment.completion, GoalReached) and timed_until_s is not None:
-            self.idle_until_s = timed_until_s
-        elif alone and isinstance(segment.completion, Elapsed):
-            self.idle_until_s = start_s + segment.completion.duration_s - 1e-9
+        ending, until = segment.completion, timed_until_s  # a timed goal motion's arrival: from its time
+        until = start_s + ending.duration_s - 1e-9 if isinstance(ending, Elapsed) else until  # a WAIT's end
+        alone = self.judge is self._complete and isinstance(ending, GoalReached | Elapsed)
+        self.idle_until_s = until if alone and until is not None else -math.inf
+        """Before this time :attr:`judge` finds nothing and changes nothing (1e-9 s early for rounding)."""
 
     def check(self, snap: Snapshot, completion: bool = True) -> Outcome | None:
         """The outcome if the segment ends at this tick, else None.

@@ -351,11 +351,7 @@ class RunLog(StateBatches):
         self._flush_states()
 
     def _flush_states(self) -> None:
-        """Hand pending states and the open chunk to the OS (what a SIGKILL keeps); ask for an fsync.
-
-        The fsync (what a power loss keeps) is done beside the run, at most once a second
-        (:meth:`cosmos.runlog.sink.LogSink.sync`).
-        """
+        """Hand pending states and the open chunk to the OS (what a SIGKILL keeps); ask for an fsync."""
         if self._closed:
             raise ValueError(f"{self.path}: the run log is closed")
         self._write_states()
