@@ -12,11 +12,12 @@ from typing import TYPE_CHECKING, Final
 import click
 
 from cosmos.collector import collect_from_here
+from cosmos.commands.plan_cache import keep_plan, load_plan, plan_file, plan_key
 from cosmos.errors import CosmosError, UsageError
 from cosmos.execution.program import StopOnSignals, TerminalProgress, execute_plan
 from cosmos.execution.session import Session
 from cosmos.hand.tool import Tool
-from cosmos.lang import compile_program, read_program
+from cosmos.lang.parse.source_file import read_program
 from cosmos.plan import Plan
 from cosmos.robots import robot_named
 from cosmos.runlog.output import check_output
@@ -30,9 +31,21 @@ if TYPE_CHECKING:
 
 
 def compile_file(path: Path, robot: str | None = None) -> Plan:
-    """Parse, check and compile a program file (for the arm ``robot`` if given); warnings go to stderr."""
+    """Parse, check and compile a program file (for the arm ``robot`` if given); warnings go to stderr.
+
+    The plan of the last run of the same file, text, arm and cosmos is read back from the user
+    cache instead (:mod:`cosmos.commands.plan_cache`): the language's modules are then not imported.
+    """
     source = read_program(path)
-    plan = with_foreseen_limits(compile_program(source, str(path), fixture_frames(), robot=robot))
+    fixtures = fixture_frames()
+    key = plan_key(source, str(path), fixtures, robot)
+    kept_at = plan_file(str(path), robot)
+    plan = load_plan(kept_at, key)
+    if plan is None:
+        from cosmos.lang import compile_program
+
+        plan = with_foreseen_limits(compile_program(source, str(path), fixtures, robot=robot))
+        keep_plan(kept_at, key, plan)
     for warning in plan.warnings:
         click.echo(warning.render(source), err=True)
     return plan
