@@ -14,7 +14,10 @@ import click
 
 from cosmos import __version__
 from cosmos.collector import collector_off
-from cosmos.commands import process  # before numpy's first import (cosmos.robots): one BLAS thread
+from cosmos.commands import (
+    entry_points,
+    process,
+)  # before numpy's first import (cosmos.robots): one BLAS thread
 from cosmos.errors import CosmosError, UsageError
 from cosmos.robots import ROBOTS
 
@@ -120,9 +123,10 @@ def run(
     whole = bool(_WHOLE_PROCESS)
     with collector_off(whole):  # until the session is open (collect_from_here)
         with process.mujoco_without_gl() if whole else nullcontext():  # a run never renders
-            if whole:
-                process.numba_alone()
-            from cosmos.commands.run import Pace, run_program
+            with entry_points.unscanned() if whole else nullcontext():  # no extension, no plugin
+                if whole:
+                    process.numba_alone()
+                from cosmos.commands.run import Pace, run_program
         from cosmos.runtime.rates import Rates
 
         rates = Rates.chosen(servo_hz or None, param_hz or None)

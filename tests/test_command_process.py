@@ -18,7 +18,7 @@ COMMAND = """\
 import atexit, dataclasses, json, os, sys
 REPORT = {report!r}
 GL = ("mujoco.egl", "mujoco.glfw", "mujoco.osmesa", "glfw")
-GLANCED = ("scipy", "yaml", "numpy.ma")
+GLANCED = ("scipy", "yaml", "numpy.ma", "importlib.metadata")
 
 def report():
     with open(REPORT, "w") as out:
@@ -87,7 +87,9 @@ def test_a_run_imports_mujoco_without_opengl_nor_what_numba_glances_at(tmp_path:
     """Catches ``cosmos run`` importing MuJoCo's OpenGL backends (GLFW or EGL: 20-40 ms) though it
     never renders, ``MUJOCO_GL`` changed for the processes it starts, modules a run does not use
     imported for numba's glance at them (SciPy's version, PyYAML for a configuration file there is
-    not, ``numpy.ma`` to see that an argument is not masked: 20-50 ms), and the command's quick end
+    not, ``numpy.ma`` to see that an argument is not masked: 20-50 ms) or for numba's and MuJoCo's
+    look for extensions and plugins no package declares (:mod:`importlib.metadata`: 10-30 ms), and
+    the command's quick end
     losing what the interpreter's exit did: exit handlers (the first run's compile summary), the
     stdout written into a pipe, the exit status."""
     command, report = _script(tmp_path, "cosmos")
