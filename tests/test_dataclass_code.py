@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import marshal
 from pathlib import Path
 
 import pytest
@@ -47,19 +48,30 @@ def test_a_class_defined_again_finds_its_methods_compiled_and_they_are_pythons(
     kept = read_codes(path)
     assert set(kept) == cached.used and len(kept) == compiled
     for text, code in kept.items():
-        assert code == compile(text, "<string>", "exec", dont_inherit=True)
+        assert type(code) is bytes  # read back when its class is defined, not at start-up
+        assert marshal.loads(code) == compile(text, "<string>", "exec", dont_inherit=True)
+    reread = CachedExec(kept)
+    monkeypatch.setattr(dataclasses, "exec", reread, raising=False)
+    _define()
+    assert reread.compiled == 0 and reread.used == cached.used
 
 
 def test_an_unreadable_cache_is_ignored_and_an_unwritable_one_not_kept(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Catches a start-up that fails on a damaged cache file (a run cut while another wrote it, a
-    file of another Python) or on a cache directory it cannot write (a read-only home)."""
+    file of another Python, an entry that is not code) or on a cache directory it cannot write (a
+    read-only home)."""
     broken = tmp_path / "codes.marshal"
     broken.write_bytes(b"\x00not marshal data")
     assert read_codes(broken) == {}
-    broken.write_bytes(__import__("marshal").dumps({"text": 3, 4: "x"}))
+    broken.write_bytes(marshal.dumps({"text": 3, 4: "x", "also": compile("1", "<string>", "exec")}))
     assert read_codes(broken) == {}
+    damaged = CachedExec({"x = 1": b"\xe3not code", "y = 2": marshal.dumps(3)})
+    namespace: dict[str, int] = {}
+    damaged("x = 1", namespace)
+    damaged("y = 2", namespace)
+    assert (namespace["x"], namespace["y"], damaged.compiled) == (1, 2, 2)
     cached = CachedExec(read_codes(broken))
     monkeypatch.setattr(dataclasses, "exec", cached, raising=False)
     _define()
