@@ -51,8 +51,11 @@ def test_declared_groups_are_read_as_importlib_metadata_finds_them(
 ) -> None:
     """Catches the scan missing a package that declares numba's or MuJoCo's group (its extension
     would not be loaded), or answering for a path it cannot read (a zip)."""
+    import importlib.machinery
     import importlib.metadata
 
+    standard = [finder for finder in sys.meta_path if not hasattr(finder, "find_distributions")]
+    monkeypatch.setattr(sys, "meta_path", [*standard, importlib.machinery.PathFinder])
     bare = tmp_path / "bare"
     bare.mkdir()
     monkeypatch.setattr(sys, "path", [str(bare)])
@@ -70,6 +73,14 @@ def test_declared_groups_are_read_as_importlib_metadata_finds_them(
     with zipfile.ZipFile(archive, "w") as packed:
         packed.writestr("x.py", "")
     monkeypatch.setattr(sys, "path", [str(bare), str(archive)])
+    assert entry_points.declared_groups() is None
+
+    class OwnPackages:  # a finder that finds packages of its own (importlib.metadata asks it too)
+        def find_distributions(self, *args: object) -> list[object]:
+            return []
+
+    monkeypatch.setattr(sys, "path", [str(bare)])
+    monkeypatch.setattr(sys, "meta_path", [*sys.meta_path, OwnPackages()])
     assert entry_points.declared_groups() is None
 
 
