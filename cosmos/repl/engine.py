@@ -237,8 +237,8 @@ class ReplEngine:
         """
         where = f" ({context})" if context else ""
         if kind == "decision":
-            keyword = step.statement.split(maxsplit=1)[0].upper()  # IF, WHILE: the reason reads on
-            self.printer.write(f"{keyword}{where} {reason}", Tone.NOTE)
+            # A decision's head is its keyword (IF, WHILE); its reason reads on with the condition.
+            self.printer.write(f"{statement_head(step.statement).upper()}{where} {reason}", Tone.NOTE)
         elif kind in ("done", "stopped"):
             said = f"  {reason}" if reason else ""
             self.printer.write(f"ok  {step.statement}{where}{said}", Tone.OK)
