@@ -144,3 +144,36 @@ def test_a_stiff_spring_presses_past_the_default_limit(tmp_path: Path) -> None:
     end_z = record.state.x[record.state.t <= end, 2][-1]
     shortfall = end_z - (start_z - 0.025)
     assert abs(_pressing_n(record, end) - 4000.0 * shortfall) < 0.1 * 4000.0 * shortfall
+
+
+def test_a_wait_keeps_a_spring_press_made_in_a_tilted_frame(tmp_path: Path) -> None:
+    """A spring pressed onto the table through ``MOVE BY ... IN tilt`` (a frame tilted 15 deg)
+    goes on pressing through the WAIT after it, as the spring's law says.
+
+    Catches: the WAIT, which has no IN, holding in the world frame, so that its Z spring was
+    not the MOVE's and it re-anchored at the measured pose: the press fell from 6.7 N to
+    0.2 N. Judged against ``k x shortfall`` along the frame's Z from the log's tool point."""
+    source = """FRAME tilt = table + (0, -60 mm, 0) RPY (180 deg, 15 deg, 0)
+MOVE TO table + (0, -60 mm, 40 mm)
+COMPLY Z STIFFNESS 800 N/m
+MOVE BY (0, 0, 50 mm) IN tilt SPEED 15 mm/s
+WAIT 1 s
+"""
+    record = _run(tmp_path, source, seed=0, ideal=False)
+    move_start, move_end, reason = _window(record, 4)
+    assert reason.startswith("settled on its COMPLY spring"), reason
+    _, wait_end, _ = _window(record, 5)
+    tilt = np.array([-np.sin(np.radians(15.0)), 0.0, -np.cos(np.radians(15.0))])  # the frame's Z in the world
+    state = record.state
+    start_x = state.x[state.t <= move_start + 1e-9, :3][-1]
+    goal = start_x + 0.050 * tilt
+
+    def press_and_law(until_s: float) -> tuple[float, float]:
+        window = (state.t > until_s - 0.1) & (state.t <= until_s)
+        pressed = float(state.wrench[window, :3].mean(axis=0).dot(tilt))
+        return pressed, 800.0 * float((goal - state.x[window, :3].mean(axis=0)).dot(tilt))
+
+    pressed, law = press_and_law(move_end)
+    assert pressed > 3.0 and abs(pressed - law) <= 0.25 * law, (pressed, law)
+    held, law_after = press_and_law(wait_end)
+    assert abs(held - law_after) <= 0.25 * law_after and held > 0.8 * pressed, (held, law_after, pressed)

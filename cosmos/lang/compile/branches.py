@@ -27,7 +27,7 @@ from cosmos.lang import ast, units
 from cosmos.lang.compile.context import CompileContext, Handler
 from cosmos.lang.compile.decisions import compile_decision, decision_frame
 from cosmos.lang.compile.motion.conditions import require_gripper
-from cosmos.lang.compile.state import CompileState, HeldContact
+from cosmos.lang.compile.state import WORLD, CompileState, HeldContact
 from cosmos.plan.context import joined_context
 
 DEFAULT_MAX_PASSES = 100
@@ -142,12 +142,13 @@ def _whole(run: CompileContext, state: CompileState, expr: ast.Expr, what: str, 
 
 
 def _carried(before: CompileState, later: CompileState) -> CompileState:
-    """``before`` with what must only grow carried over from ``later``: counters, procedures called."""
+    """``before`` with what ``later`` leaves to what follows: counters, procedures called, last frame."""
     return replace(
         before,
         statement_count=later.statement_count,
         segment_count=later.segment_count,
         called=later.called,
+        last_frame=later.last_frame,
     )
 
 
@@ -178,8 +179,12 @@ def _merged(
                 "(a MOVE releases a contact)",
                 statement.span,
             )
+    same_frame = all(np.allclose(other.last_frame.rotation, first.last_frame.rotation) for other, _ in ends)
     return replace(
-        _carried(before, compiled_last), contact=first.contact, contact_released_by=first.contact_released_by
+        _carried(before, compiled_last),
+        contact=first.contact,
+        contact_released_by=first.contact_released_by,
+        last_frame=first.last_frame if same_frame else WORLD,
     )
 
 

@@ -166,6 +166,8 @@ class CompileState:
         statements: Top-level statements compiled so far (ROBOT must come first).
         tool: The hand on the flange (:class:`cosmos.hand.tool.Tool`'s value; TOOL chooses it).
         objects: The objects declared so far (OBJECT), in order.
+        last_frame: The task frame of the last motion statement: a WAIT without a held
+            contact holds the springs of COMPLY ... STIFFNESS in it.
     """
 
     default_speed_mps: float
@@ -186,6 +188,7 @@ class CompileState:
     statements: int = 0
     tool: str = "peg"
     objects: tuple[WorkObject, ...] = ()
+    last_frame: TaskFrame = WORLD
 
     def bind(self, key: str, binding: Binding) -> CompileState:
         """A state with ``key`` bound."""

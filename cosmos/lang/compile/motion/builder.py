@@ -36,7 +36,7 @@ from cosmos.lang.compile.motion.insert import Insert
 from cosmos.lang.compile.motion.move import Move
 from cosmos.lang.compile.motion.slide import Slide
 from cosmos.lang.compile.motion.wait import Wait
-from cosmos.lang.compile.state import CompileState
+from cosmos.lang.compile.state import CompileState, TaskFrame
 
 BuildStatement = Callable[[Any, Any], ContactChange | None]
 """One of the builder's statement methods (``MotionBuilder.move``, ...): the change of
@@ -86,6 +86,9 @@ class MotionBuilder(Move, Contact, Slide, Insert, Wait):
             statement_count=state.statement_count + 1,
             segment_count=state.segment_count + len(segments),
         )
+        if segments:
+            last = segments[-1]
+            state = replace(state, last_frame=TaskFrame(last.frame_name, last.frame_rotation))
         if change is not None:
             contact, released_by = change
             state = replace(state, contact=contact, contact_released_by=released_by)

@@ -28,6 +28,8 @@ class Wait(AxisRules, ClauseValues):
             duration = self._positive_scalar(statement.duration, units.TIME, "WAIT")
         contact = self.state.contact
         frame = WORLD if contact is None else contact.frame
+        if contact is None and any(c is not None and c.stiffness > 0 for c in self.state.compliance):
+            frame = self.state.last_frame  # a press on a spring goes on in the frame it was made in
         forces: dict[int, float] = {}
         if contact is not None:
             contact_axis, contact_sign = self._contact_axis(contact, frame, statement.span)
