@@ -69,8 +69,7 @@ PATH_DEVIATION_M = 0.05
 SATURATION_S = 0.05
 """A drive at its torque limit this long is a protective stop [s]."""
 SLOW_CHECK_EVERY = 4
-"""The path and the drives are looked at every this many ticks (4 ms: 4 mm at 1 m/s);
-contacts and force every tick."""
+"""Ticks between looks at the path and the drives (4 ms: 4 mm at 1 m/s); contacts and force: every tick."""
 SATURATION_FRACTION = 0.999
 """A torque at or above this fraction of its limit counts as at the limit."""
 CONTACT_GONE_S = 0.05
@@ -82,8 +81,6 @@ INHERITED_REACH_M = 0.05
 """... and the tool this far from where the statement began [m]: longer than the hole is deep
 (45 mm), so a peg pulled out grazes its bore freely; a lift off the table is clear of it
 long before."""
-
-
 _RATING2 = WRIST_SENSOR.force_n**2
 
 
@@ -147,7 +144,7 @@ class Supervisor:
         """MuJoCo body name of each occupied obstacle slot -> the obstacle's name."""
         self.field_acting = False
         """Set by the executor while an obstacle's field acts: the path is not supervised."""
-        self._segment: Segment | None = None
+        self._last = (-2, -1)  # the last segment's index and statement_index
         self._expect_fixture = False
         self._guarded = False
         self._force_limit2 = FREE_MOTION_FORCE_N**2
@@ -206,7 +203,8 @@ class Supervisor:
 
     def start(self, segment: Segment, position: FloatArray, goal_position: FloatArray) -> None:
         """A segment starts at the measured tool point ``position`` toward ``goal_position``."""
-        self._segment = segment
+        same = self._last == (segment.index - 1, segment.statement_index)  # a CONTACT's hold: not inherited
+        self._last = (segment.index, segment.statement_index)
         worked_in_contact = self._expect_fixture  # the previous statement's: a peg may graze its hole
         self._expect_fixture = expects_contact(segment)
         self._guarded = has_force_term(segment.until)[0]
@@ -218,7 +216,8 @@ class Supervisor:
         self._counting = False
         self._tick = 0
         # At a fixture, touching or not: a block just grasped off the table may rest 0.1 mm above it.
-        self._inherited = worked_in_contact or self._tool_touches_fixture() or self._tool_at_fixture()
+        if not same:
+            self._inherited = worked_in_contact or self._tool_touches_fixture() or self._tool_at_fixture()
         self._touched = False
         self._since_touch = 0
         self._start = tuple(np.asarray(position, dtype=float).tolist())

@@ -180,6 +180,33 @@ def test_a_peg_pulled_out_of_its_hole_may_graze_the_bore() -> None:
     assert stop is not None and "tool hit fixture 'hole'" in stop.message
 
 
+def test_a_contacts_hold_keeps_the_statements_force_limit() -> None:
+    """A CONTACT's hold starts touching what its own approach touched: that is no contact the
+    statement began in, so its range stays twice its FORCE plus 30 N (docs/language.md,
+    Protective stops). Catches the hold given the sensor's 130 N: a peg that slid off the
+    hole's chamfer into the bore struck its bottom at 130 N, "above this statement's limit of
+    130 N", for a CONTACT of 8 N."""
+    import pinocchio as pin
+
+    from tests.arm_helpers import solve_ik
+
+    plant = Plant()
+    limits = np.minimum(-ROBOT.tau_lower_nm, ROBOT.tau_upper_nm)
+    supervisor = Supervisor(plant, limits, 0.001)
+    plan = compile_program("CONTACT DOWN FORCE 5 N\n", "c.cos", fixture_frames())
+    approach, hold = plan.segments
+    table = fixture_frames()["table"]
+    start = plant.data.site_xpos[-1].copy()
+    supervisor.start(approach, start, start)
+    touching = table.position + np.array([0.0, 0.0, -0.0002])  # 0.2 mm into the table top
+    plant.reset(solve_ik(ROBOT, pin.SE3(table.rotation, touching), np.array(HOME_Q)))
+    assert plant.data.ncon > 0
+    supervisor.start(hold, touching, touching)
+    pressing = np.array([0.0, 0.0, -60.0, 0.0, 0.0, 0.0])  # over 2 x 5 + 30 N, under the rating
+    stops = [supervisor.check(i * 0.001, pressing, np.zeros(6), touching) for i in range(3)]
+    assert stops[-1] is not None and "above this statement's limit of 40 N" in stops[-1].message, stops
+
+
 def test_the_kept_contact_view_reads_mujocos_own_contact_list() -> None:
     """The supervisor keeps its view of the contacts' geom pairs while their count stays the same
     (the bindings' list costs 0.5-1 us a tick in contact). Catches a view kept after MuJoCo wrote
