@@ -77,7 +77,7 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
     outputs = ((options.recover_to, "the log"), (options.plot, "the plot"), (options.video, "the video"))
     for path, what in outputs:  # refused before any work is done
         if path is not None:
-            check_output(path, what=what, force=options.force)
+            check_output(path, what=what, force=options.force, reads=(log,))
     if options.video is not None:
         from cosmos.replay.playback import prefer_headless_gl
 

@@ -109,7 +109,7 @@ def run_program(
     plan = compile_file(path, robot)
     make_parents = log_path is None
     log_path = log_path or unused_log_path(path, datetime.now(UTC))
-    check_output(log_path, what="the log", force=force, make_parents=make_parents)
+    check_output(log_path, what="the log", force=force, make_parents=make_parents, reads=(path,))
     progress = TerminalProgress() if sys.stderr.isatty() else None
     failure: CosmosError | None = None
     signals = _StopAndRemember()

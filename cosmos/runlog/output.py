@@ -5,6 +5,7 @@ The rules, the same for every output:
 - an existing file is not overwritten unless the user said ``--force``;
 - a directory, a device, a FIFO or anything else that is not a regular file is
   refused (``--log /dev/full`` does not get as far as the writer);
+- a file the command reads (the program, the log replayed) is never an output;
 - missing parent directories are created only for the default ``logs/``
   directory; a path the user typed must be in a directory that exists;
 - every ``OSError`` becomes a :class:`~cosmos.errors.UsageError` (exit 2) that
@@ -30,7 +31,9 @@ def cannot_write(path: Path, error: OSError, what: str) -> UsageError:
     return UsageError(f"{path}: cannot write {what}: {reason}")
 
 
-def check_output(path: Path, *, what: str, force: bool, make_parents: bool = False) -> None:
+def check_output(
+    path: Path, *, what: str, force: bool, make_parents: bool = False, reads: tuple[Path, ...] = ()
+) -> None:
     """Refuse ``path`` as an output unless it can be written under the rules above.
 
     Args:
@@ -38,6 +41,7 @@ def check_output(path: Path, *, what: str, force: bool, make_parents: bool = Fal
         what: What it holds, for messages: "the log", "the plot".
         force: Whether an existing regular file may be overwritten.
         make_parents: Create missing parent directories (only for the default ``logs/``).
+        reads: The files the command reads: ``--force`` does not let it overwrite them.
 
     Raises:
         UsageError: If the path is refused, naming it and the reason.
@@ -53,6 +57,8 @@ def check_output(path: Path, *, what: str, force: bool, make_parents: bool = Fal
             raise UsageError(f"{path}: is a directory; give a file name")
         if not stat.S_ISREG(info.st_mode):
             raise UsageError(f"{path}: not a regular file; give a file name")
+        if any(read.exists() and os.path.samefile(path, read) for read in reads):
+            raise UsageError(f"{path}: is a file this command reads; give {what} another name")
         if not force:
             raise UsageError(f"{path}: already exists; pass --force to overwrite it")
         return

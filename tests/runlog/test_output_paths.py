@@ -143,6 +143,32 @@ def test_replay_force_overwrites_the_plot_and_the_recovered_log(
     assert png.read_bytes()[:4] == b"\x89PNG" and not read_log(out).truncated
 
 
+def test_force_never_overwrites_what_the_command_reads(
+    program: Path,
+    log: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Catches ``cosmos run prog.cos --log prog.cos --force`` replacing the user's program with
+    its own log (exit 0), and ``cosmos replay run.mcap --plot run.mcap --force`` the log with a
+    picture, also through a symbolic link."""
+    source = program.read_bytes()
+    link = tmp_path / "link.cos"
+    link.symlink_to(program)
+    for target in (program, link):
+        code, stdout, stderr = cli(
+            ["run", str(program), "--log", str(target), "--force"], capsys, monkeypatch
+        )
+        _refused(code, stdout, stderr, target, "is a file this command reads; give the log another name")
+    assert program.read_bytes() == source
+    logged = log.read_bytes()
+    for option, what in (("--plot", "the plot"), ("--video", "the video")):
+        code, stdout, stderr = cli(["replay", str(log), option, str(log), "--force"], capsys, monkeypatch)
+        _refused(code, stdout, stderr, log, f"is a file this command reads; give {what} another name")
+    assert log.read_bytes() == logged
+
+
 def test_a_write_that_fails_during_the_run_is_one_line_and_no_panic(tmp_path: Path) -> None:
     """Catches the writer's I/O error reaching Python as 'RuntimeError: FoxgloveError' and then a
     pyo3 PanicException at shutdown (the issue's --log /dev/full), and one stderr line per message."""
