@@ -256,3 +256,32 @@ def test_two_runs_in_one_second_keep_their_own_logs(tmp_path: Path, monkeypatch:
     second = cosmos.run("WAIT 20 ms\n")
     assert first.log_path != second.log_path
     assert cosmos.load(first.log_path) == first and cosmos.load(second.log_path) == second
+
+
+def test_runs_in_threads_at_once_load_the_kernels_once(tmp_path: Path) -> None:
+    """Catches two ``cosmos.run`` calls in threads of a fresh process (a user's own sweep in a
+    ThreadPoolExecutor) both loading a kernel at its first call: the second found numba's
+    dispatcher closed by the first ("RuntimeError: compilation disabled"). Each threaded run must
+    equal the same seed's run made alone."""
+    script = f"""
+import concurrent.futures, numpy, cosmos
+source = "MOVE BY (0, 0, 20 mm)\\nCONTACT DOWN FORCE 5 N\\n"
+def one(seed):
+    return cosmos.run(source, seed=seed, log=r"{tmp_path}/t%d.mcap" % seed)
+with concurrent.futures.ThreadPoolExecutor(2) as pool:
+    runs = list(pool.map(one, [0, 1]))
+alone = cosmos.run(source, seed=1, log=r"{tmp_path}/alone.mcap")
+assert all(run.ok for run in runs), [run.outcome for run in runs]
+assert numpy.array_equal(alone.record.state.x, runs[1].record.state.x)
+"""
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+
+
+def test_a_log_never_replaces_its_program(tmp_path: Path) -> None:
+    """Catches ``cosmos.run("peg.cos", log="peg.cos")`` writing the log over the program."""
+    program = tmp_path / "peg.cos"
+    program.write_text("WAIT 10 ms\n")
+    with pytest.raises(cosmos.UsageError, match="is a file this command reads; give the log another name"):
+        cosmos.run(program, log=program)
+    assert program.read_text() == "WAIT 10 ms\n"

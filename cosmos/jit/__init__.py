@@ -28,6 +28,7 @@ from typing import Any
 
 import numba
 from numba.core import sigutils, types
+from numba.core.compiler_lock import global_compiler_lock
 
 from cosmos.jit import argument_types, notice
 from cosmos.jit import beside as helpers
@@ -92,11 +93,12 @@ def _compile_declared(dispatcher: Any, signatures: tuple[Any, ...]) -> None:
     compile_types = dispatcher.compile
 
     def compile_declared() -> None:
-        if dispatcher._can_compile:
-            helpers.wait_for(dispatcher)  # a helper may be compiling it into the cache
-            for declared in signatures:
-                compile_types(declared)
-            dispatcher.disable_compile()
+        with global_compiler_lock:  # runs in two threads at once compile it once
+            if dispatcher._can_compile:
+                helpers.wait_for(dispatcher)  # a helper may be compiling it into the cache
+                for declared in signatures:
+                    compile_types(declared)
+                dispatcher.disable_compile()
 
     def compile(signature: Any) -> Any:
         compile_declared()
