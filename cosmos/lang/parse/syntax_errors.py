@@ -142,6 +142,17 @@ def _line_text(source: str, line: int) -> str:
     return lines[line - 1] if 1 <= line <= len(lines) else ""
 
 
+_LOOK_ALIKES = {
+    **dict.fromkeys("\u2212\u2013\u2014", " (not the minus sign: write '-')"),
+    "\u00b0": " (write angles with a unit: 90 deg)",
+    **dict.fromkeys("\u00b5\u03bc", " (no unit has micro: write mm, 5 um = 0.005 mm)"),
+    **dict.fromkeys("\u00a0\u2009\u202f", " (a non-breaking space: write an ordinary one)"),
+    **dict.fromkeys("\u201c\u201d\u2018\u2019", " (strings are not part of the language)"),
+    "\u00d7": " (write '*' to multiply)",
+}
+"""What a character pasted from a document stands for, where it looks like one the language has."""
+
+
 def syntax_error(
     error: UnexpectedInput,
     source: str,
@@ -164,9 +175,11 @@ def syntax_error(
         position = error.pos_in_stream if error.pos_in_stream is not None else -1
         char = source[position] if 0 <= position < len(source) else "?"
         shown = repr(char) if not char.isprintable() else f"'{char}'"
-        hint = " (strings are not part of the language)" if char in "\"'" else ""
+        hint = " (strings are not part of the language)" if char in "\"'" else _LOOK_ALIKES.get(char, "")
         if char.isdigit() and not char.isascii():
             hint = " (a digit outside ASCII: write numbers with 0-9)"
+        elif not hint and char.isalpha():
+            hint = " (names are ASCII letters, digits and _)"
         span = Span(file, error.line, error.column, error.line, error.column + 1)
         return ProgramError(f"unexpected character {shown}{hint}", span)
     if not isinstance(error, UnexpectedToken):
@@ -190,6 +203,11 @@ def syntax_error(
     if token.type == "END" and "END" not in expected and _open_block(source, file) is None:
         return ProgramError("END without a PROC or REPEAT to close (nor an IF, WHILE or TRY)", span)
 
+    opening = re.match(r"\s*(IF|WHILE)\b", before, re.IGNORECASE)
+    if opening and token.type == "WORD" and text.upper() in ("THEN", "DO") and "_NL" in expected:
+        return ProgramError(
+            f"{opening[1].upper()} takes no {text}: its statements follow on the next lines", span
+        )
     keyword_candidates = [n for n in expected if terminal_text(n)]
     if token.type == "WORD":
         keyword = _closest(text, [terminal_text(n) or "" for n in keyword_candidates], 0.7)
