@@ -29,6 +29,7 @@ from cosmos.execution.holding import brake_to_rest, hold_pose
 from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
+from cosmos.runtime.landing_zone import with_landing
 from cosmos.execution.resolve import effective_masses, posture_joints, segment_goals, setpoint_for
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
@@ -97,6 +98,7 @@ class Executor:
         self.hand: HandSteps = NO_HAND  # the gripper's GRASP and RELEASE (TOOL GRIPPER)
         self.segment_count = 0
         self._source: str | None = None
+        self._tool = "peg"  # the plan's TOOL: a CONTACT's landing (cosmos.runtime.landing_zone)
         self._stopped_at: float | None = None
         self._field_watch = FieldOnToolWatch()
         self.meter = ToolMeter(runtime.plant)
@@ -109,7 +111,7 @@ class Executor:
 
     def run(self, plan: Plan) -> None:
         """Run every step of ``plan``; raise TaskFailure on the first failed statement."""
-        self._source = plan.source
+        self._source, self._tool = plan.source, plan.tool
         self.walker.walk(plan.steps)  # it decides IF, WHILE and TRY; runs statements here
         if self._stopped_at is not None and self.recorder is not None:
             # The last statement ended on its UNTIL: hold until the sample showing what
@@ -219,6 +221,7 @@ class Executor:
         # Among obstacles a goal motion gives way to their field: no reference tracked (resolve).
         among = obstacles is not None
         setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture, among)
+        setpoint = with_landing(setpoint, segment.kind, rt, start_rotation, self._tool)  # on steel
         search = search_phase(segment, start_s, start_position, start_rotation)  # INSERT ... SEARCH
         if search is not None:
             setpoint = search.setpoint(setpoint)

@@ -72,6 +72,8 @@ class ServoSetpoint:
             approach, whose insertion is tuned to the landing it had).
         touch_braking: A CONTACT's approach: the motion into the first push felt along it is damped
             (:func:`cosmos.osc.contact.touch_braking`).
+        landing: A CONTACT's approach toward a stiff surface its workcell model knows
+            (:mod:`cosmos.osc.landing`): ``(s_l [m], v_l [m/s], a [m/s^2])``, ``v_l`` 0 for none.
         leg: A MOVE ... VIA's goal motion after its first VIA point: the next leg of the motion
             before, which starts at ``start_s`` (:func:`cosmos.runtime.kernels.cruise.restart`).
     """
@@ -98,6 +100,7 @@ class ServoSetpoint:
     spring_masses: FloatArray = field(default_factory=lambda: np.zeros(6))
     cruise_integral: bool = True
     touch_braking: bool = False
+    landing: tuple[float, float, float] = (0.0, 0.0, 0.0)
     leg: bool = False
 
     force_world: FloatArray = field(init=False)

@@ -28,6 +28,7 @@ from cosmos.runtime.kernels.cruise import (
     CRUISE_INTEGRAL,
     CRUISE_SLOTS,
     CRUISE_TURNS,
+    LANDING,
     TRACKED_UNTIL,
     cruise_into,
     reference_speed,
@@ -220,7 +221,7 @@ def test_the_servo_kernel_layout_leaves_the_cruise_its_slots() -> None:
     assert sk.PUSH_SPEED_RATE == CRUISE_INTEGRAL + CRUISE_SLOTS
     assert sk.PUSH_SPEED_RATE + 1 == TRACKED_UNTIL  # a slow MOVE's
     assert sk.TOUCH_FREE_SPEED == TRACKED_UNTIL + 1 and CRUISE_TURNS == sk.TOUCH_FREE_SPEED + 1  # CONTACT's
-    assert sk.SCALARS == CRUISE_TURNS + 1
+    assert sk.SCALARS == LANDING + 3 and LANDING == CRUISE_TURNS + 1  # a CONTACT's landing (osc.landing)
     assert sk.HOLD_OBSERVER + 4 <= CRUISE_INTEGRAL
     assert sk.STATE_ROWS > CRUISE and sk.MOTION_INTEGRAL < CRUISE  # the springs' rows follow (kernels.spring)
     assert (sk.WRENCH, sk.ERROR, sk.VELOCITY) == (0, 1, 2)

@@ -38,10 +38,15 @@ until when [s] a slow MOVE's tracked reference moves (a free trajectory with cru
 uniform gains: :func:`cosmos.execution.resolve.tracks_a_reference`), its Coulomb intent reading
 the reference (:func:`reference_speed`) from :data:`TRACKED_INTENT_MPS` on; 0 for any other segment."""
 CRUISE_TURNS = 59
-"""The servo's last scalar (kernels.servo's SCALARS is 60; TOUCH_FREE_SPEED before it), set per
+"""The servo's scalar 59 (kernels.servo's TOUCH_FREE_SPEED before it, :data:`LANDING` after), set per
 segment (:func:`restart`): 1 where the cruise's Coulomb intent covers the rotation too (every
 rotation motion-controlled, the orientation the task's), else 0
 (:func:`cosmos.osc.cruise_speed.cruise_intent`)."""
+LANDING = 60
+"""The servo's last three scalars (kernels.servo's SCALARS is 63), set per segment (:func:`restart`) from
+``ServoSetpoint.landing``: a CONTACT's landing on a stiff surface (:mod:`cosmos.osc.landing`): ``s_l``,
+the distance from the goal along its line where the landing speed must be held [m], ``v_l`` [m/s]
+(0: no landing), ``a`` [m/s^2]."""
 TRACKED_INTENT_MPS = 0.0025
 """A slower reference leaves the intent as a trajectory's [m/s]. That intent weighs the sensed
 speed ``L kv`` = 0.8 where a trajectory's weighs it ``1 - L kv`` = 0.2, and at a few mm/s the
@@ -117,9 +122,22 @@ def restart(
         speeds = leg_start_speed(velocity[:3], line), speeds[1]
     state[CRUISE] = 0.0
     state[CRUISE, :2] = carried
-    state[CRUISE, BREAKAWAY] = float(breaks_away(setpoint.max_speed))
+    landing = setpoint.landing[1]  # a landing's slow end breaks away from rest too (cosmos.osc.landing)
+    state[CRUISE, BREAKAWAY] = float(breaks_away(setpoint.max_speed) or 0.0 < landing and breaks_away(landing))
     scalars[CRUISE_TURNS] = float(all(setpoint.motion_axes[3:]) and not setpoint.orientation_free)
+    scalars[LANDING : LANDING + 3] = setpoint.landing
     return speeds
+
+
+@kernel
+def landing_limit(max_speed: float, to_go: float, landing: float, deceleration: float) -> tuple[float, float]:
+    """:func:`cosmos.osc.landing.landing_limit`: ``(V, a_ff)`` on a landing's braking profile."""
+    if not landing > 0.0:
+        return max_speed, 0.0
+    profile = math.sqrt(landing * landing + 2.0 * deceleration * max(to_go, 0.0))
+    if profile >= max_speed:
+        return max_speed, 0.0
+    return profile, deceleration if to_go > 0.0 else 0.0
 
 
 @kernel
@@ -136,7 +154,10 @@ def cruise_into(
     ``commanded_speed`` is set to zeros or, while a cruise's limit binds, to ``2 v_d - xd``
     (``motion`` on entry is ``kv (v_d - xd)``; the rotation's zeros unless :data:`CRUISE_TURNS`):
     the speed the Coulomb intent adds
-    (:func:`cosmos.osc.cruise_speed.cruise_intent`); returns whether it binds.
+    (:func:`cosmos.osc.cruise_speed.cruise_intent`); returns whether it binds. A CONTACT's landing
+    (:data:`LANDING`) first brings ``V_max`` down its braking profile
+    (:func:`cosmos.osc.landing.landing_limit`): eq. 20's ``kv V_max u`` becomes ``kv V u``, less the
+    profile's deceleration ``a_ff u``.
 
     Args:
         motion: F*_m, world; ``a u`` is added. # (6,)
@@ -152,8 +173,16 @@ def cruise_into(
     if k_c == 0.0 or (line[0] == 0.0 and line[1] == 0.0 and line[2] == 0.0):
         return False
     force, error, velocity, cruise = state[0], state[1], state[2], state[CRUISE]
-    ahead = error[0] * line[0] + error[1] * line[1] + error[2] * line[2] < 0.0  # not past the goal
+    to_goal = -(error[0] * line[0] + error[1] * line[1] + error[2] * line[2])
+    ahead = to_goal > 0.0  # not past the goal
     binds = ahead and ratio * math.sqrt(error[0] ** 2 + error[1] ** 2 + error[2] ** 2) > max_speed
+    landing = scalars[LANDING : LANDING + 3]
+    if binds and landing[1] > 0.0:  # a CONTACT's landing on a stiff surface (cosmos.osc.landing)
+        limit_now, brake = landing_limit(max_speed, to_goal - landing[0], landing[1], landing[2])
+        for i in range(3):
+            motion[i] -= (kv * (max_speed - limit_now) + brake) * line[i]
+        max_speed = limit_now
+        cruise[1] = min(cruise[1], max_speed)  # the model brakes with it: no integral wound by the braking
     along = velocity[0] * line[0] + velocity[1] * line[1] + velocity[2] * line[2]
     push = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
     if not binds:

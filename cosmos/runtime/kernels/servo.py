@@ -73,7 +73,7 @@ GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_er
 HOLD_OBSERVER = 45  # a free hold's disturbance observer: L [1/s], bound [m/s^2], band [m], quiet [N]
 PUSH_SPEED_RATE = 56  # an INSERT's push: its speed reference's rise [1/s] (cosmos.osc.push_speed)
 TOUCH_FREE_SPEED = 58  # the speed a touch's damping leaves the motion into it [m/s] (osc.contact)
-SCALARS = 60  # 49-55, 57, 59: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, mass, k_v
+SCALARS = 63  # 49-55, 57, 59-62: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, mass, k_v
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
