@@ -29,7 +29,6 @@ from cosmos.execution.holding import brake_to_rest, hold_pose
 from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
-from cosmos.runtime.landing_zone import with_landing
 from cosmos.execution.resolve import effective_masses, posture_joints, segment_goals, setpoint_for
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
@@ -48,6 +47,7 @@ from cosmos.plan import (
     Step,
 )
 from cosmos.runlog.writer import RunLog
+from cosmos.runtime.landing_zone import with_landing
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.setpoint import ServoSetpoint
 from cosmos.workcell import home_q

@@ -1,4 +1,4 @@
-"""Where a CONTACT's approach meets a stiff surface of the workcell model: its landing (:mod:`cosmos.osc.landing`).
+"""Where a CONTACT's approach meets a stiff surface of its workcell model (:mod:`cosmos.osc.landing`).
 
 The controller's workcell model is the scene file at its nominal poses: the fixtures' solids
 (:attr:`cosmos.runtime.foresight_cache.Workcell.solids`, as the checker sees them, not where a
@@ -25,9 +25,9 @@ from cosmos.osc.landing import (
     STIFF_RAMP_M,
     landing_speed,
 )
+from cosmos.plan import SegmentKind
 from cosmos.robots import ROBOTS
 from cosmos.runtime.fixture_solids import FixtureSolid, signed_distances
-from cosmos.plan import SegmentKind
 from cosmos.runtime.setpoint import ServoSetpoint
 
 if TYPE_CHECKING:

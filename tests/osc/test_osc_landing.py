@@ -1,4 +1,4 @@
-"""A CONTACT's landing profile (:mod:`cosmos.osc.landing`) and its compiled form, and the surface it is traced to."""
+"""A CONTACT's landing profile (:mod:`cosmos.osc.landing`), its compiled form, the surface traced."""
 
 from __future__ import annotations
 
@@ -66,4 +66,3 @@ def test_the_hole_top_is_found_under_the_peg_and_is_stiff(robot: str) -> None:
     ramps = contact_ramps(robot)
     assert ramps[cell.solids[solid].geom] < 0.001
     assert ramps["table_top"] == pytest.approx(0.0015, rel=0.01)
-

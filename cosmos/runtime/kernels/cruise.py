@@ -123,7 +123,8 @@ def restart(
     state[CRUISE] = 0.0
     state[CRUISE, :2] = carried
     landing = setpoint.landing[1]  # a landing's slow end breaks away from rest too (cosmos.osc.landing)
-    state[CRUISE, BREAKAWAY] = float(breaks_away(setpoint.max_speed) or 0.0 < landing and breaks_away(landing))
+    slow = breaks_away(setpoint.max_speed) or 0.0 < landing and breaks_away(landing)
+    state[CRUISE, BREAKAWAY] = float(slow)
     scalars[CRUISE_TURNS] = float(all(setpoint.motion_axes[3:]) and not setpoint.orientation_free)
     scalars[LANDING : LANDING + 3] = setpoint.landing
     return speeds
