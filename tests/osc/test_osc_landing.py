@@ -44,9 +44,12 @@ def test_the_compiled_profile_matches_the_reference() -> None:
 
 
 def test_the_landing_speed_falls_with_the_effective_mass() -> None:
-    """Catches a landing speed that does not keep ``Lambda_n v_l`` (the momentum the contact takes)
-    fixed, or that passes the SPEED or falls under the speed the joints stick at."""
-    assert landing_speed(20.0, 0.05) * 20.0 == pytest.approx(landing_speed(10.0, 0.05) * 10.0)
+    """Catches a landing speed that does not keep ``v_l sqrt(Lambda_n)`` fixed (a mass meeting a
+    spring at ``v`` peaks at ``v sqrt(k m)``), or that passes the SPEED or falls under the speed
+    the joints stick at."""
+    assert landing_speed(20.0, 0.05) * math.sqrt(20.0) == pytest.approx(
+        landing_speed(10.0, 0.05) * math.sqrt(10.0)
+    )
     assert landing_speed(0.1, 0.02) == 0.02
     assert landing_speed(1e4, 0.02) == LANDING_MIN_MPS
 

@@ -1,13 +1,16 @@
 """CONTACT's landing (issue 14, item 5): forces x speeds x surfaces x seeds, both plants.
 
 Run ``python tests/run/contact_impact_grid.py`` (about 5 minutes on two cores; ``--forces 10``,
-``--speeds 20,30``, ``--surfaces table``, ``--seeds 0,ideal`` to choose). Each case moves the
-tool above a surface, then ``CONTACT ... FORCE f SPEED v`` onto it and ``WAIT 0.3 s``:
+``--speeds 20,30``, ``--surfaces table``, ``--seeds 0,ideal``, ``--robot panda`` to choose). Each
+case moves the tool above a surface, then ``CONTACT ... FORCE f SPEED v`` onto it and ``WAIT 0.3 s``:
 
 * ``table``: ``CONTACT DOWN`` onto the table;
 * ``slope``: ``CONTACT +Z IN slope`` onto the tilted plate, the tool square to it;
 * ``turned``: ``CONTACT +Z IN turned`` onto the table, ``turned`` a task frame whose z points
-  down and whose x and y are turned 45 deg about it.
+  down and whose x and y are turned 45 deg about it;
+* ``hole``: ``CONTACT DOWN`` onto the hole fixture's steel top face, 16 mm off the hole's axis
+  (``programs/search_insert.cos``'s landing; not in the default surfaces): the approach lands
+  slowly there (:mod:`cosmos.osc.landing`), and the figures add how long it took to touch [s].
 
 The start is far enough above the surface for the approach to cruise at its SPEED for at
 least 0.4 s. From the run's log, written at 1 kHz (every servo tick), and from MuJoCo's own
@@ -41,11 +44,13 @@ from cosmos.runlog import read_log
 from cosmos.runtime.rates import Rates
 
 SURFACES = ("table", "slope", "turned")
+"""The default surfaces; ``hole`` is the fourth."""
 TILT = math.radians(20.0)
 DIRECTIONS = {
     "table": np.array([0.0, 0.0, -1.0]),
     "slope": -np.array([math.sin(TILT), 0.0, math.cos(TILT)]),  # the slope frame's z: into the face
     "turned": np.array([0.0, 0.0, -1.0]),
+    "hole": np.array([0.0, 0.0, -1.0]),
 }
 WINDOW_S = 0.3
 """The impact is judged over this time after the touch [s]."""
@@ -62,6 +67,9 @@ def program(surface: str, force_n: float, speed_mmps: float) -> str:
     clause = f"FORCE {force_n:g} N SPEED {speed_mmps:g} mm/s TIMEOUT 10 s"
     if surface == "table":
         return f"MOVE TO table + (0, 0, {gap_mm:g} mm)\nCONTACT DOWN {clause}\nWAIT 0.3 s\n"
+    if surface == "hole":
+        beside = f"FRAME beside = hole + (16 mm, 0, {gap_mm:g} mm)\nMOVE TO beside\n"
+        return f"{beside}CONTACT DOWN {clause}\nWAIT 0.3 s\n"
     if surface == "slope":
         off = f"({gap_mm * math.sin(TILT):.4f} mm, 0, {gap_mm * math.cos(TILT):.4f} mm)"
         return f"MOVE TO slope + {off}\nCONTACT +Z IN slope {clause}\nWAIT 0.3 s\n"
@@ -121,24 +129,28 @@ class Figures:
     lowest_contact_n: float
     lost_s: float
     settle_s: float
+    touch_s: float
 
 
-def measure(surface: str, force_n: float, speed_mmps: float, seed: int, ideal: bool, tmp: Path) -> Figures:
-    """Run one case and read its figures."""
+def measure(
+    surface: str, force_n: float, speed_mmps: float, seed: int, ideal: bool, tmp: Path, robot: str = ""
+) -> Figures:
+    """Run one case and read its figures (``robot``: a ROBOT statement's arm, or the PUMA)."""
     path = tmp / "impact.cos"
-    path.write_text(program(surface, force_n, speed_mmps), encoding="utf-8")
+    prefix = f"ROBOT {robot}\n" if robot else ""
+    path.write_text(prefix + program(surface, force_n, speed_mmps), encoding="utf-8")
     log = tmp / "impact.mcap"
     out = io.StringIO()
     with ContactProbe() as probe, contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
         code = run_program(path, log, Rates(state_hz=1000.0), seed, force=True, ideal=ideal)
     record = read_log(log)
     n = DIRECTIONS[surface]
-    line = 3 if surface == "turned" else 2
+    line = (3 if surface in ("turned", "hole") else 2) + bool(robot)
     touch = [e.t for e in record.events if e.kind == "contact"]
     ct, cf = np.array(probe.t), np.array(probe.f).dot(n)
     first = np.flatnonzero(cf > 0.0)
     if not touch or not first.size:
-        return Figures(False, *(math.nan,) * 7)
+        return Figures(False, *(math.nan,) * 8)
     t0 = float(ct[first[0]])  # MuJoCo's first contact
     state = record.state
     push = state.wrench[:, :3].dot(n)
@@ -150,6 +162,7 @@ def measure(surface: str, force_n: float, speed_mmps: float, seed: int, ideal: b
     holds = [s for s in record.segments if s.line == line and s.kind == "contact_hold"]
     later = [s.t for s in record.segments if holds and s.segment == holds[0].segment + 1]
     settle = later[0] - holds[0].t if holds and later else math.nan
+    started = [e.t for e in record.events if e.kind == "start" and e.line == line]
     contact_window = (ct >= t0) & (ct <= t0 + WINDOW_S)
     contact_after = contact_window & (ct >= ct[contact_window][np.argmax(cf[contact_window])])
     return Figures(
@@ -161,6 +174,7 @@ def measure(surface: str, force_n: float, speed_mmps: float, seed: int, ideal: b
         float(cf[contact_after].min()),
         float(np.count_nonzero(cf[contact_window] <= 0.0)) * float(np.median(np.diff(ct))),
         float(settle),
+        touch[0] - started[0] if started else math.nan,
     )
 
 
@@ -170,18 +184,21 @@ def main() -> int:
     parser.add_argument("--speeds", default="5,10,20,30,50", help="SPEEDs in mm/s, comma-separated")
     parser.add_argument("--surfaces", default=",".join(SURFACES), help="table, slope, turned")
     parser.add_argument("--seeds", default="0,1,2,3,4,ideal", help="realistic plant's seeds, 'ideal'")
+    parser.add_argument("--robot", default="", help="the arm (ROBOT statement): panda; the PUMA if not given")
     args = parser.parse_args()
     forces = [float(f) for f in args.forces.split(",")]
     speeds = [float(s) for s in args.speeds.split(",")]
     surfaces = args.surfaces.split(",")
     seeds = args.seeds.split(",")
     met = total = 0
-    print("surface  force speed  seed  ok  v_touch  peak_log peak_mj  lowest low_mj lost_ms settle  bar")
+    print(
+        "surface  force speed  seed  ok  v_touch  peak_log peak_mj  lowest low_mj lost_ms settle touch_s bar"
+    )
     worst: dict[tuple[str, float, float], float] = {}
     with tempfile.TemporaryDirectory() as tmp:
         for surface, force, speed, seed in itertools.product(surfaces, forces, speeds, seeds):
             ideal = seed == "ideal"
-            f = measure(surface, force, speed, 0 if ideal else int(seed), ideal, Path(tmp))
+            f = measure(surface, force, speed, 0 if ideal else int(seed), ideal, Path(tmp), args.robot)
             peak = max(f.peak_log_n, f.peak_contact_n)
             ok = f.ok and peak <= bar_n(force)
             key = (surface, force, speed)
@@ -190,7 +207,7 @@ def main() -> int:
             total += 1
             figures = (
                 f"{f.touch_speed_mmps:8.1f} {f.peak_log_n:8.2f} {f.peak_contact_n:8.2f} {f.lowest_n:7.2f} "
-                f"{f.lowest_contact_n:6.2f} {f.lost_s * 1e3:6.0f} {f.settle_s:7.3f}"
+                f"{f.lowest_contact_n:6.2f} {f.lost_s * 1e3:6.0f} {f.settle_s:7.3f} {f.touch_s:6.3f}"
             )
             verdict = "ok" if ok else "OVER"
             case = f"{surface:7s} {force:5g} {speed:5g} {seed:>5s} {int(f.ok):3d}"

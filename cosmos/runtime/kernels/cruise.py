@@ -42,6 +42,9 @@ CRUISE_TURNS = 59
 segment (:func:`restart`): 1 where the cruise's Coulomb intent covers the rotation too (every
 rotation motion-controlled, the orientation the task's), else 0
 (:func:`cosmos.osc.cruise_speed.cruise_intent`)."""
+LANDED = 5
+"""Columns 5-6 of :data:`CRUISE`, each tick (:func:`landing_into`): 1 where eq. 21's limit is on a
+CONTACT's landing profile, else 0; the profile's deceleration ``a_ff`` [m/s^2]."""
 LANDING = 60
 """The servo's last three scalars (kernels.servo's SCALARS is 63), set per segment (:func:`restart`) from
 ``ServoSetpoint.landing``: a CONTACT's landing on a stiff surface (:mod:`cosmos.osc.landing`): ``s_l``,
@@ -142,6 +145,26 @@ def landing_limit(max_speed: float, to_go: float, landing: float, deceleration: 
 
 
 @kernel
+def landing_into(
+    max_speed: float, error: FloatArray, line: FloatArray, scalars: FloatArray, state: FloatArray
+) -> float:
+    """Eq. 21's ``V_max`` (ramped) on a CONTACT's landing profile (:data:`LANDING`); ``a_ff`` to ``state``.
+
+    :func:`landing_limit` at ``s = u^T (x_d - x) - s_l``: returns the limit, and writes the profile's
+    deceleration ``a_ff`` [m/s^2] (:func:`cruise_into` subtracts ``a_ff u`` from F*_m, fed forward) and
+    whether the profile binds (:data:`LANDED`) into the cruise row.
+    """
+    cruise, landing = state[CRUISE], scalars[LANDING : LANDING + 3]
+    cruise[LANDED], cruise[LANDED + 1] = 0.0, 0.0
+    if not landing[1] > 0.0 or (line[0] == 0.0 and line[1] == 0.0 and line[2] == 0.0):  # none, or no line
+        return max_speed
+    to_go = -(error[0] * line[0] + error[1] * line[1] + error[2] * line[2]) - landing[0]
+    limit, brake = landing_limit(max_speed, to_go, landing[1], landing[2])
+    cruise[LANDED], cruise[LANDED + 1] = 1.0 if limit < max_speed else 0.0, brake
+    return limit
+
+
+@kernel
 def cruise_into(
     motion: FloatArray,
     commanded_speed: FloatArray,
@@ -155,10 +178,8 @@ def cruise_into(
     ``commanded_speed`` is set to zeros or, while a cruise's limit binds, to ``2 v_d - xd``
     (``motion`` on entry is ``kv (v_d - xd)``; the rotation's zeros unless :data:`CRUISE_TURNS`):
     the speed the Coulomb intent adds
-    (:func:`cosmos.osc.cruise_speed.cruise_intent`); returns whether it binds. A CONTACT's landing
-    (:data:`LANDING`) first brings ``V_max`` down its braking profile
-    (:func:`cosmos.osc.landing.landing_limit`): eq. 20's ``kv V_max u`` becomes ``kv V u``, less the
-    profile's deceleration ``a_ff u``.
+    (:func:`cosmos.osc.cruise_speed.cruise_intent`); returns whether it binds. On a CONTACT's landing
+    profile (:func:`landing_into`) the integral keeps what it learnt at the SPEED.
 
     Args:
         motion: F*_m, world; ``a u`` is added. # (6,)
@@ -174,19 +195,14 @@ def cruise_into(
     if k_c == 0.0 or (line[0] == 0.0 and line[1] == 0.0 and line[2] == 0.0):
         return False
     force, error, velocity, cruise = state[0], state[1], state[2], state[CRUISE]
-    to_goal = -(error[0] * line[0] + error[1] * line[1] + error[2] * line[2])
-    ahead = to_goal > 0.0  # not past the goal
+    ahead = error[0] * line[0] + error[1] * line[1] + error[2] * line[2] < 0.0  # not past the goal
     binds = ahead and ratio * math.sqrt(error[0] ** 2 + error[1] ** 2 + error[2] ** 2) > max_speed
-    landing = scalars[LANDING : LANDING + 3]
-    if binds and landing[1] > 0.0:  # a CONTACT's landing on a stiff surface (cosmos.osc.landing)
-        limit_now, brake = landing_limit(max_speed, to_goal - landing[0], landing[1], landing[2])
-        for i in range(3):
-            motion[i] -= (kv * (max_speed - limit_now) + brake) * line[i]
-        max_speed = limit_now
-        cruise[1] = min(cruise[1], max_speed)  # the model brakes with it: no integral wound by the braking
+    landed = state[CRUISE, LANDED] != 0.0  # eq. 21's limit on a landing's profile (landing_into)
     along = velocity[0] * line[0] + velocity[1] * line[1] + velocity[2] * line[2]
     push = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
-    if not binds:
+    if landed:  # the cruise's integral as learnt at its SPEED: wound by the braking, it rang
+        cruise[1] = max_speed
+    elif not binds:
         cruise[0] *= max(0.0, 1.0 - ratio * dt_s)
         cruise[1] = along
     elif along > moving * max_speed and push < quiet:
@@ -205,8 +221,8 @@ def cruise_into(
     if binds:  # 2 v_d - xd, with F*_m = kv (v_d - xd) before a u
         for i in range(6 if scalars[CRUISE_TURNS] != 0.0 else 3):
             commanded_speed[i] = velocity[i] + 2.0 * motion[i] / kv
-    for i in range(3):
-        motion[i] += cruise[0] * line[i]
+    for i in range(3):  # the integral's a u, and a landing's deceleration fed forward (landing_into)
+        motion[i] += (cruise[0] - cruise[LANDED + 1]) * line[i]
     return binds
 
 

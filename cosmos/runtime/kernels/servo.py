@@ -47,7 +47,7 @@ from cosmos.runtime.kernels.contact import (
     touch_braking_into,
     touch_latched,
 )
-from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, cruise_into, reference_speed
+from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, cruise_into, landing_into, reference_speed
 from cosmos.runtime.kernels.friction_adaptation import adapted_levels
 from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
@@ -174,6 +174,7 @@ def servo_tick(
         max_angular_speed = min(
             max_angular_speed, scalars[GOAL_START_ANGULAR_SPEED] + scalars[GOAL_ANGULAR_ACCELERATION] * since
         )
+        max_speed = landing_into(max_speed, error, vectors[GOAL_LINE, :3], scalars, state)  # osc.landing
     admittance = False
     if scalars[ADMITTANCE] != 0.0:
         # Compliant moment axes give way to contact moments: from the first contact force
@@ -369,9 +370,8 @@ def servo_tick(
         for k in range(n):
             acc += stacked[i, 19 + k] * qd[k]
         torque[i] = acc
-    # Coulomb friction is compensated in the direction the joint is moving or, from rest, is being told to
-    # move (qd plus Jbar times the commanded acceleration over a short look-ahead), low-passed so that a new
-    # setpoint or a sign change never steps it.
+    # Coulomb friction is compensated in the direction the joint moves or, from rest, is told to move (qd plus
+    # Jbar times the commanded acceleration over a look-ahead), low-passed: a new setpoint never steps it.
     if admittance or mode == MODE_TRAJECTORY or pushing_at_speed or cruising:  # no slow joint left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
     free = mode != MODE_HOLD and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0
