@@ -221,7 +221,7 @@ class Executor:
         # Among obstacles a goal motion gives way to their field: no reference tracked (resolve).
         among = obstacles is not None
         setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture, among)
-        setpoint = with_landing(setpoint, segment.kind, rt, start_rotation, self._tool)  # on steel
+        setpoint = with_landing(setpoint, segment, rt, start_rotation, self._tool)  # on steel
         search = search_phase(segment, start_s, start_position, start_rotation)  # INSERT ... SEARCH
         if search is not None:
             setpoint = search.setpoint(setpoint)

@@ -25,7 +25,7 @@ from cosmos.osc.landing import (
     STIFF_RAMP_M,
     landing_speed,
 )
-from cosmos.plan import SegmentKind
+from cosmos.plan import ContactTouch, Segment, SegmentKind
 from cosmos.robots import ROBOTS
 from cosmos.runtime.fixture_solids import FixtureSolid, signed_distances
 from cosmos.runtime.setpoint import ServoSetpoint
@@ -112,20 +112,21 @@ def contact_ramps(robot_name: str) -> dict[str, float]:
 
 
 def with_landing(
-    setpoint: ServoSetpoint, kind: SegmentKind, runtime: Runtime, rotation: FloatArray, tool: str
+    setpoint: ServoSetpoint, segment: Segment, runtime: Runtime, rotation: FloatArray, tool: str
 ) -> ServoSetpoint:
     """A CONTACT approach's setpoint with its landing on the stiff surface ahead, if its model knows one.
 
     Args:
         setpoint: The segment's setpoint (a CONTACT's approach: a goal motion toward its far goal).
-        kind: The segment's kind: any other than a CONTACT's approach is returned as it is.
+        segment: The segment: any but a CONTACT's approach (an INSERT's too, tuned to its own
+            landing: cosmos.osc.push_speed) gets ``setpoint`` back as it is.
         runtime: The runtime: the tool point now, Lambda, the arm's name.
         rotation: The tool's orientation now (tool to world). # (3, 3)
         tool: The tool on its flange (``peg``, ``gripper``).
     """
     from cosmos.runtime.foresight_cache import workcell
 
-    if kind is not SegmentKind.CONTACT_APPROACH:
+    if segment.kind is not SegmentKind.CONTACT_APPROACH or not isinstance(segment.completion, ContactTouch):
         return setpoint
     evaluation, robot_name = runtime.evaluation, runtime.robot.description.name
     start, lambda_ = evaluation.position, evaluation.dynamics.lambda_
