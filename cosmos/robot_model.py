@@ -23,6 +23,7 @@ import pinocchio as pin
 
 from cosmos.errors import CosmosError
 from cosmos.hand.tool import Tool
+from cosmos.model_facts import kept
 from cosmos.robots import DEFAULT_ROBOT, Robot
 from cosmos.workcell import FLANGE_SITE, SENSOR_SITE, TOOL_SITE, ToolSpec, read_only, tool_spec
 
@@ -79,6 +80,12 @@ class RobotModel:
 
 
 def _drive_torque_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`drive_torque_limits`, once per model (kept in the user cache: :mod:`cosmos.model_facts`)."""
+    name = f"drive_limits:{robot.arm_xml.name}:{','.join(robot.joint_names)}"
+    return kept(robot.arm_xml.parent, name, lambda: drive_torque_limits(robot))
+
+
+def drive_torque_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper torque limits [N m] from the arm's motor ``ctrlrange``, joint order."""
     arm = mujoco.MjModel.from_xml_path(str(robot.arm_xml))
     names = robot.joint_names
@@ -87,7 +94,7 @@ def _drive_torque_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
         joint = arm.joint(int(arm.actuator_trnid[i, 0])).name
         gear = float(arm.actuator_gear[i, 0])
         lower[names.index(joint)], upper[names.index(joint)] = sorted(gear * arm.actuator_ctrlrange[i])
-    return lower, upper
+    return read_only(lower), read_only(upper)
 
 
 def build_robot_model(robot: Robot = DEFAULT_ROBOT, tool: Tool = Tool.PEG) -> RobotModel:

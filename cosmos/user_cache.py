@@ -1,4 +1,4 @@
-"""The user cache directory of cosmos (compiled kernels, the workcell's fixture frames, dataclasses' code).
+"""The user cache directory of cosmos (compiled kernels, plans, model facts, dataclasses' code).
 
 ``$COSMOS_CACHE_DIR`` if set, else the platform's user cache directory:
 ``$XDG_CACHE_HOME/cosmos`` or ``~/.cache/cosmos`` on Linux, ``~/Library/Caches/cosmos``
@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import pickle
 import sys
 import tempfile
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -82,3 +84,27 @@ def cached_array(values: object, shape: tuple[int, ...] | None = None) -> np.nda
         raise ValueError("a value that is not finite")
     array.setflags(write=False)
     return array
+
+
+def _array(
+    data: bytes, dtype: np.dtype[Any], shape: tuple[int, ...], fortran: bool, writeable: bool
+) -> np.ndarray:
+    """An array of its own memory rebuilt from its bytes, as writable as it was kept."""
+    array = np.frombuffer(data, dtype=dtype).reshape(shape, order="F" if fortran else "C").copy(order="K")
+    array.setflags(write=writeable)
+    return array
+
+
+class ArrayPickler(pickle.Pickler):
+    """A pickler that keeps each array as writable as it is.
+
+    numba compiles a kernel anew for a writable array where it had a read-only one, and
+    numpy's own pickle reads every array back read-only (protocol 5), or every one writable (older ones).
+    """
+
+    def reducer_override(self, obj: Any) -> Any:
+        """An array (of no Python objects) as its bytes, dtype, shape, order and writability."""
+        if type(obj) is np.ndarray and not obj.dtype.hasobject:
+            fortran = bool(obj.flags.f_contiguous and not obj.flags.c_contiguous)
+            return _array, (obj.tobytes(order="A"), obj.dtype, obj.shape, fortran, bool(obj.flags.writeable))
+        return NotImplemented

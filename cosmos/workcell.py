@@ -1,9 +1,10 @@
 """The workcell: model files, home configuration, fixture frames and the tool.
 
 Everything here is read from an arm's scene file (:attr:`cosmos.robots.Robot.scene_xml`,
-``cosmos/models/<arm>/scene.xml``) once, so the XML stays the one place where the
-workcell is defined. The functions take the arm (the PUMA 560 by default); the
-module's constants are the PUMA's:
+``cosmos/models/<arm>/scene.xml``), so the XML stays the one place where the
+workcell is defined: once per model, the values then kept in the user cache
+(:mod:`cosmos.model_facts`: a run does not compile the scene for them). The
+functions take the arm (the PUMA 560 by default); the module's constants are the PUMA's:
 
 - :data:`HOME_Q`: the ``home`` keyframe, where every program starts;
 - :func:`fixture_frames`: the predefined frames ``table``, ``hole``, ``slope``
@@ -32,6 +33,7 @@ from cosmos.capabilities import WRIST_SENSOR as WRIST_SENSOR
 from cosmos.errors import CosmosError
 from cosmos.hand.gripper_scene import mount_gripper
 from cosmos.hand.tool import Tool
+from cosmos.model_facts import kept
 from cosmos.robots import DEFAULT_ROBOT, PUMA560, Robot
 
 MODEL_DIR: Path = PUMA560.model_dir
@@ -144,18 +146,24 @@ def scene_model(scene_xml: Path = SCENE_XML) -> mujoco.MjModel:
     return _scene_at_home(scene_xml)[0]
 
 
-def _read_home_tool() -> tuple[np.ndarray, np.ndarray]:
-    model, data = _scene_at_home(SCENE_XML)
+def home_tool_from_scene(scene_xml: Path = SCENE_XML) -> tuple[np.ndarray, np.ndarray]:
+    """Where the tool point is at home, world [m] ``(3,)``, and its axes ``(3, 3)``: from the scene."""
+    model, data = _scene_at_home(scene_xml)
     site = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, TOOL_SITE)
     return read_only(data.site_xpos[site]), read_only(data.site_xmat[site].reshape(3, 3))
+
+
+def home_q_from_scene(robot: Robot = DEFAULT_ROBOT) -> np.ndarray:
+    """The arm's home configuration [rad], ``(n,)``, read-only: compiled from its scene."""
+    model, _ = _scene_at_home(robot.scene_xml)
+    key = _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
+    return read_only(model.key_qpos[key])
 
 
 @functools.cache
 def home_q(robot: Robot = DEFAULT_ROBOT) -> np.ndarray:
     """The arm's home configuration [rad], ``(n,)``, read-only: its scene's ``home`` keyframe."""
-    model, _ = _scene_at_home(robot.scene_xml)
-    key = _object_id(model, mujoco.mjtObj.mjOBJ_KEY, HOME_KEY)
-    return read_only(model.key_qpos[key])
+    return kept(robot.scene_xml.parent, f"home_q:{robot.scene_xml.name}", lambda: home_q_from_scene(robot))
 
 
 def _rotation(quat: np.ndarray) -> np.ndarray:
@@ -172,6 +180,12 @@ def tool_spec(robot: Robot = DEFAULT_ROBOT, tool: Tool = Tool.PEG) -> ToolSpec:
     The gripper's mass properties are those of the ``tool`` body and its fingers together,
     the fingers open (as at home).
     """
+    name = f"tool_spec:{robot.name}:{robot.scene_xml.name}:{tool.value}"
+    return kept(robot.scene_xml.parent, name, lambda: tool_spec_from_scene(robot, tool))
+
+
+def tool_spec_from_scene(robot: Robot = DEFAULT_ROBOT, tool: Tool = Tool.PEG) -> ToolSpec:
+    """:func:`tool_spec` computed from the compiled scene."""
     model, data = _scene_at_home(robot.scene_xml, tool, robot.name)
     flange = _object_id(model, mujoco.mjtObj.mjOBJ_SITE, FLANGE_SITE)
     body = _object_id(model, mujoco.mjtObj.mjOBJ_BODY, TOOL_BODY)
@@ -246,6 +260,11 @@ def descends(model: mujoco.MjModel, body: int, root: int) -> bool:
 
 @functools.cache
 def _read_fixture_frames(scene_xml: Path) -> tuple[FixtureFrame, ...]:
+    return kept(scene_xml.parent, f"fixtures:{scene_xml.name}", lambda: fixture_frames_from_scene(scene_xml))
+
+
+def fixture_frames_from_scene(scene_xml: Path = SCENE_XML) -> tuple[FixtureFrame, ...]:
+    """The fixture frames of :data:`FIXTURE_NAMES`, read from the compiled scene's sites."""
     model, data = _scene_at_home(scene_xml)
     frames = []
     for name in FIXTURE_NAMES:
@@ -275,7 +294,9 @@ def fixture_frames(robot: Robot = DEFAULT_ROBOT) -> dict[str, FixtureFrame]:
 HOME_Q: np.ndarray = home_q(PUMA560)
 """The PUMA's home configuration [rad], ``(6,)``, read-only: the scene's ``home`` keyframe."""
 
-HOME_TOOL_POSITION, HOME_TOOL_ROTATION = _read_home_tool()
+HOME_TOOL_POSITION, HOME_TOOL_ROTATION = kept(
+    SCENE_XML.parent, f"home_tool:{SCENE_XML.name}", lambda: home_tool_from_scene(SCENE_XML)
+)
 """Where the tool point is at home, world [m] (3,), and its orientation, tool to world (3, 3),
 read from the scene (:data:`cosmos.capabilities.HOME_TOOL` states the same numbers for the
 language, which may not import this module; tests/run/test_supervision_units.py compares)."""

@@ -18,6 +18,7 @@ from cosmos.commands import plan_cache
 from cosmos.commands.run import compile_file
 from cosmos.lang import compile_program, read_program
 from cosmos.runtime.foresight import with_foreseen_limits
+from cosmos.user_cache import ArrayPickler
 from cosmos.workcell import fixture_frames
 
 PROGRAMS = sorted((Path(__file__).resolve().parents[1] / "programs").glob("*.cos"))
@@ -163,7 +164,7 @@ def test_arrays_come_back_as_writable_as_they_were() -> None:
         np.array([True, False]),
     )
     stream = io.BytesIO()
-    plan_cache._PlanPickler(stream, protocol=pickle.HIGHEST_PROTOCOL).dump(arrays)
+    ArrayPickler(stream, protocol=pickle.HIGHEST_PROTOCOL).dump(arrays)
     for read, kept in zip(pickle.loads(stream.getvalue()), arrays, strict=True):
         assert_same(read, kept, "array")
         assert read.flags.owndata

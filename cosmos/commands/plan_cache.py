@@ -17,8 +17,7 @@ path and arm, under a key that names everything the plan is made from:
 A key that does not match, a file that cannot be read or unpickled, or anything but a
 plan in it: the program is compiled as if there were no file, and the file is written
 anew; a cache that cannot be written only means compiling every time. A plan's arrays
-are read back as writable as they were (read-only: numba compiles a kernel anew for a
-writable array where it had a read-only one).
+are read back as writable as they were (:class:`cosmos.user_cache.ArrayPickler`).
 """
 
 from __future__ import annotations
@@ -31,9 +30,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from cosmos.user_cache import package_stamp, user_cache_root, write_whole
+from cosmos.user_cache import ArrayPickler, package_stamp, user_cache_root, write_whole
 
 if TYPE_CHECKING:
     from cosmos.plan import Plan
@@ -97,28 +94,6 @@ def plan_file(file: str, robot: str | None) -> Path:
     return user_cache_root() / "plans" / f"{name}.pickle"
 
 
-def _array(
-    data: bytes, dtype: np.dtype[Any], shape: tuple[int, ...], fortran: bool, writeable: bool
-) -> np.ndarray:
-    """An array of its own memory rebuilt from its bytes, as writable as it was kept."""
-    array = np.frombuffer(data, dtype=dtype).reshape(shape, order="F" if fortran else "C").copy(order="K")
-    array.setflags(write=writeable)
-    return array
-
-
-class _PlanPickler(pickle.Pickler):
-    """A pickler that keeps each array as writable as it is.
-
-    numpy's own pickle reads every array back read-only (protocol 5), or every one writable (older ones).
-    """
-
-    def reducer_override(self, obj: Any) -> Any:
-        if type(obj) is np.ndarray and not obj.dtype.hasobject:
-            fortran = bool(obj.flags.f_contiguous and not obj.flags.c_contiguous)
-            return _array, (obj.tobytes(order="A"), obj.dtype, obj.shape, fortran, bool(obj.flags.writeable))
-        return NotImplemented
-
-
 def load_plan(path: Path, key: bytes) -> Plan | None:
     """The plan kept at ``path`` under ``key``; None if there is none, or another, or it cannot be read."""
     from cosmos.plan import Plan
@@ -141,7 +116,7 @@ def keep_plan(path: Path, key: bytes, plan: Plan) -> None:
     stream = io.BytesIO()
     stream.write(key)
     try:
-        _PlanPickler(stream, protocol=pickle.HIGHEST_PROTOCOL).dump(plan)
+        ArrayPickler(stream, protocol=pickle.HIGHEST_PROTOCOL).dump(plan)
         write_whole(path, stream.getvalue())
     except (OSError, pickle.PicklingError, TypeError, AttributeError):
         return

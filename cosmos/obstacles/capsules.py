@@ -28,6 +28,7 @@ import numpy as np
 import pinocchio as pin
 
 from cosmos.errors import CosmosError
+from cosmos.model_facts import kept
 from cosmos.robot_model import RobotModel
 from cosmos.workcell import SCENE_XML, TOOL_BODY, scene_model
 
@@ -128,6 +129,11 @@ def _link_of(model: mujoco.MjModel, body: int) -> str:
 def _scene_capsules(
     scene_xml: Path = SCENE_XML,
 ) -> tuple[tuple[str, str, FloatArray, FloatArray, float], ...]:
+    """:func:`scene_capsules` once per model (kept in the user cache: :mod:`cosmos.model_facts`)."""
+    return kept(scene_xml.parent, f"capsules:{scene_xml.name}", lambda: scene_capsules(scene_xml))
+
+
+def scene_capsules(scene_xml: Path = SCENE_XML) -> tuple[tuple[str, str, FloatArray, FloatArray, float], ...]:
     """(geom, link, a, b, radius) of every collision geom of the arm, ends in the link's body frame."""
     model = scene_model(scene_xml)  # the workcell's compiled scene: the file is not parsed again
     out = []
