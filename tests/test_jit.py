@@ -136,6 +136,72 @@ def test_digest_follows_imported_kernel_modules(tmp_path: Path, monkeypatch: pyt
     cache._file_digest.cache_clear()
 
 
+def test_kept_digests_follow_the_sources(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Catches a digest read back from the kernel directory after a source it was made from changed
+    (the kernel's module, a kernel module it imports, a plain module it imports, or a module added
+    where a name was imported): a stale kernel would be loaded. And a damaged file failing the run."""
+    sources = tmp_path / "sources"
+    sources.mkdir()
+    files = {
+        "cosmos.fake.caller": (
+            f"{cache.KERNEL_IMPORT}\nfrom cosmos.fake import callee, plain\nfrom cosmos.fake.plain import X\n"
+        ),
+        "cosmos.fake.callee": f"{cache.KERNEL_IMPORT}\nY = 1\n",
+        "cosmos.fake.plain": "X = 2\n",
+    }
+    for name, text in files.items():
+        (sources / f"{name}.py").write_text(text)
+    monkeypatch.setattr(
+        cache,
+        "_module_file",
+        lambda name: sources / f"{name}.py" if (sources / f"{name}.py").exists() else None,
+    )
+    directory = tmp_path / "kernels"
+    directory.mkdir()
+    caller = str(sources / "cosmos.fake.caller.py")
+
+    def computed() -> str:
+        cache.source_digest.cache_clear()
+        cache._file_digest.cache_clear()
+        return cache.source_digest("cosmos.fake.caller")
+
+    def kept() -> str:  # as a new process reads it
+        cache._kept_digests.cache_clear()
+        if cache.source_digest is not None:
+            cache.source_digest.cache_clear()
+            cache._file_digest.cache_clear()
+        return cache.kept_source_digest("cosmos.fake.caller", caller, directory)
+
+    try:
+        assert kept() == computed()
+        assert (directory / cache.DIGESTS_FILE).is_file()
+        monkeypatch.setattr(cache, "source_digest", None)  # read back, not computed
+        first = kept()
+        monkeypatch.undo()
+        monkeypatch.setattr(
+            cache,
+            "_module_file",
+            lambda name: sources / f"{name}.py" if (sources / f"{name}.py").exists() else None,
+        )
+        for name, edited in (
+            ("cosmos.fake.callee", "Y = 22\n"),
+            ("cosmos.fake.plain", "X = 25\n"),
+            ("cosmos.fake.caller", "Z = 3\n"),
+        ):
+            (sources / f"{name}.py").write_text(files[name] + edited)
+            assert kept() == computed() != first, name
+            (sources / f"{name}.py").write_text(files[name])
+        before = kept()
+        (sources / "cosmos.fake.plain.X.py").write_text("W = 1\n")  # the name imported is now a module
+        assert kept() == computed() != before
+        (directory / cache.DIGESTS_FILE).write_bytes(b"\x80\x05damaged")
+        assert kept() == computed()
+    finally:
+        cache.source_digest.cache_clear()
+        cache._file_digest.cache_clear()
+        cache._kept_digests.cache_clear()
+
+
 def test_without_any_cache_kernels_compile_and_run(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -14,7 +14,9 @@ the compiled code depends on:
   module's text and of the cosmos modules it imports (a kernel module's hash
   includes its own imports', since a kernel calling another kernel compiles the
   callee into itself), so two environments with the same sources share every
-  file, and a changed source gets its own directory instead of fighting over one.
+  file, and a changed source gets its own directory instead of fighting over one. The hash
+  is kept in the directory with the size and modification time of each file it was made
+  from, and made again only when one of them changed (:class:`_KeptDigests`).
 
 If that directory cannot be written, a private one under the temporary
 directory is used (:data:`FALLBACK` says why); if none can, kernels are
@@ -27,6 +29,7 @@ import functools
 import hashlib
 import importlib.util
 import os
+import pickle
 import re
 import sys
 import tempfile
@@ -43,6 +46,7 @@ from cosmos import __version__
 from cosmos.jit import loading
 from cosmos.user_cache import CACHE_ENV as CACHE_ENV
 from cosmos.user_cache import user_cache_root as user_cache_root
+from cosmos.user_cache import write_whole
 
 KERNEL_IMPORT = "from cosmos.jit import kernel"
 """The line that makes a module a kernel module (its hash includes its imports' hashes)."""
@@ -134,7 +138,9 @@ def source_digest(module: str) -> str:
     """A hash of ``module``'s text and of the cosmos modules it imports (kernel modules: recursively)."""
     path = _module_file(module)
     if path is None:
+        _READ[module] = frozenset()
         return "0" * 16
+    read = {path}
     text = path.read_text(encoding="utf-8")
     digest = hashlib.sha256(text.encode())
     for match in _COSMOS_IMPORT.finditer(text):
@@ -146,8 +152,18 @@ def source_digest(module: str) -> str:
             if imported is None:
                 continue
             is_kernel_module, text_digest = _file_digest(imported)
-            digest.update(source_digest(name).encode() if is_kernel_module else text_digest)
+            if is_kernel_module:
+                digest.update(source_digest(name).encode())
+                read |= _READ[name]
+            else:
+                digest.update(text_digest)
+                read.add(imported)
+    _READ[module] = frozenset(read)
     return digest.hexdigest()[:16]
+
+
+_READ: dict[str, frozenset[Path]] = {}
+"""Per module whose :func:`source_digest` was computed, the files its digest was made from."""
 
 
 @functools.cache
@@ -157,6 +173,70 @@ def _file_digest(path: Path) -> tuple[bool, bytes]:
     return KERNEL_IMPORT.encode() in text, hashlib.sha256(text).digest()
 
 
+DIGESTS_FILE = "digests-1.pickle"
+"""In the kernel directory: each kernel module's :func:`source_digest`, with what it was made from."""
+MAX_DIGESTS = 2000
+"""More entries than this in the file (old sources piling up): start it again."""
+
+
+def _stamp(path: str) -> tuple[int, int] | None:
+    """A file's or directory's size and modification time (as Python's bytecode cache judges a source)."""
+    try:
+        stat = os.stat(path)
+    except OSError:
+        return None
+    return stat.st_size, stat.st_mtime_ns
+
+
+class _KeptDigests:
+    """The kernel modules' digests kept in :data:`DIGESTS_FILE`, with the stamps of what each was made from.
+
+    Hashing a kernel module's text and the texts of the cosmos modules it imports (and finding
+    them) took 4-5 ms of every warm run for the 7 modules of ``peg_in_hole.cos``'s kernels; a
+    digest whose files (and their directories: a module added to a package) all have the size
+    and modification time they had is read back instead. An entry is keyed by the module's name
+    and its file, so the environments sharing the kernel directory keep theirs apart.
+    """
+
+    def __init__(self, path: Path):
+        self.path = path
+        try:
+            entries = pickle.loads(path.read_bytes())
+        except Exception:  # missing, or damaged (unpickling can raise anything): computed again
+            entries = {}
+        self.entries: dict[tuple[str, str], tuple[str, tuple[tuple[str, Any], ...]]] = (
+            entries if isinstance(entries, dict) else {}
+        )
+
+    @functools.cache  # noqa: B019 - one instance per kernel directory, for the process
+    def digest(self, module: str, file: str) -> str:
+        """:func:`source_digest` of ``module`` (whose file is ``file``): kept, else computed and kept."""
+        kept = self.entries.get((module, file))
+        if kept is not None and all(_stamp(path) == stamp for path, stamp in kept[1]):
+            return kept[0]
+        digest = source_digest(module)
+        read = _READ.get(module, frozenset())
+        watched = sorted(str(path) for path in {*read, *(path.parent for path in read)})
+        if len(self.entries) >= MAX_DIGESTS:
+            self.entries.clear()
+        self.entries[module, file] = (digest, tuple((path, _stamp(path)) for path in watched))
+        try:
+            write_whole(self.path, pickle.dumps(self.entries, protocol=pickle.HIGHEST_PROTOCOL))
+        except OSError:
+            pass  # a cache that cannot be written: hashed again next time
+        return digest
+
+
+@functools.cache
+def _kept_digests(directory: Path) -> _KeptDigests:
+    return _KeptDigests(directory / DIGESTS_FILE)
+
+
+def kept_source_digest(module: str, file: str, directory: Path) -> str:
+    """:func:`source_digest` of ``module`` (from ``file``), kept in the kernel ``directory`` across runs."""
+    return _kept_digests(directory).digest(module, file)
+
+
 class KernelLocator(_CacheLocator):
     """numba's cache locator for cosmos kernels: :func:`kernel_directory` / ``<module>-<digest>``."""
 
@@ -164,7 +244,7 @@ class KernelLocator(_CacheLocator):
         self._py_file = function.__code__.co_filename
         self._lineno = function.__code__.co_firstlineno
         module = function.__module__
-        self._digest = source_digest(module)
+        self._digest = kept_source_digest(module, self._py_file, directory)
         self._path = directory / f"{module}-{self._digest}"
 
     def ensure_cache_path(self) -> None:
