@@ -20,8 +20,16 @@ PACKAGE = Path(__file__).parents[2] / "cosmos"
 LAYERS: list[tuple[str, ...]] = [
     # bottom first: a module may import from its own layer and the layers below it
     # jit: the numba decorator every kernel uses; user_cache: where it and cosmos check keep files;
-    # collector: the garbage collector while a command starts up
-    ("cosmos.errors", "cosmos.osc", "cosmos.jit", "cosmos.user_cache", "cosmos.collector"),
+    # collector: the garbage collector while a command starts up; model_facts: what the model
+    # files give a run, kept in the user cache
+    (
+        "cosmos.errors",
+        "cosmos.osc",
+        "cosmos.jit",
+        "cosmos.user_cache",
+        "cosmos.collector",
+        "cosmos.model_facts",
+    ),
     ("cosmos.rotations", "cosmos.capabilities", "cosmos.robots"),  # robots: the arms, described
     # the hand's vocabulary: which tool, the objects a program declares (no simulator)
     ("cosmos.hand", "cosmos.hand.tool", "cosmos.hand.work_object"),
