@@ -26,7 +26,8 @@ FCSupv) or reflexes (Franka), every servo tick the executor asks a
 - **drive**: a joint's torque at its drive's limit for :data:`SATURATION_S`.
 
 Contacts and force are looked at every tick; the path and the drives every
-:data:`SLOW_CHECK_EVERY` ticks, which keeps the cost per tick near 2 us.
+:data:`SLOW_CHECK_EVERY` ticks; all of it in one compiled call a tick
+(:mod:`cosmos.execution.supervision_kernel`), under 1 us.
 
 Each is a :class:`ProtectiveStop` naming what, where and how hard; the executor
 ends the statement as failed, logs ``protective_stop`` (and ``collision`` for a
@@ -39,12 +40,11 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from enum import IntEnum
-from operator import ge
 
 import mujoco
 import numpy as np
 
-from cosmos.execution.contact_kernel import TOOL_FIXTURE, first_unexpected_contact
+from cosmos.execution.contact_kernel import TOOL_FIXTURE
 from cosmos.execution.contact_roles import PAIR_KINDS, ROLES, Role, geom_roles
 from cosmos.execution.expected import (
     FREE_MOTION_FORCE_N,
@@ -54,7 +54,34 @@ from cosmos.execution.expected import (
     off_line,
     spring_press_n,
 )
-from cosmos.execution.supervision_kernel import LINE_SIZE, slow_look
+from cosmos.execution.fixture_reach import FixtureReach
+from cosmos.execution.supervision_kernel import (
+    ALLOW_FIXTURE,
+    COUNTING,
+    FIELD_ACTING,
+    FORCE_LIMIT2,
+    GONE_TICKS,
+    GUARDED,
+    INHERITED,
+    LINE,
+    LINE_SIZE,
+    LOOK_AT_PATH,
+    LOOKS,
+    LOWEST,
+    OVER,
+    PATH_DEVIATION_M,
+    RATING2,
+    REACH2,
+    SATURATED_AT,
+    SINCE_TOUCH,
+    SLOW_CHECK_EVERY,
+    START,
+    TICK,
+    TOUCHED,
+    state_size,
+    supervise_tick,
+)
+from cosmos.execution.supervision_kernel import FORCE_TICKS as FORCE_TICKS  # its home before
 from cosmos.plan import Segment
 from cosmos.plant import Plant
 from cosmos.workcell import WRIST_SENSOR
@@ -62,14 +89,8 @@ from cosmos.workcell import WRIST_SENSOR
 FloatArray = np.ndarray
 IntArray = np.ndarray
 
-FORCE_TICKS = 3
-"""Ticks in a row above the range before the stop (a one-tick impact spike is not a stop)."""
-PATH_DEVIATION_M = 0.05
-"""Largest distance of the measured tool point from its commanded line [m]."""
 SATURATION_S = 0.05
 """A drive at its torque limit this long is a protective stop [s]."""
-SLOW_CHECK_EVERY = 4
-"""Ticks between looks at the path and the drives (4 ms: 4 mm at 1 m/s); contacts and force: every tick."""
 SATURATION_FRACTION = 0.999
 """A torque at or above this fraction of its limit counts as at the limit."""
 CONTACT_GONE_S = 0.05
@@ -116,6 +137,9 @@ def _arm_part(owner: str) -> str:
 class Supervisor:
     """Watches one arm every tick (module docstring); reset at every segment.
 
+    A tick is one compiled call (:func:`cosmos.execution.supervision_kernel.supervise_tick`) on
+    the state the segment's start set up; this class words the stop it finds.
+
     Args:
         plant: The workcell (its contact list, its drives' limits).
         torque_limits_nm: The drives' symmetric torque limits [N m]. # (6,)
@@ -130,35 +154,42 @@ class Supervisor:
         self._held_body = -1
         self._owners = plant.geom_owners
         self._torque_limits = [float(t) for t in torque_limits_nm]
-        self._saturated_at = [SATURATION_FRACTION * t for t in self._torque_limits]
-        self._lowest_saturation = min(self._saturated_at)
-        self._saturated_ticks = [0] * len(self._torque_limits)
-        self._counting = False  # a drive's looks at its limit are being counted
-        self._saturation_looks = max(1, math.ceil(SATURATION_S / (SLOW_CHECK_EVERY * servo_dt_s) - 1e-9))
-        self._tick = 0
-        self._gone_ticks = max(1, round(CONTACT_GONE_S / servo_dt_s))
+        joints = len(self._torque_limits)
+        saturated_at = [SATURATION_FRACTION * t for t in self._torque_limits]
         self._dt_s = servo_dt_s
+        # The tick's state (supervision_kernel's layout): what lasts, then what each segment sets.
+        self._state = state = np.zeros(state_size(joints))
+        state[GONE_TICKS] = max(1, round(CONTACT_GONE_S / servo_dt_s))
+        state[REACH2] = INHERITED_REACH_M * INHERITED_REACH_M
+        state[RATING2] = _RATING2
+        state[FORCE_LIMIT2] = FREE_MOTION_FORCE_N**2
+        state[LOWEST] = min(saturated_at)
+        state[LOOKS] = max(1, math.ceil(SATURATION_S / (SLOW_CHECK_EVERY * servo_dt_s) - 1e-9))
+        state[SATURATED_AT : SATURATED_AT + joints] = saturated_at
+        self._counts = slice(SATURATED_AT + joints, SATURATED_AT + 2 * joints)  # each drive's looks
         self.free_force_limit_n = FREE_MOTION_FORCE_N
         """The free-motion force limit now in force [N] (``LIMIT FORCE`` sets it)."""
         self.obstacle_names: Mapping[str, str] = {}
         """MuJoCo body name of each occupied obstacle slot -> the obstacle's name."""
-        self.field_acting = False
-        """Set by the executor while an obstacle's field acts: the path is not supervised."""
         self._last = (-2, -1)  # the last segment's index and statement_index
         self._expect_fixture = False
-        self._guarded = False
-        self._force_limit2 = FREE_MOTION_FORCE_N**2
         self._force_limit = FREE_MOTION_FORCE_N
-        self._over = 0
-        self._inherited = False
-        self._since_touch = 0
-        self._start: tuple[float, ...] = (0.0, 0.0, 0.0)  # the tool point where the segment began
-        # The commanded line as floats (the check runs every tick): start, direction, length^2.
+        # The commanded line as floats (for path_deviation_m): start, direction, length^2.
         self._line: tuple[tuple[float, ...], tuple[float, ...], float] = ((0.0,) * 3, (0.0,) * 3, 0.0)
         self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
-        self._geoms: IntArray = np.zeros((0, 2), dtype=np.int32)  # contact_geoms's view
-        self._line_array = np.zeros(LINE_SIZE)  # the line and the axes as slow_look takes them
-        self._axes, self._look_at_path = np.zeros((0, 3)), False
+        # contact_geoms's view: MuJoCo's own even with no contact (numba types an array of no rows
+        # made by numpy, as its dispatcher sees it, in Python: 1 us more a call).
+        self._geoms: IntArray = self._data.contact.geom
+        self._axes = np.zeros((0, 3))
+
+    @property
+    def field_acting(self) -> bool:
+        """Set by the executor while an obstacle's field acts: the path is not supervised."""
+        return bool(self._state[FIELD_ACTING])
+
+    @field_acting.setter
+    def field_acting(self, acting: bool) -> None:
+        self._state[FIELD_ACTING] = acting
 
     def contact_geoms(self, ncon: int) -> IntArray:
         """MuJoCo's ``ncon`` contacts' geom pairs (``data.contact.geom``), a live view. # (ncon, 2).
@@ -178,11 +209,7 @@ class Supervisor:
         self._pair_kinds = np.asarray(PAIR_KINDS, dtype=np.int8)[
             roles[:, None].astype(np.int64) * ROLES + roles[None, :]
         ]
-        self._tool_fixture_pairs = pairs = np.argwhere(np.triu(self._pair_kinds == TOOL_FIXTURE))  # (k, 2)
-        model = self._plant.model
-        plane = model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE
-        bound = np.where(plane, np.inf, model.geom_rbound)  # a plane's is 0
-        self._pair_reach = bound[pairs[:, 0]] + bound[pairs[:, 1]]  # the bounding spheres' radii, summed
+        self._near_fixture = FixtureReach(self._plant, self._pair_kinds == TOOL_FIXTURE)
 
     def holding(self, body: int) -> None:
         """The object of MuJoCo body ``body`` is held (-1: none): part of the tool until let go.
@@ -205,29 +232,28 @@ class Supervisor:
         """A segment starts at the measured tool point ``position`` toward ``goal_position``."""
         same = self._last == (segment.index - 1, segment.statement_index)  # a CONTACT's hold: not inherited
         self._last = (segment.index, segment.statement_index)
+        state = self._state
         worked_in_contact = self._expect_fixture  # the previous statement's: a peg may graze its hole
         self._expect_fixture = expects_contact(segment)
-        self._guarded = has_force_term(segment.until)[0]
+        guarded = has_force_term(segment.until)[0]
+        state[ALLOW_FIXTURE], state[GUARDED] = self._expect_fixture or guarded, guarded
         press = spring_press_n(segment, position, goal_position)
         self._force_limit = force_limit_n(segment, self.free_force_limit_n, press)
-        self._force_limit2 = self._force_limit**2
-        self._over = 0
-        self._saturated_ticks = [0] * len(self._saturated_at)
-        self._counting = False
-        self._tick = 0
+        state[FORCE_LIMIT2] = self._force_limit**2
+        state[OVER] = state[TICK] = state[COUNTING] = 0.0
+        state[self._counts] = 0.0
         # At a fixture, touching or not: a block just grasped off the table may rest 0.1 mm above it.
-        if not same:
-            self._inherited = worked_in_contact or self._tool_touches_fixture() or self._tool_at_fixture()
-        self._touched = False
-        self._since_touch = 0
-        self._start = tuple(np.asarray(position, dtype=float).tolist())
+        if not same:  # a CONTACT's hold keeps what its approach had
+            state[INHERITED] = worked_in_contact or self._tool_touches_fixture() or self._tool_at_fixture()
+        state[TOUCHED] = state[SINCE_TOUCH] = 0.0
+        state[START : START + 3] = position
         self._path_axes = [
             tuple(segment.frame_rotation[:, i].tolist())
             for i in range(3)
             if segment.motion_axes[i] and segment.stiffness[i] is None
         ]
         self._axes = np.array(self._path_axes, dtype=float).reshape(-1, 3)
-        self._look_at_path = bool(self._path_axes)
+        state[LOOK_AT_PATH] = bool(self._path_axes)
         self.leg(position, goal_position)
 
     def leg(self, start: FloatArray, end: FloatArray) -> None:
@@ -238,7 +264,7 @@ class Supervisor:
             tuple(line.tolist()),
             float(line @ line),
         )
-        self._line_array = np.array([*self._line[0], *self._line[1], self._line[2]])  # slow_look's
+        self._state[LINE : LINE + LINE_SIZE] = [*self._line[0], *self._line[1], self._line[2]]
 
     def path_deviation_m(self, position: FloatArray) -> float:
         """The tool point's distance from the segment's commanded line (as the PATH stop measures it) [m]."""
@@ -257,65 +283,41 @@ class Supervisor:
             torque: The torques the drives apply [N m]. # (6,)
             position: The measured tool point, world [m]. # (3,)
         """
-        if ncon := self._data.ncon:
-            stop = self._contacts(ncon, t_s, wrench, position)
-            if stop is not None:
-                return stop
-        elif self._inherited:
-            self._since_touch += 1
-            if self._since_touch >= self._gone_ticks and self._away(position):
-                self._inherited = False
-        fx, fy, fz, _, _, _ = wrench.tolist()
-        if fx * fx + fy * fy + fz * fz > (_RATING2 if self._inherited else self._force_limit2):
-            self._over += 1
-            if self._over >= FORCE_TICKS:
-                push = math.sqrt(fx * fx + fy * fy + fz * fz)
-                limit = WRIST_SENSOR.force_n if self._inherited else self._force_limit
-                return ProtectiveStop(
-                    StopKind.FORCE,
-                    f"protective stop: {push:.1f} N at the wrist at {t_s:.2f} s, above this "
-                    f"statement's limit of {limit:g} N",
-                )
-        else:
-            self._over = 0
-        self._tick += 1
-        if self._tick % SLOW_CHECK_EVERY:
-            return None
-        # Every 4th tick, in one compiled call: a torque as large as the lowest limit (only then
-        # is each drive held against its own), and the tool's distance from its line.
-        look_at_path = self._look_at_path and not self.field_acting
-        at_lowest, off = slow_look(
-            torque, self._lowest_saturation, position, self._line_array, self._axes, look_at_path
+        ncon = self._data.ncon
+        geoms = self._geoms if self._geoms.shape[0] == ncon else self.contact_geoms(ncon)
+        kind, which, value = supervise_tick(
+            geoms, self._pair_kinds, wrench, torque, position, self._state, self._axes
         )
-        if self._counting or (at_lowest and any(map(ge, map(abs, torque.tolist()), self._saturated_at))):
-            stop = self._saturation(torque.tolist(), t_s)
-            if stop is not None:
-                return stop
-        if look_at_path and off > PATH_DEVIATION_M:
-            return ProtectiveStop(
-                StopKind.PATH,
-                f"protective stop: the tool is {off * 1e3:.0f} mm off its path at {t_s:.2f} s "
-                f"(limit {PATH_DEVIATION_M * 1e3:g} mm)",
-            )
-        return None
+        return None if not kind else self._stop(StopKind(kind), which, value, t_s, wrench)
 
-    def _saturation(self, taus: list[float], t_s: float) -> ProtectiveStop | None:
-        """The stop for a drive at its torque limit for :data:`SATURATION_S`; counts each one's looks."""
-        ticks = self._saturated_ticks
-        for joint, (tau, limit) in enumerate(zip(taus, self._saturated_at, strict=True)):
-            if tau >= limit or -tau >= limit:
-                ticks[joint] += 1
-                if ticks[joint] >= self._saturation_looks:
-                    held_ms = ticks[joint] * SLOW_CHECK_EVERY * self._dt_s * 1e3
-                    return ProtectiveStop(
-                        StopKind.DRIVE,
-                        f"protective stop: drive {joint + 1} at its torque limit of "
-                        f"{self._torque_limits[joint]:g} N m for {held_ms:.0f} ms at {t_s:.2f} s",
-                    )
-            else:
-                ticks[joint] = 0
-        self._counting = any(ticks)
-        return None
+    def _stop(
+        self, kind: StopKind, which: int, value: float, t_s: float, wrench: FloatArray
+    ) -> ProtectiveStop:
+        """The stop :func:`supervise_tick` found, in words: ``which`` and ``value`` as it returns them."""
+        if kind is StopKind.CONTACT:
+            roles = self._roles_list
+            g1, g2 = self._geoms[which].tolist()
+            arm, other = (g1, g2) if roles[g1] in (Role.LINK, Role.TOOL) else (g2, g1)
+            return self._contact_stop(which, arm, other, roles[other], t_s, wrench)
+        if kind is StopKind.FORCE:
+            limit = WRIST_SENSOR.force_n if self._state[INHERITED] else self._force_limit
+            return ProtectiveStop(
+                StopKind.FORCE,
+                f"protective stop: {value:.1f} N at the wrist at {t_s:.2f} s, above this "
+                f"statement's limit of {limit:g} N",
+            )
+        if kind is StopKind.DRIVE:
+            held_ms = value * SLOW_CHECK_EVERY * self._dt_s * 1e3
+            return ProtectiveStop(
+                StopKind.DRIVE,
+                f"protective stop: drive {which + 1} at its torque limit of "
+                f"{self._torque_limits[which]:g} N m for {held_ms:.0f} ms at {t_s:.2f} s",
+            )
+        return ProtectiveStop(
+            StopKind.PATH,
+            f"protective stop: the tool is {value * 1e3:.0f} mm off its path at {t_s:.2f} s "
+            f"(limit {PATH_DEVIATION_M * 1e3:g} mm)",
+        )
 
     def tool_touched(self) -> bool:
         """Whether the tool has touched a fixture since the segment started, or is at one now.
@@ -323,16 +325,11 @@ class Supervisor:
         Touched: MuJoCo's contacts. At: within :data:`NEAR_FIXTURE_M` (MuJoCo's distances), as a peg
         that slid into its bore's clearance untouched is.
         """
-        return self._touched or self._tool_at_fixture()
+        return bool(self._state[TOUCHED]) or self._tool_at_fixture()
 
     def _tool_at_fixture(self) -> bool:
         """Whether the tool is within :data:`NEAR_FIXTURE_M` of a fixture (MuJoCo's distances)."""
-        model, data, fromto = self._plant.model, self._data, np.zeros(6)
-        pairs, near = self._tool_fixture_pairs, NEAR_FIXTURE_M
-        # Only the pairs whose bounding spheres come that close (a MuJoCo distance costs 10-100 us).
-        apart = np.linalg.norm(data.geom_xpos[pairs[:, 0]] - data.geom_xpos[pairs[:, 1]], axis=1)
-        close = pairs[apart - self._pair_reach < near].tolist()
-        return any(mujoco.mj_geomDistance(model, data, g1, g2, near, fromto) < near for g1, g2 in close)
+        return self._near_fixture.within(NEAR_FIXTURE_M)
 
     def _tool_touches_fixture(self) -> bool:
         ncon = self._data.ncon
@@ -340,31 +337,6 @@ class Supervisor:
             return False
         kinds = self._pair_kinds
         return any(kinds[g1, g2] == TOOL_FIXTURE for g1, g2 in self.contact_geoms(ncon).tolist())
-
-    def _away(self, position: FloatArray) -> bool:
-        """Whether the tool point is more than :data:`INHERITED_REACH_M` from the statement's start."""
-        x, y, z = position[0] - self._start[0], position[1] - self._start[1], position[2] - self._start[2]
-        return x * x + y * y + z * z > INHERITED_REACH_M * INHERITED_REACH_M
-
-    def _contacts(
-        self, ncon: int, t_s: float, wrench: FloatArray, position: FloatArray
-    ) -> ProtectiveStop | None:
-        """A stop for the first contact the statement does not expect; tracks inherited ones."""
-        geom = self.contact_geoms(ncon)
-        index, touching_fixture = first_unexpected_contact(
-            geom, self._pair_kinds, self._expect_fixture or self._guarded or self._inherited, self._guarded
-        )
-        self._touched = self._touched or touching_fixture
-        if index >= 0:
-            roles = self._roles_list
-            g1, g2 = geom[index].tolist()
-            arm, other = (g1, g2) if roles[g1] in (Role.LINK, Role.TOOL) else (g2, g1)
-            return self._contact_stop(index, arm, other, roles[other], t_s, wrench)
-        if self._inherited:
-            self._since_touch = 0 if touching_fixture else self._since_touch + 1
-            if self._since_touch >= self._gone_ticks and self._away(position):
-                self._inherited = False
-        return None
 
     def _contact_stop(
         self, index: int, arm: int, other: int, role: int, t_s: float, wrench: FloatArray

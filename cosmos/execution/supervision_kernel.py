@@ -1,8 +1,11 @@
-"""The protective stops' slower looks (every 4th tick), compiled (numba): the drives and the path in one call.
+"""The protective stops' tick, compiled (numba): one call a tick (contacts, force, drives, path).
 
-In Python floats the drives' look (a torque as large as the lowest limit?) and the path's
-(:func:`cosmos.execution.expected.off_line`) cost 2 to 3 us every 4th tick, most of the
-supervision's cost per tick; here one call, with the same arithmetic in the same order.
+:func:`supervise_tick` is the whole of a tick's supervision (:mod:`cosmos.execution.supervision`
+says what each stop is) on a state array the supervisor sets up at each segment's start; Python
+only words the stop it finds. Its slower looks (every 4th tick: the drives and the path,
+:func:`slow_look`) and its look at the contacts (:func:`first_unexpected_contact`) are compiled
+into it. In Python the looks cost 2 to 3 us a tick, and the three separate calls 1.5 to 3 us; the
+arithmetic is the same, in the same order.
 """
 
 from __future__ import annotations
@@ -11,10 +14,13 @@ import math
 
 import numpy as np
 from numba.core import types
+from numba.core.typing.templates import Signature
 
+from cosmos.execution.contact_kernel import first_unexpected_contact
 from cosmos.jit import kernel
 
 FloatArray = np.ndarray
+IntArray = np.ndarray
 
 LINE_START, LINE_DIRECTION, LINE_LENGTH2, LINE_SIZE = 0, 3, 6, 7
 """The commanded line's layout in its array: its start, its direction (end - start), the
@@ -79,3 +85,168 @@ def slow_look(
         component = rx * axes[k, 0] + ry * axes[k, 1] + rz * axes[k, 2]
         total += component * component
     return at_lowest, math.sqrt(total)
+
+
+FORCE_TICKS = 3
+"""Ticks in a row above the range before the stop (a one-tick impact spike is not a stop)."""
+PATH_DEVIATION_M = 0.05
+"""Largest distance of the measured tool point from its commanded line [m]."""
+SLOW_CHECK_EVERY = 4
+"""The path and the drives are looked at every this many ticks (4 ms: 4 mm at 1 m/s);
+contacts and force every tick."""
+
+NO_STOP, CONTACT_STOP, FORCE_STOP, PATH_STOP, DRIVE_STOP = 0, 1, 2, 3, 4
+"""What :func:`supervise_tick` found (:class:`cosmos.execution.supervision.StopKind`'s values)."""
+
+# The supervision's state, one array of floats: its layout.
+ALLOW_FIXTURE = 0  # the statement expects the tool on the fixtures (or is guarded): 1.0, else 0.0
+GUARDED = 1  # a guarded motion: the tool may touch obstacles
+INHERITED = 2  # a contact the statement began with is still allowed
+SINCE_TOUCH = 3  # ticks since the tool last touched a fixture (while INHERITED)
+GONE_TICKS = 4  # ... after which, away from the start, the inherited contact is over
+START = 5  # the tool point where the segment began (3)
+REACH2 = 8  # the squared distance from START beyond which the tool is away [m^2]
+FORCE_LIMIT2 = 9  # the statement's force limit, squared [N^2]
+RATING2 = 10  # the wrist sensor's rating, squared [N^2]: the limit while INHERITED
+OVER = 11  # ticks in a row above the limit
+TICK = 12  # ticks since the segment began (the slow looks every SLOW_CHECK_EVERY)
+LOWEST = 13  # the lowest of the drives' limits at the saturation fraction [N m]
+LOOK_AT_PATH = 14  # the segment's path is supervised (it has free translation axes)
+FIELD_ACTING = 15  # an obstacle's field acts: the path is not supervised
+TOUCHED = 16  # the tool has touched a fixture since the segment began
+COUNTING = 17  # a drive's looks at its limit are being counted
+LOOKS = 18  # looks at its limit that make a drive's stop
+LINE = 19  # the commanded line (LINE_SIZE)
+SATURATED_AT = LINE + LINE_SIZE
+"""Then each drive's limit at the saturation fraction [N m] (n), then its looks at it so far (n)."""
+
+
+def state_size(joints: int) -> int:
+    """The length of the supervision's state for an arm of ``joints`` drives."""
+    return SATURATED_AT + 2 * joints
+
+
+@kernel
+def _away(position: FloatArray, state: FloatArray) -> bool:
+    """Whether the tool point is farther than REACH2's root from where the segment began."""
+    x = position[0] - state[START]
+    y = position[1] - state[START + 1]
+    z = position[2] - state[START + 2]
+    return x * x + y * y + z * z > state[REACH2]
+
+
+@kernel
+def _at_a_limit(torque: FloatArray, state: FloatArray) -> bool:
+    """Whether some drive's torque is as large as its own limit (either sign)."""
+    for joint in range(torque.shape[0]):
+        tau, limit = torque[joint], state[SATURATED_AT + joint]
+        if tau >= limit or -tau >= limit:
+            return True
+    return False
+
+
+@kernel
+def _count_saturation(torque: FloatArray, state: FloatArray) -> int:
+    """Count each drive's looks at its limit (a drive below it starts again): the drive stopped, or -1."""
+    counts, counting = SATURATED_AT + torque.shape[0], False
+    for joint in range(torque.shape[0]):
+        tau, limit = torque[joint], state[SATURATED_AT + joint]
+        if tau >= limit or -tau >= limit:
+            state[counts + joint] += 1.0
+            if state[counts + joint] >= state[LOOKS]:
+                return joint
+        else:
+            state[counts + joint] = 0.0
+        counting = counting or state[counts + joint] != 0.0
+    state[COUNTING] = 1.0 if counting else 0.0
+    return -1
+
+
+_ARRAY = types.Array(types.float64, 1, "C")
+"""A live buffer as the executor passes it (an exact match: numba converts any other type in Python,
+1 us a call)."""
+
+
+def _supervise_signature(contacts: types.Array) -> Signature:
+    """:func:`supervise_tick`'s, for MuJoCo's contacts typed ``contacts``."""
+    return types.Tuple((types.int64, types.int64, types.float64))(
+        contacts,
+        types.Array(types.int8, 2, "C"),
+        _ARRAY,
+        _ARRAY,
+        _ARRAY,
+        _ARRAY,
+        types.Array(types.float64, 2, "C"),
+    )
+
+
+@kernel(  # MuJoCo's contacts: strided, or contiguous (one contact, none)
+    _supervise_signature(types.Array(types.int32, 2, "A")),
+    _supervise_signature(types.Array(types.int32, 2, "C")),
+)
+def supervise_tick(
+    geom: IntArray,
+    kinds: IntArray,
+    wrench: FloatArray,
+    torque: FloatArray,
+    position: FloatArray,
+    state: FloatArray,
+    axes: FloatArray,
+) -> tuple[int, int, float]:
+    """One tick of the protective stops (:class:`cosmos.execution.supervision.Supervisor`), in one call.
+
+    The contacts (:func:`first_unexpected_contact`) and the wrist's force every tick; the drives
+    and the path (:func:`slow_look`) every :data:`SLOW_CHECK_EVERY` ticks; ``state`` (the layout
+    above) is read and brought up to date.
+
+    Args:
+        geom: The contacts' geom pairs (MuJoCo's ``data.contact.geom``). # (ncon, 2)
+        kinds: Each pair of geoms' kind. # (ngeom, ngeom)
+        wrench: The wrench the tool applies, as the wrist sensor gave it, world [N, N m]. # (6,)
+        torque: The torques the drives apply [N m]. # (n,)
+        position: The measured tool point, world [m]. # (3,)
+        state: The supervision's state. # (state_size(n),)
+        axes: The world directions the path's distance is measured along, one a row. # (k, 3)
+
+    Returns:
+        ``(kind, which, value)``: ``NO_STOP``, or the stop found: a contact's index in ``geom``; the
+        force at the wrist [N]; the distance off the path [m]; a drive's index and its looks.
+    """
+    inherited = state[INHERITED] != 0.0
+    if geom.shape[0]:
+        allow_fixture = state[ALLOW_FIXTURE] != 0.0 or inherited
+        index, touching = first_unexpected_contact(geom, kinds, allow_fixture, state[GUARDED] != 0.0)
+        if touching:
+            state[TOUCHED] = 1.0
+        if index >= 0:
+            return CONTACT_STOP, index, 0.0
+        if inherited:
+            state[SINCE_TOUCH] = 0.0 if touching else state[SINCE_TOUCH] + 1.0
+    elif inherited:
+        state[SINCE_TOUCH] += 1.0
+    if inherited and state[SINCE_TOUCH] >= state[GONE_TICKS] and _away(position, state):
+        state[INHERITED] = 0.0
+        inherited = False
+    fx, fy, fz = wrench[0], wrench[1], wrench[2]
+    push2 = fx * fx + fy * fy + fz * fz
+    if push2 > (state[RATING2] if inherited else state[FORCE_LIMIT2]):
+        state[OVER] += 1.0
+        if state[OVER] >= FORCE_TICKS:
+            return FORCE_STOP, 0, math.sqrt(push2)
+    else:
+        state[OVER] = 0.0
+    state[TICK] += 1.0
+    if state[TICK] % SLOW_CHECK_EVERY:
+        return NO_STOP, 0, 0.0
+    # A torque as large as the lowest limit (only then is each drive held against its own), and
+    # the tool's distance from its line.
+    look_at_path = state[LOOK_AT_PATH] != 0.0 and state[FIELD_ACTING] == 0.0
+    line = state[LINE : LINE + LINE_SIZE]
+    at_lowest, off = slow_look(torque, state[LOWEST], position, line, axes, look_at_path)
+    if state[COUNTING] != 0.0 or (at_lowest and _at_a_limit(torque, state)):
+        joint = _count_saturation(torque, state)
+        if joint >= 0:
+            return DRIVE_STOP, joint, state[SATURATED_AT + torque.shape[0] + joint]
+    if look_at_path and off > PATH_DEVIATION_M:
+        return PATH_STOP, 0, off
+    return NO_STOP, 0, 0.0

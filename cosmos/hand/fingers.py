@@ -28,6 +28,10 @@ from cosmos.realism.wrist_sensor import (
     low_pass_gain,
 )
 
+NOISE_BLOCK = 1024
+"""The pads' noise is drawn this many readings at a time: the same numbers in the same order as
+one draw a reading (numpy's generator fills an array in order), without a draw's 3 us each."""
+
 
 @dataclass(frozen=True)
 class FingerReading:
@@ -75,6 +79,9 @@ class Fingers:
         rng = np.random.default_rng([seed, 17])
         self._rng = rng
         self._bias = rng.normal(0.0, BIAS_FORCE_STD_N, size=2) if realistic else np.zeros(2)
+        self._bias_n: tuple[float, float] = (float(self._bias[0]), float(self._bias[1]))
+        self._noise: list[list[float]] = []  # the block being read, a reading a row
+        self._noise_row = NOISE_BLOCK
         self.filtered = np.zeros(2)
         """The pads' forces through the sensor's low-pass [N] (ideal plant: exact). # (2,)"""
 
@@ -102,8 +109,17 @@ class Fingers:
 
     def read(self) -> FingerReading:
         """The opening and the pads' forces, each force with the sensor's bias and noise."""
-        forces = self.filtered + self._bias + self._rng.normal(0.0, FORCE_NOISE_STD_N, size=2)
-        return FingerReading(self.opening_m(), float(forces[0]), float(forces[1]))
+        row = self._noise_row
+        if row == NOISE_BLOCK:
+            self._noise = self._rng.normal(0.0, FORCE_NOISE_STD_N, size=(NOISE_BLOCK, 2)).tolist()
+            row = 0
+        self._noise_row = row + 1
+        noise_left, noise_right = self._noise[row]
+        left, right = self.filtered.tolist()
+        bias_left, bias_right = self._bias_n
+        return FingerReading(
+            self.opening_m(), left + bias_left + noise_left, right + bias_right + noise_right
+        )
 
     def command(self, speed_mps: float, force_n: float) -> None:
         """Move the fingers at ``speed_mps`` (negative: closing) pushing with at most ``force_n``.

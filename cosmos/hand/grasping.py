@@ -76,6 +76,12 @@ class Held:
     body: int
     centre_in_site_m: np.ndarray
 
+    @property
+    def centre_in_site(self) -> tuple[float, float, float]:
+        """:attr:`centre_in_site_m` as floats [m]."""
+        x, y, z = self.centre_in_site_m.tolist()
+        return x, y, z
+
 
 class Hand:
     """The gripper as the executor uses it (module docstring).
@@ -277,10 +283,18 @@ class Hand:
                 f"'{held.item.name}' slips: grip force {reading.grip_force_n:.1f} N, "
                 f"below {SLIP_FORCE_FRACTION:.0%} of {held.force_n:g} N"
             )
+        # Where the object's centre is in the tool site's frame, against where it was at the grasp:
+        # in floats, a few products (arrays cost 5 us, and this runs every few ticks while held).
         data, site = self._data, self._site
-        offset = data.xpos[held.body] - data.site_xpos[site]
-        centre_in_site = data.site_xmat[site].reshape(3, 3).T @ offset
-        moved = float(np.linalg.norm(centre_in_site - held.centre_in_site_m))
+        x, y, z = data.xpos[held.body].tolist()
+        sx, sy, sz = data.site_xpos[site].tolist()
+        x, y, z = x - sx, y - sy, z - sz
+        r = data.site_xmat[site].tolist()  # row-major: the centre in the site's frame is R^T offset
+        cx, cy, cz = held.centre_in_site
+        dx = r[0] * x + r[3] * y + r[6] * z - cx
+        dy = r[1] * x + r[4] * y + r[7] * z - cy
+        dz = r[2] * x + r[5] * y + r[8] * z - cz
+        moved = math.sqrt(dx * dx + dy * dy + dz * dz)
         if moved > SLIP_M:
             return f"'{held.item.name}' slips: it moved {moved * 1e3:.1f} mm in the fingers"
         return None
