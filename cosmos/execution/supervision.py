@@ -209,7 +209,7 @@ class Supervisor:
         self._pair_kinds = np.asarray(PAIR_KINDS, dtype=np.int8)[
             roles[:, None].astype(np.int64) * ROLES + roles[None, :]
         ]
-        self._near_fixture = FixtureReach(self._plant, self._pair_kinds == TOOL_FIXTURE)
+        self._near_fixture = FixtureReach(self._plant, roles == Role.TOOL, self._pair_kinds == TOOL_FIXTURE)
 
     def holding(self, body: int) -> None:
         """The object of MuJoCo body ``body`` is held (-1: none): part of the tool until let go.

@@ -90,7 +90,7 @@ def test_the_tool_near_a_fixture_as_every_pairs_distance_says(distance_m: float)
     plant = Plant()
     supervisor = Supervisor(plant, LIMITS, 0.001)
     tool_fixture = supervisor._pair_kinds == 1  # TOOL_FIXTURE
-    reach = FixtureReach(plant, tool_fixture)
+    reach = FixtureReach(plant, supervisor._roles == 2, tool_fixture)  # Role.TOOL
     model, data = plant.model, plant.data
     pairs = np.argwhere(np.triu(tool_fixture)).tolist()
     rng = np.random.default_rng(7)
