@@ -43,6 +43,7 @@ from enum import IntEnum
 
 import mujoco
 import numpy as np
+from numpy.lib.stride_tricks import as_strided
 
 from cosmos.execution.contact_kernel import TOOL_FIXTURE
 from cosmos.execution.contact_roles import PAIR_KINDS, ROLES, Role, geom_roles
@@ -103,6 +104,8 @@ INHERITED_REACH_M = 0.05
 (45 mm), so a peg pulled out grazes its bore freely; a lift off the table is clear of it
 long before."""
 _RATING2 = WRIST_SENSOR.force_n**2
+_NONE = np.zeros((2, 4), dtype=np.int32)[:, ::2]
+"""No contacts' geom pairs, as a strided view (:meth:`Supervisor.contact_geoms`)."""
 
 
 class StopKind(IntEnum):
@@ -180,6 +183,7 @@ class Supervisor:
         # contact_geoms's view: MuJoCo's own even with no contact (numba types an array of no rows
         # made by numpy, as its dispatcher sees it, in Python: 1 us more a call).
         self._geoms: IntArray = self._data.contact.geom
+        self._kernel_geoms = _NONE if not self._geoms.shape[0] else self._geoms
         self._axes = np.zeros((0, 3))
 
     @property
@@ -200,6 +204,11 @@ class Supervisor:
         view = self._geoms
         if view.shape[0] != ncon:
             view = self._geoms = self._data.contact.geom
+            # For the compiled tick, always a strided view (numba types one or no contact's as contiguous,
+            # and converts in Python, 1 us a call): two rows of the contacts' memory, or none's.
+            self._kernel_geoms = (
+                view if ncon > 1 else as_strided(view, (2, 2), view.strides) if ncon else _NONE
+            )
         return view
 
     def _set_roles(self, roles: np.ndarray) -> None:
@@ -284,9 +293,10 @@ class Supervisor:
             position: The measured tool point, world [m]. # (3,)
         """
         ncon = self._data.ncon
-        geoms = self._geoms if self._geoms.shape[0] == ncon else self.contact_geoms(ncon)
+        if self._geoms.shape[0] != ncon:
+            self.contact_geoms(ncon)
         kind, which, value = supervise_tick(
-            geoms, self._pair_kinds, wrench, torque, position, self._state, self._axes
+            ncon, self._kernel_geoms, self._pair_kinds, wrench, torque, position, self._state, self._axes
         )
         return None if not kind else self._stop(StopKind(kind), which, value, t_s, wrench)
 

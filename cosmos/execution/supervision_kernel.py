@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 from numba.core import types
-from numba.core.typing.templates import Signature
 
 from cosmos.execution.contact_kernel import first_unexpected_contact
 from cosmos.jit import kernel
@@ -167,10 +166,10 @@ _ARRAY = types.Array(types.float64, 1, "C")
 1 us a call)."""
 
 
-def _supervise_signature(contacts: types.Array) -> Signature:
-    """:func:`supervise_tick`'s, for MuJoCo's contacts typed ``contacts``."""
-    return types.Tuple((types.int64, types.int64, types.float64))(
-        contacts,
+@kernel(
+    types.Tuple((types.int64, types.int64, types.float64))(
+        types.int64,
+        types.Array(types.int32, 2, "A"),  # MuJoCo's contacts as a strided view: always this type
         types.Array(types.int8, 2, "C"),
         _ARRAY,
         _ARRAY,
@@ -178,13 +177,9 @@ def _supervise_signature(contacts: types.Array) -> Signature:
         _ARRAY,
         types.Array(types.float64, 2, "C"),
     )
-
-
-@kernel(  # MuJoCo's contacts: strided, or contiguous (one contact, none)
-    _supervise_signature(types.Array(types.int32, 2, "A")),
-    _supervise_signature(types.Array(types.int32, 2, "C")),
 )
 def supervise_tick(
+    ncon: int,
     geom: IntArray,
     kinds: IntArray,
     wrench: FloatArray,
@@ -200,7 +195,8 @@ def supervise_tick(
     above) is read and brought up to date.
 
     Args:
-        geom: The contacts' geom pairs (MuJoCo's ``data.contact.geom``). # (ncon, 2)
+        ncon: How many contacts MuJoCo found.
+        geom: The contacts' geom pairs (MuJoCo's ``data.contact.geom``), ``ncon`` rows or more. # (m, 2)
         kinds: Each pair of geoms' kind. # (ngeom, ngeom)
         wrench: The wrench the tool applies, as the wrist sensor gave it, world [N, N m]. # (6,)
         torque: The torques the drives apply [N m]. # (n,)
@@ -213,9 +209,9 @@ def supervise_tick(
         force at the wrist [N]; the distance off the path [m]; a drive's index and its looks.
     """
     inherited = state[INHERITED] != 0.0
-    if geom.shape[0]:
+    if ncon:
         allow_fixture = state[ALLOW_FIXTURE] != 0.0 or inherited
-        index, touching = first_unexpected_contact(geom, kinds, allow_fixture, state[GUARDED] != 0.0)
+        index, touching = first_unexpected_contact(geom[:ncon], kinds, allow_fixture, state[GUARDED] != 0.0)
         if touching:
             state[TOUCHED] = 1.0
         if index >= 0:

@@ -106,3 +106,28 @@ def test_the_tool_near_a_fixture_as_every_pairs_distance_says(distance_m: float)
         assert reach.within(distance_m) == every
         answers.append(every)
     assert len(set(answers)) == 2  # both answers met
+
+
+def test_the_compiled_tick_reads_mujocos_contacts_through_one_type_of_view() -> None:
+    """The compiled tick takes the contacts as a strided view, whatever their count: numba types one
+    contact's view (or none's) as contiguous and converts it in Python at every call (1 us a tick in
+    free motion), and a run may compile each kernel for one signature only. Catches the rows read
+    not being MuJoCo's own at every count (none, one, several), in order, or a contiguous view."""
+    from numba import typeof
+
+    plant = Plant()
+    supervisor = Supervisor(plant, LIMITS, 0.001)
+    hole = fixture_frames()["hole"]
+    counts = set()
+    for offset in (0.0002, 0.003, -0.002, 0.02):
+        target = hole.position + np.array([offset, 0.0, -0.004])
+        plant.reset(solve_ik(ROBOT, pin.SE3(hole.rotation, target), np.array(HOME_Q)))
+        for _ in range(100):  # the drives off: it sags into the fixture, touching in changing places
+            mujoco.mj_step(plant.model, plant.data)
+            ncon = plant.data.ncon
+            counts.add(min(ncon, 2))
+            supervisor.check(0.0, np.zeros(6), np.zeros(6), plant.data.site_xpos[-1])
+            view = supervisor._kernel_geoms
+            assert typeof(view).layout == "A"
+            assert view[:ncon].tolist() == plant.data.contact.geom.tolist()
+    assert counts == {0, 1, 2}, counts
