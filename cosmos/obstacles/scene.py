@@ -1,40 +1,35 @@
 """Obstacles as real geoms of the MuJoCo workcell, so a collision is a contact MuJoCo reports.
 
-MuJoCo compiles a model once, so the workcell is built with a fixed number of
-obstacle *slots* (:func:`add_obstacle_slots`): geoms of the world body named
-``obstacle_slot<i>``, parked far below the floor. A slot is a geom, not a body:
-every body costs every physics step (kinematics, inertia, dynamics run over
-bodies; twelve parked mocap bodies made a tick 1.2-1.3x dearer with no obstacle
-at all), while a parked geom costs almost nothing, so the workcell holds
-:data:`CAPACITY` obstacles and a tick without obstacles costs what the bare
-workcell's does.
+MuJoCo compiles a model once, so the workcell is built with a fixed number of obstacle *slots*
+(:func:`add_obstacle_slots`): geoms of the world body named ``obstacle_slot<i>``, parked far below the
+floor. A slot is a geom, not a body: every body costs every physics step (kinematics, inertia, dynamics
+run over bodies; twelve parked mocap bodies made a tick 1.2-1.3x dearer with no obstacle at all), while
+a parked geom costs almost nothing, so the workcell holds :data:`CAPACITY` obstacles and a tick without
+obstacles costs what the bare workcell's does.
 
-Adding an obstacle takes a free slot and sets its geom's type, size, pose
-(``geom_pos``, ``geom_quat``; MuJoCo places world geoms from them every step)
-and the bounding volumes the collision phases use: ``geom_rbound``,
-``geom_aabb``, and the world body's bounding-volume hierarchy (``bvh_aabb``:
-the slot's leaf and every node above it, refitted; the next :meth:`ObstacleScene.update`
-rebuilds the hierarchy's shape for the obstacles, :mod:`cosmos.obstacles.hierarchy`).
-Removing it parks the slot again. A ``MOVING`` obstacle is moved by :meth:`ObstacleScene.update`
-(compiled: :mod:`cosmos.obstacles.kernels.moving`), which the executor calls every servo
-tick; its leaf is refitted every :data:`SWEEP_S` (or, if longer, as the fastest takes to go
-:data:`SWEEP_M`) to the box it sweeps until the next refit,
-so the hierarchy always contains it without a refit per tick.
+Adding an obstacle takes a free slot and sets its geom's type, size, pose (``geom_pos``, ``geom_quat``;
+MuJoCo places world geoms from them every step) and the bounding volumes the collision phases use:
+``geom_rbound``, ``geom_aabb``, and the world body's bounding-volume hierarchy (``bvh_aabb``: the slot's
+leaf and every node above it, refitted; the next :meth:`ObstacleScene.update` rebuilds the hierarchy's
+shape for the obstacles, :mod:`cosmos.obstacles.hierarchy`). Removing it parks the slot again. A
+``MOVING`` obstacle is moved by :meth:`ObstacleScene.update` (compiled:
+:mod:`cosmos.obstacles.kernels.moving`), which the executor calls every servo tick; its leaf is refitted
+every :data:`SWEEP_S` (or, if longer, as the fastest takes to go :data:`SWEEP_M`) to the box it sweeps
+until the next refit, so the hierarchy always contains it without a refit per tick.
 
-Contact filtering: the slot geoms have ``contype 0`` and ``conaffinity 6``, so
-they touch the arm's links (``contype 2``) and the tool (``contype 4``) but not
-the fixtures (``contype 1``) nor each other; being geoms of the world body,
-MuJoCo never collides them with other world geoms either.
+Contact filtering: the slot geoms have ``contype 0`` and ``conaffinity 6``, so they touch the arm's
+links (``contype 2``) and the tool (``contype 4``) but not the fixtures (``contype 1``) nor each other;
+being geoms of the world body, MuJoCo never collides them with other world geoms either.
 
-The model's geoms are not part of the state: :meth:`cosmos.plant.Plant.reset`
-leaves the obstacles where they are (:meth:`ObstacleScene.restore` puts the
-moving ones where they are at a given time).
+The model's geoms are not part of the state: :meth:`cosmos.plant.Plant.reset` leaves the obstacles where
+they are (:meth:`ObstacleScene.restore` puts the moving ones where they are at a given time).
 """
 
 from __future__ import annotations
 
 import functools
 import tempfile
+import threading
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -101,6 +96,9 @@ def add_obstacle_slots(worldbody: ElementTree.Element, count: int = DEFAULT_SLOT
         )
 
 
+_WRITING = threading.Lock()
+
+
 @functools.cache
 def _scene_dir() -> tempfile.TemporaryDirectory[str]:
     return tempfile.TemporaryDirectory(prefix="cosmos-obstacles-")
@@ -119,8 +117,10 @@ def obstacle_scene_xml(slots: int = DEFAULT_SLOTS, scene_xml: Path = SCENE_XML) 
     if worldbody is None:  # pragma: no cover - guards the shipped model file
         raise CosmosError(f"{scene_xml}: no worldbody")
     add_obstacle_slots(worldbody, slots)
-    path = Path(_scene_dir().name) / f"{scene_xml.parent.name}_scene_with_{slots}_obstacle_slots.xml"
-    tree.write(path, encoding="unicode")
+    with _WRITING:  # threads' first calls at once: one directory kept; the file replaced whole
+        path = Path(_scene_dir().name) / f"{scene_xml.parent.name}_scene_with_{slots}_obstacle_slots.xml"
+        tree.write(path.with_suffix(".part"), encoding="unicode")
+        path.with_suffix(".part").replace(path)
     return path
 
 
