@@ -327,7 +327,7 @@ class Executor:
                     return found
                 if found is not None:  # the lateral axes return to the INSERT's compliance
                     self._event("found", segment, found)
-                    here = (position.copy(), meter.rotation.copy())
+                    here = search.resumed_goal(position)  # the tilt window where it was
                     rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture))
                     monitor.searching = search = None
             if now >= idle_until and (outcome := judge(snapshot)) is not None:
