@@ -321,15 +321,23 @@ class Executor:
                 if stuck is not None:
                     head = statement_head(segment.statement)
                     return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
-            if search is not None:
+            if search is not None and search.leading:  # found: pushed toward the hole until in it
+                if search.lead_over(position):
+                    here = search.resumed_goal(position)
+                    rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture))
+                    search = None
+            elif search is not None:
                 found = search.check(now, position)
                 if isinstance(found, Outcome):
                     return found
                 if found is not None:  # the lateral axes return to the INSERT's compliance
                     self._event("found", segment, found)
                     here = search.resumed_goal(position)  # the tilt window where it was
-                    rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture))
-                    monitor.searching = search = None
+                    found_setpoint = setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture)
+                    rt.set_setpoint(search.led(found_setpoint, meter.rotation))  # toward the hole
+                    monitor.searching = None
+                    if not search.leading:
+                        search = None
             if now >= idle_until and (outcome := judge(snapshot)) is not None:
                 return outcome
             if progress is not None and ticks % progress_every == 0:

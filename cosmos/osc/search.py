@@ -173,3 +173,33 @@ class SearchTrajectory:
         velocity[:3] = u.dot((after - before) / (2.0 * dt_s))
         acceleration[:3] = u.dot((after - 2.0 * now + before) / (dt_s * dt_s))
         return PoseSample(self.start_position + u.dot(now), self.rotation_to_world, velocity, acceleration)
+
+
+def toward_the_hole(
+    rotation: FloatArray, start_rotation: FloatArray, direction: FloatArray, lateral: FloatArray
+) -> tuple[FloatArray, float]:
+    """Where the compliant rotations have tipped the part: the lateral direction of the hole.
+
+    A flat-ended part pressed on the hole's mouth with its rotations compliant tips its low rim
+    into the mouth: the insertion axis ``n`` it carries turns toward the hole. ``e = R R0^T n - n``
+    is that turn's lateral part (``R0`` the orientation the INSERT started with, ``R`` now); the
+    hole lies along ``-U U^T e`` (in the searches of tests/run/search_grid.py that direction and
+    the tip's bearing to the hole's axis agree within a few degrees once the tilt passes 2 deg).
+
+    Args:
+        rotation: R, tool to world. # (3, 3)
+        start_rotation: R0, tool to world. # (3, 3)
+        direction: n, the insertion direction, world. # (3,)
+        lateral: U, the two lateral directions, world (columns). # (3, 2)
+
+    Returns:
+        ``(d, |U^T e|)``: the unit direction toward the hole, world (zero when the part is not
+        tipped), and the tilt's size (its sine). # (3,)
+    """
+    n = np.asarray(direction, dtype=float)
+    turned = np.asarray(rotation).dot(np.asarray(start_rotation).T.dot(n)) - n
+    across = np.asarray(lateral).T.dot(turned)
+    size = float(np.linalg.norm(across))
+    if size == 0.0:
+        return np.zeros(3), 0.0
+    return -np.asarray(lateral).dot(across) / size, size

@@ -12,6 +12,7 @@ from cosmos.osc.search import (
     SpiralPath,
     spiral_angle_at,
     spiral_arc_length,
+    toward_the_hole,
 )
 
 PITCH = 0.003
@@ -69,3 +70,33 @@ def test_lissajous_stays_in_its_square_and_leaves_no_gap_wider_than_the_pitch() 
     expected = np.column_stack((RADIUS * np.sin(a * phi), RADIUS * np.sin((a + 1) * phi)))
     lengths = np.interp(phi, path.phi, path.arc_m)
     assert np.allclose([path.at(s) for s in lengths], expected, atol=1e-7)
+
+
+def test_toward_the_hole_points_at_the_tipped_part_s_lowest_rim() -> None:
+    """The direction a tipped part's rim went down, from the rim itself: for random tilts up to 15 deg
+    of a tool-down peg and of one inserting along world +x, the rim point deepest along the
+    insertion lies along the returned direction from the tip, and the size is the tilt's sine.
+    Catches a sign error (the lead would push the peg away from the hole) or a frame mix-up."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(7)
+    rim = np.array([(math.cos(a), math.sin(a), 0.0) for a in np.linspace(0.0, 2.0 * math.pi, 3601)])
+    starts = {
+        "down": (Rotation.from_euler("x", 180.0, degrees=True).as_matrix(), np.eye(3)[:, :2]),
+        "+x": (Rotation.from_euler("y", 90.0, degrees=True).as_matrix(), np.eye(3)[:, 1:]),
+    }
+    for start, lateral in starts.values():
+        n = start[:, 2]  # the peg's axis, tool z, is the insertion direction
+        for _ in range(20):
+            axis = lateral.dot(rng.normal(size=2))
+            angle = math.radians(rng.uniform(1.0, 15.0))
+            rotation = Rotation.from_rotvec(angle * axis / np.linalg.norm(axis)).as_matrix().dot(start)
+            toward, size = toward_the_hole(rotation, start, n, lateral)
+            deepest = rotation.dot(rim[int(np.argmax(rotation.dot(rim.T).T.dot(n)))])
+            bearing = lateral.dot(lateral.T.dot(deepest))
+            assert float(toward.dot(bearing / np.linalg.norm(bearing))) > math.cos(math.radians(0.2))
+            assert math.isclose(size, math.sin(angle), rel_tol=1e-9)
+    untipped, size = toward_the_hole(
+        starts["down"][0], starts["down"][0], np.array((0.0, 0, -1)), np.eye(3)[:, :2]
+    )
+    assert size == 0.0 and not untipped.any()
