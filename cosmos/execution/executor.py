@@ -327,7 +327,7 @@ class Executor:
                     rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture))
                     search = None
             elif search is not None:
-                found = search.check(now, position)
+                found = search.check(now, position, meter.rotation)
                 if isinstance(found, Outcome):
                     return found
                 if found is not None:  # the lateral axes return to the INSERT's compliance

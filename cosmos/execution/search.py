@@ -9,9 +9,15 @@ zero-force setpoint through a spring would do the same with a softer, friction-
 dependent lag; a tracked trajectory keeps the tool on the pattern it reports.
 
 The hole is found when the tool has gone ``found_depth_m`` deeper than where the
-INSERT started (over the hole's chamfer the force drops it in); the lateral axes
-then return to the INSERT's compliance (a new setpoint from the position there) and
-the INSERT goes on. A pattern run to its end, and :data:`SETTLE_S` beyond, fails.
+INSERT started (over the hole's chamfer the force drops it in), or when the compliant
+rotations have tipped the part :data:`FIND_TILT` from the orientation the INSERT started
+with: its rim over the mouth has dropped in. Dragged on by the pattern, a part so tipped
+had its low rim caught on the mouth's inner edge and pulled out sideways (20 N across)
+until it knocked free: 260 N, a protective stop, 5.6 mm from a hole it was tipped toward
+(SPIRAL RADIUS 16 mm PITCH 5 mm from 12 mm off, seed 0). Dragged on the top face, away from
+the mouth, a part tips little (2.9 deg at most in a Panda's spiral from 7.8 mm off, seed 2).
+The lateral axes then return to the INSERT's compliance (a new setpoint from the position
+there) and the INSERT goes on. A pattern run to its end, and :data:`SETTLE_S` beyond, fails.
 
 The new setpoint keeps the orientation the INSERT started with (:meth:`SearchPhase.resumed_goal`):
 the compliant rotations' tilt window (:mod:`cosmos.osc.tilt_window`) is measured from the
@@ -48,6 +54,8 @@ FloatArray = np.ndarray
 
 SETTLE_S = 0.5
 """After the pattern's end the tool has this long to drop into a hole it reached last [s]."""
+FIND_TILT = math.sin(math.radians(8.0))
+"""The hole is found when the part has tipped this far into it (the sine of 8 deg; module docstring)."""
 LEAD_SHARE = 0.2
 """The lateral push toward the hole after the find, as a share of the INSERT's FORCE."""
 LEAD_MIN_TILT = 0.035
@@ -86,6 +94,7 @@ class SearchPhase:
         self._start_xyz = tuple(self.start_position.tolist())
         self._direction_xyz = tuple(np.asarray(self._direction, dtype=float).tolist())
         self._lateral_columns = [tuple(column) for column in lateral.T.tolist()]
+        self._axis_tool = tuple(self._start_rotation.T.dot(self._direction).tolist())
 
     def setpoint(self, base: ServoSetpoint) -> ServoSetpoint:
         """The INSERT's setpoint with its lateral translations tracking the pattern."""
@@ -125,7 +134,16 @@ class SearchPhase:
         dx, dy, dz = self._direction_xyz
         return (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
 
-    def check(self, t_s: float, position: FloatArray) -> Outcome | str | None:
+    def tilt(self, rotation: FloatArray) -> float:
+        """The sine of the part's tilt from the INSERT's start, across the insertion axis."""
+        ax, ay, az = self._axis_tool
+        r = rotation.tolist()
+        v = [r[i][0] * ax + r[i][1] * ay + r[i][2] * az - self._direction_xyz[i] for i in range(3)]
+        return math.sqrt(
+            sum((ux * v[0] + uy * v[1] + uz * v[2]) ** 2 for ux, uy, uz in self._lateral_columns)
+        )
+
+    def check(self, t_s: float, position: FloatArray, rotation: FloatArray) -> Outcome | str | None:
         """``None`` while searching; the found message once found; a failure at the pattern's end."""
         x, y, z = position.tolist()
         x0, y0, z0 = self._start_xyz
@@ -135,12 +153,16 @@ class SearchPhase:
         across = math.sqrt(sum((ax * mx + ay * my + az * mz) ** 2 for ax, ay, az in self._lateral_columns))
         self._farthest_m = max(self._farthest_m, across)
         elapsed = t_s - self.start_s
-        if depth >= self.search.found_depth_m:
+        tilt = self.tilt(rotation)
+        if depth >= self.search.found_depth_m or tilt >= FIND_TILT:
             self._found_depth_m = depth
-            return (
-                f"{self.name} found the hole {across * 1e3:.1f} mm from the start after "
-                f"{elapsed:.2f} s ({depth * 1e3:.1f} mm deeper)"
+            how = (
+                f"{depth * 1e3:.1f} mm deeper"
+                if depth >= self.search.found_depth_m
+                else f"tipped {math.degrees(math.asin(min(tilt, 1.0))):.1f} deg into it"
             )
+            where = f"{across * 1e3:.1f} mm from the start after {elapsed:.2f} s"
+            return f"{self.name} found the hole {where} ({how})"
         if elapsed >= self.trajectory.duration_s + SETTLE_S:
             return Outcome(
                 Verdict.FAILED,

@@ -17,6 +17,8 @@ WINDOW_DEG = 10.0
 """The compliant rotations' tilt window (docs/language.md, INSERT)."""
 OVERSHOOT_DEG = 1.5
 """What the window's stop lets the tilt pass it by while the push tips the part (10.9 deg measured)."""
+SENSOR_RATING_N = 130.0
+"""The wrist sensor's rating (docs/language.md, "Limits")."""
 
 
 @pytest.mark.parametrize("ideal", BOTH_PLANTS)
@@ -38,3 +40,13 @@ def test_a_found_peg_tipped_on_the_mouth_is_led_in() -> None:
     result = run_case(Case(7.8, -50.2, "SPIRAL", 12.0, 3.0, 8.0, panda=True), 2, False)
     assert result.ok, result
     assert result.tilt_deg < WINDOW_DEG + OVERSHOOT_DEG, result
+
+
+def test_a_part_tipped_into_the_mouth_is_a_find() -> None:
+    """``SEARCH SPIRAL RADIUS 16 mm PITCH 5 mm`` from 12 mm off, seed 0: the peg tips 10 deg toward
+    the hole 5.6 mm from its axis, its rim in the mouth but not 1 mm deeper. Catches a search that
+    drags on a part so tipped: its low rim caught on the mouth's inner edge was pulled out sideways
+    until it knocked free, 260 N at the wrist, a protective stop."""
+    result = run_case(Case(12.0, 315.0, "SPIRAL", 16.0, 5.0, 8.0, 15.0), 0, False)
+    assert result.ok, result
+    assert result.peak_n < SENSOR_RATING_N, result
