@@ -222,7 +222,7 @@ class Executor:
         among = obstacles is not None
         setpoint = setpoint_for(segment, *goals[0], ev, rt.wrench, start_s, posture, among)
         setpoint = with_landing(setpoint, segment, rt, start_rotation, self._tool)  # on steel
-        search = search_phase(segment, start_s, start_position, start_rotation)  # INSERT ... SEARCH
+        search = search_phase(segment, start_s, start_position, start_rotation, rt, posture)
         if search is not None:
             setpoint = search.setpoint(setpoint)
         rt.set_setpoint(setpoint)
@@ -321,23 +321,13 @@ class Executor:
                 if stuck is not None:
                     head = statement_head(segment.statement)
                     return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
-            if search is not None and search.leading:  # found: pushed toward the hole until in it
-                if search.lead_over(position):
-                    here = search.resumed_goal(position)
-                    rt.set_setpoint(setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture))
-                    search = None
-            elif search is not None:
+            if search is not None:  # INSERT ... SEARCH: the pattern, then the found part led in
                 found = search.check(now, position, meter.rotation)
                 if isinstance(found, Outcome):
                     return found
                 if found is not None:  # the lateral axes return to the INSERT's compliance
                     self._event("found", segment, found)
-                    here = search.resumed_goal(position)  # the tilt window where it was
-                    found_setpoint = setpoint_for(segment, *here, rt.evaluation, rt.wrench, now, posture)
-                    rt.set_setpoint(search.led(found_setpoint, meter.rotation))  # toward the hole
-                    monitor.searching = None
-                    if not search.leading:
-                        search = None
+                monitor.searching, search = search.pattern, search.going_on
             if now >= idle_until and (outcome := judge(snapshot)) is not None:
                 return outcome
             if progress is not None and ticks % progress_every == 0:

@@ -42,13 +42,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from cosmos.execution.monitor import Outcome, Verdict
+from cosmos.execution.resolve import setpoint_for
 from cosmos.osc.search import LissajousPath, SearchTrajectory, SpiralPath, toward_the_hole
 from cosmos.plan import DepthReached, Search, SearchPattern, Segment
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
+
+if TYPE_CHECKING:
+    from cosmos.runtime.loop import Runtime
 
 FloatArray = np.ndarray
 
@@ -68,7 +73,14 @@ class SearchPhase:
     """One INSERT's search, from its start until the hole is found or the pattern ends."""
 
     def __init__(
-        self, segment: Segment, search: Search, start_s: float, position: FloatArray, rotation: FloatArray
+        self,
+        segment: Segment,
+        search: Search,
+        start_s: float,
+        position: FloatArray,
+        rotation: FloatArray,
+        runtime: Runtime,
+        posture: FloatArray | None = None,
     ):
         self.segment = segment
         self.search = search
@@ -87,6 +99,8 @@ class SearchPhase:
         self.start_position = np.array(position)
         self._start_rotation = np.array(rotation, dtype=float)
         self._farthest_m = 0.0
+        self._runtime, self._posture = runtime, posture
+        self.found = False
         self.leading = False
         """Found, and pushing toward the hole until :data:`LEAD_DEPTH_M` deeper (:meth:`led`)."""
         self._found_depth_m = 0.0
@@ -143,8 +157,39 @@ class SearchPhase:
             sum((ux * v[0] + uy * v[1] + uz * v[2]) ** 2 for ux, uy, uz in self._lateral_columns)
         )
 
+    @property
+    def pattern(self) -> SearchPhase | None:
+        """Self while the pattern runs (the INSERT's jam check waits for the find), else None."""
+        return None if self.found else self
+
+    @property
+    def going_on(self) -> SearchPhase | None:
+        """Self until the lead after the find is over (or there is none), else None."""
+        return self if not self.found or self.leading else None
+
     def check(self, t_s: float, position: FloatArray, rotation: FloatArray) -> Outcome | str | None:
-        """``None`` while searching; the found message once found; a failure at the pattern's end."""
+        """``None`` while searching or leading; the found message once found; a failure at the pattern's end.
+
+        At the find, and at the lead's end, the runtime's setpoint becomes the INSERT's compliance
+        (:meth:`resumed_goal`), with the lead (:meth:`led`) at the find.
+        """
+        if self.found:
+            if self.lead_over(position):
+                self.leading = False
+                self._runtime.set_setpoint(self._resume_setpoint(t_s, position))
+            return None
+        found = self._check(t_s, position, rotation)
+        if isinstance(found, str):
+            self.found = True
+            self._runtime.set_setpoint(self.led(self._resume_setpoint(t_s, position), rotation))
+        return found
+
+    def _resume_setpoint(self, t_s: float, position: FloatArray) -> ServoSetpoint:
+        rt = self._runtime
+        goal = self.resumed_goal(position)
+        return setpoint_for(self.segment, *goal, rt.evaluation, rt.wrench, t_s, self._posture)
+
+    def _check(self, t_s: float, position: FloatArray, rotation: FloatArray) -> Outcome | str | None:
         x, y, z = position.tolist()
         x0, y0, z0 = self._start_xyz
         mx, my, mz = x - x0, y - y0, z - z0
@@ -174,9 +219,14 @@ class SearchPhase:
 
 
 def search_phase(
-    segment: Segment, start_s: float, position: FloatArray, rotation: FloatArray
+    segment: Segment,
+    start_s: float,
+    position: FloatArray,
+    rotation: FloatArray,
+    runtime: Runtime,
+    posture: FloatArray | None = None,
 ) -> SearchPhase | None:
-    """The segment's search phase, if it has one."""
+    """The segment's search phase, if it has one (it sets ``runtime``'s setpoints after the find)."""
     if segment.search is None:
         return None
-    return SearchPhase(segment, segment.search, start_s, position, rotation)
+    return SearchPhase(segment, segment.search, start_s, position, rotation, runtime, posture)
