@@ -13,6 +13,7 @@ from replay_live_logs import PROGRAM, cosmos, decoded, run_to_log
 from cosmos.errors import UsageError
 from cosmos.replay.playback import VIDEO_HEIGHT, VIDEO_WIDTH, Playback, frame_times, joint_positions_at
 from cosmos.runlog import read_log
+from tests.cli_in_process import cosmos_in_process
 
 STATE = "/cosmos/state"
 
@@ -70,20 +71,21 @@ def test_video_has_one_frame_per_step_of_rate_over_fps(log: Path, tmp_path: Path
 
 
 def test_video_needs_an_mp4_name(log: Path, tmp_path: Path) -> None:
-    result = cosmos("replay", str(log), "--video", str(tmp_path / "clip.avi"))
+    result = cosmos_in_process("replay", str(log), "--video", str(tmp_path / "clip.avi"))
     assert result.returncode == 2
     assert "ending in .mp4" in result.stderr
 
 
-def test_view_without_a_display_says_to_use_video(log: Path) -> None:
-    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    result = cosmos("replay", str(log), "--view", env=env)
+def test_view_without_a_display_says_to_use_video(log: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    result = cosmos_in_process("replay", str(log), "--view")
     assert result.returncode == 1
     assert "no display: use --video FILE.mp4" in result.stderr
     assert "Traceback" not in result.stderr
 
 
 def test_rate_without_playback_is_a_usage_error(log: Path) -> None:
-    result = cosmos("replay", str(log), "--rate", "2")
+    result = cosmos_in_process("replay", str(log), "--rate", "2")
     assert result.returncode == 2
     assert "--rate and --start apply to --view and --video" in result.stderr

@@ -20,6 +20,7 @@ from replay_live_logs import (
 from cosmos.replay.compare import Found
 from cosmos.replay.verify import verify_log
 from cosmos.runlog import read_log
+from tests.cli_in_process import cosmos_in_process
 
 STATE = "/cosmos/state"
 EVENT = "/cosmos/event"
@@ -45,7 +46,7 @@ def test_fresh_log_verifies_in_a_new_process(log: Path) -> None:
 
 def test_edited_program_departs_at_the_edited_statement(log: Path, tmp_path: Path) -> None:
     edited = copy_with_source(log, tmp_path / "edited.mcap", EDITED_PROGRAM)
-    result = cosmos("replay", str(edited), "--verify")
+    result = cosmos_in_process("replay", str(edited), "--verify")
     assert result.returncode == 1, result.stdout + result.stderr
     assert "Traceback" not in result.stderr
     match = re.search(r"departs at t = ([0-9.]+) s \(line (\d+): ", result.stdout)
@@ -109,7 +110,7 @@ def test_log_without_source_is_a_clear_error(tmp_path: Path) -> None:
         writer.start()
         writer.add_metadata("cosmos", {"program": "x.cos", "servo_hz": "1000"})
         writer.finish()
-    result = cosmos("replay", str(bare), "--verify")
+    result = cosmos_in_process("replay", str(bare), "--verify")
     assert result.returncode == 1
     assert "no program source attached" in result.stderr
     assert "Traceback" not in result.stderr

@@ -1,21 +1,18 @@
-import subprocess
-import sys
+"""``cosmos replay`` on the command line: what it prints and its exit status (called in-process:
+tests/cli_in_process.py)."""
+
 from pathlib import Path
 
 import pytest
 from mcap.reader import make_reader
 from runlog_synthetic import STATEMENTS, WrittenRun, write_synthetic_run
 
+from tests.cli_in_process import cosmos_in_process as cosmos
+
 
 @pytest.fixture(scope="module")
 def written(tmp_path_factory: pytest.TempPathFactory) -> WrittenRun:
     return write_synthetic_run(tmp_path_factory.mktemp("cli") / "run.mcap")
-
-
-def cosmos(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "cosmos", *args], capture_output=True, text=True, timeout=120
-    )
 
 
 def test_replay_prints_summary_and_timeline(written: WrittenRun) -> None:

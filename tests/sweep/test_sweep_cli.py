@@ -2,17 +2,11 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 from sweep_support import TOUCH_TABLE
 
-
-def cosmos_cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "cosmos", *args], capture_output=True, text=True, timeout=180
-    )
+from tests.cli_in_process import cosmos_in_process as cosmos_cli
 
 
 def test_a_bad_vary_is_a_usage_error_without_traceback(tmp_path: Path) -> None:

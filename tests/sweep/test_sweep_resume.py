@@ -17,6 +17,7 @@ from sweep_support import TABLE_Z, TOUCH_TABLE
 
 import cosmos
 from cosmos.sweep.tap import summarize
+from tests.cli_in_process import cosmos_in_process as cosmos_cli
 
 RUNS = 7
 
@@ -26,12 +27,6 @@ def sweep_command(out: Path, *options: str) -> list[str]:
         sys.executable, "-m", "cosmos", "sweep", str(TOUCH_TABLE), "--runs", str(RUNS), "--seed", "5",
         "--vary", TABLE_Z, "--workers", "1", "--out", str(out), *options,
     ]  # fmt: skip
-
-
-def cosmos_cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "cosmos", *args], capture_output=True, text=True, timeout=120
-    )
 
 
 def result_lines(results: Path) -> list[str]:
