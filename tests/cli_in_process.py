@@ -14,18 +14,21 @@ import io
 import subprocess
 import sys
 
+from tests.runlog.cli_support import hang_guard
 
-def cosmos_in_process(*args: str) -> subprocess.CompletedProcess[str]:
+
+def cosmos_in_process(*args: str, timeout: float = 120.0) -> subprocess.CompletedProcess[str]:
     """``cosmos ARGS`` in this process: exit status, stdout and stderr as a subprocess gives them.
 
     An exception that escapes :func:`cosmos.cli.main` (what a user would see as a traceback)
-    is raised here, failing the test.
+    is raised here, failing the test, and so is a command still running after ``timeout`` [s]
+    (the bound the tests' subprocesses had).
     """
     out, err = io.StringIO(), io.StringIO()
     argv, sys.argv = sys.argv, ["cosmos", *args]
     status: int
     try:
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        with hang_guard(timeout), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             from cosmos.cli import main
 
             main()

@@ -1,6 +1,7 @@
 """Set-up shared by the whole suite, before any test module imports MuJoCo."""
 
 import os
+import sys
 
 import pytest
 
@@ -9,6 +10,14 @@ import pytest
 # whenever a test module imported MuJoCo before the replay could choose EGL itself
 # (cosmos.replay.playback.prefer_headless_gl). The README's test command sets nothing.
 os.environ.setdefault("MUJOCO_GL", "egl")
+
+# Bytecode kept, as an install keeps it (cosmos.bench.programs.user_environment): with
+# PYTHONDONTWRITEBYTECODE set (some development machines) each of pytest-xdist's workers
+# rewrote and compiled every test module again (3-4 s of CPU a worker), and every
+# ``python -m cosmos`` the tests start compiled the modules it imports again. Set here, before
+# the test modules are imported and the workers started.
+sys.dont_write_bytecode = False
+os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 SIMULATING_FIRST = ("hand", "run", "sweep")
 """The directories of tests/ whose files run the simulated arm longest, in the order they are
