@@ -33,9 +33,11 @@ import mujoco
 import numpy as np
 
 from cosmos.commands.run import run_program
-from cosmos.plant import Plant
 from cosmos.runlog import read_log
 from cosmos.runtime.rates import Rates
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "run"))
+from run_support import StepProbe  # noqa: E402
 
 FORCE_N = 5.0
 WINDOW_S = 0.3
@@ -58,31 +60,16 @@ def program(robot: str, speed_mmps: float, lift_mm: float = 10.0) -> str:
     )
 
 
-class LandingProbe:
+class LandingProbe(StepProbe):
     """Per physics step: MuJoCo's contact force on ``block`` from all but the pads, world z [N],
-    and the block's position in the tool body's frame [m] (a wrapper on Plant.advance)."""
+    and the block's position in the tool body's frame [m]."""
 
     def __init__(self, block: str = "block_a") -> None:
+        super().__init__()
         self.block = block
         self.t: list[float] = []
         self.push: list[float] = []
         self.in_tool: list[np.ndarray] = []
-        self._force = np.zeros(6)
-        self._original = Plant.advance
-
-    def __enter__(self) -> LandingProbe:
-        probe, original = self, self._original
-
-        def advance(plant: Plant) -> float:
-            t = original(plant)
-            probe.sample(plant.model, plant.data, t)
-            return t
-
-        Plant.advance = advance  # type: ignore[method-assign]
-        return self
-
-    def __exit__(self, *_: object) -> None:
-        Plant.advance = self._original  # type: ignore[method-assign]
 
     def sample(self, model: mujoco.MjModel, data: mujoco.MjData, t: float) -> None:
         block = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, self.block)

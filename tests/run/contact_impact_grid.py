@@ -39,9 +39,11 @@ import mujoco
 import numpy as np
 
 from cosmos.commands.run import run_program
-from cosmos.plant import Plant
 from cosmos.runlog import read_log
 from cosmos.runtime.rates import Rates
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from run_support import StepProbe  # noqa: E402
 
 SURFACES = ("table", "slope", "turned")
 """The default surfaces; ``hole`` is the fourth."""
@@ -79,28 +81,13 @@ def program(surface: str, force_n: float, speed_mmps: float) -> str:
     )
 
 
-class ContactProbe:
-    """MuJoCo's contact force on the tool at every physics step, world [N] (a wrapper on Plant.advance)."""
+class ContactProbe(StepProbe):
+    """MuJoCo's contact force on the tool at every physics step, world [N]."""
 
     def __init__(self) -> None:
+        super().__init__()
         self.t: list[float] = []
         self.f: list[np.ndarray] = []
-        self._force = np.zeros(6)
-        self._original = Plant.advance
-
-    def __enter__(self) -> ContactProbe:
-        probe, original = self, self._original
-
-        def advance(plant: Plant) -> float:
-            t = original(plant)
-            probe.sample(plant.model, plant.data, t)
-            return t
-
-        Plant.advance = advance  # type: ignore[method-assign]
-        return self
-
-    def __exit__(self, *_: object) -> None:
-        Plant.advance = self._original  # type: ignore[method-assign]
 
     def sample(self, model: mujoco.MjModel, data: mujoco.MjData, t: float) -> None:
         tool = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "tool")

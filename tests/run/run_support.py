@@ -21,7 +21,7 @@ import sys
 import threading
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
 import numpy as np
 import pytest
@@ -249,3 +249,33 @@ def on_both_plants(shortfall: str, cause: str = NOT_TRACED) -> list[Any]:
 
 BOTH_PLANTS = [pytest.param(False, id="realistic"), pytest.param(True, id="ideal")]
 """``ideal`` parameters: the realistic plant, then the ideal one, both expected to pass."""
+
+
+class StepProbe:
+    """What MuJoCo's data shows after every physics step of the runs made inside ``with``: a
+    wrapper on :meth:`cosmos.plant.Plant.advance`; a subclass's :meth:`sample` reads it."""
+
+    def __init__(self) -> None:
+        from cosmos.plant import Plant
+
+        self._plant_class = Plant
+        self._original = Plant.advance
+        self._force = np.zeros(6)  # mujoco.mj_contactForce's output, for the subclasses
+
+    def __enter__(self) -> Self:
+        probe, original = self, self._original
+
+        def advance(plant: Any) -> float:
+            t = original(plant)
+            probe.sample(plant.model, plant.data, t)
+            return t
+
+        self._plant_class.advance = advance  # type: ignore[method-assign]
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self._plant_class.advance = self._original  # type: ignore[method-assign]
+
+    def sample(self, model: Any, data: Any, t: float) -> None:
+        """Read one physics step's ``model`` and ``data`` at simulated time ``t`` [s]."""
+        raise NotImplementedError
