@@ -2,7 +2,8 @@
 
 A run reads from the arm's workcell scene the home configuration and where the tool point
 is there, the fixture frames and the tool's datasheet (:mod:`cosmos.workcell`), the arm's
-capsules (:mod:`cosmos.obstacles.capsules`) and the drives' torque limits from the bare arm
+capsules (:mod:`cosmos.obstacles.capsules`), the fixtures' contact ramps against the tool
+(:mod:`cosmos.runtime.landing_zone`) and the drives' torque limits from the bare arm
 (:mod:`cosmos.robot_model`). Computing them parses and compiles the scene and the arm with
 MuJoCo (the scene once more for the gripper), and the capsules' containment tests take as
 long again: about 45 million instructions, 7-15 ms of a warm ``cosmos run``, to find the
@@ -49,6 +50,7 @@ COMPUTED_BY = (
     "obstacles/capsules.py",
     "hand/gripper_scene.py",
     "hand/tool.py",
+    "runtime/landing_zone.py",
 )
 """The cosmos modules (relative to the package) whose code computes the kept values."""
 LIBRARIES = ("mujoco", "pinocchio", "numpy")

@@ -15,6 +15,7 @@ from cosmos.hand.tool import Tool
 from cosmos.obstacles import capsules
 from cosmos.robot_model import _drive_torque_limits, drive_torque_limits
 from cosmos.robots import PUMA560, ROBOTS, Robot
+from cosmos.runtime import landing_zone
 
 
 @pytest.fixture()
@@ -55,6 +56,7 @@ def kept_values(robot: Robot) -> dict[str, Any]:
         "fixtures": workcell._read_fixture_frames.__wrapped__(robot.scene_xml),
         "capsules": capsules._scene_capsules.__wrapped__(robot.scene_xml),
         "drive_limits": _drive_torque_limits(robot),
+        "contact_ramps": landing_zone.contact_ramps.__wrapped__(robot.name),
     }
     for tool in Tool:
         values[f"tool_spec {tool.value}"] = workcell.tool_spec.__wrapped__(robot, tool)
@@ -68,6 +70,7 @@ def computed_values(robot: Robot) -> dict[str, Any]:
         "fixtures": workcell.fixture_frames_from_scene(robot.scene_xml),
         "capsules": capsules.scene_capsules(robot.scene_xml),
         "drive_limits": drive_torque_limits(robot),
+        "contact_ramps": landing_zone.contact_ramps_from_scene(robot.name),
     }
     for tool in Tool:
         values[f"tool_spec {tool.value}"] = workcell.tool_spec_from_scene(robot, tool)

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from cosmos.model_facts import kept
 from cosmos.osc.landing import (
     LANDING_DECELERATION_MPS2,
     LANDING_ZONE_M,
@@ -95,6 +96,14 @@ def tool_end_points(
 
 @functools.cache
 def contact_ramps(robot_name: str) -> dict[str, float]:
+    """:func:`contact_ramps_from_scene`, kept with the model's facts (:mod:`cosmos.model_facts`)."""
+    scene_xml = ROBOTS[robot_name].scene_xml
+    return kept(
+        scene_xml.parent, f"contact_ramps:{scene_xml.name}", lambda: contact_ramps_from_scene(robot_name)
+    )
+
+
+def contact_ramps_from_scene(robot_name: str) -> dict[str, float]:
     """Each world geom's contact impedance width against the tool, by geom name [m] (the scene file's)."""
     import mujoco
 
