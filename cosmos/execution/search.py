@@ -108,7 +108,6 @@ class SearchPhase:
         self._start_xyz = tuple(self.start_position.tolist())
         self._direction_xyz = tuple(np.asarray(self._direction, dtype=float).tolist())
         self._lateral_columns = [tuple(column) for column in lateral.T.tolist()]
-        self._axis_tool = tuple(self._start_rotation.T.dot(self._direction).tolist())
 
     def setpoint(self, base: ServoSetpoint) -> ServoSetpoint:
         """The INSERT's setpoint with its lateral translations tracking the pattern."""
@@ -147,15 +146,6 @@ class SearchPhase:
         x0, y0, z0 = self._start_xyz
         dx, dy, dz = self._direction_xyz
         return (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
-
-    def tilt(self, rotation: FloatArray) -> float:
-        """The sine of the part's tilt from the INSERT's start, across the insertion axis."""
-        ax, ay, az = self._axis_tool
-        r = rotation.tolist()
-        v = [r[i][0] * ax + r[i][1] * ay + r[i][2] * az - self._direction_xyz[i] for i in range(3)]
-        return math.sqrt(
-            sum((ux * v[0] + uy * v[1] + uz * v[2]) ** 2 for ux, uy, uz in self._lateral_columns)
-        )
 
     @property
     def pattern(self) -> SearchPhase | None:
@@ -198,7 +188,7 @@ class SearchPhase:
         across = math.sqrt(sum((ax * mx + ay * my + az * mz) ** 2 for ax, ay, az in self._lateral_columns))
         self._farthest_m = max(self._farthest_m, across)
         elapsed = t_s - self.start_s
-        tilt = self.tilt(rotation)
+        tilt = toward_the_hole(rotation, self._start_rotation, self._direction, self._lateral)[1]
         if depth >= self.search.found_depth_m or tilt >= FIND_TILT:
             self._found_depth_m = depth
             how = (
