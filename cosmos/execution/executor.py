@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import NoReturn
 
 import numpy as np
@@ -32,6 +33,7 @@ from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, posture_joints, segment_goals, setpoint_for
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
+from cosmos.execution.via_legs import ViaProgress
 from cosmos.execution.walker import NO_HAND, HandSteps, PlanWalker, Senses
 from cosmos.execution.wording import failure_text, origin, statement_head
 from cosmos.lang.check.limits import timed_move_problem
@@ -268,10 +270,9 @@ class Executor:
         progress, progress_every = self.progress, self.progress_every
         self._field_watch = field_watch = FieldOnToolWatch()
 
-        def deviation() -> float:
-            return supervisor.path_deviation_m(position)
-
+        deviation = partial(supervisor.path_deviation_m, position)  # position: a live view
         goal_points = [tuple(goal[0].tolist()) for goal in goals]  # as floats: distances every tick
+        via = ViaProgress(goal_points, monitor.stall_cause)  # a VIA leg that stops getting closer fails
 
         # Obstacles move only if one is MOVING; the first tick rebuilds the world's tree after an OBSTACLE.
         moving = obstacles is not None and any(obstacle.moving for obstacle in obstacles.scene.obstacles)
@@ -312,7 +313,7 @@ class Executor:
                             segment, *goals[goal_index], rt.evaluation, rt.wrench, now, posture, among, True
                         )
                     )
-                outcome = monitor.check(snapshot, completion=False)
+                outcome = monitor.check(snapshot, completion=False) or via.stalled(now, position, goal_index)
                 if outcome is not None:
                     return outcome
                 continue
