@@ -322,6 +322,15 @@ class Plant:
         self._noise_next = i + 1
         return i
 
+    def zero_wrist_sensor(self, offset: np.ndarray) -> None:
+        """Take ``offset`` off every later reading of the wrist sensor: the cell tares it.
+
+        Args:
+            offset: The reading's error, force then torque, sensor axes [N, N m]. # (6,)
+        """
+        self._noise_bias -= offset
+        self._noise -= offset  # the rows drawn and not yet read (the ideal plant's one row)
+
     def read_encoders(self) -> tuple[np.ndarray, np.ndarray]:
         """Joint angles [rad] and velocities [rad/s], each ``(n,)``, copies.
 

@@ -33,6 +33,7 @@ from cosmos.execution.recording import LogRecorder
 from cosmos.execution.resolve import effective_masses, posture_joints, segment_goals, setpoint_for
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
+from cosmos.execution.tare import FreeAir
 from cosmos.execution.via_legs import ViaProgress
 from cosmos.execution.walker import NO_HAND, HandSteps, PlanWalker, Senses
 from cosmos.execution.wording import failure_text, origin, statement_head
@@ -102,12 +103,12 @@ class Executor:
         self._source: str | None = None
         self._tool = "peg"  # the plan's TOOL: a CONTACT's landing (cosmos.runtime.landing_zone)
         self._stopped_at: float | None = None
+        self.free_air = FreeAir()  # the wrist sensor is tared only there
         self._field_watch = FieldOnToolWatch()
         self.meter = ToolMeter(runtime.plant)
         torque_limits = np.minimum(-runtime.robot.tau_lower_nm, runtime.robot.tau_upper_nm)
         self.supervisor = Supervisor(runtime.plant, torque_limits, 1.0 / runtime.rates.servo_hz)
-        self.walker = PlanWalker(self)
-        """Decides IF, WHILE and TRY; keeps how the last statement ended from one plan to the next."""
+        self.walker = PlanWalker(self)  # decides IF, WHILE, TRY; keeps how the last statement ended
 
     # ------------------------------------------------------------------ plan
 
@@ -120,8 +121,7 @@ class Executor:
             # fired it is in the log (one state period at most).
             self.hold(1.0 / self.runtime.rates.state_hz)
             self._stopped_at = None
-        # The plan's end (a REPL waits for its next input): all of it to the OS. Within a plan, every
-        # 0.24 s of simulated time (cosmos.runlog.writer): a flush per statement cost 1-2 ms each.
+        # The plan's end (a REPL waits): all of it to the OS; else every 0.24 s simulated (runlog.writer).
         if self.log is not None:
             self.log.flush()
 
@@ -129,6 +129,8 @@ class Executor:
         """Run a statement's segments; an UNTIL that holds ends the statement with success (True)."""
         statement_start = (self.runtime.time_s, self.meter.position.copy())
         self._event("start", segments[0], "")
+        if read := self.free_air.tare_before(segments[0], self.runtime):  # a drifted wrist sensor
+            self._event("warning", segments[0], read)
         for segment in segments:
             outcome = self.run_segment(segment, *statement_start)
             if moved := self._field_watch.close():  # the field on the tool's link pushed it aside
@@ -145,6 +147,7 @@ class Executor:
                 self._event("contact", segment, outcome.reason)
         else:
             self._event("done", segments[-1], outcome.reason)
+        self.free_air.after(segments[-1], outcome.verdict, self.meter.position - statement_start[1])
         return outcome.verdict is Verdict.STOPPED
 
     # ------------------------------------------- what the plan walker asks
@@ -156,6 +159,7 @@ class Executor:
 
     def note(self, kind: str, step: Step, reason: str) -> None:
         """Write an event about ``step`` to the log."""
+        self.free_air.now &= kind == "decision"  # a GRASP may leave its object on the table
         self._event(kind, step, reason)
 
     def fail(self, step: Step, reason: str) -> NoReturn:
@@ -348,11 +352,8 @@ class Executor:
         self.hold(HOLD_AFTER_FAILURE_S)
         if self.log is not None:
             self.log.flush()
-        raise TaskFailure(
-            failure_text(segment.statement, reason, self.walker.context_of(segment)),
-            segment.span,
-            self._source,
-        )
+        text = failure_text(segment.statement, reason, self.walker.context_of(segment))
+        raise TaskFailure(text, segment.span, self._source)
 
     # ------------------------------------------------------------------- log
 
