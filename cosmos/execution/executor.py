@@ -117,8 +117,7 @@ class Executor:
         self._source, self._tool = plan.source, plan.tool
         self.walker.walk(plan.steps)  # it decides IF, WHILE and TRY; runs statements here
         if self._stopped_at is not None and self.recorder is not None:
-            # The last statement ended on its UNTIL: hold until the sample showing what
-            # fired it is in the log (one state period at most).
+            # Ended on its UNTIL: hold until the sample that fired it is logged (a state period at most).
             self.hold(1.0 / self.runtime.rates.state_hz)
             self._stopped_at = None
         # The plan's end (a REPL waits): all of it to the OS; else every 0.24 s simulated (runlog.writer).
@@ -160,6 +159,8 @@ class Executor:
     def note(self, kind: str, step: Step, reason: str) -> None:
         """Write an event about ``step`` to the log."""
         self.free_air.now &= kind == "decision"  # a GRASP may leave its object on the table
+        if kind == "start" and self.recorder is not None:  # a GRASP's samples are its own
+            self.recorder.start_segment(self.recorder.segment, step.line)
         self._event(kind, step, reason)
 
     def fail(self, step: Step, reason: str) -> NoReturn:
@@ -363,8 +364,7 @@ class Executor:
             self.on_event(kind, segment, reason, context)
         if self.log is None:
             return
-        line = segment.line if segment is not None else 0
-        statement = segment.statement if segment is not None else ""
+        line, statement = (segment.line, segment.statement) if segment is not None else (0, "")
         self.log.event(
             self.runtime.time_s, kind, line=line, statement=statement, reason=reason, context=context
         )

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import cosmos
-from cosmos.execution.tare import FreeAir, sensor_error
 from cosmos.execution.monitor import Verdict
+from cosmos.execution.tare import FreeAir, sensor_error
 from cosmos.runtime.wrench import environment_wrench
 
 PROGRAM = """\
