@@ -60,7 +60,10 @@ class FieldOnToolWatch:
         told = self._links(null_space, field, deviation_m)
         if field is not self._field:  # a new field at an evaluation (every 4th tick): looked at once
             self._field, self._on_tool = field, any(field.tool.tolist())
-        if influences and self._on_tool:  # the field on the tool's own link (none acts: no look)
+        # The field on the tool's own link (none acts: no look), but not while a link's field
+        # reaches the tool: the tool's deviation is then that link's, and told with it (a post
+        # holding link 5 back moved the tool 59 mm, told as a far lamp's field on link 7).
+        if influences and self._on_tool and self._episode is None:
             if not self._tool_obstacle:  # an obstacle nearest the tool's link (the last: link6 on the PUMA)
                 tool_link = f"link{field.tool.shape[0]}"
                 self._tool_obstacle = next((i.obstacle for i in influences if i.link == tool_link), "")

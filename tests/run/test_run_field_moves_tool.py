@@ -42,3 +42,21 @@ def test_a_tool_the_field_pushed_aside_is_told(tmp_path: Path, wait_s: float) ->
     measured_mm = np.linalg.norm(state.x[waiting] - hold, axis=1).max() * 1e3
     assert measured_mm > 10.0, f"the tool moved {measured_mm:.1f} mm: the ball no longer passes it"
     assert told_mm == pytest.approx(measured_mm, abs=0.5)
+
+
+def test_a_links_field_reaching_the_tool_is_not_told_as_a_far_obstacles(tmp_path: Path) -> None:
+    """While a post holds the Panda's link 5 back (its field reaching the tool), the tool's
+    deviation is the post's. Catches it told as "the field of obstacle 'lamp' moved the tool up
+    to 58.9 mm off its path": a lamp 200 mm from link 7, at the edge of its influence."""
+    program = (
+        "ROBOT panda\n"
+        "OBSTACLE post CYLINDER AT (0.55, 0.0, 0.2) RADIUS 30 mm HEIGHT 0.35 m\n"
+        "OBSTACLE lamp SPHERE AT (0.7, 0.25, 0.6) RADIUS 50 mm\n"
+        "SPEED 0.2 m/s\n"
+        "MOVE TO (0.55, 0.15, 0.35)\n"
+        "MOVE TO (0.55, -0.15, 0.35) VIA (0.65, 0, 0.4) TIMEOUT 30 s\n"
+    )
+    run = cosmos.run(program, log=tmp_path / "post.mcap")
+    told = [e.reason for e in run.events if e.kind == "field_on_tool"]
+    assert any("link5" in reason and "post" in reason for reason in told), told
+    assert not [reason for reason in told if "lamp" in reason], told
