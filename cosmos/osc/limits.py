@@ -108,6 +108,13 @@ def joint_limit_task_projection(
     drives further in, with ``g = (margin_rad - distance) / (margin_rad - whole_rad)``
     up to 1: whole from ``whole_rad`` in, where the joint-limit potential begins.
 
+    The command's damping along what is given up goes with it: joint i, driven by
+    neither the task nor its damping, bounced off the potential and rang against it
+    (a 0.3 s limit cycle, the tool turning back at 1.2 rad/s, before the failure).
+    Section 5 treats the arm as redundant with respect to the directions kept, and
+    so stabilises it as section 4 does: eq. 34's damping, here ``-g xi_q A e_i
+    e_i^T qd``, slows joint i alone (``cosmos.runtime.kernels.parameter.refold``).
+
     Args:
         jacobian: J(q), rows linear then angular, world. # (6, 6)
         q: Joint positions, in [rad]. # (6,)
@@ -140,3 +147,73 @@ def joint_limit_task_projection(
         if ud > 0.0:
             projection = (np.eye(6) - weight * np.outer(d, u) / ud).dot(projection)
     return projection
+
+
+def joint_limit_constraint(
+    inertia_inv: FloatArray,
+    jacobian: FloatArray,
+    q: FloatArray,
+    q_min: FloatArray,
+    q_max: FloatArray,
+    goal_direction: FloatArray,
+    margin_rad: float,
+    whole_rad: float,
+) -> FloatArray:
+    """A redundant arm's joint at its limit leaves the task: ``N_c``, the task's Jacobian is ``J N_c``.
+
+    On a redundant arm the task need not give up what a joint at its limit did
+    (:func:`joint_limit_task_projection` does so for six joints, where nothing
+    else can): the other joints can often do it. Eq. 26-28 written for the arm
+    without joint i (the idea of Flacco, De Luca and Khatib's saturation in the
+    null space, 2012, in the dynamically consistent form): with ``J_c = e_i^T``,
+    ``N_c = I - A^-1 J_c^T (J_c A^-1 J_c^T)^-1 J_c`` and the task Jacobian
+    ``J N_c``, whose ``Lambda_c = (J N_c A^-1 J^T)^-1``, ``Jbar_c = A^-1 N_c^T J^T
+    Lambda_c`` (eq. 27-28) and torques ``N_c^T J^T Lambda_c F`` give the tool
+    exactly ``F`` and joint i no acceleration (``e_i^T A^-1 N_c^T = 0``). What
+    the other joints cannot do shows as a heavy direction of ``Lambda_c``, which
+    section 5 gives up (:func:`cosmos.osc.dynamics.singular_task_projection`);
+    joint i is left to the null space: eq. 34's damping, the joint-limit
+    potential and the self-motion, which make room.
+
+    Joint i is constrained within ``margin_rad`` of the limit that the goal
+    drives it into (through the controller's own inverse Jbar of eq. 28), with
+    weight ``g = (margin_rad - distance) / (margin_rad - whole_rad)`` up to 1,
+    blended as a soft constraint: ``D = diag(a_ii (1 - g) / g)`` added to
+    ``J_c A^-1 J_c^T`` (``a_ii = (A^-1)_ii``), so that one joint gets
+    ``e_i^T N_c = (1 - g) e_i^T`` and ``N_c A^-1`` stays symmetric positive
+    semi-definite for any number of joints.
+
+    Args:
+        inertia_inv: A^-1. # (n, n)
+        jacobian: J(q), rows linear then angular, world. # (6, n)
+        q: Joint positions, in [rad]. # (n,)
+        q_min: Lower limits, in [rad]. # (n,)
+        q_max: Upper limits, in [rad]. # (n,)
+        goal_direction: The twist toward the goal, ``-(x - x_d)``, in [m, rad]. # (6,)
+        margin_rad: Distance from a limit at which the constraint starts, in [rad].
+        whole_rad: Distance from a limit at which it is whole, in [rad].
+
+    Returns:
+        N_c (the identity when no joint is near a limit it is driven into). # (n, n)
+    """
+    n = q.shape[0]
+    try:
+        lambda_ = np.linalg.inv(jacobian @ inertia_inv @ jacobian.T)  # eq. 27
+    except np.linalg.LinAlgError:
+        return np.eye(n)
+    rates = inertia_inv @ jacobian.T @ lambda_ @ goal_direction  # Jbar (eq. 28) toward the goal
+    joints, softness = [], []
+    for i in range(n):
+        distance = q[i] - q_min[i] if rates[i] < 0.0 else q_max[i] - q[i]
+        if rates[i] == 0.0 or distance >= margin_rad:
+            continue
+        weight = min(1.0, (margin_rad - distance) / (margin_rad - whole_rad))
+        joints.append(i)
+        softness.append(inertia_inv[i, i] * (1.0 - weight) / weight)
+    if not joints:
+        return np.eye(n)
+    coupling = inertia_inv[:, joints]  # A^-1 J_c^T # (n, k)
+    block = coupling[joints, :] + np.diag(softness)  # J_c A^-1 J_c^T + D # (k, k)
+    selector = np.zeros((len(joints), n))  # J_c
+    selector[np.arange(len(joints)), joints] = 1.0
+    return np.eye(n) - coupling @ np.linalg.solve(block, selector)

@@ -30,7 +30,7 @@ def _tick(
     matrices = np.zeros((sk.MATRICES, 6, 6))
     jbar_lookahead, null_space_t = np.zeros((6, 6)), np.zeros((6, 6))
     fold_servo(
-        eye, eye, eye, zero, zero, zero, zero, servo.omega, servo.omega_bar,
+        eye, eye, eye, eye, zero, zero, zero, zero, servo.omega, servo.omega_bar,
         0.0, 0.0, zero, 0.02, 2000.0, 1.0, 0.5,
         stacked, matrices[sk.FORCE_TO_ACCELERATION], jbar_lookahead,
         matrices[sk.SINGULAR_PROJECTION], eye, null_space_t,

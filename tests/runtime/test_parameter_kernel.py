@@ -310,6 +310,7 @@ def test_fold_servo_matches_eq_27_29_34(name: str) -> None:
         inputs.inertia,
         inputs.inertia_inv,
         inputs.jacobian,
+        inputs.jacobian,
         inputs.bias,
         inputs.gravity,
         inputs.jdot_qdot,
@@ -537,7 +538,7 @@ def test_fold_servo_orientation_free_is_the_position_task_of_eq_27_28(q: np.ndar
     stacked, null_space_t = np.zeros((6, 25)), np.full((6, 6), np.nan)
     out = [np.zeros((6, 6)) for _ in range(3)]
     pk.fold_servo(
-        inertia, inertia_inv, jacobian, zero, zero, zero, zero, omega, np.zeros((6, 6)),
+        inertia, inertia_inv, jacobian, jacobian, zero, zero, zero, zero, omega, np.zeros((6, 6)),
         K_VF, XI_Q, zero, LOOKAHEAD_S, POLICY.max_effective_mass_kg, POLICY.blend_width,
         POLICY.length_scale_m, stacked, *out, np.eye(6), null_space_t,
     )  # fmt: skip

@@ -9,7 +9,10 @@ compare each with its reference on seeded random inputs:
   ``computeAllTerms`` (Pinocchio's own frame, Jacobian and gravity functions).
 * :mod:`~cosmos.runtime.kernels.parameter`: eq. 27-29 and 34 folded for the servo
   (:func:`cosmos.osc.dynamics.operational_dynamics`, :func:`cosmos.osc.unified.servo_matrices`,
-  :func:`cosmos.osc.dynamics.null_space_damping`, :func:`cosmos.osc.limits.joint_limit_task_projection`).
+  :func:`cosmos.osc.dynamics.null_space_damping`).
+* :mod:`~cosmos.runtime.kernels.limits`: what the task gives up near joint limits and singular
+  directions (:func:`cosmos.osc.limits.joint_limit_task_projection`,
+  :func:`cosmos.osc.limits.joint_limit_constraint`).
 * :mod:`~cosmos.runtime.kernels.commands`: the sensed wrench, the unit-mass motion command
   (:mod:`cosmos.osc.motion`) and the saturation (:func:`cosmos.osc.limits.saturate_torque`).
 * :mod:`~cosmos.runtime.kernels.contact`: the latches (:mod:`cosmos.osc.contact`), admittance

@@ -17,11 +17,13 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.osc.dynamics import SINGULAR_GIVE_UP_RATE, TRANSLATION_GIVE_UP
+from cosmos.osc.dynamics import SINGULAR_GIVE_UP_RATE
 from cosmos.osc.null_space import FREE_AXIS_INVERSE_MASS
 from cosmos.osc.orientation import NEAR_PI_SIN, SMALL_ANGLE_RAD
 from cosmos.runtime.kernels import evaluation as ek
 from cosmos.runtime.kernels import servo as sk
+from cosmos.runtime.kernels.limits import LIMITS_OFFSET as LIMITS_OFFSET  # refold's constants' layout
+from cosmos.runtime.kernels.limits import limit_task_into, remove_direction
 from cosmos.runtime.kernels.linear import matmul, matvec, scaled_into, scaled_matrix_into
 
 FloatArray = np.ndarray
@@ -75,7 +77,7 @@ def lambda_and_projection(
             direction = np.empty(6)
             for k in range(6):
                 direction[k] = scale[k] * eigenvectors[k, i]
-            _remove_direction(projection, direction, weight)
+            remove_direction(projection, direction, weight)
     lambda_ = np.empty((6, 6))  # (eigenvectors * weights) @ eigenvectors.T, unscaled
     for i in range(6):
         for k in range(6):
@@ -84,27 +86,6 @@ def lambda_and_projection(
                 acc += eigenvectors[i, m] * weights[m] * eigenvectors[k, m]
             lambda_[i, k] = acc * (scale[i] * scale[k])
     return lambda_
-
-
-@kernel
-def _remove_direction(projection: FloatArray, wrench: FloatArray, weight: float) -> None:
-    """``projection <- (I - g d u^T / (u^T d)) projection``, ``d`` u with its translation weighted."""
-    d = wrench.copy()
-    for i in range(3):
-        d[i] *= TRANSLATION_GIVE_UP
-    ud = 0.0
-    for i in range(6):
-        ud += wrench[i] * d[i]
-    if not ud > 0.0:
-        return
-    row = np.zeros(6)  # u^T projection
-    for k in range(6):
-        for i in range(6):
-            row[k] += wrench[i] * projection[i, k]
-    for i in range(6):
-        factor = weight * d[i] / ud
-        for k in range(6):
-            projection[i, k] -= factor * row[k]
 
 
 @kernel
@@ -122,6 +103,7 @@ def fold_servo(
     inertia: FloatArray,
     inertia_inv: FloatArray,
     jacobian: FloatArray,
+    task_jacobian: FloatArray,
     bias: FloatArray,
     gravity: FloatArray,
     jdot_qdot: FloatArray,
@@ -147,12 +129,17 @@ def fold_servo(
     The task controls the axes ``C = Omega + Omega_bar`` (world): all six, or, under
     ORIENTATION FREE, only the translations; Lambda is then eq. 27's Lambda_r of the
     controlled rows (:func:`cosmos.osc.null_space.task_lambda_inverse`), which leaves
-    the null space ``N^T`` (eq. 28, 34) its dimensions.
+    the null space ``N^T`` (eq. 28, 34) its dimensions. Near a joint limit a redundant
+    arm's task acts through ``J' = J N_c`` (:func:`cosmos.osc.limits.joint_limit_constraint`):
+    torques ``J'^T F``, ``Lambda^-1 = J A^-1 J'^T`` (the tool's response to them) and
+    ``N^T = I - J'^T Lambda J A^-1``, the torques that leave the tool alone; ``J' = J`` gives
+    eq. 27-28 and 34 themselves.
 
     Args:
         inertia: A(q). # (n, n)
         inertia_inv: A^-1. # (n, n)
         jacobian: J(q), world axes. # (6, n)
+        task_jacobian: J' through which the task acts: J, or J N_c near a joint limit. # (6, n)
         bias: b(q, qd), in [N m]. # (n,)
         gravity: g(q), in [N m]. # (n,)
         jdot_qdot: h = Jdot qd (eq. 14). # (6,)
@@ -175,9 +162,9 @@ def fold_servo(
             (motion commands enter as ``J^T Lambda P Omega``). # (6, 6)
         limit_projection: The joint limits' task projection
             (:func:`cosmos.osc.limits.joint_limit_task_projection`). # (6, 6)
-        null_space_t: Out: ``N^T = I - J^T Jbar^T`` of the task. # (n, n)
+        null_space_t: Out: ``N^T = I - J'^T Jbar^T`` of the task, ``Jbar = A^-1 J^T Lambda``. # (n, n)
     """
-    j_t = jacobian.T.copy()
+    j_t = task_jacobian.T.copy()
     a_inv_jt = matmul(inertia_inv, j_t)
     lambda_inv = matmul(jacobian, a_inv_jt)  # eq. 27
     controlled = np.empty((6, 6))
@@ -199,8 +186,9 @@ def fold_servo(
     if free:
         lambda_ = matmul(matmul(controlled, lambda_), controlled)
     scaled_matrix_into(projection, matmul(projection, limit_projection), 1.0)
-    jbar = matmul(a_inv_jt, lambda_)  # eq. 28
-    scaled_matrix_into(null_space_t, matmul(j_t, jbar.T), -1.0)
+    jbar = matmul(a_inv_jt, lambda_)  # eq. 28 (of J': the joints' share of a command)
+    tool_jbar = matmul(matmul(inertia_inv, jacobian.T.copy()), lambda_)  # of J: what reaches the tool
+    scaled_matrix_into(null_space_t, matmul(j_t, tool_jbar.T), -1.0)
     for i in range(null_space_t.shape[0]):  # n joints
         null_space_t[i, i] += 1.0
     force_to_torque = matmul(j_t, omega_bar)
@@ -288,25 +276,19 @@ def refold(
         error[i] = evaluation[ek.POSITION + i] - goal_position[i]
     rotation_error = rotation_log(matmul(rotation_tool, goal_rotation_to_world.T))
     scaled_into(error[3:], unwrapped_rotation_error(rotation_error, error[3:]), 1.0)
-    limit_projection = np.eye(6)
-    if constants.shape[0] > LIMITS_OFFSET:
-        toward_goal = np.empty(6)
-        scaled_into(toward_goal, error, -1.0)
-        joint_limit_projection_into(
-            limit_projection,
-            jacobian,
-            evaluation[ek.Q : ek.Q + n],
-            constants[LIMITS_OFFSET : LIMITS_OFFSET + n],
-            constants[LIMITS_OFFSET + n : LIMITS_OFFSET + 2 * n],
-            toward_goal,
-            constants[LIMITS_OFFSET + 2 * n],
-            constants[LIMITS_OFFSET + 2 * n + 1],
-        )
     inertia_at, inverse_at, bias_at = ek.inertia_at(n), ek.inertia_inv_at(n), ek.bias_at(n)
+    inertia_inv = evaluation[inverse_at : inverse_at + n * n].reshape((n, n))
+    toward_goal = np.empty(6)
+    scaled_into(toward_goal, error, -1.0)
+    limit_projection, given_up = np.eye(6), np.zeros(n)
+    task_jacobian = limit_task_into(
+        limit_projection, given_up, inertia_inv, jacobian, evaluation[ek.Q : ek.Q + n], constants, toward_goal
+    )
     fold_servo(
         evaluation[inertia_at : inertia_at + n * n].reshape((n, n)),
-        evaluation[inverse_at : inverse_at + n * n].reshape((n, n)),
+        inertia_inv,
         jacobian,
+        task_jacobian,
         evaluation[bias_at : bias_at + n],
         gravity,
         evaluation[ek.JDOT_QDOT : ek.JDOT_QDOT + 6],
@@ -327,6 +309,9 @@ def refold(
         limit_projection,
         null_space_t,
     )
+    for i in range(n):  # eq. 34's damping for the motion the task gave up: joint i alone, g xi_q
+        for k in range(n):
+            stacked[k, 19 + i] -= given_up[i] * constants[1] * evaluation[inertia_at + k * n + i]
     scaled_matrix_into(jacobian_out, jacobian, 1.0)
     scaled_matrix_into(matrices[sk.OMEGA_BAR], omega_bar, 1.0)
     rotation_sensor = evaluation[ek.ROTATION_SENSOR : ek.ROTATION_SENSOR + 9].reshape((3, 3))
@@ -334,54 +319,6 @@ def refold(
     scaled_into(vectors[sk.EVALUATION_Q, :n], evaluation[ek.Q : ek.Q + n], 1.0)
     scaled_into(vectors[sk.GRAVITY, :n], gravity, 1.0)
     scaled_into(vectors[sk.SENSOR_OFFSETS, :6], evaluation[ek.SENSOR_TO_TOOL : ek.SENSOR_TO_COM + 3], 1.0)
-
-
-LIMITS_OFFSET = 6
-"""refold's constants: k_vf, xi_q, look-ahead, section 5's three; then (optional) the joints'
-lower and upper limits (n each) and the joint-limit projection's two margins (ServoLevel)."""
-
-
-@kernel
-def joint_limit_projection_into(
-    out: FloatArray,
-    jacobian: FloatArray,
-    q: FloatArray,
-    q_lower: FloatArray,
-    q_upper: FloatArray,
-    goal_direction: FloatArray,
-    margin_rad: float,
-    whole_rad: float,
-) -> None:
-    """:func:`cosmos.osc.limits.joint_limit_task_projection` into ``out`` (the identity there). # (6, 6).
-
-    For a redundant arm (J of 6 x n, n > 6) the inverse is the pseudo-inverse: the rows of J^+ are
-    the task wrenches whose work is one joint's motion along the least-norm joint rates.
-    """
-    n = q.shape[0]
-    near = False
-    for i in range(n):
-        if q[i] - q_lower[i] < margin_rad or q_upper[i] - q[i] < margin_rad:
-            near = True
-    if not near:
-        return
-    if n == 6:
-        square = jacobian.copy()  # writable, as jjt below: numba's det and inv compile once
-        if abs(np.linalg.det(square)) < 1e-12:
-            return
-        inverse = np.linalg.inv(square)
-    else:
-        jjt = matmul(jacobian, jacobian.T.copy())
-        if abs(np.linalg.det(jjt)) < 1e-24:
-            return
-        inverse = matmul(jacobian.T.copy(), np.linalg.inv(jjt))
-    rates = matvec(inverse, goal_direction)
-    for i in range(n):
-        distance = q[i] - q_lower[i] if rates[i] < 0.0 else q_upper[i] - q[i]
-        if rates[i] == 0.0 or distance >= margin_rad:
-            continue
-        _remove_direction(
-            out, inverse[i, :].copy(), min(1.0, (margin_rad - distance) / (margin_rad - whole_rad))
-        )
 
 
 @kernel
