@@ -19,6 +19,7 @@ import numpy as np
 from cosmos.execution.arrival import GoalError
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import block_diagonal, length_along, norm3, pose_error
+from cosmos.execution.lost_push import LostPush
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.execution.wording import failure_text as failure_text  # re-exported: its old home
 from cosmos.execution.wording import statement_head as statement_head  # re-exported
@@ -220,6 +221,7 @@ class SegmentMonitor:
             return self._touch
         if isinstance(completion, ForceSettled):
             self._settle_ending = completion
+            self._lost = LostPush.of(self.segment, self._start_xyz, self.start_s)  # its surface, lost
             return self._force_settled
         if isinstance(completion, DepthReached):
             self._depth_ending = completion
@@ -324,10 +326,7 @@ class SegmentMonitor:
     def _stalled(
         self, snap: Snapshot, distance_m: float, off: tuple[float, ...], turned: tuple[float, ...]
     ) -> Outcome | None:
-        """A goal the arm stopped getting closer to: the measured error and the real cause.
-
-        Without it a MOVE into the table (or past a joint limit) would push for ever.
-        """
+        """A goal the arm stopped getting closer to (a MOVE into the table would push on): error, cause."""
         if distance_m < self._closest_m - STALL_PROGRESS_M:
             self._closest_m, self._closest_s = distance_m, snap.t_s
             return None
@@ -344,7 +343,8 @@ class SegmentMonitor:
         )
 
     def _force_settled(self, snap: Snapshot) -> Outcome | None:
-        settled, elapsed = self._settle_ending, snap.t_s - self.start_s
+        self._settled_since = None if self._lost.ran_on(snap.position, snap.t_s) else self._settled_since
+        settled, elapsed = self._settle_ending, snap.t_s - self._lost.since_s
         error = self._force_rows.dot(snap.wrench) - self._force_goal
         worst = max(map(abs, error.tolist()), default=0.0)
         if worst <= settled.tolerance_n:

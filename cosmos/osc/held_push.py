@@ -1,8 +1,11 @@
-"""A push held against a surface: eq. 18's force command stiffened along the push.
+"""A push held against a surface: eq. 18's force command stiffened along the push, and its speed limit.
 
-CONTACT, SLIDE and a WAIT in contact hold a push against a surface (no SPEED cap,
-unlike INSERT's :func:`cosmos.osc.unified.speed_limited_push`). The compiled kernel
-:func:`cosmos.runtime.kernels.contact.held_push_into` runs the same arithmetic.
+CONTACT, SLIDE and a WAIT in contact hold a push against a surface (:func:`held_push`). Unlike
+INSERT's (:func:`cosmos.osc.unified.speed_limited_push` on its speed reference) the push is not
+held to a speed while it presses; but where it loses its surface (a peg sliding off the hole's
+chamfer into the bore) nothing resists it, and it must not run away (:func:`held_push_cap`).
+The compiled kernels :func:`cosmos.runtime.kernels.contact.held_push_into` and
+:func:`cosmos.runtime.kernels.contact.held_push_capped_into` run the same arithmetic.
 """
 
 from __future__ import annotations
@@ -11,7 +14,8 @@ import numpy as np
 
 from cosmos.osc._types import FloatArray
 from cosmos.osc.contact import touch_braking
-from cosmos.osc.unified import push_axis
+from cosmos.osc.landing import landing_limit
+from cosmos.osc.unified import push_axis, speed_limited_push
 
 
 def held_push(
@@ -73,6 +77,68 @@ def held_push(
     out = np.array(feedback, dtype=float)
     out[:3] += added * n
     return out, integral
+
+
+def held_push_cap(
+    feedback: FloatArray,
+    force_goal: FloatArray,
+    force_sensed: FloatArray,
+    velocity: FloatArray,
+    lambda_inv_omega_bar: FloatArray,
+    error: FloatArray,
+    max_speed_mps: float,
+    landing: tuple[float, float, float],
+    kv: float,
+    k_vf: float,
+) -> tuple[FloatArray, bool]:
+    """A held push's speed limit: eq. 21's ``V_max`` along the force axis, braked before a stiff surface.
+
+    Eq. 17-21's unified command holds the force axis with eq. 18's ``F_a`` alone, which has no
+    speed limit: eq. 21 limits the motion axes' goal motion only. A push that loses its surface is
+    then a force ``F_d`` (plus its integrals, wound by the error the lost push leaves) on a free
+    mass: the peg that slid off the hole's chamfer into the bore (``CONTACT DOWN FORCE 8 N SPEED
+    10 mm/s`` 0.5 mm off the hole's axis, realistic plant, seeds 1, 2 and 4) fell 43 mm at 60-78
+    mm/s, bounded only by the held push's damping, and hit the bore's steel bottom at 110-191 N.
+    Industrial force control limits the speed in force-controlled directions; here eq. 21's
+    ``V_max`` is carried onto the force axis as INSERT's push carries it
+    (:func:`cosmos.osc.unified.speed_limited_push`): along ``n = F_d / |F_d|``::
+
+        n^T F_fb <- min(n^T F_fb, n^T F_s + m_n (-a_ff + kv (V - n^T xd) + k_vf n^T xd))
+        (V, a_ff) = landing_limit(V_max, s, v_l, a),  s = -n^T (x - x_d) - s_l
+
+    ``V_max`` the statement's SPEED, and ``V`` on the landing profile of
+    :mod:`cosmos.osc.landing` toward the stiff surface the workcell model puts ahead of the tool
+    point along ``n`` (``s_l`` measured from the hold's ``x_d``;
+    :func:`cosmos.runtime.landing_zone.with_landing`): the push lost over the bore lands on its
+    bottom at ``v_l``, as the approach lands on a face. Pressing at rest (``n^T xd = 0``) the cap is
+    the sensed push plus ``m_n kv V`` (21 N at the PUMA's 3.8 mm/s landing speed over the hole's top,
+    with ``kv`` 300/s) above it, and the push's own damping (:func:`held_push`) keeps it under that
+    at the touch: it binds only where the push runs ahead of what the surface takes. While it binds
+    the force loop's integrals hold (an INSERT's do at its cap), so the push lands without them.
+
+    Args:
+        feedback: F_fb with the held push's terms (:func:`held_push`), world, [N, N m]. # (6,)
+        force_goal: The segment's F_d (not ramped), world. # (6,)
+        force_sensed: F_s, world. # (6,)
+        velocity: Tool twist xd, world. # (6,)
+        lambda_inv_omega_bar: ``Lambda^-1 Omega_bar``. # (6, 6)
+        error: ``x - x_d``, world, [m, rad]. # (6,)
+        max_speed_mps: ``V_max``, the statement's SPEED [m/s].
+        landing: ``(s_l [m], v_l [m/s], a [m/s^2])``; ``v_l`` 0: no stiff surface ahead.
+        kv: The speed servo's gain [1/s].
+        k_vf: The force axes' damping gain (eq. 18), [1/s].
+
+    Returns:
+        ``(F_fb, limited)``: the feedback, capped where the limit binds, and whether it does.
+    """
+    n, inverse_mass = push_axis(force_goal, lambda_inv_omega_bar)
+    if not inverse_mass > 0.0:
+        return feedback, False
+    to_go = -float(n.dot(error[:3])) - landing[0]
+    limit, brake = landing_limit(max_speed_mps, to_go, landing[1], landing[2])
+    return speed_limited_push(
+        feedback, force_goal, force_sensed, velocity, lambda_inv_omega_bar, limit, kv, k_vf, -brake
+    )
 
 
 def touch_damping(

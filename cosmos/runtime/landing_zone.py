@@ -8,6 +8,12 @@ the tool's end (its tool point and the rim of its end section) the approach's li
 into the solids (sphere tracing on their exact signed distances, as
 :func:`cosmos.runtime.fixture_solids.top_above` does upward); the nearest surface hit sets the
 landing if its contact is stiff (:data:`cosmos.osc.landing.STIFF_RAMP_M`).
+
+A push held at a surface (a CONTACT's hold, a WAIT in contact) lands the same way where it loses
+that surface (:func:`cosmos.osc.held_push.held_push_cap`): from the tool point alone, along the
+push, to the stiff surface beyond the one it touches. A peg on the hole's chamfer touches with its
+rim while its tool point is over the bore: traced from the rim, the landing would be on the chamfer
+it stands on; from the tool point it is on the bore's bottom, where the peg goes once it slides in.
 """
 
 from __future__ import annotations
@@ -29,7 +35,7 @@ from cosmos.osc.landing import (
 from cosmos.plan import ContactTouch, Segment, SegmentKind
 from cosmos.robots import ROBOTS
 from cosmos.runtime.fixture_solids import FixtureSolid, signed_distances
-from cosmos.runtime.setpoint import ServoSetpoint
+from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 if TYPE_CHECKING:
     from cosmos.runtime.loop import Runtime
@@ -120,36 +126,60 @@ def contact_ramps_from_scene(robot_name: str) -> dict[str, float]:
     return ramps
 
 
+HELD_PUSH_LOOK_M = 0.3
+"""How far along a held push the surface it would land on is looked for [m]: a CONTACT's reach."""
+
+
+def held_push(setpoint: ServoSetpoint) -> bool:
+    """A push held at a surface with its landing (:func:`cosmos.osc.held_push.held_push_cap`).
+
+    A hold (a CONTACT's, a WAIT in contact) whose translation is force-controlled and not held to a
+    speed (an INSERT's push is); a SLIDE's tool moves across the surface, away from where the
+    landing was traced, and keeps the SPEED alone.
+    """
+    forced = not all(setpoint.motion_axes[:3]) and bool(np.any(setpoint.force_world[:3]))
+    return forced and setpoint.mode is MotionMode.HOLD and not setpoint.limit_push_speed
+
+
 def with_landing(
     setpoint: ServoSetpoint, segment: Segment, runtime: Runtime, rotation: FloatArray, tool: str
 ) -> ServoSetpoint:
     """A CONTACT approach's setpoint with its landing on the stiff surface ahead, if its model knows one.
 
+    A held push (:func:`held_push`) gets the landing where it loses its surface:
+    :func:`cosmos.osc.held_push.held_push_cap` reads ``s_l`` from its ``x_d`` along the push.
+
     Args:
         setpoint: The segment's setpoint (a CONTACT's approach: a goal motion toward its far goal).
-        segment: The segment: any but a CONTACT's approach (an INSERT's too, tuned to its own
-            landing: cosmos.osc.push_speed) gets ``setpoint`` back as it is.
+        segment: The segment: any but a CONTACT's approach or a held push (an INSERT's too, tuned
+            to its own landing: cosmos.osc.push_speed) gets ``setpoint`` back as it is.
         runtime: The runtime: the tool point now, Lambda, the arm's name.
         rotation: The tool's orientation now (tool to world). # (3, 3)
         tool: The tool on its flange (``peg``, ``gripper``).
     """
     from cosmos.runtime.foresight_cache import workcell
 
-    if segment.kind is not SegmentKind.CONTACT_APPROACH or not isinstance(segment.completion, ContactTouch):
+    holds = held_push(setpoint)
+    approaches = segment.kind is SegmentKind.CONTACT_APPROACH and isinstance(segment.completion, ContactTouch)
+    if not (holds or approaches):
         return setpoint
     evaluation, robot_name = runtime.evaluation, runtime.robot.description.name
-    start, lambda_ = evaluation.position, evaluation.dynamics.lambda_
-    line = np.asarray(setpoint.position, dtype=float) - np.asarray(start, dtype=float)
-    travel = float(np.linalg.norm(line))
-    if not travel > 0.0:
-        return setpoint
-    direction = line / travel
+    start, lambda_ = np.asarray(evaluation.position, dtype=float), evaluation.dynamics.lambda_
     cell = workcell(robot_name, tool)
-    points = tool_end_points(start, rotation, cell.tool_sections)
-    distance, solid = surface_ahead(cell.solids, points, direction, travel)
+    if holds:  # from the tool point along the push, as far as a CONTACT's approach looks
+        direction = setpoint.force_world[:3] / float(np.linalg.norm(setpoint.force_world[:3]))
+        travel = float(direction.dot(np.asarray(setpoint.position, dtype=float) - start))  # n^T (x_d - x)
+        points, reach = start[None, :], HELD_PUSH_LOOK_M
+    else:
+        line = np.asarray(setpoint.position, dtype=float) - start
+        travel = reach = float(np.linalg.norm(line))
+        if not travel > 0.0:
+            return setpoint
+        direction, points = line / travel, tool_end_points(start, rotation, cell.tool_sections)
+    distance, solid = surface_ahead(cell.solids, points, direction, reach)
     if solid < 0 or contact_ramps(robot_name).get(cell.solids[solid].geom, 0.0) >= STIFF_RAMP_M:
         return setpoint
     mass = float(direction.dot(np.asarray(lambda_)[:3, :3]).dot(direction))  # Lambda_n
     speed = landing_speed(mass, setpoint.max_speed)
-    at = travel - distance + LANDING_ZONE_M  # from the goal, along the line
+    at = travel - distance + LANDING_ZONE_M  # from the goal (a hold's x_d), along the line
     return replace(setpoint, landing=(at, speed, LANDING_DECELERATION_MPS2))

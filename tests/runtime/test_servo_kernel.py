@@ -17,7 +17,7 @@ from cosmos.osc.contact import LANDED_PUSH, contact_latched, push_landed, touch_
 from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import adapt_coulomb_error, coulomb_compensation, friction_intent
-from cosmos.osc.held_push import held_push, touch_damping
+from cosmos.osc.held_push import held_push, held_push_cap, touch_damping
 from cosmos.osc.integral_action import integrate_goal_error, integrate_motion_error, observe_hold_disturbance
 from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, ramped_speed_limit, tracking_command
@@ -44,7 +44,7 @@ from cosmos.osc.unified import (
 from cosmos.robot_model import GRAVITY
 from cosmos.runtime.kernels import commands, linear
 from cosmos.runtime.kernels import servo as sk
-from cosmos.runtime.kernels.cruise import CRUISE_INTEGRAL
+from cosmos.runtime.kernels.cruise import CRUISE_INTEGRAL, LANDING
 from cosmos.runtime.wrench import environment_wrench
 
 RTOL = 1e-9
@@ -265,6 +265,8 @@ class TickCase:
         admittance: Task RX, RY compliant (admittance control once in contact).
         tangent_n: Sensed force along the task's x, [N] (contact for the admittance latch).
         admittance_max_speed: W_max of the admittance speed, [rad/s].
+        held: A push held at a surface (no SPEED of its own to push at: CONTACT's hold, SLIDE, WAIT).
+        landing: A held push's landing ``(s_l [m], v_l [m/s], a [m/s^2])`` (osc.held_push.held_push_cap).
     """
 
     touching: bool
@@ -280,6 +282,7 @@ class TickCase:
     tangent_n: float = 25.0
     admittance_max_speed: float = 10.0
     held: bool = False
+    landing: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 TICK_CASES = {
@@ -291,9 +294,15 @@ TICK_CASES = {
     "touching, integral clamped": TickCase(True, -2.0, False, 0.9, integral_at_limit=True),
     "touching, push capped by its speed": TickCase(True, 0.2, False, 2.0, max_speed=0.001),
     "free space, push capped by its speed": TickCase(False, 0.1, True, 2.0, max_speed=0.002),
-    "with a held push (no speed cap), touching": TickCase(True, -13.0, False, 2.0, held=True),
+    "with a held push under its SPEED, touching": TickCase(True, -13.0, False, 2.0, held=True),
     "with a held push, free space": TickCase(False, 0.4, True, 0.5, held=True),
     "with a held push, a slide": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY, held=True),
+    "with a held push past its SPEED": TickCase(
+        True, -3.0, False, 2.0, mode=sk.MODE_HOLD, held=True, max_speed=1e-3
+    ),
+    "with a held push past its landing": TickCase(
+        True, -3.0, True, 2.0, mode=sk.MODE_HOLD, held=True, max_speed=0.05, landing=(1.0, 1e-3, 0.1)
+    ),
     "trajectory, motion only": TickCase(False, 3.0, False, 0.5, mode=sk.MODE_TRAJECTORY, force=False),
     "trajectory in contact (a slide)": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY),
     "a free goal motion near its goal": TickCase(False, 0.3, True, 2.0, force=False, tangent_n=0.3),
@@ -449,6 +458,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.MOMENT_BLEND] = MOMENT_BLEND
     scalars[sk.TILT_WINDOW : sk.TILT_WINDOW + 2] = TILT_WINDOW
     scalars[CRUISE_INTEGRAL + 2] = 1.0  # the cruise's quiet [N]: the Coulomb errors learn under it
+    scalars[LANDING : LANDING + 3] = case.landing  # a held push's landing (s_l 1 m: past it, at v_l)
 
     vectors = np.zeros((sk.VECTORS, 6))
     vectors[sk.KP], vectors[sk.KV] = (np.full(6, 400.0), np.full(6, 40.0)) if case.uniform else _gains(rng)
@@ -707,7 +717,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         )
         if not limited:  # at its force: the reference follows the tool
             cruise[2] = follow_the_tool(along, aim)
-    else:  # a push held against a surface
+    else:  # a push held against a surface, its SPEED a limit (on a landing's profile, if any)
         gains = tuple(float(g) * touching for g in sc[sk.HELD_PUSH : sk.HELD_PUSH + 4])  # once touching
         feedback, _ = held_push(
             feedback,
@@ -721,6 +731,21 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
             touching and reached,
             DT_S,
         )
+        landing = sc[LANDING : LANDING + 3]
+        feedback, held_capped = held_push_cap(
+            feedback,
+            vec[sk.FORCE_WORLD],
+            wrench,
+            velocity,
+            dyn.lambda_inv @ sel.omega_bar,
+            state_error,
+            float(sc[sk.MAX_SPEED]),
+            (float(landing[0]), float(landing[1]), float(landing[2])),
+            float(sc[sk.FORCE_SPEED_KV]),
+            FORCE_GAINS.k_vf,
+        )
+        if held_capped:  # the translations' integral held; no commanded speed: the joints' friction
+            integral[:3] = st[sk.INTEGRAL, :3]  # damps the push along itself
     if limited:  # friction compensated toward the speed limit; the translations' integral held
         speed = speed + push_commanded_speed(vec[sk.FORCE_WORLD], sc[sk.PUSH_SPEED])
         integral[:3] = st[sk.INTEGRAL, :3]
@@ -962,6 +987,23 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
         * (1 - 1e-9)
     )
     assert intent_unclipped.any(), "every joint's Coulomb intent is clipped: the look-ahead goes untested"
+
+
+@pytest.mark.parametrize("name", [name for name, case in TICK_CASES.items() if case.held])
+def test_held_push_cases_exercise_their_speed_limit(name: str) -> None:
+    """Guards the held pushes' cases: the speed limit (cosmos.osc.held_push.held_push_cap) binds in
+    those past their SPEED or their landing's speed, and only there, and it changes the tick's
+    torque and the force loop's integral (held where it binds), so the reference's cap is compared."""
+    case = TICK_CASES[name]
+    inputs = _tick_inputs(case, seed=sorted(TICK_CASES).index(name) + 100)
+    reference = _reference_tick(inputs).rows
+    inputs.scalars[sk.MAX_SPEED], inputs.scalars[LANDING + 1] = 1e3, 0.0
+    free = _reference_tick(inputs).rows
+    binds = case.max_speed < 0.01 or case.landing[1] > 0.0
+    assert (np.max(np.abs(free[sk.TORQUE] - reference[sk.TORQUE])) > 1e-9) == binds
+    if binds:
+        assert np.array_equal(reference[sk.INTEGRAL][:3], inputs.state[sk.INTEGRAL][:3])
+        assert not np.array_equal(free[sk.INTEGRAL][:3], inputs.state[sk.INTEGRAL][:3])
 
 
 @pytest.mark.parametrize("name", [name for name, case in TICK_CASES.items() if case.admittance])

@@ -41,7 +41,7 @@ from cosmos.runtime.kernels.contact import (
     contact_latched,
     coulomb_compensation_into,
     force_goal_latched,
-    held_push_into,
+    held_push_capped_into,
     low_pass_into,
     tilt_window_into,
     touch_braking_into,
@@ -328,15 +328,15 @@ def servo_tick(
         k_f, k_i = scalars[K_F], scalars[K_I]
         for i in range(6):  # F_a without damping
             feedback[i] = (1.0 + k_f) * setpoint[i] - k_f * wrench[i] + k_i * integral[i]
-        # The SPEED of a force-controlled push (cosmos.osc.unified.speed_limited_push); without
-        # one (0) a push held against a surface, stiffened along itself (cosmos.osc.held_push.held_push).
+        # The SPEED of a force-controlled push (cosmos.osc.unified.speed_limited_push); without one (0)
+        # a push held against a surface, stiffened along itself, its SPEED a limit (cosmos.osc.held_push).
         push_speed, f2a, gate = scalars[PUSH_SPEED], matrices[FORCE_TO_ACCELERATION], flags[REACHED] != 0.0
         if not push_speed > 0.0:
             held, dt = scalars[HELD_PUSH : HELD_PUSH + 4] * flags[TOUCHING], scalars[DT_S]  # once touching
             gate = gate and flags[TOUCHING] != 0.0
-            flags[HELD_INTEGRAL] = held_push_into(
-                feedback, goal, setpoint, wrench, velocity, f2a, held, flags[HELD_INTEGRAL], gate, dt
-            )
+            args = (goal, setpoint, wrench, velocity, error, f2a, held, gate, dt, scalars[MAX_SPEED])
+            if held_push_capped_into(feedback, flags[HELD_INTEGRAL:], *args, scalars[K_VF:], scalars):
+                integral[:3] = previous_integral[:3]  # at its speed limit: no windup (as INSERT's cap)
         else:
             speeds, cruise = scalars[K_VF:], state[CRUISE]  # k_vf, kv, aim; the reference at 2-3
             rate, dt = scalars[PUSH_SPEED_RATE], scalars[DT_S]

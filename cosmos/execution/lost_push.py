@@ -1,0 +1,54 @@
+"""A held push that loses its surface: a CONTACT's hold whose tool runs on along the push.
+
+A peg held on the hole's chamfer may slide off it into the bore; the held push then runs on
+at its SPEED (:func:`cosmos.osc.held_push.held_push_cap`) until it lands on the bore's bottom. Its
+force is not settled meanwhile, whatever the wrist reads (the bore's wall rubbing the peg reads
+3-6 N of an 8 N push), and its settling is bounded from where it lands again, not from the touch.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from cosmos.plan import Segment
+
+FloatArray = np.ndarray
+
+LOST_PUSH_TRAVEL_M = 0.001
+"""A held push that runs on this far along itself has lost its surface [m]. Pressing a surface
+it moves under 0.1 mm (the table's 1.5 mm contact ramp, sensed through the encoders' noise)."""
+
+
+@dataclass(slots=True)
+class LostPush:
+    """Where a held push last had its surface, and since when.
+
+    Attributes:
+        push: The push's unit direction, world. # (3,)
+        at: The tool point where it last had its surface, world [m]. # (3,)
+        since_s: When it was there [s].
+    """
+
+    push: tuple[float, float, float]
+    at: tuple[float, float, float]
+    since_s: float
+
+    @classmethod
+    def of(cls, segment: Segment, start: tuple[float, ...], start_s: float) -> LostPush:
+        """The watch of ``segment``'s push (its force setpoint's translation), from its start."""
+        push = np.asarray(segment.frame_rotation, dtype=float).dot(np.asarray(segment.force_setpoint[:3]))
+        size = float(np.linalg.norm(push))
+        unit = push / size if size > 0.0 else np.zeros(3)
+        x, y, z = start
+        return cls((float(unit[0]), float(unit[1]), float(unit[2])), (x, y, z), start_s)
+
+    def ran_on(self, position: FloatArray, t_s: float) -> bool:
+        """Whether the tool point ``position`` [m] ran on past :data:`LOST_PUSH_TRAVEL_M` (now its mark)."""
+        x, y, z = position.tolist()
+        (nx, ny, nz), (x0, y0, z0) = self.push, self.at
+        if (x - x0) * nx + (y - y0) * ny + (z - z0) * nz <= LOST_PUSH_TRAVEL_M:
+            return False
+        self.at, self.since_s = (x, y, z), t_s
+        return True
