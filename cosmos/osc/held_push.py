@@ -97,16 +97,18 @@ def held_push_cap(
     speed limit: eq. 21 limits the motion axes' goal motion only. A push that loses its surface is
     then a force ``F_d`` (plus its integrals, wound by the error the lost push leaves) on a free
     mass: the peg that slid off the hole's chamfer into the bore (``CONTACT DOWN FORCE 8 N SPEED
-    10 mm/s`` 0.5 mm off the hole's axis, realistic plant, seeds 1, 2 and 4) fell 43 mm at 60-78
-    mm/s, bounded only by the held push's damping, and hit the bore's steel bottom at 110-191 N.
-    Industrial force control limits the speed in force-controlled directions; here eq. 21's
+    10 mm/s`` 0.5 mm off the hole's axis, realistic plant, seeds 1, 2 and 4) fell 43 mm at up to
+    80-82 mm/s, bounded only by the held push's damping, and hit the bore's steel bottom at 176-211 N
+    (the wrist at 1 kHz; protective stops at 110-191 N). Industrial force control limits the speed
+    in force-controlled directions; here eq. 21's
     ``V_max`` is carried onto the force axis as INSERT's push carries it
     (:func:`cosmos.osc.unified.speed_limited_push`): along ``n = F_d / |F_d|``::
 
         n^T F_fb <- min(n^T F_fb, n^T F_s + m_n (-a_ff + kv (V - n^T xd) + k_vf n^T xd))
         (V, a_ff) = landing_limit(V_max, s, v_l, a),  s = -n^T (x - x_d) - s_l
 
-    ``V_max`` the statement's SPEED, and ``V`` on the landing profile of
+    ``V_max`` the statement's SPEED (a CONTACT's approach speed, a SLIDE's own, CONTACT's default
+    20 mm/s for a WAIT in contact), and ``V`` on the landing profile of
     :mod:`cosmos.osc.landing` toward the stiff surface the workcell model puts ahead of the tool
     point along ``n`` (``s_l`` measured from the hold's ``x_d``;
     :func:`cosmos.runtime.landing_zone.with_landing`): the push lost over the bore lands on its
@@ -115,6 +117,11 @@ def held_push_cap(
     with ``kv`` 300/s) above it, and the push's own damping (:func:`held_push`) keeps it under that
     at the touch: it binds only where the push runs ahead of what the surface takes. While it binds
     the force loop's integrals hold (an INSERT's do at its cap), so the push lands without them.
+    Unlike INSERT's, the Coulomb friction is not compensated toward ``V``: along a force axis the
+    joints' friction is left to damp the push (:mod:`cosmos.runtime.kernels.servo`), and the push
+    runs under its SPEED. Those three seeds now slide into the bore at 6.3-6.7 mm/s on average
+    (9.5-9.8 mm/s at the fastest), land on its bottom at 10.6-11.2 N and settle at FORCE
+    (``tests/run/test_run_contact_lost.py``).
 
     Args:
         feedback: F_fb with the held push's terms (:func:`held_push`), world, [N, N m]. # (6,)
