@@ -100,9 +100,8 @@ def held_push_cap(
     10 mm/s`` 0.5 mm off the hole's axis, realistic plant, seeds 1, 2 and 4) fell 43 mm at up to
     80-82 mm/s, bounded only by the held push's damping, and hit the bore's steel bottom at 176-211 N
     (the wrist at 1 kHz; protective stops at 110-191 N). Industrial force control limits the speed
-    in force-controlled directions; here eq. 21's
-    ``V_max`` is carried onto the force axis as INSERT's push carries it
-    (:func:`cosmos.osc.unified.speed_limited_push`): along ``n = F_d / |F_d|``::
+    in force-controlled directions; here eq. 21's ``V_max`` is carried onto the force axis as
+    INSERT's push carries it (:func:`cosmos.osc.unified.speed_limited_push`): along ``n = F_d / |F_d|``::
 
         n^T F_fb <- min(n^T F_fb, n^T F_s + m_n (-a_ff + kv (V - n^T xd) + k_vf n^T xd))
         (V, a_ff) = landing_limit(V_max, s, v_l, a),  s = -n^T (x - x_d) - s_l
@@ -112,15 +111,21 @@ def held_push_cap(
     :mod:`cosmos.osc.landing` toward the stiff surface the workcell model puts ahead of the tool
     point along ``n`` (``s_l`` measured from the hold's ``x_d``;
     :func:`cosmos.runtime.landing_zone.with_landing`): the push lost over the bore lands on its
-    bottom at ``v_l``, as the approach lands on a face. Pressing at rest (``n^T xd = 0``) the cap is
-    the sensed push plus ``m_n kv V`` (21 N at the PUMA's 3.8 mm/s landing speed over the hole's top,
-    with ``kv`` 300/s) above it, and the push's own damping (:func:`held_push`) keeps it under that
-    at the touch: it binds only where the push runs ahead of what the surface takes. While it binds
-    the force loop's integrals hold (an INSERT's do at its cap), so the push lands without them.
-    Unlike INSERT's, the Coulomb friction is not compensated toward ``V``: along a force axis the
-    joints' friction is left to damp the push (:mod:`cosmos.runtime.kernels.servo`), and the push
-    runs under its SPEED. Those three seeds now slide into the bore at 6.3-6.7 mm/s on average
-    (9.5-9.8 mm/s at the fastest), land on its bottom at 10.6-11.2 N and settle at FORCE
+    bottom at ``v_l``, as the approach lands on a face. While it binds the force loop's integral
+    holds (an INSERT's does at its cap), and the held push's own integral (:func:`held_push`) is
+    dropped: it was learnt against the surface the push lost (kept, it pushed the landing on the
+    bore's bottom to 17.5-18.5 N).
+
+    It binds only while the push moves along itself (``n^T xd > 0``). At rest it would cap a push
+    held off its goal by the joints' stiction at ``m_n kv V`` over the sensed push (some 17 N for
+    the PUMA at 3 mm/s, ``kv`` 300/s), short of what breaks the joints free, and hold the integral that
+    does (the gripper's ``CONTACT DOWN FORCE 5 N SPEED 3 mm/s`` on the table, seed 2, held 1.7 N for
+    3 s and failed). At a touch the push's own damping keeps it under the cap. Unlike at an
+    INSERT's cap the joints' friction is not compensated toward ``V``: along a force
+    axis it is left to damp the push (:mod:`cosmos.runtime.kernels.servo`), and the push runs under
+    its SPEED (with the compensation the peg above ran at up to 12.6 mm/s and landed at 12.9-13.7 N).
+    Those three seeds now slide into the bore at 6.3-6.7 mm/s on average (9.5-9.7 mm/s at the
+    fastest), land on its bottom at 9.7-11.4 N and settle at FORCE
     (``tests/run/test_run_contact_lost.py``).
 
     Args:
@@ -141,11 +146,27 @@ def held_push_cap(
     n, inverse_mass = push_axis(force_goal, lambda_inv_omega_bar)
     if not inverse_mass > 0.0:
         return feedback, False
-    to_go = -float(n.dot(error[:3])) - landing[0]
-    limit, brake = landing_limit(max_speed_mps, to_go, landing[1], landing[2])
+    limit, brake = held_push_limit(force_goal, error, max_speed_mps, landing)
+    if not float(n.dot(velocity[:3])) > 0.0:
+        return feedback, False
     return speed_limited_push(
         feedback, force_goal, force_sensed, velocity, lambda_inv_omega_bar, limit, kv, k_vf, -brake
     )
+
+
+def held_push_limit(
+    force_goal: FloatArray, error: FloatArray, max_speed_mps: float, landing: tuple[float, float, float]
+) -> tuple[float, float]:
+    """``(V [m/s], a_ff [m/s^2])``: :func:`held_push_cap`'s limit along the push, on its landing's profile.
+
+    :func:`cosmos.osc.landing.landing_limit` at ``s = -n^T (x - x_d) - s_l``, ``n = F_d / |F_d|``;
+    ``(V_max, 0)`` where ``F_d`` has no force.
+    """
+    push = float(np.linalg.norm(force_goal[:3]))
+    if not push > 0.0:
+        return max_speed_mps, 0.0
+    to_go = -float(force_goal[:3].dot(error[:3])) / push - landing[0]
+    return landing_limit(max_speed_mps, to_go, landing[1], landing[2])
 
 
 def touch_damping(

@@ -298,7 +298,7 @@ TICK_CASES = {
     "with a held push, free space": TickCase(False, 0.4, True, 0.5, held=True),
     "with a held push, a slide": TickCase(True, -3.0, False, 2.0, mode=sk.MODE_TRAJECTORY, held=True),
     "with a held push past its SPEED": TickCase(
-        True, -3.0, False, 2.0, mode=sk.MODE_HOLD, held=True, max_speed=1e-3
+        True, -3.0, False, 2.0, mode=sk.MODE_HOLD, held=True, max_speed=1e-4
     ),
     "with a held push past its landing": TickCase(
         True, -3.0, True, 2.0, mode=sk.MODE_HOLD, held=True, max_speed=0.05, landing=(1.0, 1e-3, 0.1)
@@ -992,8 +992,9 @@ def test_servo_tick_cases_exercise_what_they_claim(name: str) -> None:
 @pytest.mark.parametrize("name", [name for name, case in TICK_CASES.items() if case.held])
 def test_held_push_cases_exercise_their_speed_limit(name: str) -> None:
     """Guards the held pushes' cases: the speed limit (cosmos.osc.held_push.held_push_cap) binds in
-    those past their SPEED or their landing's speed, and only there, and it changes the tick's
-    torque and the force loop's integral (held where it binds), so the reference's cap is compared."""
+    those past their SPEED or their landing's speed (moving along the push), and
+    only there, and it changes the tick's torque and the force loop's integral (held where it binds),
+    so the reference's cap is compared."""
     case = TICK_CASES[name]
     inputs = _tick_inputs(case, seed=sorted(TICK_CASES).index(name) + 100)
     reference = _reference_tick(inputs).rows

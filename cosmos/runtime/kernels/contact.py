@@ -308,7 +308,7 @@ def held_push_capped_into(
 
     Args:
         feedback: F_fb, world, [N, N m]. # (6,)
-        held_integral: The held push's integral [N s] at 0, in and out (held where the cap binds). # (>= 1,)
+        held_integral: The held push's integral [N s] at 0, in and out (0 where the cap binds). # (>= 1,)
         force_goal: F_d (not ramped), world. # (6,)
         setpoint: F_d ramped, world. # (6,)
         force_sensed: F_s, world. # (6,)
@@ -325,7 +325,6 @@ def held_push_capped_into(
     Returns:
         Whether the cap binds (the force loop's own integral is then the caller's to hold).
     """
-    before = held_integral[0]
     held_integral[0] = held_push_into(
         feedback,
         force_goal,
@@ -334,7 +333,7 @@ def held_push_capped_into(
         velocity,
         force_to_acceleration,
         gains,
-        before,
+        held_integral[0],
         integrate,
         dt_s,
     )
@@ -344,6 +343,8 @@ def held_push_capped_into(
     landing = scalars[LANDING : LANDING + 3]
     to_go = -(n0 * error[0] + n1 * error[1] + n2 * error[2]) - landing[0]
     limit, brake = landing_limit(max_speed, to_go, landing[1], landing[2])
+    if not n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2] > 0.0:  # at rest: stiction's to break
+        return False
     capped, _ = speed_limited_push_into(
         feedback,
         force_goal,
@@ -355,8 +356,8 @@ def held_push_capped_into(
         speeds[0],
         -brake,
     )
-    if capped:
-        held_integral[0] = before
+    if capped:  # the surface it was learnt against is lost
+        held_integral[0] = 0.0
     return capped
 
 
