@@ -334,8 +334,8 @@ def servo_tick(
         if not push_speed > 0.0:
             held, dt = scalars[HELD_PUSH : HELD_PUSH + 4] * flags[TOUCHING], scalars[DT_S]  # once touching
             gate = gate and flags[TOUCHING] != 0.0
-            args = (goal, setpoint, wrench, velocity, error, f2a, held, gate, dt, scalars[MAX_SPEED])
-            if held_push_capped_into(feedback, flags[HELD_INTEGRAL:], *args, scalars[K_VF:], scalars):
+            pushed = (goal, setpoint, wrench, velocity, error, f2a, held, gate, dt, scalars[MAX_SPEED])
+            if held_push_capped_into(feedback, flags[HELD_INTEGRAL:], *pushed, scalars[K_VF:], scalars):
                 integral[:3] = previous_integral[:3]  # at its speed limit: no windup (as INSERT's cap)
         else:
             speeds, cruise = scalars[K_VF:], state[CRUISE]  # k_vf, kv, aim; the reference at 2-3
