@@ -98,8 +98,8 @@ def held_push_cap(
     then a force ``F_d`` (plus its integrals, wound by the error the lost push leaves) on a free
     mass: the peg that slid off the hole's chamfer into the bore (``CONTACT DOWN FORCE 8 N SPEED
     10 mm/s`` 0.5 mm off the hole's axis, realistic plant, seeds 1, 2 and 4) fell 43 mm at up to
-    80-82 mm/s, bounded only by the held push's damping, and hit the bore's steel bottom at 176-211 N
-    (the wrist at 1 kHz; protective stops at 110-191 N). Industrial force control limits the speed
+    80-82 mm/s, bounded only by the held push's damping, and hit the bore's steel bottom at 169-201 N
+    (the wrist at 1 kHz; protective stops at 133-170 N). Industrial force control limits the speed
     in force-controlled directions; here eq. 21's ``V_max`` is carried onto the force axis as
     INSERT's push carries it (:func:`cosmos.osc.unified.speed_limited_push`): along ``n = F_d / |F_d|``::
 
@@ -124,8 +124,8 @@ def held_push_cap(
     INSERT's cap the joints' friction is not compensated toward ``V``: along a force
     axis it is left to damp the push (:mod:`cosmos.runtime.kernels.servo`), and the push runs under
     its SPEED (with the compensation the peg above ran at up to 12.6 mm/s and landed at 12.9-13.7 N).
-    Those three seeds now slide into the bore at 6.3-6.7 mm/s on average (9.5-9.7 mm/s at the
-    fastest), land on its bottom at 9.7-11.4 N and settle at FORCE
+    Those three seeds now slide into the bore at 6.3-6.7 mm/s on average (9.4-9.7 mm/s at the
+    fastest), land on its bottom at 10.2-10.7 N and settle at FORCE
     (``tests/run/test_run_contact_lost.py``).
 
     Args:

@@ -39,7 +39,7 @@ def test_a_push_off_the_chamfer_lands_in_the_bore_at_its_speed(tmp_path: Path, s
 
     Catches the held push running away when it loses its surface: with eq. 18's force loop alone
     (its integrals wound by the lost push) the peg fell the 43 mm at up to 82 mm/s and hit the bore's
-    steel bottom at 176-211 N (a protective stop over the statement's limit, 2 FORCE + 30 N = 46 N;
+    steel bottom at 174-201 N (a protective stop over the statement's limit, 2 FORCE + 30 N = 46 N;
     with the push faded out above its speed, 66-72 N). Judged from the run's 1 kHz log against the
     scene's documented geometry and the CONTACT bar of docs/language.md: the speed along the push
     during the hold stays within 10 % of SPEED, the push peaks under max(1.5 FORCE, FORCE + 5 N),
