@@ -209,7 +209,7 @@ class Executor:
         if segment.orientation_free:  # the orientation is the null space's (seed section 4)
             goals = [(position, start_rotation.copy()) for position, _ in goals]
         robot = rt.robot
-        home = home_q(robot.description)  # POSTURE home: this arm's
+        home = home_q(robot.description) if segment.posture is not None else np.empty(0)  # this arm's
         posture, problem = posture_joints(segment.posture, home, robot.q_lower_rad, robot.q_upper_rad)
         if problem:
             return Outcome(Verdict.FAILED, problem)
@@ -274,13 +274,12 @@ class Executor:
         last_goal = len(goals) - 1
         progress, progress_every = self.progress, self.progress_every
         self._field_watch = field_watch = FieldOnToolWatch()
-
         deviation = partial(supervisor.path_deviation_m, position)  # position: a live view
         goal_points = [tuple(goal[0].tolist()) for goal in goals]  # as floats: distances every tick
         via = ViaProgress(goal_points, monitor.stall_cause)  # a VIA leg that stops getting closer fails
-
         # Obstacles move only if one is MOVING; the first tick rebuilds the world's tree after an OBSTACLE.
         moving = obstacles is not None and any(obstacle.moving for obstacle in obstacles.scene.obstacles)
+        acting: object = ()  # the influences the supervisor was told of: the same tuple until an evaluation
         while True:
             if obstacles is not None and (moving or not ticks):
                 obstacles.before_tick()
@@ -289,7 +288,8 @@ class Executor:
             if obstacles is not None:
                 for reason in obstacles.after_tick():
                     self._event("collision", segment, reason)
-                supervisor.field_acting = bool(influences := obstacles.field.influences)
+                if (influences := obstacles.field.influences) is not acting:
+                    supervisor.field_acting, acting = bool(influences), influences
                 if reason := field_watch.update(
                     rt.servo.null_space, rt.servo.link_field, deviation, influences
                 ):

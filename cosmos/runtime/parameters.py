@@ -10,6 +10,7 @@ current selection and gains into the few matrices the servo level multiplies
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
@@ -47,7 +48,7 @@ class _Slot:
     def __get__(self, evaluation: Evaluation, owner: type | None = None) -> FloatArray:
         n = evaluation.dof
         start, shape = self.offset(n), self.shape(n)
-        return evaluation.values[start : start + int(np.prod(shape))].reshape(shape)
+        return evaluation.values[start : start + math.prod(shape)].reshape(shape)  # not np.prod's 3 us
 
 
 def _fixed(*shape: int) -> Callable[[int], tuple[int, ...]]:
