@@ -36,6 +36,22 @@ in (a Panda's SPIRAL PITCH 3 mm from 7.8 mm off, seed 2). The tilt says where th
 :data:`LEAD_SHARE` of the INSERT's FORCE, a tilted peg's insertion led by its tip as a person
 does it, until the tool is :data:`LEAD_DEPTH_M` deeper than the find, in the bore, whose walls
 then centre it (the lateral force back to zero).
+
+**The lead's progress.** Led against the top face's friction, a found part can sink slower than
+the INSERT's jam check (0.5 mm/s along the axis for 1 s) while it goes across into the hole. A
+Panda's ``SPIRAL RADIUS 12 mm PITCH 3 mm`` from 7.8 mm off at friction 0.52-0.53 (two runs of a
+sweep, tests/run/test_run_search_lead.py) found the hole tipped 8 deg toward it, the tip 5.8 and
+6.6 mm off its axis, the peg's face on two points of the mouth's edge; led, it crept 1 mm/s
+across and 0.35 mm/s deeper, and the jam check failed it 1 s after the find, 0.7 and 0.4 mm in.
+Left to go on, it slid in from 4.4 mm off 1.5 s after the find. So the jam check waits for the
+lead too (:attr:`SearchPhase.pattern`), and the lead judges its own progress at the jam check's
+rate: its way into the hole, across toward it plus deeper (:func:`cosmos.osc.search.into_the_hole`),
+across counted within the pattern's RADIUS of its start only. Those finds were true, not a part
+tipped by the top face's friction: in that sweep's six runs and eight of
+``programs/search_insert.cos`` (friction 0.4-0.8) every tilt over 2 deg while searching pointed
+within 12 deg of the hole's bearing (within 0.3-7.8 deg at the finds, the tip 3.6-6.6 mm off the
+axis: the peg's radius is 9.9 mm, the mouth's 11 mm), whether the pattern moved the tool toward
+the tilt or against it (their cosine -0.87 to 1.0).
 """
 
 from __future__ import annotations
@@ -48,7 +64,7 @@ import numpy as np
 
 from cosmos.execution.monitor import Outcome, Verdict
 from cosmos.execution.resolve import setpoint_for
-from cosmos.osc.search import LissajousPath, SearchTrajectory, SpiralPath, toward_the_hole
+from cosmos.osc.search import LissajousPath, SearchTrajectory, SpiralPath, into_the_hole, toward_the_hole
 from cosmos.plan import DepthReached, Search, SearchPattern, Segment
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -104,6 +120,10 @@ class SearchPhase:
         self.leading = False
         """Found, and pushing toward the hole until :data:`LEAD_DEPTH_M` deeper (:meth:`led`)."""
         self._found_depth_m = 0.0
+        self._found_position = np.zeros(3)
+        self._toward = np.zeros(3)
+        self._lead_mark = (0.0, start_s)
+        """The lead's way into the hole when it last progressed [m], and when [s] (:meth:`_lead_jammed`)."""
         # As floats: :meth:`check` runs every servo tick.
         self._start_xyz = tuple(self.start_position.tolist())
         self._direction_xyz = tuple(np.asarray(self._direction, dtype=float).tolist())
@@ -132,6 +152,7 @@ class SearchPhase:
         if tilt < LEAD_MIN_TILT:
             return setpoint
         self.leading = True
+        self._toward = toward
         push = LEAD_SHARE * float(np.linalg.norm(setpoint.force_task[:3]))
         force = np.array(setpoint.force_task, dtype=float)
         force[:3] += setpoint.rotation_task_to_world.T.dot(push * toward)
@@ -149,8 +170,12 @@ class SearchPhase:
 
     @property
     def pattern(self) -> SearchPhase | None:
-        """Self while the pattern runs (the INSERT's jam check waits for the find), else None."""
-        return None if self.found else self
+        """Self while the pattern runs or the lead moves the part across, else None.
+
+        The INSERT's jam check (depth alone) waits for both: the lead judges its own progress
+        (:meth:`_lead_jammed`).
+        """
+        return self.going_on
 
     @property
     def going_on(self) -> SearchPhase | None:
@@ -167,12 +192,40 @@ class SearchPhase:
             if self.lead_over(position):
                 self.leading = False
                 self._runtime.set_setpoint(self._resume_setpoint(t_s, position))
-            return None
+                return None
+            return self._lead_jammed(t_s, position) if self.leading else None
         found = self._check(t_s, position, rotation)
         if isinstance(found, str):
             self.found = True
+            self._found_position = np.array(position, dtype=float)
+            self._lead_mark = (0.0, t_s)
             self._runtime.set_setpoint(self.led(self._resume_setpoint(t_s, position), rotation))
         return found
+
+    def _lead_jammed(self, t_s: float, position: FloatArray) -> Outcome | None:
+        """A failure if the lead has not taken the part the jam check's way into the hole in its time.
+
+        The way counts across toward the hole and deeper (:func:`cosmos.osc.search.into_the_hole`),
+        across only within the pattern's RADIUS of its start, where the user says the hole is.
+        """
+        jam = self.segment.jam_check
+        if jam is None:
+            return None
+        moved = position - self._found_position
+        offset = self._lateral.T.dot(position - self.start_position)
+        inside = float(np.hypot(*offset)) <= self.search.radius_m
+        made = into_the_hole(moved, self._toward, self._direction, inside)
+        mark_m, mark_s = self._lead_mark
+        if made > mark_m + jam.stall_speed_mps * jam.stall_time_s:
+            self._lead_mark = (made, t_s)
+        elif t_s - mark_s >= jam.stall_time_s:
+            depth = self._depth(position)
+            return Outcome(
+                Verdict.FAILED,
+                f"jammed at depth {max(depth, 0.0) * 1e3:.1f} mm: led toward the hole, no progress "
+                f"across or deeper for {jam.stall_time_s:g} s",
+            )
+        return None
 
     def _resume_setpoint(self, t_s: float, position: FloatArray) -> ServoSetpoint:
         rt = self._runtime

@@ -203,3 +203,26 @@ def toward_the_hole(
     if size == 0.0:
         return np.zeros(3), 0.0
     return -np.asarray(lateral).dot(across) / size, size
+
+
+def into_the_hole(
+    moved: FloatArray, toward: FloatArray, direction: FloatArray, across_counts: bool = True
+) -> float:
+    """How far a found part led toward the hole has gone into it: across toward it, plus deeper.
+
+    After a find with the part tipped on the mouth's edge, the lead pushes it across toward the
+    hole (``d`` of :func:`toward_the_hole`) until it drops in: both its travel along ``d`` and
+    along the insertion direction ``n`` take it in, ``moved . d + moved . n``. Across stops
+    counting where the search's own bound says the hole cannot be (``across_counts`` False).
+
+    Args:
+        moved: The tool point's displacement since the find, world, [m]. # (3,)
+        toward: d, the unit direction toward the hole at the find, world. # (3,)
+        direction: n, the insertion direction, world. # (3,)
+        across_counts: Whether the travel across counts (False: only the depth does).
+
+    Returns:
+        The way made into the hole, in [m] (negative: out of it).
+    """
+    deeper = float(np.dot(moved, direction))
+    return deeper + float(np.dot(moved, toward)) if across_counts else deeper
