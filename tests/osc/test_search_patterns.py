@@ -105,19 +105,19 @@ def test_toward_the_hole_points_at_the_tipped_part_s_lowest_rim() -> None:
 
 def test_a_lead_creeping_toward_the_hole_makes_its_way_in() -> None:
     """A Panda's lead 1 s after the find (tests/run/test_run_search_lead.py, run 0): the tip went
-    from (3.10, -4.91) mm to (2.60, -3.96) mm off the hole's axis and 0.39 mm deeper. Its way in,
+    from (3.42, -5.26) mm to (2.92, -4.41) mm off the hole's axis and 0.31 mm deeper. Its way in,
     across toward the hole the find pointed at plus deeper, is the shrink of its distance to the
-    axis (hypot, not a projection) plus the depth: 1.46 mm, over the jam check's 0.5 mm in 1 s,
+    axis (hypot, not a projection) plus the depth: 1.30 mm, over the jam check's 0.5 mm in 1 s,
     which the depth alone is not. Catches a lead judged on depth alone (it failed that run
-    "jammed at depth 0.7 mm") or on its travel across with the wrong sign; beyond the search's
+    "jammed at depth 0.5 mm") or on its travel across with the wrong sign; beyond the search's
     RADIUS only the depth counts."""
     down = np.array((0.0, 0.0, -1.0))
-    before = np.array((3.10e-3, -4.91e-3, 0.0))
-    after = np.array((2.60e-3, -3.96e-3, -0.39e-3))
+    before = np.array((3.42e-3, -5.26e-3, 0.0))
+    after = np.array((2.92e-3, -4.41e-3, -0.31e-3))
     toward = -before / np.linalg.norm(before)  # the tilt's bearing: within 0.5 deg of the hole's
     made = into_the_hole(after - before, toward, down)
     shrink = math.hypot(*before[:2]) - math.hypot(*after[:2])
-    assert math.isclose(made, shrink + 0.39e-3, rel_tol=1e-2)
-    assert made > 0.5e-3 > 0.39e-3
+    assert math.isclose(made, shrink + 0.31e-3, rel_tol=1e-2)
+    assert made > 0.5e-3 > 0.31e-3
     assert math.isclose(into_the_hole(before - after, toward, down), -made)
-    assert math.isclose(into_the_hole(after - before, toward, down, across_counts=False), 0.39e-3)
+    assert math.isclose(into_the_hole(after - before, toward, down, across_counts=False), 0.31e-3)
