@@ -41,17 +41,18 @@ then centre it (the lateral force back to zero).
 the INSERT's jam check (0.5 mm/s along the axis for 1 s) while it goes across into the hole. A
 Panda's ``SPIRAL RADIUS 12 mm PITCH 3 mm`` from 7.8 mm off at friction 0.52-0.53 (two runs of a
 sweep, tests/run/test_run_search_lead.py) found the hole tipped 8 deg toward it, the tip 6.3 and
-6.6 mm off its axis, the peg's face on two points of the mouth's edge; led, it crept 1 mm/s
-across and 0.3 mm/s deeper, and the jam check failed it 1 s after the find, 0.5 and 0.4 mm in.
-Left to go on, it slid in from 4.4 mm off 1.9 s after the find. So the jam check waits for the
-lead too (:attr:`SearchPhase.pattern`), and the lead judges its own progress at the jam check's
-rate: its way into the hole, across toward it plus deeper (:func:`cosmos.osc.search.into_the_hole`),
-across counted within the pattern's RADIUS of its start only. Those finds were true, not a part
-tipped by the top face's friction: in that sweep's six runs and eight of
-``programs/search_insert.cos`` (friction 0.4-0.8) every tilt over 2 deg while searching pointed
-within 10 deg of the hole's bearing (within 0.1-6.4 deg at the finds, the tip 3.6-6.6 mm off the
-axis: the peg's radius is 9.9 mm, the mouth's 11 mm), whether the pattern moved the tool toward
-the tilt or against it (their cosine -0.99 to 1.0).
+6.6 mm off its axis, the peg's face on two points of the mouth's edge; led, it crept 1 mm/s across
+and 0.3 mm/s deeper, and the jam check failed it 1 s after the find, 0.5 and 0.4 mm in. Left to go
+on, it slid in from 4.4 mm off 1.9 s after the find. So did a PUMA's
+``programs/search_insert.cos`` at friction 0.70, found 5.2 mm off, jammed 0.9 mm in. So the jam
+check waits for the lead too (:attr:`SearchPhase.pattern`), and the lead judges its own progress
+at the jam check's rate: its way into the hole, across toward it plus deeper
+(:func:`cosmos.osc.search.into_the_hole`), across counted within the pattern's RADIUS of its start
+only. Those finds were true, not a part tipped by the top face's friction: in that sweep's six
+runs and eight of ``programs/search_insert.cos`` (friction 0.4-0.8) every tilt over 2 deg while
+searching pointed within 10 deg of the hole's bearing (within 0.1-6.4 deg at the finds, the tip
+3.6-6.6 mm off the axis: the peg's radius is 9.9 mm, the mouth's 11 mm), whether the pattern moved
+the tool toward the tilt or against it (their cosine -0.99 to 1.0).
 """
 
 from __future__ import annotations
