@@ -40,7 +40,6 @@ from cosmos.execution.wording import failure_text, origin, statement_head
 from cosmos.lang.check.limits import timed_move_problem
 from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
-    AbsoluteTarget,
     AddObstacle,
     GoalReached,
     Plan,
@@ -213,7 +212,7 @@ class Executor:
         posture, problem = posture_joints(segment.posture, home, robot.q_lower_rad, robot.q_upper_rad)
         if problem:
             return Outcome(Verdict.FAILED, problem)
-        if isinstance(segment.target, AbsoluteTarget):
+        if isinstance(segment.completion, GoalReached) and not any(segment.stiffness):  # not a spring's
             if (beyond := out_of_reach(*goals[-1], rt.robot.description)) is not None:
                 return Outcome(Verdict.FAILED, f"cannot reach its goal: {beyond}")
         if segment.duration_s is not None:

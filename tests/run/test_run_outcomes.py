@@ -259,3 +259,20 @@ def test_an_insert_that_touches_nothing_logs_no_contact(tmp_path: Path) -> None:
     felt = np.linalg.norm(run.log.state.wrench[on_line, :3], axis=1).max()
     assert felt < 2.0, felt  # what the approach counts as a touch
     assert run.events("contact", line=2) == [], run.describe()
+
+
+def test_a_relative_goal_out_of_reach_fails_before_the_arm_moves(tmp_path: Path) -> None:
+    """A SLIDE (or MOVE BY) whose goal's wrist centre is beyond the arm's reach fails at once, saying so.
+
+    Bug: only absolute goals were checked; ``SLIDE +X BY 30 mm`` from table + (140 mm, -230 mm)
+    stretched the arm to its reach, turned the tool 7.5 deg and failed "did not arrive within 1 s
+    after the 0.6 s its SPEED takes", without a cause.
+    """
+    program = "MOVE TO table + (140 mm, -230 mm, 30 mm)\nCONTACT DOWN FORCE 10 N\nSLIDE +X BY 30 mm\n"
+    run = run_in_process(write_program(tmp_path, "edge", program), tmp_path / "edge.mcap")
+    assert run.returncode == 1
+    failed = [e for e in run.log.events if e.kind == "failed"]
+    assert failed[0].line == 3
+    assert failed[0].reason.startswith("cannot reach its goal: the pose is out of the arm's reach")
+    slide = [e.t for e in run.log.events if e.line == 3 and e.kind == "start"][0]
+    assert failed[0].t - slide < 0.01  # before the arm moves
