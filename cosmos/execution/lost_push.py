@@ -52,3 +52,23 @@ class LostPush:
             return False
         self.at, self.since_s = (x, y, z), t_s
         return True
+
+
+LOST_SURFACE_M = 0.005
+"""A motion statement's held push that ran on this far along itself has lost its surface, as its
+failure says [m]: more than a tilted table's rise over a slide (2 deg over 100 mm is 3.5 mm)."""
+
+
+def lost_surface(segment: Segment, start: tuple[float, ...], position: FloatArray) -> str:
+    """What a failure adds when the segment's held push ran on along itself: its surface is gone.
+
+    A SLIDE off a fixture's edge: the push follows the tool down at its SPEED
+    (:func:`cosmos.osc.held_push.held_push_cap`) while the motion axes reach their goal, and the
+    statement does not arrive; "18.3 mm from its goal" said nothing of why (17.7 mm of it was the
+    fall along the push). Empty when the push is held, or the segment holds none.
+    """
+    watch = LostPush.of(segment, start, 0.0)
+    ran = sum((p - s) * n for p, s, n in zip(position.tolist(), start, watch.push, strict=True))
+    if not any(watch.push) or ran <= LOST_SURFACE_M:
+        return ""
+    return f"; it lost its surface: the tool ran on {ran * 1e3:.1f} mm along its push"

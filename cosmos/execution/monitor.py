@@ -19,7 +19,7 @@ import numpy as np
 from cosmos.execution.arrival import GoalError
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import block_diagonal, length_along, norm3, pose_error
-from cosmos.execution.lost_push import LostPush
+from cosmos.execution.lost_push import LostPush, lost_surface
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.execution.wording import failure_text as failure_text  # re-exported: its old home
 from cosmos.execution.wording import statement_head as statement_head  # re-exported
@@ -291,10 +291,9 @@ class SegmentMonitor:
             took = (
                 f"its {duration:g} s" if self.segment.duration_s else f"the {duration:.3g} s its SPEED takes"
             )
-            error = GoalError(np.array((ex, ey, ez)), np.array(turned))
-            return Outcome(
-                Verdict.FAILED, f"did not arrive within {TIMED_SETTLE_S:g} s after {took}: {error.text()}"
-            )
+            off = f"{position_off * 1e3:.1f} mm and {math.degrees(rotation_off):.1f} deg from its goal"
+            why = f"did not arrive within {TIMED_SETTLE_S:g} s after {took}: {off}"  # on the motion axes
+            return Outcome(Verdict.FAILED, why + lost_surface(self.segment, self._start_xyz, snap.position))
         # Turning the long way round (cosmos.runtime.rotation_plan) the shortest angle first
         # grows: progress counts the rotation left the way the arm turns (kept continuous).
         angle = math.sqrt(rx * rx + ry * ry + rz * rz)

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 from run_support import HOLE_DEPTH_M, HOLE_MOUTH_M, write_program
 
+import cosmos
 from cosmos.commands.run import run_program
 from cosmos.runlog import read_log
 from cosmos.runtime.rates import Rates
@@ -66,3 +67,26 @@ def test_a_push_off_the_chamfer_lands_in_the_bore_at_its_speed(tmp_path: Path, s
     end = state.x[held][-1]
     assert abs(end[2] - BORE_BOTTOM_M[2]) < 5e-4, f"ended {(end[2] - BORE_BOTTOM_M[2]) * 1e3:.2f} mm off"
     assert np.hypot(*(end[:2] - BORE_BOTTOM_M[:2])) < 1e-3
+
+
+def test_a_slide_off_an_edge_says_its_surface_is_lost(tmp_path: Path) -> None:
+    """A SLIDE that carries the peg off the hole fixture's top fails saying the push lost its surface.
+
+    Bug: it failed "did not arrive ... 18.3 mm and 0.1 deg from its goal" with the tool at its goal
+    across (0.6 mm): the 18 mm were the fall along the force-controlled axis, which is no goal of a
+    SLIDE. The fall is measured here from the log's tool points.
+    """
+    program = (
+        "SPEED 0.2 m/s\nMOVE TO hole + (25 mm, 0, 10 mm)\nCONTACT DOWN FORCE 8 N SPEED 10 mm/s\n"
+        "SLIDE +X BY 40 mm SPEED 10 mm/s\n"
+    )
+    run = cosmos.run(program, log=tmp_path / "edge.mcap")
+    assert not run.ok and run.outcome is not None and run.outcome.location.endswith(":4:1")
+    reason = run.outcome.reason
+    across_mm = float(reason.split("takes: ")[1].split(" mm")[0])
+    ran_mm = float(reason.split("ran on ")[1].split(" mm")[0])
+    state = run.record.state
+    sliding = state.line == 4
+    fell_mm = 1e3 * float(state.x[sliding][0, 2] - state.x[sliding][-1, 2])
+    assert across_mm < 1.5  # the motion axes arrived
+    assert abs(ran_mm - fell_mm) < 1.5  # the push ran on as far as the tool fell
