@@ -8,6 +8,7 @@ for the ideal one.
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 
 from cosmos.plant import Plant, SensorNoise
 from cosmos.realism import PlantRealism
@@ -18,6 +19,16 @@ from cosmos.runtime.rates import Rates
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 ROBOT = build_robot_model()
+Q_NEAR = np.radians((0.0, 33.5, -177.1, 0.0, -36.4, 180.0))
+"""The PUMA's tool down in front of the arm, away from its limits and singularities [rad]."""
+
+
+def tool_pose(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The controller model's tool point and orientation at ``q``, world (Pinocchio's kinematics)."""
+    data = ROBOT.model.createData()
+    pin.framesForwardKinematics(ROBOT.model, data, q)
+    placed = data.oMf[ROBOT.tool_frame]
+    return placed.translation.copy(), placed.rotation.copy()
 
 
 def plant_for_tests(ideal: bool = False, seed: int = 0, robot: RobotModel | None = None) -> Plant:

@@ -8,16 +8,7 @@ import pinocchio as pin
 from cosmos.osc.orientation import so3_exp
 from cosmos.runtime.kernels.path_step import path_step_into
 from cosmos.runtime.rotation_plan import DAMPING, _numpy_step, plan_rotation
-from tests.runtime.runtime_helpers import ROBOT
-
-Q_NEAR = np.radians((0.0, 33.5, -177.1, 0.0, -36.4, 180.0))  # tool down in front of the arm
-
-
-def _pose(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    data = ROBOT.model.createData()
-    pin.framesForwardKinematics(ROBOT.model, data, q)
-    placed = data.oMf[ROBOT.tool_frame]
-    return placed.translation.copy(), placed.rotation.copy()
+from tests.runtime.runtime_helpers import Q_NEAR, ROBOT, tool_pose
 
 
 def test_the_compiled_step_is_numpys() -> None:
@@ -28,7 +19,7 @@ def test_the_compiled_step_is_numpys() -> None:
     model, data, frame = ROBOT.model, ROBOT.model.createData(), ROBOT.tool_frame
     for _ in range(40):
         q = Q_NEAR + rng.normal(0.0, 0.3, 6)
-        position, rotation = _pose(Q_NEAR)
+        position, rotation = tool_pose(Q_NEAR)
         displacement, turn = rng.normal(0.0, 0.1, 3), rng.normal(0.0, 0.8, 3)
         s = float(rng.uniform(0.0, 1.0))
         jacobian = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)
@@ -44,7 +35,7 @@ def test_compiled_and_numpy_plans_agree() -> None:
     """Catches the runtime's plan (compiled) and the checker's (NumPy) choosing differently: the
     way round, the joint that stops it, and the goal configuration for goals all round the start."""
     rng = np.random.default_rng(11)
-    position, rotation = _pose(Q_NEAR)
+    position, rotation = tool_pose(Q_NEAR)
     for _ in range(12):
         goal_position = position + rng.normal(0.0, 0.08, 3)
         goal_rotation = so3_exp(rng.normal(0.0, 1.2, 3)).dot(rotation)

@@ -9,16 +9,7 @@ import pytest
 from cosmos.osc.orientation import so3_exp
 from cosmos.runtime import rotation_plan
 from cosmos.runtime.rotation_plan import RotationPlan, kinematics_data, plan_rotation
-from tests.runtime.runtime_helpers import ROBOT
-
-Q_NEAR = np.radians((0.0, 33.5, -177.1, 0.0, -36.4, 180.0))  # tool down in front of the arm
-
-
-def _pose(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    data = ROBOT.model.createData()
-    pin.framesForwardKinematics(ROBOT.model, data, q)
-    placed = data.oMf[ROBOT.tool_frame]
-    return placed.translation.copy(), placed.rotation.copy()
+from tests.runtime.runtime_helpers import Q_NEAR, ROBOT, tool_pose
 
 
 def _assert_same(kept: RotationPlan, fresh: RotationPlan) -> None:
@@ -37,7 +28,7 @@ def test_a_kept_work_space_plans_as_a_fresh_one(monkeypatch: pytest.MonkeyPatch)
     cases = []
     for _ in range(10):
         q = Q_NEAR + rng.normal(0.0, 0.2, 6)
-        position, rotation = _pose(q)
+        position, rotation = tool_pose(q)
         goal_position = position + rng.normal(0.0, 0.07, 3)
         goal_rotation = so3_exp(rng.normal(0.0, 1.2, 3)).dot(rotation)
         cases.append((ROBOT, q, position, rotation, goal_position, goal_rotation))
