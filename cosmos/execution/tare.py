@@ -10,13 +10,11 @@ practice zeroes the sensor in free air before force control (UR's ``zero_ftsenso
 controller's bias command). So a contact approach (CONTACT's, INSERT's) that starts at rest
 in free air (after a free motion that ended done: the protective stop holds a free motion to
 touching nothing) and reads a push there of more than :data:`TARE_ABOVE_N` holds the pose
-:data:`TARE_S`, averages the sensed wrench, and zeroes the sensor by it; a ``tare`` event says
+:data:`TARE_S`, averages the sensed wrench, and zeroes the sensor by it; a ``warning`` event says
 what it read. Below that (a tared sensor's noise is 0.05 N) nothing changes.
 
-The sensed wrench is affine in the reading (:func:`cosmos.runtime.wrench.environment_wrench`:
-``F = R f_s + m g``, ``M = R m_s - r_t x F + r_c x m g``), so a reading error ``e`` in sensor
-axes shows as ``dF = R e_f`` and ``dM = R e_m - r_t x dF``, and the error that explains a
-sensed ``(dF, dM)`` is ``e_f = R^T dF``, ``e_m = R^T (dM + r_t x dF)``.
+The zero is the reading error, in sensor axes, that explains what was sensed
+(:func:`cosmos.runtime.wrench.reading_error`). The next segment senses the tared sensor afresh.
 """
 
 from __future__ import annotations
@@ -28,6 +26,7 @@ from cosmos.execution.monitor import Verdict
 from cosmos.osc._types import FloatArray
 from cosmos.plan import Segment, SegmentKind
 from cosmos.runtime.loop import Runtime
+from cosmos.runtime.wrench import reading_error
 
 TARE_ABOVE_N = 0.5
 """A push sensed at rest in free air above this is tared away [N] (ten times the sensor's noise)."""
@@ -35,25 +34,6 @@ TARE_S = 0.05
 """The tare's average: the pose held this long [s] (50 readings at 1 kHz)."""
 AT_REST_MPS = 0.005
 """The tool must be slower than this for its reading to be its bias, not its inertia [m/s]."""
-
-
-def sensor_error(
-    sensed: FloatArray, rotation_sensor_to_world: FloatArray, sensor_to_tool_m: FloatArray
-) -> FloatArray:
-    """The reading error, sensor axes, that makes the controller sense ``sensed`` [N, N m]. # (6,).
-
-    Args:
-        sensed: The wrench sensed on the tool in free air, world axes at the tool point. # (6,)
-        rotation_sensor_to_world: The sensor's orientation, R. # (3, 3)
-        sensor_to_tool_m: The tool point minus the sensor origin, world axes, r_t [m]. # (3,)
-    """
-    force, moment = sensed[:3], sensed[3:]
-    return np.concatenate(
-        (
-            rotation_sensor_to_world.T @ force,
-            rotation_sensor_to_world.T @ (moment + np.cross(sensor_to_tool_m, force)),
-        )
-    )
 
 
 def tare_in_free_air(runtime: Runtime) -> str:
@@ -76,8 +56,7 @@ def tare_in_free_air(runtime: Runtime) -> str:
         ticks += 1
     sensed = total / ticks
     ev = runtime.evaluation
-    runtime.plant.zero_wrist_sensor(sensor_error(sensed, ev.rotation_sensor_to_world, ev.sensor_to_tool_m))
-    runtime.reset_clocks()
+    runtime.plant.zero_wrist_sensor(reading_error(sensed, ev.rotation_sensor_to_world, ev.sensor_to_tool_m))
     force, moment = sensed[:3], sensed[3:]
     return (
         f"tared the wrist sensor: it read {np.linalg.norm(force):.2f} N and "

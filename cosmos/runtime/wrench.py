@@ -65,3 +65,26 @@ def environment_wrench(
             sz - (tx * ey - ty * ex),
         )
     )
+
+
+def reading_error(
+    sensed: FloatArray, rotation_sensor_to_world: FloatArray, sensor_to_tool_m: FloatArray
+) -> FloatArray:
+    """The reading error, sensor axes, behind what :func:`environment_wrench` senses [N, N m]. # (6,).
+
+    :func:`environment_wrench` is affine in the reading (``F = R f_s + m g``, ``M = R m_s - r_t x F
+    + r_c x m g``): a reading error ``e`` shows as ``dF = R e_f`` and ``dM = R e_m - r_t x dF``, so the
+    error behind a sensed ``(dF, dM)`` is ``e_f = R^T dF``, ``e_m = R^T (dM + r_t x dF)``.
+
+    Args:
+        sensed: The wrench sensed where there is none (free air), world axes at the tool point. # (6,)
+        rotation_sensor_to_world: The sensor's orientation, R. # (3, 3)
+        sensor_to_tool_m: The tool point minus the sensor origin, world axes, r_t [m]. # (3,)
+    """
+    force, moment = sensed[:3], sensed[3:]
+    return np.concatenate(
+        (
+            rotation_sensor_to_world.T @ force,
+            rotation_sensor_to_world.T @ (moment + np.cross(sensor_to_tool_m, force)),
+        )
+    )

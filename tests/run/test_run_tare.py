@@ -16,8 +16,8 @@ import pytest
 
 import cosmos
 from cosmos.execution.monitor import Verdict
-from cosmos.execution.tare import FreeAir, sensor_error
-from cosmos.runtime.wrench import environment_wrench
+from cosmos.execution.tare import FreeAir
+from cosmos.runtime.wrench import environment_wrench, reading_error
 
 PROGRAM = """\
 MOVE TO table + (0, 0, 40 mm)
@@ -44,8 +44,8 @@ def test_a_contact_lands_and_holds_its_force_with_a_drifted_sensor(tmp_path: Pat
     assert abs(-held.fz.mean() - 10.0) < 0.5  # the tared reading, now the real push
 
 
-def test_the_sensor_error_is_what_the_sensed_wrench_shows() -> None:
-    """``sensor_error`` inverts the reading-to-wrench map of cosmos.runtime.wrench (not its own algebra)."""
+def test_the_reading_error_is_what_the_sensed_wrench_shows() -> None:
+    """``reading_error`` inverts the reading-to-wrench map of cosmos.runtime.wrench (not its own algebra)."""
     rng = np.random.default_rng(3)
     rotation, _ = np.linalg.qr(rng.normal(size=(3, 3)))
     to_tool, to_com = rng.normal(size=3) * 0.1, rng.normal(size=3) * 0.05
@@ -53,7 +53,7 @@ def test_the_sensor_error_is_what_the_sensed_wrench_shows() -> None:
     sensed = environment_wrench(reading + error, rotation, to_tool, to_com, 0.7) - environment_wrench(
         reading, rotation, to_tool, to_com, 0.7
     )
-    np.testing.assert_allclose(sensor_error(sensed, rotation, to_tool), error, atol=1e-12)
+    np.testing.assert_allclose(reading_error(sensed, rotation, to_tool), error, atol=1e-12)
 
 
 def test_only_a_free_motion_that_ended_done_leaves_the_tool_in_free_air() -> None:
