@@ -17,6 +17,7 @@ from enum import Enum
 import numpy as np
 
 from cosmos.execution.arrival import GoalError
+from cosmos.execution.closing import STALL_TIME_S, Closing
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import block_diagonal, length_along, norm3, pose_error
 from cosmos.execution.lost_push import LostPush, lost_surface
@@ -39,9 +40,6 @@ from cosmos.plan import (
 
 FloatArray = np.ndarray
 
-STALL_TIME_S = 2.0
-"""A goal motion that gets no closer by STALL_PROGRESS_M for this long has stalled [s]."""
-STALL_PROGRESS_M = 0.0005
 STALL_ANGLE_SCALE_M = 0.1
 """Progress in orientation counts as this many metres per radian."""
 JUDGE_MOVING_EVERY = 25
@@ -125,7 +123,7 @@ class SegmentMonitor:
         """Set when the controller turns the long way round to the goal orientation."""
         self.tool_touched: Callable[[], bool] = lambda: True  # a fixture, since the segment started
         self._turn: tuple[float, ...] | None = None
-        self._turn_angle, self._closest_m, self._closest_s = 0.0, float("inf"), start_s
+        self._turn_angle, self._closing = 0.0, Closing(since_s=start_s)
         self._last_depth, self._last_progress_s = 0.0, start_s
         self.searching: object | None = segment.search
         """An INSERT's search still under way (cosmos.execution.search): no jam check meanwhile."""
@@ -326,10 +324,7 @@ class SegmentMonitor:
         self, snap: Snapshot, distance_m: float, off: tuple[float, ...], turned: tuple[float, ...]
     ) -> Outcome | None:
         """A goal the arm stopped getting closer to (a MOVE into the table would push on): error, cause."""
-        if distance_m < self._closest_m - STALL_PROGRESS_M:
-            self._closest_m, self._closest_s = distance_m, snap.t_s
-            return None
-        if snap.t_s - self._closest_s < STALL_TIME_S:
+        if not self._closing.stalled(distance_m, snap.t_s):
             return None
         error = GoalError(np.array(off), np.array(turned))
         if self._sprung:

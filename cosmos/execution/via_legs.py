@@ -6,22 +6,22 @@ a VIA point, which counts as passed within the segment's VIA radius; a leg that 
 short of that (an obstacle's field on the links, a joint limit, a fixture) would push for ever:
 ``MOVE TO (0.55, -0.15, 0.35) VIA (0.65, 0, 0.4)`` on the Panda, a post's field holding its
 link 5 back, stood 31 mm from the VIA point for 4265 s of simulated time, until interrupted.
-The same rule as the last leg's holds on every leg: no closer by ``STALL_PROGRESS_M`` for
-``STALL_TIME_S``, and it fails with the measured distance and the cause.
+The same rule as the last leg's holds on every leg (:class:`cosmos.execution.closing.Closing`),
+and it fails with the measured distance and the cause.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 
+from cosmos.execution.closing import STALL_TIME_S, Closing
 from cosmos.execution.float_maths import distance_to_point
-from cosmos.execution.monitor import STALL_PROGRESS_M, STALL_TIME_S, Outcome, Verdict
+from cosmos.execution.monitor import Outcome, Verdict
 from cosmos.osc._types import FloatArray
 
 
 class ViaProgress:
-    """How close the tool has come to the VIA point it is on its way to, and since when."""
+    """How close the tool has come to the VIA point it is on its way to, and since when (a Closing)."""
 
     def __init__(self, points: Sequence[tuple[float, ...]], cause: Callable[[], str]) -> None:
         """Watch a MOVE's legs.
@@ -31,9 +31,7 @@ class ViaProgress:
             cause: Why the arm stopped (the monitor's stall cause: a joint limit, a field, ...).
         """
         self._points, self._cause = points, cause
-        self._leg = -1
-        self._closest_m = math.inf
-        self._since_s = 0.0
+        self._leg, self._closing = -1, Closing()
 
     def stalled(self, t_s: float, position: FloatArray, leg: int) -> Outcome | None:
         """The failure of a leg that got no closer to its VIA point for ``STALL_TIME_S``, else None.
@@ -45,13 +43,10 @@ class ViaProgress:
         """
         point = self._points[leg]
         distance = distance_to_point(position, point)
-        if leg != self._leg:
-            self._leg, self._closest_m, self._since_s = leg, distance, t_s
+        if leg != self._leg:  # a new leg: judged from here
+            self._leg, self._closing = leg, Closing(distance, t_s)
             return None
-        if distance < self._closest_m - STALL_PROGRESS_M:
-            self._closest_m, self._since_s = distance, t_s
-            return None
-        if t_s - self._since_s < STALL_TIME_S:
+        if not self._closing.stalled(distance, t_s):
             return None
         x, y, z = (1e3 * coordinate for coordinate in point)
         return Outcome(
