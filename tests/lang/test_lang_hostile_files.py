@@ -7,6 +7,7 @@ status 1 or 2, no traceback, and in bounded time.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import subprocess
@@ -245,3 +246,66 @@ def test_load_of_a_cos_file_with_an_error_shows_the_error(tmp_path: Path) -> Non
     with pytest.raises(ProgramError) as caught:
         compile_program(read_program_file(path), str(path), FIXTURES)
     assert caught.value.render().startswith(f"{path}:1:6: expected TO or BY after MOVE")
+
+
+def _nested_calls(levels: int) -> str:
+    """Procedures ``p0`` .. ``p<levels>``, each calling the one below ten times; ``p0`` two MOVEs."""
+    text = "PROC p0\n  MOVE BY (0, 0, 1 mm)\n  MOVE BY (0, 0, -1 mm)\nEND\n"
+    for level in range(1, levels + 1):
+        text += f"PROC p{level}\n" + f"  CALL p{level - 1}\n" * 10 + "END\n"
+    return text + f"CALL p{levels}\n"
+
+
+def test_a_program_past_the_step_limit_is_refused_before_it_is_expanded(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Catches a program of six nested procedures (200000 MOVEs) compiled MOVE by MOVE up to the
+    limit before it was refused (17 s on a loaded machine), with a message that said "use fewer
+    REPEATs" to a program that has none. The refusal is at the outermost CALL."""
+    from cosmos.lang.compile.motion.builder import MotionBuilder
+
+    built = []
+    original = MotionBuilder.move
+    monkeypatch.setattr(MotionBuilder, "move", lambda self, s: built.append(s) or original(self, s))
+    source = _nested_calls(5)
+    with pytest.raises(ProgramError) as caught:
+        compile_program(source, "expand.cos", FIXTURES)
+    assert "expands to more than 100000 steps" in caught.value.message
+    assert "procedure calls" in caught.value.message
+    assert caught.value.span is not None and caught.value.span.line == len(source.splitlines())
+    assert built == []
+
+
+@pytest.mark.parametrize(
+    "source",
+    [
+        _nested_calls(2),
+        "REPEAT 3\n  WAIT 1 ms\n  REPEAT 2\n    MOVE BY (0, 0, 1 mm)\n  END\nEND\n",
+        "LET n = 4\nREPEAT n\n  WAIT 1 ms\nEND\n",
+        "IF FORCE > 2 N\n  WAIT 1 ms\nELSE\n  WAIT 2 ms\nEND\nWAIT 1 ms\n",
+        "PROC a\n  WAIT 1 ms\n  IF FORCE > 2 N\n    a2\n  END\nEND\n"
+        "PROC a2\n  WAIT 1 ms\nEND\nREPEAT 5\n  a\nEND\n",
+    ],
+)
+def test_the_step_count_known_before_expanding_never_exceeds_what_is_emitted(source: str) -> None:
+    """Catches the early refusal counting more steps than the compiler emits (it would refuse
+    a program within the limit): the bound against the compiled plan's own steps, blocks unrolled."""
+    from cosmos.lang import ast
+    from cosmos.lang.compile.blocks import least_steps
+    from cosmos.lang.compile.state import ProcEntry
+    from cosmos.lang.parse.parser import parse_program
+
+    compiled = compile_program(source, "count.cos", FIXTURES)
+    program = parse_program(source, "count.cos")
+    procedures = {s.name.key: ProcEntry(s, source) for s in program.statements if isinstance(s, ast.ProcDef)}
+
+    def emitted(steps: tuple[object, ...]) -> int:
+        inner = (
+            getattr(step, f.name) for step in steps for f in dataclasses.fields(step) if f.name != "span"
+        )
+        return len(steps) + sum(
+            emitted(v) for v in inner if isinstance(v, tuple) and v and hasattr(v[0], "span")
+        )
+
+    least = least_steps(program.statements, procedures)
+    assert least <= emitted(compiled.steps)

@@ -54,6 +54,10 @@ class CompileContext(Protocol):
         """Append plan steps (refused past the program's step limit)."""
         ...
 
+    def make_room(self, steps: int, span: Span) -> None:
+        """Refuse, at ``span``, ``steps`` more than the program's step limit leaves room for."""
+        ...
+
     def evaluator_for(self, state: CompileState) -> Evaluator:
         """The pass's evaluator, reading the names of ``state``."""
         ...

@@ -95,13 +95,22 @@ class StatementPass:
         Raises:
             ProgramError: The top-level statement expands to more than ``MAX_STEPS`` steps.
         """
-        if self.emitted + len(steps) > MAX_STEPS:
-            raise ProgramError(
-                f"the program expands to more than {MAX_STEPS} steps; use fewer REPEATs",
-                steps[0].span,
-            )
+        self.make_room(len(steps), steps[0].span)
         self.emitted += len(steps)
         self.steps.extend(steps)
+
+    def make_room(self, steps: int, span: Span) -> None:
+        """Refuse, at ``span``, ``steps`` more than the program's step limit leaves room for.
+
+        Raises:
+            ProgramError: The top-level statement would expand to more than ``MAX_STEPS`` steps.
+        """
+        if self.emitted + steps > MAX_STEPS:
+            raise ProgramError(
+                f"the program expands to more than {MAX_STEPS} steps; "
+                "use fewer REPEAT passes or procedure calls",
+                span,
+            )
 
     def block(
         self, body: Sequence[ast.Statement], state: CompileState
