@@ -27,6 +27,7 @@ import numpy as np
 from cosmos import plan
 from cosmos.robots import ROBOTS
 from cosmos.runtime import foresight_cache
+from cosmos.runtime.arm_at_home import obstacles_through_arm
 from cosmos.runtime.goals_in_fixtures import Pose, ToolShape, goals_inside_fixtures
 from cosmos.runtime.reach import beyond_reach
 
@@ -42,6 +43,7 @@ def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
     home = Pose(cell.home_tool_position, cell.home_tool_rotation)
     tool = ToolShape(cell.tool_length_m, cell.tool_sections, cell.tool_ahead_m)
     found += goals_inside_fixtures(compiled.steps, cell.solids, home, tool)
+    found += obstacles_through_arm(compiled.steps, cell.arm_at_home)
     if not found:
         return compiled
     warnings = sorted((*compiled.warnings, *found), key=lambda w: (w.span.line, w.span.column))

@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from cosmos.robots import ROBOTS, Robot
+from cosmos.runtime.arm_at_home import ArmCapsule, capsules_at
 from cosmos.runtime.fixture_solids import FixtureSolid, SolidShape
 from cosmos.user_cache import cached_array, package_stamp, user_cache_root, write_whole
 
@@ -44,6 +45,7 @@ DERIVING_CODE = (
     _ROOT / "runtime" / "rotation_plan.py",
     _ROOT / "runtime" / "foresight.py",
     _ROOT / "runtime" / "reach.py",
+    _ROOT / "runtime" / "arm_at_home.py",
     Path(__file__).resolve(),
 )
 """The source files whose code derives what is cached (a change to them changes the file's name)."""
@@ -90,6 +92,8 @@ class Workcell:
         model_text: The controller's Pinocchio model, serialised (:func:`kinematics` reads it).
         tool_frame: Frame id of the tool point in that model.
         home_q: The scene's home configuration [rad], read-only. # (n,)
+        arm_at_home: Capsules inside the arm's collision geoms at home
+            (:func:`cosmos.runtime.arm_at_home.inscribed`).
     """
 
     home_tool_position: np.ndarray
@@ -102,6 +106,7 @@ class Workcell:
     model_text: str
     tool_frame: int
     home_q: np.ndarray
+    arm_at_home: tuple[ArmCapsule, ...]
 
 
 def digest(robot: Robot) -> str:
@@ -236,6 +241,7 @@ def _to_json(cell: Workcell) -> str:
             "model": cell.model_text,
             "tool_frame": cell.tool_frame,
             "home_q": cell.home_q.tolist(),
+            "arm_at_home": [capsule.as_json() for capsule in cell.arm_at_home],
         }
     )
 
@@ -268,6 +274,7 @@ def _from_json(text: str) -> Workcell:
         model_text=entries["model"],
         tool_frame=int(entries["tool_frame"]),
         home_q=cached_array(entries["home_q"]),
+        arm_at_home=tuple(ArmCapsule.from_json(c) for c in entries["arm_at_home"]),
     )
 
 
@@ -334,6 +341,7 @@ def from_scene(robot: Robot, tool: str = "peg") -> Workcell:
         model_text=arm.model.saveToString(),
         tool_frame=int(arm.tool_frame),
         home_q=cached_array(home_q(robot)),
+        arm_at_home=capsules_at(model, data),
     )
 
 

@@ -71,3 +71,53 @@ def test_an_obstacle_placed_through_the_arm_fails_at_its_line(tmp_path: Path) ->
     assert "through.cos:1:1: OBSTACLE wall would be placed through the arm (tool inside it)" in run.stderr
     record = read_log(tmp_path / "through.mcap")
     assert [e.kind for e in record.events] == ["start", "failed"]
+
+
+def _warned_and_refused(tmp_path: Path, name: str, source: str) -> tuple[str, str]:
+    """The check's warning of an obstacle through the arm at home, and the run's refusal ("" if none)."""
+    run = run_in_process(write_program(tmp_path, name, source), tmp_path / f"{name}.mcap")
+    lines = run.stderr.splitlines()
+    warned = next((line for line in lines if "through the arm at its home pose" in line), "")
+    refused = next((line for line in lines if "would be placed through the arm (" in line), "")
+    return warned, refused
+
+
+def test_the_check_foresees_an_obstacle_through_the_arm_at_home_as_the_run_finds_it(tmp_path: Path) -> None:
+    """Catches an OBSTACLE through the arm at home passing ``cosmos check`` (the Panda's lamp
+    through link 5; the docs' lid PLANE lowered to 0.75 m through the PUMA's upper arm), found
+    only when the run failed at t = 0. Judged against MuJoCo's own contacts where the run adds
+    the obstacle: 24 spheres drawn grazing, touching or through the PUMA's
+    links at home, each warned only if the run refuses
+    it, naming no part the run does not (the check's capsules lie inside the arm's geoms)."""
+    warned, refused = _warned_and_refused(
+        tmp_path, "lamp", "ROBOT panda\nOBSTACLE lamp SPHERE AT (0.45, -0.05, 0.65) RADIUS 50 mm\nWAIT 1 ms\n"
+    )
+    assert "lamp.cos:2:1: warning: OBSTACLE lamp would be placed through the arm at its home pose" in warned
+    assert "(link5 inside it)" in warned and "(link5 inside it)" in refused
+    warned, refused = _warned_and_refused(
+        tmp_path, "lid", "OBSTACLE lid PLANE AT (0, 0, 0.75) NORMAL (0, 0, -1)\n"
+    )
+    assert warned and refused
+    from cosmos.runtime.foresight_cache import workcell
+
+    arm = workcell("puma560", "peg").arm_at_home
+    rng = np.random.default_rng(7)
+    counts = {"warned": 0, "refused": 0}
+    for draw in range(24):  # each a sphere grazing, touching or through a capsule's surface
+        capsule = arm[rng.integers(len(arm))]
+        on_axis = capsule.a + rng.uniform() * (capsule.b - capsule.a)
+        away = rng.normal(size=3)
+        radius = rng.uniform(0.02, 0.08)
+        x, y, z = on_axis + away / np.linalg.norm(away) * (
+            capsule.radius_m + radius + rng.uniform(-0.02, 0.02)
+        )
+        at = f"({x:.4f}, {y:.4f}, {z:.4f})"
+        source = f"OBSTACLE s{draw} SPHERE AT {at} RADIUS {radius * 1000:.1f} mm\nWAIT 1 ms\n"
+        warned, refused = _warned_and_refused(tmp_path, f"s{draw}", source)
+        counts["warned"] += bool(warned)
+        counts["refused"] += bool(refused)
+        if warned:
+            assert refused, (source, warned)
+            parts = warned.split("home pose (")[1].split(")")[0].split(", ")
+            assert all(part in refused for part in parts), (source, warned, refused)
+    assert counts["warned"] >= 10 and counts["refused"] >= counts["warned"], counts
