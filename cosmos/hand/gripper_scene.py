@@ -16,6 +16,8 @@ Frames (tool body frame = flange frame, z away from the flange, fingers along x)
 - a rubber pad (1 mm, 22 x 25 mm, friction 1.0) on each inner face, z 175 .. 200 mm, as two
   strips (its upper and lower thirds: two contact lines on a cylinder, not one pivot), and a
   touch site around it (MuJoCo's ``touch`` sums the normal forces of the contacts inside);
+  the pad's friction and ``condim`` meet the fixtures: against an object, the contact takes
+  the object's (its geom ``priority``; a soft finger, :func:`cosmos.hand.object_scene.grip_friction`);
 - the tool point (site ``tool``) between the pads' centres, z 187.5 mm, z along the fingers.
 
 The drive: the two fingers are coupled (a joint equality, the 2F-85's linkage) and driven
@@ -114,6 +116,7 @@ HAND_GEOMETRIES = {"puma560": ROBOTIQ_2F85, "panda": FRANKA_HAND_GEOMETRY}
 """Each arm's gripper, by the arm's name."""
 
 PAD_FRICTION = (1.0, 0.005, 0.0001)
+"""The pads' friction against the fixtures (an object's contacts take the object's: module docstring)."""
 DRIVE_KP_N_PER_M = 2.0e4
 """Stiffness of the drive's position loop on the opening [N/m]: the 2F-85's largest grip force
 is reached 12 mm past contact, the Panda hand's 5 mm."""

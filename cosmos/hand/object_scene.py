@@ -22,7 +22,9 @@ An object is two geoms of the same shape, one for what holds it, one for what it
   contact the force rose within one physics step, before the controller could brake:
   27-67 N at 5-30 mm/s for FORCE 5 N, where the tool peaks under 10 N; docs/language.md).
 
-Each keeps the object's friction (priority 1 over the fixtures and the pads).
+Each keeps the object's friction (priority 1 over the fixtures and the pads), and with it the
+object's ``condim``: the grip geom's contacts with the pads are soft-finger contacts (``condim``
+4, :func:`grip_friction`), whatever the pads declare.
 """
 
 from __future__ import annotations
@@ -51,8 +53,34 @@ SEAT_SOLIMP = (0.2, 0.99, 0.0015, 0.5, 2.0)
 mass it moves, here the object's, not the arm's, and from 0 the seat was so soft that the
 realistic PUMA's force hold of a set-down block cycled between 3.8 and 8 N (its joints'
 static friction); an object at rest sinks 0.34 mm under its weight, whatever its mass."""
+SOFT_FINGER_LEVER_M = 0.002
+"""The torsional friction's lever of a pad's contact point [m]: a soft-finger contact resists a
+turn about its normal up to ``mu * SOFT_FINGER_LEVER_M`` times its normal force (the soft-finger
+contact of Murray, Li and Sastry, *A Mathematical Introduction to Robotic Manipulation*, 1994,
+chapter 5; MuJoCo's ``condim`` 4, whose torsional coefficient is that product). MuJoCo
+puts four contact points on a pad pressed on a cylinder (two per strip,
+:mod:`cosmos.hand.gripper_scene`), each standing for a quarter of the 18.5 mm line of contact
+and the width the rubber gives around it (cosmos/models/panda/README.md, "The hand's pads"):
+a 4.6 x 5.7 mm patch, whose mean distance from its centre, the lever of a uniform pressure's
+friction, is 2.0 mm."""
 OBJECT_RGBA = (0.25, 0.55, 0.85, 1.0)
 _GEOM = {ObjectShape.BOX: mujoco.mjtGeom.mjGEOM_BOX, ObjectShape.CYLINDER: mujoco.mjtGeom.mjGEOM_CYLINDER}
+
+
+def grip_friction(mu: float) -> tuple[float, float, float]:
+    """MuJoCo's friction of a cylinder's grip geom: sliding ``mu``, torsional, rolling (unused).
+
+    A cylinder touches a flat pad along a line. Its contacts with the pads are soft fingers
+    (``condim`` 4, as every object's; a box keeps MuJoCo's default torsional 5 mm: its flat
+    face meets the pad at the corners of their overlap, a couple across the face, not a line).
+    Without the torsional part the pads' points hold a turn about the grip's axis (the line
+    between the pads) only by their couples, through MuJoCo's soft friction, and a steel peg
+    held at 80 N crept about it at a quarter of its Coulomb limit, 10.8 deg in 3 s
+    (``tests/hand/test_grip_torsion.py``). Two point contacts cannot hold a moment about the
+    line through them at all (the book above, chapter 5: a two-fingered grasp needs soft
+    fingers for force closure); a rubber pad can, by its area.
+    """
+    return (mu, mu * SOFT_FINGER_LEVER_M, 0.0001)
 
 
 def add_objects(spec: mujoco.MjSpec, objects: Sequence[WorkObject]) -> None:
@@ -80,6 +108,8 @@ def add_objects(spec: mujoco.MjSpec, objects: Sequence[WorkObject]) -> None:
             geom.condim = 4
             geom.priority = OBJECT_PRIORITY
             geom.rgba = OBJECT_RGBA
+        if item.shape is ObjectShape.CYLINDER:
+            grip.friction = grip_friction(item.friction)
         grip.contype, grip.conaffinity = GRIP_CONTYPE, GRIP_CONAFFINITY
         seat.contype, seat.conaffinity = SEAT_CONTYPE, SEAT_CONAFFINITY
         seat.solref, seat.solimp = SEAT_SOLREF, SEAT_SOLIMP
@@ -154,6 +184,7 @@ def _peg(body: mujoco.MjsBody, item: WorkObject, tool: mujoco.MjsGeom) -> None:
     # same cylinder as a soft sleeve, and the hole's chamfer its soft facets; the end disc
     # stands on the table, the holder's and the hole's bottoms as an object's seat.
     cylinder.contype, cylinder.conaffinity = 0, 6
+    cylinder.friction, cylinder.condim = grip_friction(item.friction), 4
     sleeve.contype, sleeve.conaffinity = 8, SEAT_CONAFFINITY  # and the other objects' seats
     disc.contype, disc.conaffinity = SEAT_CONTYPE, SEAT_CONAFFINITY
     disc.solref, disc.solimp = SEAT_SOLREF, SEAT_SOLIMP

@@ -81,3 +81,38 @@ def hand_samples(log_path: Path) -> list[dict[str, object]]:
     contents = load_mcap(log_path)
     ids = {cid for cid, c in contents.channels.items() if c.topic == "/cosmos/hand"}
     return [json.loads(m.data) for m in contents.messages if m.channel_id in ids]
+
+
+Poses = dict[str, tuple[np.ndarray, np.ndarray]]
+"""Per frame, its positions [m] # (n, 3) and quaternions w x y z # (n, 4)."""
+
+
+def tf_poses(log_path: Path, frames: tuple[str, ...]) -> tuple[np.ndarray, Poses]:
+    """The log's ``/tf`` samples that have every one of ``frames`` (MuJoCo's body poses).
+
+    Returns:
+        The samples' times [s] # (n,), and per frame its positions [m] # (n, 3) and
+        quaternions w x y z # (n, 4).
+    """
+    from cosmos.runlog.scan import load_mcap
+    from tests.foxglove_proto import decode
+
+    contents = load_mcap(log_path)
+    channels = {cid: c for cid, c in contents.channels.items() if c.topic == "/tf"}
+    times: list[float] = []
+    rows: dict[str, list[list[float]]] = {frame: [] for frame in frames}
+    for message in contents.messages:
+        channel = channels.get(message.channel_id)
+        if channel is None:
+            continue
+        decoded = decode(contents.schemas[channel.schema_id].name, message.data)
+        found = {t["child_frame_id"]: t for t in decoded["transforms"] if t["child_frame_id"] in rows}
+        if len(found) < len(frames):
+            continue
+        stamp = found[frames[0]]["timestamp"]
+        times.append(float(stamp["sec"]) + 1e-9 * float(stamp["nsec"]))
+        for frame, transform in found.items():
+            t, r = transform["translation"], transform["rotation"]
+            rows[frame].append([t["x"], t["y"], t["z"], r["w"], r["x"], r["y"], r["z"]])
+    table = {frame: np.array(values, dtype=float).reshape(-1, 7) for frame, values in rows.items()}
+    return np.array(times), {frame: (values[:, :3], values[:, 3:]) for frame, values in table.items()}

@@ -1,0 +1,106 @@
+"""A held peg does not turn in the Panda hand's pads under a moment below their friction limit.
+
+Judged against Coulomb's law, from the run's own log: the moment the grip has to hold about
+its axis (the line between the pads), from the wrench the tool applied (``/cosmos/state``)
+and the pads' centre (the fingers on ``/tf``), against what two rubber pads' friction holds
+(numbers written here from the Franka hand's URDF and the peg's description); the peg's turn
+in the fingers from MuJoCo's poses of the peg and the hand on ``/tf``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from tests.hand.gripper_support import tf_poses
+from tests.run.run_support import run_in_process, write_program
+
+PROGRAM = """ROBOT panda
+TOOL GRIPPER
+LET holder = hole + (0, 120 mm, 0)
+MOVE TO holder + (0, 0, 50 mm) SPEED 0.3 m/s
+MOVE TO holder + (0, 0, 15 mm) SPEED 50 mm/s
+GRASP peg FORCE 80 N
+MOVE BY (0, 0, 70 mm) SPEED 80 mm/s
+MOVE TO hole + (3 mm, -2 mm, 8 mm) SPEED 0.15 m/s
+CONTACT DOWN FORCE 6 N SPEED 8 mm/s
+INSERT DOWN DEPTH 25 mm FORCE 12 N TIMEOUT 30 s
+"""
+"""A grasped peg inserted from 3.6 mm off the hole's axis: it lands on the mouth's edge and the
+INSERT's compliant rotations tip it (docs/language.md, INSERT), so the grip holds a moment."""
+
+STEEL_FRICTION = 0.45
+"""The shipped peg's FRICTION (docs/language.md: a steel peg; an object's FRICTION is the
+coefficient of its contacts with the pads)."""
+PAD_HEIGHT_M = 0.0185
+"""The Franka hand's rubber fingertip, 18.5 mm along the fingers (``panda.urdf``, the
+``panda_leftfinger`` collision box "rubber tip with which to grasp")."""
+PADS_FROM_FINGER_JOINT_M = 0.1034 - 0.0584
+"""The pads' centre (the URDF's ``panda_hand_tcp_joint``) from the fingers' joint origin
+(``panda_finger_joint1``), along the hand's z [m]."""
+STATIC_TURN_DEG = 0.5
+"""A grip below its friction limit holds the peg but for the pads' elastic give: a fraction of
+a degree (the hand's tilt window alone is 10 deg)."""
+
+
+def _turn_in_fingers_deg(tool_quat: np.ndarray, peg_quat: np.ndarray) -> np.ndarray:
+    """The peg's turn about the hand's x (the pads' normal) since the first sample [deg]. # (n,)"""
+    tool, peg = _matrices(tool_quat), _matrices(peg_quat)
+    in_hand = np.einsum("nji,njk->nik", tool, peg)  # peg in the hand's axes
+    change = np.einsum("nij,kj->nik", in_hand, in_hand[0])  # R_rel R_rel0^T, hand axes
+    return np.degrees(np.arctan2(change[:, 2, 1] - change[:, 1, 2], change[:, 1, 1] + change[:, 2, 2]))
+
+
+def _matrices(quat_wxyz: np.ndarray) -> np.ndarray:
+    w, x, y, z = np.asarray(quat_wxyz).T
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+        ],
+        axis=-2,
+    )
+
+
+def test_a_peg_held_below_the_pads_friction_limit_does_not_turn_in_them(tmp_path: Path) -> None:
+    """The Panda's 80 N grasp holds the peg through the INSERT: it turns under 0.5 deg in the pads.
+
+    The moment about the grip's axis stays below two pads' Coulomb limit (uniform pressure on
+    a line contact: mu N L / 4 each, 0.33 N m with the peg's steel 0.45, the pads' logged
+    force and the URDF's 18.5 mm), so static friction holds the peg. Before, the peg's
+    contacts with the pads were point contacts without torsional friction (the peg's geom
+    had no ``condim``, and an object's contacts take its own): MuJoCo's soft friction let
+    the peg creep about the grip's axis at 0.05-0.08 N m, a quarter of the limit, 10.8 deg
+    in 3 s, until the slip stop ended 7 of 8 runs of this program ("'peg' slips: it moved
+    5.0 mm in the fingers").
+    """
+    log = tmp_path / "panda_grasp.mcap"
+    run = run_in_process(write_program(tmp_path, "panda_grasp", PROGRAM), log)
+    insert = run.line_of("INSERT")
+    start = run.events("start", insert)[0].t
+    end = max(e.t for e in run.events(line=insert))
+    state = run.log.state
+    assert state.finger_force is not None
+    inside = (state.t >= start) & (state.t <= end)
+    grip_n = float(state.finger_force[inside].min())
+
+    times, poses = tf_poses(log, ("tool", "peg", "finger_left", "finger_right"))
+    during = (times >= start) & (times <= end)
+    turn = _turn_in_fingers_deg(poses["tool"][1][during], poses["peg"][1][during])
+
+    # The moment the pads must hold: the environment's wrench on the peg about the pads' centre.
+    nearest = np.searchsorted(times, state.t[inside]).clip(0, len(times) - 1)
+    hand = _matrices(poses["tool"][1][nearest])
+    fingers = 0.5 * (poses["finger_left"][0][nearest] + poses["finger_right"][0][nearest])
+    pads_centre = fingers + hand[:, :, 2] * PADS_FROM_FINGER_JOINT_M
+    force, moment = state.wrench[inside, :3], state.wrench[inside, 3:]
+    about_pads = -(moment + np.cross(state.x[inside] - pads_centre, force))
+    held = np.abs(np.einsum("ni,ni->n", about_pads, hand[:, :, 0]))
+    coulomb = 2 * STEEL_FRICTION * grip_n * PAD_HEIGHT_M / 4
+
+    assert held.max() < coulomb, f"the grip held {held.max():.3f} N m; Coulomb's limit {coulomb:.3f} N m"
+    turned = float(np.abs(turn).max())
+    assert turned < STATIC_TURN_DEG, f"the peg turned {turned:.2f} deg in the fingers\n{run.describe()}"
+    assert run.returncode == 0, run.describe()
