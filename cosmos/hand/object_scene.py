@@ -75,7 +75,7 @@ def grip_friction(mu: float) -> tuple[float, float, float]:
     face meets the pad at the corners of their overlap, a couple across the face, not a line).
     Without the torsional part the pads' points hold a turn about the grip's axis (the line
     between the pads) only by their couples, through MuJoCo's soft friction, and a steel peg
-    held at 80 N crept about it at a quarter of its Coulomb limit, 10.8 deg in 3 s
+    held at 80 N crept about it under half its Coulomb limit, 10.8 deg in 3 s
     (``tests/hand/test_grip_torsion.py``). Two point contacts cannot hold a moment about the
     line through them at all (the book above, chapter 5: a two-fingered grasp needs soft
     fingers for force closure); a rubber pad can, by its area.

@@ -72,7 +72,7 @@ def test_a_peg_held_below_the_pads_friction_limit_does_not_turn_in_them(tmp_path
     force and the URDF's 18.5 mm), so static friction holds the peg. Before, the peg's
     contacts with the pads were point contacts without torsional friction (the peg's geom
     had no ``condim``, and an object's contacts take its own): MuJoCo's soft friction let
-    the peg creep about the grip's axis at 0.05-0.08 N m, a quarter of the limit, 10.8 deg
+    the peg creep about the grip's axis under at most 0.15 N m, under half the limit, 10.8 deg
     in 3 s, until the slip stop ended 7 of 8 runs of this program ("'peg' slips: it moved
     5.0 mm in the fingers").
     """
