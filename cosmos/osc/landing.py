@@ -25,18 +25,26 @@ before the modelled surface::
 (``s_l`` its distance from the approach's goal), ``a`` = :data:`LANDING_DECELERATION_MPS2`; eq.
 20's velocity servo gets the profile's own deceleration ``-a u`` as a feedforward while it brakes
 (with ``kv`` alone it lags ``a / kv`` behind it). The landing speed is the one at which a mass
-``Lambda_n`` meeting a spring ``k_c`` (:data:`LANDING_STIFFNESS_N_PER_M`, measured) peaks the
-documented bar's least excess, ``F_x`` = 5 N (``max(1.5 F, F + 5 N)`` less ``F``), over its
-static push::
+``Lambda_n`` meeting a spring ``k_i`` (:data:`IMPACT_STIFFNESS_N_PER_M`, measured) peaks at the
+push the CONTACT's FORCE ``F`` allows (:func:`landing_peak_n`): a share of the documented bar
+``max(1.5 F, F + 5 N)``, at most :data:`IMPACT_MAX_N`::
 
-    v_l = clip(F_x / sqrt(k_c Lambda_n), LANDING_MIN_MPS, V_max)
+    v_l = clip(P(F) / sqrt(k_i Lambda_n), LANDING_MIN_MPS, V_max)
 
-The cruise's integral keeps what it learnt at the SPEED while the profile binds (wound by the
-braking, it stopped the tool above the face, then ran it in at twice ``v_l``), and the joints'
-Coulomb levels learn from the feedback about the profile, not about ``V_max``
+The impact's peak is the arm's momentum met by the steel, not the force loop's: on the hole's
+top face it comes 5-7 ms after the touch and the tool then leaves the face for a few
+milliseconds, whatever the FORCE (``python tests/run/contact_impact_grid.py --surfaces hole``:
+at 3.6 mm/s the 3 N CONTACT peaked at 8.2-9.7 N, the 8 N one at 9.4-11.1 N). So a light FORCE,
+whose bar is close to that peak, lands slower than a heavy one.
+
+A surface whose contact cushions the landing (the table's and the tilted plate's 1.5 mm) gets a
+landing too, at :data:`CUSHIONED_LANDING_MPS`: the touch braking
+(:func:`cosmos.osc.contact.touch_braking`) keeps a landing there under the bar up to that speed,
+not at 50 mm/s. The cruise's integral keeps what it learnt at the SPEED while the profile binds
+(wound by the braking, it stopped the tool above the face, then ran it in at twice ``v_l``), and
+the joints' Coulomb levels learn from the feedback about the profile, not about ``V_max``
 (:mod:`cosmos.runtime.kernels.cruise`). A surface the model does not know (an object, a fixture
-moved) is met at the SPEED as before, and the touch braking
-(:func:`cosmos.osc.contact.touch_braking`) takes what a 1 kHz loop can.
+moved) is met at the SPEED as before, and the touch braking takes what a 1 kHz loop can.
 """
 
 from __future__ import annotations
@@ -45,7 +53,7 @@ import math
 
 STIFF_RAMP_M = 0.001
 """A contact whose impedance reaches full within this [m] is stiff: the approach lands slowly.
-The table's and the tilted plate's 1.5 mm cushion a landing at the SPEED
+The table's and the tilted plate's 1.5 mm cushion a landing at up to :data:`CUSHIONED_LANDING_MPS`
 (tests/run/contact_impact_grid.py); the tool's 0.3 mm against the hole's top face, and the
 bore's 1 mm, do not."""
 
@@ -60,32 +68,54 @@ LANDING_DECELERATION_MPS2 = 0.1
 At 0.5 m/s^2 the velocity servo, reading the 40 Hz observer's lagged speed, braked the tool to
 rest 0.5 mm above the face, where the joints' static friction held it."""
 
-EXCESS_N = 5.0
-"""The impact's excess over FORCE that the landing speed is chosen for [N]: the least of the bar's
-``max(1.5 F, F + 5 N) - F``."""
+IMPACT_STIFFNESS_N_PER_M = 3.3e5
+"""``k_i`` [N/m]: the stiff contact's effective stiffness in an impact, from its peak ``P = v
+sqrt(k_i Lambda_n)`` for a mass ``Lambda_n`` landing at ``v``. Fitted on the PUMA over the hole's
+top face (``Lambda_n`` = 18.5 kg), ideal plant: a 3 N CONTACT touching at 3.64 mm/s peaked at
+8.95 N, at 3.08 mm/s at 7.10 N (MuJoCo's contact force). Below that it is softer (2.1 mm/s: 4.0 N):
+the contact's impedance still rises over its 0.3 mm. The Panda (``Lambda_n`` 8.8 kg) peaks
+lower than this predicts (touching at 4.7-5.1 mm/s: 6.1-6.7 N, some ``k_i`` = 1.9e5)."""
 
-LANDING_STIFFNESS_N_PER_M = 9.4e4
-"""``k_c`` [N/m]: the stiff contact's effective stiffness, from the peak of a mass ``Lambda_n``
-meeting it at ``v``, ``F_x = v sqrt(k_c Lambda_n)``. Fitted on the PUMA over the hole's top face
-(``Lambda_n`` = 18.5 kg; FORCE 3 and 8 N at 20 mm/s, realistic seeds 0-2 and ideal): landing at
-3 mm/s peaked at 3.1-3.9 N and 8.1-8.2 N but crept to the touch (0.2-0.3 s later than at the
-SPEED) and two of the four 3 N holds hunted in the joints' stiction and never settled; at 3.8 mm/s
-(this ``k_c``) 6.2-7.3 N and 8.1-8.3 N, 0.09-0.12 s later; at 4.9 mm/s 10.0-12.9 N and
-10.0-13.6 N. The Panda (``Lambda_n`` 8.8 kg) lands at 5.5 mm/s: at 4.8 mm/s its 3 N CONTACTs
-peaked at 5.4-6.6 N, at 8 mm/s at 8.1-10.7 N."""
+IMPACT_SHARE = 0.75
+"""The share of the bar ``max(1.5 F, F + 5 N)`` that the landing's peak is aimed at: the
+realistic plant's joints stick and slip below 5 mm/s, and a landing aimed at ``v_l`` touched at
+0.87-1.13 times it (3.3-4.3 mm/s at 3.8)."""
+
+IMPACT_MAX_N = 9.4
+"""The most a landing's peak is aimed at [N], whatever the FORCE: 3.8 mm/s on the PUMA, 5.5 mm/s
+on the Panda, where FORCE 8 and 30 N peak at 1.0-1.4 times FORCE on both arms; faster landings
+of heavy FORCEs were not measured."""
+
+CUSHIONED_LANDING_MPS = 0.03
+"""The landing speed on a modelled surface whose contact cushions (``STIFF_RAMP_M`` or more) [m/s]:
+the table, the tilted plate and a task frame turned 45 deg, FORCE 3-30 N, met the bar at up to
+30 mm/s (3 N peaked at 6.8 N) and not at 50 mm/s (3 N at 12-21 N, 8 N at 14-21 N)."""
 
 LANDING_MIN_MPS = 0.002
 """The landing speed never falls below this [m/s]: slower, the realistic plant's joints stick."""
 
 
-def landing_speed(mass_kg: float, max_speed_mps: float) -> float:
-    """``v_l = clip(F_x / sqrt(k_c Lambda_n), v_min, V_max)`` [m/s].
+def bar_n(force_n: float) -> float:
+    """The documented bound on a landing's peak for a FORCE, ``max(1.5 F, F + 5 N)`` [N]."""
+    return max(1.5 * force_n, force_n + 5.0)
+
+
+def landing_peak_n(force_n: float) -> float:
+    """``P(F) = min(IMPACT_SHARE bar(F), IMPACT_MAX_N)`` [N]; ``IMPACT_MAX_N`` for an unknown FORCE (0)."""
+    if not force_n > 0.0:
+        return IMPACT_MAX_N
+    return min(IMPACT_SHARE * bar_n(force_n), IMPACT_MAX_N)
+
+
+def landing_speed(mass_kg: float, max_speed_mps: float, force_n: float = 0.0) -> float:
+    """``v_l = clip(P(F) / sqrt(k_i Lambda_n), v_min, V_max)`` [m/s].
 
     Args:
         mass_kg: ``Lambda_n``, the arm's effective mass along the approach [kg].
         max_speed_mps: The CONTACT's SPEED [m/s].
+        force_n: The CONTACT's FORCE [N]; 0 if not known.
     """
-    speed = EXCESS_N / math.sqrt(LANDING_STIFFNESS_N_PER_M * max(mass_kg, 1e-9))
+    speed = landing_peak_n(force_n) / math.sqrt(IMPACT_STIFFNESS_N_PER_M * max(mass_kg, 1e-9))
     return min(max(speed, LANDING_MIN_MPS), max_speed_mps)
 
 

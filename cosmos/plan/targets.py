@@ -107,11 +107,14 @@ class ContactTouch:
         max_travel_m: The segment *fails* ("nothing touched") when the tool has
             moved this far along the direction without touching [m]. The
             segment's target sits at this distance.
+        force_n: The FORCE the CONTACT holds once touched [N] (its landing's speed is chosen
+            for it: :mod:`cosmos.osc.landing`); 0 if not known.
     """
 
     direction_world: FloatArray
     threshold_n: float
     max_travel_m: float
+    force_n: float = 0.0
     kind: ClassVar[CompletionKind] = CompletionKind.CONTACT_TOUCH
 
 

@@ -4,16 +4,19 @@ The controller's workcell model is the scene file at its nominal poses: the fixt
 (:attr:`cosmos.runtime.foresight_cache.Workcell.solids`, as the checker sees them, not where a
 sweep's drawn variation put them in the plant) and their contact materials (the geoms'
 ``solimp`` and ``solmix`` in the scene file, mixed with the tool's as MuJoCo mixes them). From
-the tool's end (its tool point and the rim of its end section) the approach's line is traced
+the tool (its tool point and the rims of its sections) the approach's line is traced
 into the solids (sphere tracing on their exact signed distances, as
 :func:`cosmos.runtime.fixture_solids.top_above` does upward); the nearest surface hit sets the
-landing if its contact is stiff (:data:`cosmos.osc.landing.STIFF_RAMP_M`).
+landing: for the CONTACT's FORCE if its contact is stiff (:data:`cosmos.osc.landing.STIFF_RAMP_M`),
+at :data:`cosmos.osc.landing.CUSHIONED_LANDING_MPS` if it cushions.
 
 A push held at a surface (a CONTACT's hold, a WAIT in contact) lands the same way where it loses
 that surface (:func:`cosmos.osc.held_push.held_push_cap`): from the tool point alone, along the
-push, to the stiff surface beyond the one it touches. A peg on the hole's chamfer touches with its
-rim while its tool point is over the bore: traced from the rim, the landing would be on the chamfer
-it stands on; from the tool point it is on the bore's bottom, where the peg goes once it slides in.
+push, to the stiff surface beyond the one it touches (a cushioned one gives a hold no landing: a
+hold's landing also says that its push is on steel, :func:`cosmos.osc.held_push.held_gains`). A peg
+on the hole's chamfer touches with its rim while its tool point is over the bore: traced from the
+rim, the landing would be on the chamfer it stands on; from the tool point it is on the bore's
+bottom, where the peg goes once it slides in.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ import numpy as np
 
 from cosmos.model_facts import kept
 from cosmos.osc.landing import (
+    CUSHIONED_LANDING_MPS,
     LANDING_DECELERATION_MPS2,
     LANDING_ZONE_M,
     STIFF_RAMP_M,
@@ -43,7 +47,10 @@ if TYPE_CHECKING:
 FloatArray = np.ndarray
 
 RIM_POINTS = 16
-"""Points on the rim of the tool's end section traced besides the tool point."""
+"""Points on each ring of a tool's section traced besides the tool point (:func:`tool_points`)."""
+RING_SPACING_M = 0.01
+"""The rings along a section are at most this far apart [m]: a fixture's edge thinner than that
+between two may be missed."""
 TRACE_TOLERANCE_M = 1e-5
 """A traced point this close to a solid has met it [m]."""
 
@@ -86,18 +93,29 @@ def surface_ahead(
     return best, which
 
 
-def tool_end_points(
+def tool_points(
     position: FloatArray, rotation: FloatArray, sections: tuple[tuple[float, float, float], ...]
 ) -> FloatArray:
-    """The tool point and the rim of the tool's section at its end, world [m]. # (1 + RIM_POINTS, 3)."""
-    points = [np.asarray(position, dtype=float)]
-    ends = [s for s in sections if s[0] <= 1e-9]
-    if ends:
-        radius = max(s[2] for s in ends)
-        for angle in np.linspace(0.0, 2.0 * math.pi, RIM_POINTS, endpoint=False):
-            local = np.array((radius * math.cos(angle), radius * math.sin(angle), 0.0))
-            points.append(points[0] + np.asarray(rotation).dot(local))
-    return np.array(points)
+    """The tool point and rims of the tool's sections, world [m]. # (m, 3).
+
+    Rings of :data:`RIM_POINTS` at each section's radius, at its two ends and every
+    :data:`RING_SPACING_M` between: a CONTACT down meets a face with the rim of the tool's end, one
+    across meets a wall with the side of the tool's widest section there. Traced from the end's
+    rim alone (the peg's tip, 8.4 mm in radius, chamfered), ``CONTACT -X`` onto the hole fixture's
+    outer wall found the wall 1.6 mm beyond where the peg's shank (9.9 mm) met it, and the approach
+    met it at its SPEED before it had slowed.
+    """
+    origin = np.asarray(position, dtype=float)
+    axes = np.asarray(rotation, dtype=float)
+    angles = np.linspace(0.0, 2.0 * math.pi, RIM_POINTS, endpoint=False)
+    ring = np.stack((np.cos(angles), np.sin(angles), np.zeros(RIM_POINTS)), axis=1)  # (RIM_POINTS, 3)
+    points = [origin[None, :]]
+    for start, end, radius in sections:
+        count = max(2, int(math.ceil((end - start) / RING_SPACING_M)) + 1)
+        for back in np.linspace(max(start, 0.0), max(end, 0.0), count):
+            local = radius * ring - np.array((0.0, 0.0, back))  # z along the tool, away from the flange
+            points.append(origin + local.dot(axes.T))
+    return np.concatenate(points)
 
 
 @functools.cache
@@ -175,11 +193,19 @@ def with_landing(
         travel = reach = float(np.linalg.norm(line))
         if not travel > 0.0:
             return setpoint
-        direction, points = line / travel, tool_end_points(start, rotation, cell.tool_sections)
+        direction, points = line / travel, tool_points(start, rotation, cell.tool_sections)
     distance, solid = surface_ahead(cell.solids, points, direction, reach)
-    if solid < 0 or contact_ramps(robot_name).get(cell.solids[solid].geom, 0.0) >= STIFF_RAMP_M:
+    if solid < 0:
         return setpoint
-    mass = float(direction.dot(np.asarray(lambda_)[:3, :3]).dot(direction))  # Lambda_n
-    speed = landing_speed(mass, setpoint.max_speed)
+    stiff = contact_ramps(robot_name).get(cell.solids[solid].geom, 0.0) < STIFF_RAMP_M
     at = travel - distance + LANDING_ZONE_M  # from the goal (a hold's x_d), along the line
+    if not stiff:
+        if holds or not CUSHIONED_LANDING_MPS < setpoint.max_speed:
+            return setpoint
+        return replace(setpoint, landing=(at, CUSHIONED_LANDING_MPS, LANDING_DECELERATION_MPS2))
+    mass = float(direction.dot(np.asarray(lambda_)[:3, :3]).dot(direction))  # Lambda_n
+    force = float(np.linalg.norm(setpoint.force_world[:3]))  # a hold's; an approach's is its CONTACT's
+    if isinstance(segment.completion, ContactTouch):
+        force = segment.completion.force_n
+    speed = landing_speed(mass, setpoint.max_speed, force)
     return replace(setpoint, landing=(at, speed, LANDING_DECELERATION_MPS2))

@@ -7,11 +7,18 @@ import math
 import numpy as np
 import pytest
 
-from cosmos.osc.landing import LANDING_MIN_MPS, landing_limit, landing_speed
+from cosmos.osc.landing import (
+    IMPACT_MAX_N,
+    IMPACT_STIFFNESS_N_PER_M,
+    LANDING_MIN_MPS,
+    bar_n,
+    landing_limit,
+    landing_speed,
+)
 from cosmos.robots import ROBOTS
 from cosmos.runtime.foresight_cache import workcell
 from cosmos.runtime.kernels.cruise import landing_limit as compiled_landing_limit
-from cosmos.runtime.landing_zone import contact_ramps, surface_ahead, tool_end_points
+from cosmos.runtime.landing_zone import contact_ramps, surface_ahead, tool_points
 from cosmos.workcell import fixture_frames
 
 DOWN = np.array([0.0, 0.0, -1.0])
@@ -54,6 +61,32 @@ def test_the_landing_speed_falls_with_the_effective_mass() -> None:
     assert landing_speed(1e4, 0.02) == LANDING_MIN_MPS
 
 
+def _spring_peak_n(mass_kg: float, stiffness_n_per_m: float, speed_mps: float) -> float:
+    """The peak force of a mass meeting a linear spring at a speed, integrated (not the closed form)."""
+    x, v, dt, peak = 0.0, speed_mps, 1e-7, 0.0
+    while v > 0.0:
+        v -= stiffness_n_per_m * x / mass_kg * dt
+        x += v * dt
+        peak = max(peak, stiffness_n_per_m * x)
+    return peak
+
+
+@pytest.mark.parametrize("force_n", [2.0, 3.0, 5.0, 8.0, 30.0])
+@pytest.mark.parametrize("mass_kg", [8.8, 18.5])
+def test_the_landing_speed_keeps_the_impact_under_the_bar(force_n: float, mass_kg: float) -> None:
+    """A mass ``Lambda_n`` (the Panda's, the PUMA's over the hole) landing at ``landing_speed`` on the
+    spring ``k_i`` peaks at 0.75 of the bar ``max(1.5 F, F + 5 N)`` or at IMPACT_MAX_N, whichever is
+    less (the spring's peak integrated here, not taken from the code's closed form).
+
+    Catches a landing speed chosen without the FORCE: 3.8 mm/s for every FORCE on the PUMA, where
+    FORCE 3 N at SPEED 5 mm/s peaked at 8.2-9.7 N against its bar of 8 N."""
+    speed = landing_speed(mass_kg, 0.05, force_n)
+    peak = _spring_peak_n(mass_kg, IMPACT_STIFFNESS_N_PER_M, speed)
+    assert peak == pytest.approx(min(0.75 * bar_n(force_n), IMPACT_MAX_N), rel=1e-3)
+    assert landing_speed(mass_kg, 0.05, 0.0) == landing_speed(mass_kg, 0.05, 100.0)  # unknown: the most
+    assert landing_speed(mass_kg, 0.05, 3.0) < landing_speed(mass_kg, 0.05, 8.0)
+
+
 @pytest.mark.parametrize("robot", ["puma560", "panda"])
 def test_the_hole_top_is_found_under_the_peg_and_is_stiff(robot: str) -> None:
     """Catches a trace that misses the hole fixture's top face (or stops short of it) under a peg
@@ -63,9 +96,26 @@ def test_the_hole_top_is_found_under_the_peg_and_is_stiff(robot: str) -> None:
     cell = workcell(robot, "peg")
     hole = fixture_frames(ROBOTS[robot])["hole"]
     start = hole.position + np.array([0.016, 0.0, 0.010])
-    points = tool_end_points(start, cell.home_tool_rotation, cell.tool_sections)
+    points = tool_points(start, cell.home_tool_rotation, cell.tool_sections)
     distance, solid = surface_ahead(cell.solids, points, DOWN, 0.3)
     assert distance == pytest.approx(0.010, abs=2e-5)
     ramps = contact_ramps(robot)
     assert ramps[cell.solids[solid].geom] < 0.001
     assert ramps["table_top"] == pytest.approx(0.0015, rel=0.01)
+
+
+@pytest.mark.parametrize("robot", ["puma560", "panda"])
+def test_a_wall_is_found_where_the_tools_side_meets_it(robot: str) -> None:
+    """``CONTACT -X`` from ``hole + (70 mm, 0, -30 mm)`` meets the fixture's outer wall (its facet at
+    x = 45 mm off the hole's axis) with the peg's shank (radius 9.9125 mm), 15.09 mm ahead: the
+    distance from the scene's geometry, written out here.
+
+    Catches a trace from the rim of the tool's end alone (the peg's chamfered tip, 8.4 mm): it found
+    the wall 16.7 mm ahead, and the approach met it at its SPEED before slowing."""
+    cell = workcell(robot, "peg")
+    hole = fixture_frames(ROBOTS[robot])["hole"]
+    start = hole.position + np.array([0.070, 0.0, -0.030])
+    points = tool_points(start, cell.home_tool_rotation, cell.tool_sections)
+    distance, solid = surface_ahead(cell.solids, points, np.array([-1.0, 0.0, 0.0]), 0.3)
+    assert distance == pytest.approx(0.070 - 0.045 - 0.0099125, abs=2e-5)
+    assert cell.solids[solid].geom.startswith("hole_wall")

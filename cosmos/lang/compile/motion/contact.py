@@ -46,7 +46,7 @@ class Contact(AxisRules, ClauseValues):
             target=plan.RelativeTarget(readonly(tuple([d * travel for d in direction]))),
             speed=speed,
             completion=plan.ContactTouch(
-                direction_world, min(self.defaults.touch_threshold_n, 0.5 * force), travel
+                direction_world, min(self.defaults.touch_threshold_n, 0.5 * force), travel, force
             ),
             until=until,
             timeout=timeout,
