@@ -10,12 +10,67 @@ The compiled kernels :func:`cosmos.runtime.kernels.contact.held_push_into` and
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from cosmos.osc._types import FloatArray
-from cosmos.osc.contact import touch_braking
+from cosmos.osc.contact import LANDED_SPEED_MPS, touch_braking
 from cosmos.osc.landing import landing_limit
 from cosmos.osc.unified import push_axis, speed_limited_push
+
+STIFF_HELD_K_FH = 0.3
+"""The held push's proportional gain ``k_fh`` on a stiff surface [1]: with eq. 18's ``k_f`` (0.6,
+``cosmos.runtime.servo_gains.ServoGains.force``) the loop's gain on the sensed push is 0.9, under 1
+(:func:`held_gains`)."""
+
+
+RAMPED = 1e-9
+"""The ramped F_d is at the segment's once within this share of it (:func:`ramp_over`)."""
+
+
+def ramp_over(force_goal: FloatArray, setpoint: FloatArray) -> bool:
+    """Whether the ramped F_d has reached the segment's: ``(F_d - F_r) . F_d <= RAMPED |F_d|^2`` (forces)."""
+    goal = np.asarray(force_goal, dtype=float)[:3]
+    return float((goal - np.asarray(setpoint, dtype=float)[:3]).dot(goal)) <= RAMPED * float(goal.dot(goal))
+
+
+def held_on_steel(landing_mps: float, landed: bool, force_goal: FloatArray, setpoint: FloatArray) -> bool:
+    """Whether a held push is held on steel: :func:`steel_damping`'s gate.
+
+    A landing set (``v_l > 0``: a stiff surface ahead along the push,
+    :func:`cosmos.runtime.landing_zone.with_landing`), the push landed (the force loop's goal
+    latch: at rest along it, near its goal) and its setpoint's ramp over (0.25 s after the touch).
+    The impact is over by then: the goal latch alone also sets while the impact's rise passes its
+    goal at under 5 mm/s, and the band then takes the damping out of the impact.
+    """
+    return landing_mps > 0.0 and landed and ramp_over(force_goal, setpoint)
+
+
+def held_gains(gains: tuple[float, float, float, float], stiff: bool) -> tuple[float, float, float, float]:
+    """The held push's ``(k_fh, k_ih, k_vh, limit)``: ``k_fh`` at most STIFF_HELD_K_FH on steel.
+
+    On steel the push follows the command within a servo tick: ``F_s(k+1) = F_a(k)``, and eq. 18's
+    proportional terms ``F_a = (1 + k) F_d - k F_s`` make that loop ``F_s(k+1) = -k F_s(k) + ...``,
+    a pole at ``-k``, ``k = k_f + k_fh``; over 1 it rings up, every other tick. With ``k`` = 1.4 (the
+    table's gains) the Panda's ``CONTACT DOWN FORCE 30 N`` on the hole's top face (ideal plant; the
+    contact stiffens as it presses) rang from 28 N into a bounce between 0 and 62 N and failed; with
+    0.9 it settles at 30 N (``python tests/run/contact_impact_grid.py --robot panda --surfaces hole``).
+    The table's 1.5 mm cushion keeps the loop slower than a tick, and its slides keep 0.8
+    (``cosmos.runtime.servo_gains.ServoGains.held_push``). A hold knows its surface is stiff by its
+    landing (:func:`cosmos.runtime.landing_zone.with_landing`: a stiff surface ahead along the push),
+    and takes the gain once landed (the force loop's goal latch, at rest near its goal): during the
+    impact the contact is still building up, and the table's gain takes more of it (FORCE 8 N at
+    5 mm/s peaked at 9.9-12.2 N with 0.9 from the touch, against 9.4-11.1 N). The Panda's 30 N
+    starts to ring as its push, ramped, passes 27 N: with the gain from the end of the ramp
+    (:func:`held_on_steel`) it peaked at 31.3-33.4 N, from the goal latch at 30.2 N.
+
+    Args:
+        gains: ``(k_fh [1], k_ih [1/s], k_vh [1/s], limit [N s])``.
+        stiff: Whether the push presses on a stiff surface.
+    """
+    k_fh, k_ih, k_vh, limit = gains
+    return (min(k_fh, STIFF_HELD_K_FH) if stiff else k_fh), k_ih, k_vh, limit
 
 
 def held_push(
@@ -77,6 +132,56 @@ def held_push(
     out = np.array(feedback, dtype=float)
     out[:3] += added * n
     return out, integral
+
+
+def steel_damping(
+    feedback: FloatArray,
+    force_goal: FloatArray,
+    velocity: FloatArray,
+    lambda_inv_omega_bar: FloatArray,
+    k_vf: float,
+    band_mps: float = LANDED_SPEED_MPS,
+) -> tuple[FloatArray, FloatArray]:
+    """A push landed on steel: its damping acts on the speed along it beyond the velocity observer's noise.
+
+    On steel a push at rest moves micrometres along itself (each is 0.1-1 N), so a speed under
+    ``band`` sensed there is the velocity observer's answer to an encoder count
+    (:mod:`cosmos.realism.encoders`: one count through the 40 Hz observer is some 4 mm/s at the
+    PUMA's tool), not a motion. Damped by eq. 18's ``k_vf`` and the held push's ``k_vh`` (80/s
+    times ``m_n``, 18.5 kg), each count kicked the push by up to 6 N: the PUMA's ``CONTACT DOWN
+    FORCE 3 N SPEED 5 mm/s`` on the hole's top face (realistic plant, seed 0) rang between 2.3 and
+    3.8 N every 0.15 s and was not settled in 3 s. So once held on steel (:func:`held_on_steel`),
+    along ``n = F_d / |F_d|``::
+
+        v_b = sign(v_n) max(|v_n| - band, 0),  v_n = n^T xd
+        F_fb += k_vf m_n (v_n - v_b) n,         xd <- xd + (v_b - v_n) n  (for the held push's k_vh)
+
+    the first cancels eq. 18's damping of the band's speed (``m_n`` of its ``n^T Lambda n``), the
+    second leaves the held push's damping :func:`held_push` the speed beyond it: 2.8-3.25 N,
+    settled 0.41 s after the touch. Gated by :func:`held_on_steel`: the impact is over by then; a
+    push that loses its surface runs faster than the band, where both damp it as before.
+
+    Args:
+        feedback: F_fb, world, [N, N m]. # (6,)
+        force_goal: The segment's F_d (not ramped), world. # (6,)
+        velocity: Tool twist xd, world. # (6,)
+        lambda_inv_omega_bar: ``Lambda^-1 Omega_bar``. # (6, 6)
+        k_vf: Eq. 18's damping gain of the force axes [1/s].
+        band_mps: The observer's noise along the push [m/s].
+
+    Returns:
+        ``(F_fb, xd)``: the feedback with eq. 18's damping of the band's speed given back, and the
+        twist whose speed along n the held push damps.
+    """
+    n, inverse_mass = push_axis(force_goal, lambda_inv_omega_bar)
+    if not inverse_mass > 0.0:
+        return feedback, velocity
+    along = float(n.dot(velocity[:3]))
+    beyond = math.copysign(max(abs(along) - band_mps, 0.0), along)
+    out, damped = np.array(feedback, dtype=float), np.array(velocity, dtype=float)
+    out[:3] += k_vf * (along - beyond) / inverse_mass * n
+    damped[:3] += (beyond - along) * n
+    return out, damped
 
 
 def held_push_cap(

@@ -14,13 +14,11 @@ from cosmos.osc.admittance import admittance_command, admittance_speed, low_pass
 from cosmos.osc.contact import contact_latched, touch_latched
 from cosmos.osc.force import selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
-from cosmos.osc.held_push import held_push, held_push_cap, touch_damping
-from cosmos.osc.landing import landing_limit
+from cosmos.osc.held_push import touch_damping
 from cosmos.osc.orientation import so3_exp
 from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import REACH_FRACTION, force_goal_reached, speed_limited_push
 from cosmos.runtime.kernels import contact as ck
-from cosmos.runtime.kernels.cruise import LANDING
 
 SEEDS = range(20)
 
@@ -247,88 +245,6 @@ def test_speed_limited_push_without_a_push_leaves_the_feedback() -> None:
     assert np.array_equal(got, feedback)
     expected, limited = speed_limited_push(feedback, *args)
     assert not limited and np.array_equal(expected, feedback)
-
-
-@pytest.mark.parametrize("seed", SEEDS)
-def test_held_push_is_its_reference(seed: int) -> None:
-    """The held push's terms against cosmos.osc.held_push.held_push, integrating on even seeds.
-
-    Catches the terms added off the push's direction, the damping not scaled by the mass along
-    it, the integral growing when the gate is shut or escaping its clamp."""
-    rng = np.random.default_rng(seed)
-    goal = np.concatenate((rng.normal(0.0, 10.0, 3), rng.normal(0.0, 0.5, 3)))
-    m = rng.normal(size=(6, 6))
-    force_to_acceleration = np.linalg.inv(m @ m.T + 3.0 * np.eye(6)) @ _omega_bar(rng)
-    force_to_acceleration[:3, :3] = np.eye(3) * rng.uniform(0.02, 1.0)  # a push the arm can make
-    setpoint, sensed = rng.uniform(0.2, 1.0) * goal, rng.normal(0.0, 5.0, 6)
-    velocity, feedback = rng.normal(0.0, 0.02, 6), rng.normal(0.0, 5.0, 6)
-    gains = (float(rng.uniform(0.0, 1.0)), 288.0, 1000.0, 0.2)
-    integral, integrate = float(rng.uniform(-0.19, 0.19)), seed % 2 == 0
-    args = (goal, setpoint, sensed, velocity, force_to_acceleration)
-    expected, expected_integral = held_push(feedback, *args, gains, integral, integrate, 1e-3)
-    got = feedback.copy()
-    got_integral = ck.held_push_into(got, *args, np.array(gains), integral, integrate, 1e-3)
-    _close(got, expected)
-    assert got_integral == pytest.approx(expected_integral, rel=1e-12, abs=1e-15)
-    assert (got_integral != integral) == integrate and abs(got_integral) <= gains[3]
-    n = goal[:3] / np.linalg.norm(goal[:3])
-    assert np.allclose(np.cross(got[:3] - feedback[:3], n), 0.0, atol=1e-9)  # along the push only
-    assert np.array_equal(got[3:], feedback[3:])
-
-
-def test_held_push_without_a_push_leaves_the_feedback() -> None:
-    """No translation in F_d (a pure moment setpoint): nothing added, nothing integrated."""
-    feedback, goal = np.arange(6.0), np.array((0.0, 0.0, 0.0, 0.3, 0.0, 0.0))
-    args = (goal, goal, np.ones(6), np.ones(6), np.eye(6))
-    got = feedback.copy()
-    assert ck.held_push_into(got, *args, np.array((0.4, 288.0, 1000.0, 0.2)), 0.1, True, 1e-3) == 0.1
-    assert np.array_equal(got, feedback)
-    expected, integral = held_push(feedback, *args, (0.4, 288.0, 1000.0, 0.2), 0.1, True, 1e-3)
-    assert integral == 0.1 and np.array_equal(expected, feedback)
-
-
-@pytest.mark.parametrize("seed", SEEDS)
-def test_held_push_capped_is_its_reference(seed: int) -> None:
-    """The held push with its speed limit against cosmos.osc.held_push.held_push then held_push_cap,
-    binding on odd seeds, on a landing's profile (braking, past its point, far off) or at the SPEED;
-    on seeds 2, 6, 10, ... the push asks more than the limit allows but does not move along itself.
-
-    Catches the limit read off the push's direction or off the landing's slots, its braking not
-    fed forward, the held integral kept while the limit binds, and a limit that binds at rest."""
-    rng = np.random.default_rng(seed)
-    goal = np.concatenate((rng.normal(0.0, 10.0, 3), rng.normal(0.0, 0.5, 3)))
-    n = goal[:3] / np.linalg.norm(goal[:3])
-    force_to_acceleration = np.eye(6) * rng.uniform(0.05, 1.0)  # a push the arm can make
-    setpoint, sensed = rng.uniform(0.2, 1.0) * goal, rng.normal(0.0, 5.0, 6)
-    velocity, error = rng.normal(0.0, 0.02, 6), rng.normal(0.0, 0.002, 6)
-    landing = (float(-n @ error[:3]) - (0.001, -0.001, 0.01)[seed % 3], 0.004 * (seed % 4 != 0), 0.1)
-    gains, dt_s, max_speed, speeds = (0.4, 288.0, 50.0, 0.2), 1e-3, 0.02, np.array((30.0, 300.0))
-    feedback = rng.normal(0.0, 5.0, 6)
-    to_go = float(-n @ error[:3]) - landing[0]
-    limit, brake = landing_limit(max_speed, to_go, landing[1], landing[2])
-    # Along the push at 0.6-1.4 times the limit (odd seeds), or back from it, at 0-1 times (even).
-    share = rng.uniform(0.6, 1.4) if seed % 2 else -rng.uniform(0.0, 1.0)
-    velocity[:3] += (share * limit - float(n @ velocity[:3])) * n
-    # The asked push 50 N above (odd seeds, and 2, 6, ...) or below (0, 4, ...) what the limit allows.
-    along, inverse_mass = float(n @ velocity[:3]), float(n @ force_to_acceleration[:3, :3] @ n)
-    allowed = float(n @ sensed[:3]) + (-brake + 300.0 * (limit - along) + 30.0 * along) / inverse_mass
-    held, _ = held_push(
-        feedback, goal, setpoint, sensed, velocity, force_to_acceleration, gains, 0.1, True, dt_s
-    )
-    feedback[:3] += (allowed - float(n @ held[:3]) + (50.0 if seed % 4 else -50.0)) * n
-    expected, expected_integral = held_push(
-        feedback, goal, setpoint, sensed, velocity, force_to_acceleration, gains, 0.1, True, dt_s
-    )
-    expected, limited = held_push_cap(
-        expected, goal, sensed, velocity, force_to_acceleration, error, max_speed, landing, 300.0, 30.0
-    )
-    got, integral, scalars = feedback.copy(), np.array((0.1,)), np.zeros(LANDING + 3)
-    scalars[LANDING : LANDING + 3] = landing
-    args = (goal, setpoint, sensed, velocity, error, force_to_acceleration, np.array(gains), True, dt_s)
-    assert ck.held_push_capped_into(got, integral, *args, max_speed, speeds, scalars) == limited
-    assert limited == bool(seed % 2)
-    _close(got, expected)
-    assert integral[0] == (0.0 if limited else pytest.approx(expected_integral, rel=1e-12))
 
 
 @pytest.mark.parametrize("seed", SEEDS)

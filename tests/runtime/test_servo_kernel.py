@@ -17,7 +17,14 @@ from cosmos.osc.contact import LANDED_PUSH, contact_latched, push_landed, touch_
 from cosmos.osc.dynamics import OperationalDynamics, null_space_damping, operational_dynamics
 from cosmos.osc.force import Selection, selection
 from cosmos.osc.friction import adapt_coulomb_error, coulomb_compensation, friction_intent
-from cosmos.osc.held_push import held_push, held_push_cap, touch_damping
+from cosmos.osc.held_push import (
+    held_gains,
+    held_on_steel,
+    held_push,
+    held_push_cap,
+    steel_damping,
+    touch_damping,
+)
 from cosmos.osc.integral_action import integrate_goal_error, integrate_motion_error, observe_hold_disturbance
 from cosmos.osc.limits import saturate_torque
 from cosmos.osc.motion import goal_command, ramped_speed_limit, tracking_command
@@ -719,19 +726,25 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
             cruise[2] = follow_the_tool(along, aim)
     else:  # a push held against a surface, its SPEED a limit (on a landing's profile, if any)
         gains = tuple(float(g) * touching for g in sc[sk.HELD_PUSH : sk.HELD_PUSH + 4])  # once touching
+        landing = sc[LANDING : LANDING + 3]
+        steel = landing[1] > 0.0 and touching and reached  # landed on steel: osc.held_push.held_gains
+        damped = velocity
+        if held_on_steel(landing[1], touching and reached, vec[sk.FORCE_WORLD], setpoint):
+            feedback, damped = steel_damping(
+                feedback, vec[sk.FORCE_WORLD], velocity, dyn.lambda_inv @ sel.omega_bar, FORCE_GAINS.k_vf
+            )
         feedback, _ = held_push(
             feedback,
             vec[sk.FORCE_WORLD],
             setpoint,
             wrench,
-            velocity,
+            damped,
             dyn.lambda_inv @ sel.omega_bar,
-            (gains[0], gains[1], gains[2], gains[3]),
+            held_gains((gains[0], gains[1], gains[2], gains[3]), steel),
             st[sk.FLAGS, sk.HELD_INTEGRAL],
             touching and reached,
             DT_S,
         )
-        landing = sc[LANDING : LANDING + 3]
         feedback, held_capped = held_push_cap(
             feedback,
             vec[sk.FORCE_WORLD],

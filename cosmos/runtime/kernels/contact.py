@@ -14,10 +14,10 @@ at the edges (thresholds, bounds, clipping):
 * :func:`coulomb_compensation_into`: :func:`cosmos.osc.friction.friction_intent` and
   :func:`cosmos.osc.friction.coulomb_compensation`;
 * :func:`speed_limited_push_into`: :func:`cosmos.osc.unified.speed_limited_push` (a push's SPEED);
-* :func:`held_push_into`: :mod:`cosmos.osc.held_push`;
-* :func:`held_push_capped_into`: :func:`cosmos.osc.held_push.held_push_cap` (a held push's speed limit);
 * :func:`touch_braking_into`: :func:`cosmos.osc.contact.touch_braking` (a CONTACT's approach);
 * :func:`tilt_window_into`: :func:`cosmos.osc.tilt_window.tilt_window` (an INSERT's rotations).
+
+A held push's kernels are :mod:`cosmos.runtime.kernels.held_push`.
 """
 
 from __future__ import annotations
@@ -29,7 +29,6 @@ import numpy as np
 from cosmos.jit import kernel
 from cosmos.osc.contact import LANDED_PUSH, LANDED_SPEED_MPS, TOUCH_BRAKING_N_PER_KG
 from cosmos.osc.unified import REACH_FRACTION
-from cosmos.runtime.kernels.cruise import LANDING, landing_limit
 from cosmos.runtime.kernels.linear import matvec, max_abs_product
 
 FloatArray = np.ndarray
@@ -240,125 +239,6 @@ def speed_limited_push_into(
     feedback[1] = allowed * n1
     feedback[2] = allowed * n2
     return True, along
-
-
-@kernel
-def held_push_into(
-    feedback: FloatArray,
-    force_goal: FloatArray,
-    setpoint: FloatArray,
-    force_sensed: FloatArray,
-    velocity: FloatArray,
-    force_to_acceleration: FloatArray,
-    gains: FloatArray,
-    integral: float,
-    integrate: bool,
-    dt_s: float,
-) -> float:
-    """:func:`cosmos.osc.held_push.held_push`, added to ``feedback`` in place.
-
-    Args:
-        feedback: F_fb, world, [N, N m]. # (6,)
-        force_goal: F_d (not ramped), world: n is its direction. # (6,)
-        setpoint: F_d ramped, world. # (6,)
-        force_sensed: F_s, world. # (6,)
-        velocity: Tool twist, world. # (6,)
-        force_to_acceleration: ``Lambda^-1 Omega_bar``. # (6, 6)
-        gains: ``(k_fh, k_ih, k_vh, integral_limit)``. # (4,)
-        integral: The push error's integral along n so far, in [N s].
-        integrate: Whether it grows this tick (touching and the goal reached).
-        dt_s: Servo period, in [s].
-
-    Returns:
-        The updated integral, in [N s].
-    """
-    n0, n1, n2, inverse_mass = push_axis(force_goal, force_to_acceleration)
-    if not inverse_mass > 0.0:
-        return integral
-    error = n0 * (setpoint[0] - force_sensed[0]) + n1 * (setpoint[1] - force_sensed[1])
-    error += n2 * (setpoint[2] - force_sensed[2])
-    if integrate:
-        integral = min(max(integral + error * dt_s, -gains[3]), gains[3])
-    along = n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2]
-    added = gains[0] * error + gains[1] * integral - gains[2] * along / inverse_mass
-    feedback[0] += added * n0
-    feedback[1] += added * n1
-    feedback[2] += added * n2
-    return integral
-
-
-@kernel
-def held_push_capped_into(
-    feedback: FloatArray,
-    held_integral: FloatArray,
-    force_goal: FloatArray,
-    setpoint: FloatArray,
-    force_sensed: FloatArray,
-    velocity: FloatArray,
-    error: FloatArray,
-    force_to_acceleration: FloatArray,
-    gains: FloatArray,
-    integrate: bool,
-    dt_s: float,
-    max_speed: float,
-    speeds: FloatArray,
-    scalars: FloatArray,
-) -> bool:
-    """:func:`held_push_into`, then its speed limit :func:`cosmos.osc.held_push.held_push_cap`, in place.
-
-    Args:
-        feedback: F_fb, world, [N, N m]. # (6,)
-        held_integral: The held push's integral [N s] at 0, in and out (0 where the cap binds). # (>= 1,)
-        force_goal: F_d (not ramped), world. # (6,)
-        setpoint: F_d ramped, world. # (6,)
-        force_sensed: F_s, world. # (6,)
-        velocity: Tool twist, world. # (6,)
-        error: ``x - x_d``, world. # (6,)
-        force_to_acceleration: ``Lambda^-1 Omega_bar``. # (6, 6)
-        gains: ``(k_fh, k_ih, k_vh, integral_limit)``. # (4,)
-        integrate: Whether the held integral grows this tick.
-        dt_s: Servo period, in [s].
-        max_speed: ``V_max``, the statement's SPEED [m/s].
-        speeds: ``(k_vf [1/s], kv [1/s])``. # (>= 2,)
-        scalars: The servo's scalars; the landing's ``(s_l, v_l, a)`` at kernels.cruise's LANDING read.
-
-    Returns:
-        Whether the cap binds (the force loop's own integral is then the caller's to hold).
-    """
-    held_integral[0] = held_push_into(
-        feedback,
-        force_goal,
-        setpoint,
-        force_sensed,
-        velocity,
-        force_to_acceleration,
-        gains,
-        held_integral[0],
-        integrate,
-        dt_s,
-    )
-    n0, n1, n2, inverse_mass = push_axis(force_goal, force_to_acceleration)
-    if not inverse_mass > 0.0:
-        return False
-    landing = scalars[LANDING : LANDING + 3]
-    to_go = -(n0 * error[0] + n1 * error[1] + n2 * error[2]) - landing[0]
-    limit, brake = landing_limit(max_speed, to_go, landing[1], landing[2])
-    if not n0 * velocity[0] + n1 * velocity[1] + n2 * velocity[2] > 0.0:  # at rest: stiction's to break
-        return False
-    capped, _ = speed_limited_push_into(
-        feedback,
-        force_goal,
-        force_sensed,
-        velocity,
-        force_to_acceleration,
-        limit,
-        speeds[1],
-        speeds[0],
-        -brake,
-    )
-    if capped:  # the surface it was learnt against is lost
-        held_integral[0] = 0.0
-    return capped
 
 
 @kernel

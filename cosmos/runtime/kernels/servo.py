@@ -41,7 +41,6 @@ from cosmos.runtime.kernels.contact import (
     contact_latched,
     coulomb_compensation_into,
     force_goal_latched,
-    held_push_capped_into,
     low_pass_into,
     tilt_window_into,
     touch_braking_into,
@@ -49,6 +48,7 @@ from cosmos.runtime.kernels.contact import (
 )
 from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, cruise_into, landing_into, reference_speed
 from cosmos.runtime.kernels.friction_adaptation import adapted_levels
+from cosmos.runtime.kernels.held_push import held_push_capped_into
 from cosmos.runtime.kernels.hold_observer import hold_observer_into
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
 from cosmos.runtime.kernels.push_speed import push_at_speed_into
