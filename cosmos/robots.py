@@ -46,6 +46,10 @@ class Robot:
             joint turns, ``(|G| Tc+, |G| |Tc-|)`` per joint [N m], or None where only the
             model file's symmetric ``frictionloss`` is known. The controller compensates it
             by direction; the model file holds the two directions' mean.
+        joint_speed_limits_rad_s: Each joint's published speed limit [rad/s] (the model dir's
+            README.md says where from). The goal motion keeps the joints within
+            :data:`cosmos.osc.joint_speed.JOINT_SPEED_FRACTION` of them, and a joint beyond them
+            is a protective stop (:mod:`cosmos.execution.joint_speed_watch`). # (n,)
         encoder_counts_per_degree: The joints' position encoders, counts per joint degree,
             which the realistic plant rounds the angles to (:mod:`cosmos.realism.encoders`);
             None: read exactly.
@@ -61,6 +65,7 @@ class Robot:
     shoulder_m: tuple[float, float, float]
     capability: ArmCapability
     wrist_joint: int | None
+    joint_speed_limits_rad_s: tuple[float, ...]
     coulomb_by_direction_nm: tuple[tuple[float, float], ...] | None = None
     encoder_counts_per_degree: tuple[float, ...] | None = None
 
@@ -101,6 +106,10 @@ conversion factors (posted with the PUMA's servo interface on comp.robotics, "Pu
 encoders->degrees", 4 Oct 1990); 1000, 800, 1000, 1000, 1000 and 500 counts per motor
 revolution through the published gear ratios (:mod:`cosmos.realism.encoders`)."""
 
+PUMA560_SPEED_LIMITS_RAD_S = (8.0, 10.0, 10.0, 5.0, 5.0, 5.0)
+"""Joint speed limits of the PUMA 560 [rad/s], joints 1-6: the drives' limits commonly used in
+teaching models (``shared/reference/puma560.md``)."""
+
 PUMA560 = Robot(
     name="puma560",
     model_dir=MODELS_DIR / "puma560",
@@ -112,6 +121,7 @@ PUMA560 = Robot(
     shoulder_m=(0.0, 0.0, 0.67183),  # DH d1: joint 2's axis crosses joint 1's there
     capability=ARM_CAPABILITY,
     wrist_joint=4,  # joint 5: at zero joints 4 and 6 are aligned
+    joint_speed_limits_rad_s=PUMA560_SPEED_LIMITS_RAD_S,
     coulomb_by_direction_nm=PUMA560_COULOMB_NM,
     encoder_counts_per_degree=PUMA560_COUNTS_PER_DEGREE,
 )
@@ -141,6 +151,10 @@ resolution; the joints' angles are measured on the link side, taken here as a 19
 encoder per joint (2^19 counts a turn, 1.2e-5 rad a count, a common grade for the class), so
 8 times finer than the PUMA's joint 2."""
 
+PANDA_SPEED_LIMITS_RAD_S = (2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61)
+"""Joint speed limits of the Panda [rad/s], joints 1-7: Franka's datasheet (Franka Control
+Interface documentation, "Robot and interface specifications"), the URDF's ``velocity``."""
+
 PANDA = Robot(
     name="panda",
     model_dir=MODELS_DIR / "panda",
@@ -152,6 +166,7 @@ PANDA = Robot(
     shoulder_m=(0.0, 0.0, 0.533),  # joint 2's axis: URDF joint 1 at 0.333 m on the 0.2 m pedestal
     capability=PANDA_CAPABILITY,
     wrist_joint=None,  # joints 5 and 7 are offset (0.088 m): no spherical wrist
+    joint_speed_limits_rad_s=PANDA_SPEED_LIMITS_RAD_S,
     encoder_counts_per_degree=PANDA_COUNTS_PER_DEGREE,
 )
 
