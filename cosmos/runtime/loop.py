@@ -126,6 +126,7 @@ class Runtime:
             self._tool_weight_z_n,
             joint_limits=(robot.q_lower_rad, robot.q_upper_rad),
             speed_noise_rad_s=_speed_noise(plant),
+            joint_speed_limits_rad_s=np.array(robot.description.joint_speed_limits_rad_s),
         )
         self.recorder = recorder
         self._live = plant.live_signals()

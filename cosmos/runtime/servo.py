@@ -45,7 +45,6 @@ from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 FloatArray = np.ndarray
 
-
 _MODES = {MotionMode.HOLD: kernel.MODE_HOLD, MotionMode.GOAL: kernel.MODE_GOAL}
 
 
@@ -64,6 +63,7 @@ class ServoLevel:
         joint_limits: tuple[FloatArray, FloatArray] | None = None,
         absorption: AbsorptionPolicy = DEFAULT_ABSORPTION,
         speed_noise_rad_s: FloatArray | None = None,
+        joint_speed_limits_rad_s: FloatArray | float = 0.0,
     ):
         """Set up the buffers.
 
@@ -81,6 +81,7 @@ class ServoLevel:
             absorption: When the potentials act through the task's null space only.
             speed_noise_rad_s: The sensed joint speed's noise, which the friction's intent
                 ignores (:mod:`cosmos.osc.friction`), in [rad/s]; None: read exactly. # (n,)
+            joint_speed_limits_rad_s: Kept by goal motions (:mod:`cosmos.osc.joint_speed`) [rad/s]; 0: none.
         """
         self.gains = gains
         self._fold_constants = np.array(
@@ -129,6 +130,7 @@ class ServoLevel:
         if speed_noise_rad_s is not None:
             self._vectors[kernel.COULOMB_DEAD_BAND, :n] = speed_noise_rad_s
         self._vectors[kernel.TORQUE_MAX, :n] = torque_limits
+        self._vectors[kernel.JOINT_SPEED_MAX, :n] = joint_speed_limits_rad_s
         self._matrices = workspace[matrices:jacobian].reshape((kernel.MATRICES, 6, 6))
         self._jacobian = workspace[jacobian:jbar].reshape((6, n))
         self._jbar_lookahead = workspace[jbar:stacked].reshape((n, 6))
@@ -293,11 +295,9 @@ class ServoLevel:
         scalars[kernel.MAX_ANGULAR_SPEED] = setpoint.max_angular_speed
         accelerations = setpoint.acceleration, setpoint.angular_acceleration
         scalars[kernel.GOAL_ACCELERATION : kernel.GOAL_ANGULAR_ACCELERATION + 1] = accelerations
-        scalars[kernel.START_S] = setpoint.start_s
         scalars[kernel.TRAJECTORY_END_S] = sp.start_s + (sp.trajectory.duration_s if sp.trajectory else 0.0)
-        scalars[kernel.RAMP_S] = setpoint.ramp_s
-        vectors[kernel.KP, :6] = setpoint.kp_task
-        vectors[kernel.KV, :6] = setpoint.kv_task
+        scalars[kernel.START_S], scalars[kernel.RAMP_S] = setpoint.start_s, setpoint.ramp_s
+        vectors[kernel.KP, :6], vectors[kernel.KV, :6] = setpoint.kp_task, setpoint.kv_task
         vectors[kernel.SPRINGS, :6] = setpoint.spring_masses  # a COMPLY spring's (kernels.spring)
         vectors[kernel.FORCE_WORLD, :6] = setpoint.force_world
         vectors[kernel.FORCE_START, :6] = setpoint.force_start_world

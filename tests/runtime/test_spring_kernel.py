@@ -8,6 +8,7 @@ from cosmos.osc.integral_action import SPRING_OBSERVER, observe_spring_disturban
 from cosmos.osc.orientation import so3_exp
 from cosmos.runtime.kernels import servo as sk
 from cosmos.runtime.kernels.cruise import CRUISE
+from cosmos.runtime.kernels.joint_speed import JOINT_SPEED_MAX
 from cosmos.runtime.kernels.spring import SPRING_LAW, SPRINGS, spring_law_into
 
 DT_S = 1e-3
@@ -76,4 +77,6 @@ def test_the_springs_rows_are_their_own() -> None:
     """Catches a spring row laid over another's: the cruise's state, the null space's intent."""
     assert SPRING_LAW == CRUISE + 1 and sk.FRICTION_ERROR == SPRING_LAW + 2  # then SURFACE, last
     assert sk.SURFACE == sk.FRICTION_ERROR + 1 and sk.STATE_ROWS == sk.SURFACE + 1
-    assert SPRINGS == sk.NULL_INTENT + 1 and sk.VECTORS == SPRINGS + 1
+    assert (
+        SPRINGS == sk.NULL_INTENT + 1 and JOINT_SPEED_MAX == SPRINGS + 1 and sk.VECTORS == JOINT_SPEED_MAX + 1
+    )

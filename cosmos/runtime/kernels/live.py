@@ -13,7 +13,16 @@ import numpy as np
 from numba.core import types
 
 from cosmos.jit import kernel
-from cosmos.runtime.kernels.servo import MATRICES, SCALARS, STATE_ROWS, TORQUE, VECTORS, servo_tick
+from cosmos.runtime.kernels.joint_speed import JOINT_SPEED_MAX, speed_brake_into
+from cosmos.runtime.kernels.servo import (
+    MATRICES,
+    SCALARS,
+    STATE_ROWS,
+    TORQUE,
+    TORQUE_MAX,
+    VECTORS,
+    servo_tick,
+)
 
 FloatArray = np.ndarray
 
@@ -96,18 +105,21 @@ def servo_tick_live(
     for i in range(6):
         sensor[i] = wrench_raw[i] + noise[noise_row, i]
     state = workspace[state_at:sensed_at].reshape((STATE_ROWS, w))
+    vector_rows = workspace[vectors:matrices].reshape((VECTORS, w))
     servo_tick(
         t_s,
         q,
         qd,
         sensor,
         workspace[:vectors],
-        workspace[vectors:matrices].reshape((VECTORS, w)),
+        vector_rows,
         workspace[matrices:jacobian].reshape((MATRICES, 6, 6)),
         workspace[jacobian:jbar].reshape((6, n)),
         workspace[jbar:stacked].reshape((n, 6)),
         workspace[stacked:state_at].reshape((n, STACKED_COLUMNS + n)),
         state,
     )
+    # Each joint's speed brake beyond its share of its speed limit (cosmos.osc.joint_speed).
+    speed_brake_into(state[TORQUE, :n], qd, vector_rows[JOINT_SPEED_MAX, :n], vector_rows[TORQUE_MAX, :n])
     for i in range(n):
         ctrl[i] = state[TORQUE, i]

@@ -50,6 +50,7 @@ from cosmos.runtime.kernels.cruise import CRUISE, CRUISE_INTEGRAL, cruise_into, 
 from cosmos.runtime.kernels.friction_adaptation import adapted_levels
 from cosmos.runtime.kernels.held_push import held_push_capped_into
 from cosmos.runtime.kernels.hold_observer import hold_observer_into
+from cosmos.runtime.kernels.joint_speed import JOINT_SPEED_MAX, joint_speed_limited
 from cosmos.runtime.kernels.linear import matvec, rotate_blocks
 from cosmos.runtime.kernels.push_speed import push_at_speed_into
 from cosmos.runtime.kernels.spring import SPRING_LAW, SPRING_ROWS, SPRINGS, spring_law_into
@@ -91,28 +92,24 @@ COULOMB_DEAD_BAND = 13
 GOAL_LINE = 14  # a goal motion's unit line from its start to its goal, world (zeros: none)
 HOLD_KNOWN = 15  # what a free hold's observer expects of the potentials, world [m/s^2]
 NULL_INTENT = 16  # joint speeds the null space's torques ask over the friction's look-ahead [rad/s]
-VECTORS = SPRINGS + 1  # SPRINGS: each COMPLY spring axis's effective mass (kernels.spring)
+VECTORS = max(SPRINGS, JOINT_SPEED_MAX) + 1  # kernels.spring's and kernels.joint_speed's rows
 
 # ``matrices``, (6, 6) each; rotations in the top-left (3, 3). The Jacobian J (6, n), the
 # look-ahead ``L Jbar P`` (n, 6) and the task's null space ``N^T`` (n, n) are blocks of their own.
 FORCE_TO_ACCELERATION, OMEGA_BAR, ROTATION_TASK, ROTATION_SENSOR = range(4)
-OMEGA_ADMITTANCE = 4  # the moment axes under admittance control (world), see servo_tick
-SINGULAR_PROJECTION = 5  # section 5's task projection P of the last evaluation (kernels.parameter)
-MATRICES = 6
+OMEGA_ADMITTANCE, SINGULAR_PROJECTION, MATRICES = 4, 5, 6  # see servo_tick; P (kernels.parameter)
 
 # Rows of the servo's state and outputs (``state``, (STATE_ROWS, w)).
 WRENCH, ERROR, VELOCITY, DISPLACEMENT, INTEGRAL, COULOMB, TORQUE, FLAGS, MOMENT_FILTERED = range(9)
 MOTION_INTEGRAL = 9  # integral of the translation error: a slide's in contact, a goal's near it [m s]
 FRICTION_ERROR = SPRING_LAW + SPRING_ROWS  # each joint's Coulomb error (kernels.friction_adaptation)
 STATE_ROWS = SURFACE + 1  # CRUISE, SPRING_LAW, SURFACE: kernels.cruise's, spring's, surface_friction's rows
-TOUCHING = 0  # column of FLAGS: 1.0 once the tool felt a push on a force axis this segment
-ADMITTING = 1  # column of FLAGS: 1.0 once the tool felt any contact force this segment
+TOUCHING, ADMITTING = 0, 1  # columns of FLAGS: 1.0 once the tool felt a push on a force axis, any force
 REACHED, HELD_INTEGRAL = 2, 3  # FLAGS: 1 once the push reached REACH_FRACTION; a held push's integral [N s]
 OBSERVING = 4  # FLAGS: 1 once a free hold's disturbance observer has its first velocity
 
 # Rows of a tick's work array (servo_tick).
-MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION = range(5)
-SCRATCH_ROWS = 5
+MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION, SCRATCH_ROWS = range(6)  # and their count
 
 
 @kernel
@@ -175,6 +172,9 @@ def servo_tick(
             max_angular_speed, scalars[GOAL_START_ANGULAR_SPEED] + scalars[GOAL_ANGULAR_ACCELERATION] * since
         )
         max_speed = landing_into(max_speed, error, vectors[GOAL_LINE, :3], scalars, state)  # osc.landing
+        eq21 = (error, kp, kv, matrices[ROTATION_TASK], scalars[UNIFORM] != 0.0)  # within the joints':
+        joint_args = (jbar_lookahead, scalars[LOOKAHEAD_S], vectors[JOINT_SPEED_MAX, :n])  # osc.joint_speed
+        max_speed, max_angular_speed = joint_speed_limited(max_speed, max_angular_speed, *eq21, *joint_args)
     admittance = False
     if scalars[ADMITTANCE] != 0.0:
         # Compliant moment axes give way to contact moments: from the first contact force
