@@ -23,9 +23,13 @@ potential through ``N^T``, eq. 34's damping the only brake along that self-motio
 also has a speed brake, a one-sided viscous damper in joint space (the velocity form of eq. 34's
 ``-xi_q A qd``, acting on a joint's speed beyond :data:`BRAKE_FRACTION` of its limit only):
 ``Gamma_i = -b_i (qd_i - clip(qd_i, -f_b qd_max,i, f_b qd_max,i))``, with ``b_i`` such that the brake
-reaches the drive's torque limit where the protective stop would trip
-(:data:`cosmos.execution.joint_speed_watch.OVER_FRACTION` of the limit). It is added after the
-servo's saturation and the sum clipped to the drive: the brake keeps its authority.
+reaches the drive's torque limit at the speed limit itself. It is added after the servo's
+saturation and the sum clipped to the drive: the brake keeps its authority. Braking from 0.9 of the
+limit to the whole torque at 1.1 let joint 1 reach 2.39 rad/s (1.10x) at the hand-over above, and
+the joint chattered against the brake; from 0.8 to the whole torque at 1.0 it peaked at 2.11 rad/s
+(0.97x). The brake acts on the joint whole, not through the null space (the servo tick has no
+``N^T``): at the hand-over it tilted the tool by up to 0.3 rad/s about x for some 0.1 s, which
+the task took back.
 
 The compiled servo tick runs the same arithmetic (:mod:`cosmos.runtime.kernels.joint_speed`).
 """
@@ -44,9 +48,8 @@ evaluation's ``Jbar``; 20 % is the room for both below the limit."""
 
 BRAKE_FRACTION = 0.8
 """A joint's speed brake acts beyond this fraction of its limit."""
-STOP_FRACTION = 1.0
-"""The brake reaches the drive's torque limit at this fraction of the speed limit: the protective
-stop's (:data:`cosmos.execution.joint_speed_watch.OVER_FRACTION`)."""
+FULL_BRAKE_FRACTION = 1.0
+"""The brake reaches the drive's torque limit at this fraction of the speed limit."""
 
 
 def joint_speed_ratio(predicted_rad_s: FloatArray, limits_rad_s: FloatArray, fraction: float) -> float:
@@ -102,7 +105,7 @@ def speed_brake(qd_rad_s: FloatArray, limits_rad_s: FloatArray, torque_max_nm: F
     """Each joint's speed brake (module docstring): ``-b_i`` times its speed beyond ``f_b qd_max,i``, [N m].
 
     ``b_i = tau_max,i / ((f_s - f_b) qd_max,i)``: zero up to :data:`BRAKE_FRACTION` of the limit, the
-    drive's whole torque at :data:`STOP_FRACTION` of it. Joints without a limit (0) get none.
+    drive's whole torque at :data:`FULL_BRAKE_FRACTION` of it. Joints without a limit (0) get none.
 
     Args:
         qd_rad_s: The joints' speeds, in [rad/s]. # (n,)
@@ -114,7 +117,7 @@ def speed_brake(qd_rad_s: FloatArray, limits_rad_s: FloatArray, torque_max_nm: F
     beyond = qd - np.clip(qd, -free, free)
     gain = np.divide(
         torque_max_nm,
-        (STOP_FRACTION - BRAKE_FRACTION) * limits,
+        (FULL_BRAKE_FRACTION - BRAKE_FRACTION) * limits,
         out=np.zeros_like(limits),
         where=limits > 0.0,
     )

@@ -11,8 +11,8 @@ import pytest
 
 from cosmos.osc.joint_speed import (
     BRAKE_FRACTION,
+    FULL_BRAKE_FRACTION,
     JOINT_SPEED_FRACTION,
-    STOP_FRACTION,
     joint_speed_limits,
     joint_speed_ratio,
     speed_brake,
@@ -51,9 +51,9 @@ def test_joints_within_their_share_leave_eq_21_as_it_was() -> None:
 def test_the_brake_is_zero_below_its_share_and_the_drives_whole_torque_at_the_limit() -> None:
     """The brake ramps from f_b to the drive's torque at f_s of the limit, against the motion."""
     limits, torque = np.array([2.0, 2.0, 0.0]), np.array([80.0, 10.0, 10.0])
-    qd = np.array([BRAKE_FRACTION * 2.0, -STOP_FRACTION * 2.0, 50.0])
+    qd = np.array([BRAKE_FRACTION * 2.0, -FULL_BRAKE_FRACTION * 2.0, 50.0])
     assert speed_brake(qd, limits, torque) == pytest.approx([0.0, 10.0, 0.0])
-    half = 0.5 * (BRAKE_FRACTION + STOP_FRACTION) * 2.0
+    half = 0.5 * (BRAKE_FRACTION + FULL_BRAKE_FRACTION) * 2.0
     assert speed_brake(np.array([half, 0.0, 0.0]), limits, torque)[0] == pytest.approx(-40.0)
 
 

@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.osc.joint_speed import BRAKE_FRACTION, JOINT_SPEED_FRACTION, STOP_FRACTION
+from cosmos.osc.joint_speed import BRAKE_FRACTION, FULL_BRAKE_FRACTION, JOINT_SPEED_FRACTION
 from cosmos.runtime.kernels.linear import rotate_blocks
 from cosmos.runtime.kernels.spring import SPRINGS
 
@@ -90,5 +90,5 @@ def speed_brake_into(torque: FloatArray, qd: FloatArray, limits: FloatArray, tor
         free = BRAKE_FRACTION * limits[i]
         if limits[i] > 0.0 and abs(qd[i]) > free:
             beyond = qd[i] - math.copysign(free, qd[i])
-            brake = torque_max[i] / ((STOP_FRACTION - BRAKE_FRACTION) * limits[i]) * beyond
+            brake = torque_max[i] / ((FULL_BRAKE_FRACTION - BRAKE_FRACTION) * limits[i]) * beyond
             torque[i] = min(max(torque[i] - brake, -torque_max[i]), torque_max[i])
