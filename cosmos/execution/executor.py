@@ -107,6 +107,7 @@ class Executor:
         self.meter = ToolMeter(runtime.plant)
         torque_limits = np.minimum(-runtime.robot.tau_lower_nm, runtime.robot.tau_upper_nm)
         self.supervisor = Supervisor(runtime.plant, torque_limits, 1.0 / runtime.rates.servo_hz)
+        self.supervisor.watch_joint_speeds(runtime.robot.description.joint_speed_limits_rad_s)
         self.walker = PlanWalker(self)  # decides IF, WHILE, TRY; keeps how the last statement ended
 
     # ------------------------------------------------------------------ plan

@@ -170,6 +170,7 @@ class Session:
             1.0 / self.runtime.rates.servo_hz,
             hand,
         )
+        executor.supervisor.watch_joint_speeds(robot.description.joint_speed_limits_rad_s)
 
         def held() -> str:
             return "" if hand.held is None else hand.held.item.name

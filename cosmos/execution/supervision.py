@@ -24,6 +24,7 @@ FCSupv) or reflexes (Franka), every servo tick the executor asks a
   potential field acts: the field pushes the arm off the line on purpose, and not
   on a COMPLY spring's axes).
 - **drive**: a joint's torque at its drive's limit for :data:`SATURATION_S`.
+- **speed**: a joint beyond its speed limit (:mod:`cosmos.execution.joint_speed_watch`).
 
 Contacts and force are looked at every tick; the path and the drives every
 :data:`SLOW_CHECK_EVERY` ticks; all of it in one compiled call a tick
@@ -37,7 +38,7 @@ contact) and holds the arm.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from enum import IntEnum
 
@@ -56,6 +57,7 @@ from cosmos.execution.expected import (
     spring_press_n,
 )
 from cosmos.execution.fixture_reach import FixtureReach
+from cosmos.execution.joint_speed_watch import JointSpeedWatch
 from cosmos.execution.supervision_kernel import (
     ALLOW_FIXTURE,
     COUNTING,
@@ -115,6 +117,7 @@ class StopKind(IntEnum):
     FORCE = 2
     PATH = 3
     DRIVE = 4
+    SPEED = 5
 
 
 @dataclass(frozen=True)
@@ -185,6 +188,12 @@ class Supervisor:
         self._geoms: IntArray = self._data.contact.geom
         self._kernel_geoms = _NONE if not self._geoms.shape[0] else self._geoms
         self._axes = np.zeros((0, 3))
+        self._speeds: JointSpeedWatch | None = None
+
+    def watch_joint_speeds(self, limits_rad_s: Sequence[float]) -> None:
+        """Stop a joint beyond its speed limit [rad/s] (:mod:`cosmos.execution.joint_speed_watch`)."""
+        qd = self._data.qvel[: len(self._torque_limits)]  # the plant's joint speeds, a live view
+        self._speeds = JointSpeedWatch(qd, np.asarray(limits_rad_s, dtype=float), self._dt_s)
 
     @property
     def field_acting(self) -> bool:
@@ -298,6 +307,8 @@ class Supervisor:
         kind, which, value = supervise_tick(
             ncon, self._kernel_geoms, self._pair_kinds, wrench, torque, position, self._state, self._axes
         )
+        if not kind and self._speeds is not None and (over := self._speeds.check(t_s)):
+            return ProtectiveStop(StopKind.SPEED, over)
         return None if not kind else self._stop(StopKind(kind), which, value, t_s, wrench)
 
     def _stop(
