@@ -27,9 +27,11 @@ reaches the drive's torque limit at the speed limit itself. It is added after th
 saturation and the sum clipped to the drive: the brake keeps its authority. Braking from 0.9 of the
 limit to the whole torque at 1.1 let joint 1 reach 2.39 rad/s (1.10x) at the hand-over above, and
 the joint chattered against the brake; from 0.8 to the whole torque at 1.0 it peaked at 2.11 rad/s
-(0.97x). The brake acts on the joint whole, not through the null space (the servo tick has no
-``N^T``): at the hand-over it tilted the tool by up to 0.3 rad/s about x for some 0.1 s, which
-the task took back.
+(0.97x); 0.85-0.95, 0.9-1.0 and 0.6-1.0 did no better. The brake acts on the joint whole: through
+the null space (eq. 34's damping on the speed beyond the share, 10 or 30 times ``xi_q``, read off
+the folded matrix) it changed nothing there, the controller's ``N^T`` seeing that motion as the
+task's. The price at the hand-over: the tool tilted 1.2 deg and its point strayed 5.5 mm (0.34 deg
+and 1.8 mm without the joints' limits) while the task took the brake's torque back.
 
 The compiled servo tick runs the same arithmetic (:mod:`cosmos.runtime.kernels.joint_speed`).
 """
