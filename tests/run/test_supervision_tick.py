@@ -131,3 +131,18 @@ def test_the_compiled_tick_reads_mujocos_contacts_through_one_type_of_view() -> 
             assert typeof(view).layout == "A"
             assert view[:ncon].tolist() == plant.data.contact.geom.tolist()
     assert counts == {0, 1, 2}, counts
+
+
+def test_the_tick_takes_only_arrays_of_its_declared_types() -> None:
+    """The tick skips numba's dispatch only for live views of its declared types: a float32 wrench or a
+    strided one is refused with numba's TypeError, as through its dispatch, and the same wrench as a
+    float64 buffer then stops at the third tick over the limit with 25 N. Catches the fast call handed
+    memory of another type or layout (it would read a float32 buffer's bytes as float64 values)."""
+    supervisor, position = _started("WAIT 1 s\n")
+    torque, wrench = np.zeros(6), np.array([15.0, 20.0, 0.0, 0.0, 0.0, 0.0])
+    for unlike in (wrench.astype(np.float32), np.repeat(wrench, 2)[::2]):
+        with pytest.raises(TypeError, match="No matching definition"):
+            supervisor.check(0.0, unlike, torque, position)
+    stops = [supervisor.check(i * 0.001, wrench, torque, position) for i in range(3)]
+    assert stops[:2] == [None, None]
+    assert stops[2] is not None and stops[2].message.startswith("protective stop: 25.0 N at the wrist")
