@@ -64,8 +64,20 @@ def test_executor_share_is_measured_inside_the_same_run(tmp_path: Path) -> None:
     run = executor_run(program)
     assert run.ok
     assert 0.0 < run.runtime_s < run.wall_s
-    assert run.to_runtime_tick == run.wall_s / run.runtime_s > 1.0
+    assert run.to_runtime_tick_alone == run.wall_s / run.runtime_s > 1.0
     assert run.runtime_tick_us == run.runtime_s / run.ticks * 1e6
+
+
+def test_runtime_setup_of_each_segment_is_the_runtimes(tmp_path: Path) -> None:
+    """Catches the runtime's set-up of a segment (its fresh evaluation, its servo's setpoint and rotation
+    plan) charged to the executor: timed inside the same run, beside the ticks, and counted with them."""
+    program = tmp_path / "moves.cos"
+    program.write_text("MOVE BY (0, 0, 10 mm) SPEED 0.1 m/s\nMOVE BY (10 mm, 0, 0) SPEED 0.1 m/s\n")
+    run = executor_run(program)
+    assert run.ok
+    assert 0.0 < run.setup_s < run.wall_s - run.runtime_s  # two segments' set-up, within the executor's loop
+    assert run.to_runtime_tick == run.wall_s / (run.runtime_s + run.setup_s) > 1.0
+    assert run.to_runtime_tick < run.to_runtime_tick_alone
 
 
 def test_obstacle_bench_compares_against_a_bare_tick() -> None:
