@@ -1,38 +1,30 @@
 """Protective stops: what the runtime watches every tick besides the statement's own goal.
 
-Like an industrial controller's protective stop (UR), force supervision (ABB's
-FCSupv) or reflexes (Franka), every servo tick the executor asks a
-:class:`Supervisor` whether the arm is doing something no statement asked for:
+Like an industrial controller's protective stop (UR), force supervision (ABB's FCSupv) or
+reflexes (Franka), every servo tick the executor asks a :class:`Supervisor` whether the arm is
+doing something no statement asked for:
 
-- **contact**: a link or the tool touches something the running statement does
-  not expect to touch (MuJoCo's contact list, ``data.ncon`` and geom ids against
-  geom sets made once). A free motion expects nothing; a statement that holds or
-  seeks contact (CONTACT, SLIDE, INSERT, a WAIT or MOVE while a contact is held, a
-  COMPLY spring) expects the tool against the fixtures; a guarded motion (UNTIL on
-  a force or moment) expects the tool against anything. A link never touches
-  anything. A contact the tool already had when the statement began (lifting off
-  the table), or that the statement before expected (a peg in its hole), is allowed
-  until it has been gone for :data:`CONTACT_GONE_S` with the tool more than
-  :data:`INHERITED_REACH_M` from where the statement began (a peg pulled out of a
-  0.24 mm clearance hole leaves its bore's walls and grazes them again).
-- **force**: the wrist sensor's force above the statement's expected range for
-  :data:`FORCE_TICKS` ticks in a row (:func:`force_limit_n`); while the tool is
-  still in a contact the statement began with (pulling a peg out of its hole),
-  up to the sensor's rating.
-- **path**: the measured tool point more than :data:`PATH_DEVIATION_M` off the
-  commanded straight line on the motion-controlled axes (not while an obstacle's
-  potential field acts: the field pushes the arm off the line on purpose, and not
-  on a COMPLY spring's axes).
+- **contact**: a link or the tool touches something the running statement does not expect to
+  touch (MuJoCo's contact list against geom sets made once). A free motion expects nothing; a
+  statement that holds or seeks contact (CONTACT, SLIDE, INSERT, a WAIT or MOVE while a contact
+  is held, a COMPLY spring) expects the tool against the fixtures; a guarded motion (UNTIL on a
+  force or moment) against anything. A link never touches anything. A contact the tool had when
+  the statement began (lifting off the table), or that the statement before expected (a peg in
+  its hole), is allowed until it has been gone for :data:`CONTACT_GONE_S` with the tool more
+  than :data:`INHERITED_REACH_M` from where the statement began.
+- **force**: the wrist's force above the statement's range (:func:`force_limit_n`) for
+  :data:`~cosmos.execution.supervision_kernel.FORCE_TICKS` ticks in a row; while the tool is
+  still in a contact the statement began with, up to the sensor's rating.
+- **path**: the tool point more than :data:`PATH_DEVIATION_M` off the commanded straight line on
+  the motion-controlled axes (not while an obstacle's field acts, nor on a COMPLY spring's axes).
 - **drive**: a joint's torque at its drive's limit for :data:`SATURATION_S`.
 - **speed**: a joint beyond its speed limit (:mod:`cosmos.execution.joint_speed_watch`).
 
-Contacts and force are looked at every tick; the path and the drives every
-:data:`SLOW_CHECK_EVERY` ticks; all of it in one compiled call a tick
-(:mod:`cosmos.execution.supervision_kernel`), under 1 us.
-
-Each is a :class:`ProtectiveStop` naming what, where and how hard; the executor
-ends the statement as failed, logs ``protective_stop`` (and ``collision`` for a
-contact) and holds the arm.
+Contacts and force are looked at every tick, the path and the drives every
+:data:`SLOW_CHECK_EVERY` ticks, in one compiled call a tick
+(:mod:`cosmos.execution.supervision_kernel`), under 1 us. Each is a :class:`ProtectiveStop`
+naming what, where and how hard; the executor ends the statement as failed, logs
+``protective_stop`` (and ``collision`` for a contact) and holds the arm.
 """
 
 from __future__ import annotations
@@ -86,7 +78,6 @@ from cosmos.execution.supervision_kernel import (
     state_size,
     supervise_tick,
 )
-from cosmos.execution.supervision_kernel import FORCE_TICKS as FORCE_TICKS  # its home before
 from cosmos.plan import Segment
 from cosmos.plant import Plant
 from cosmos.workcell import WRIST_SENSOR
