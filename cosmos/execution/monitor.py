@@ -1,10 +1,10 @@
 """Per-tick judgement of a running segment: done, stopped by UNTIL, failed, or still running.
 
-Evaluated every servo tick (issue: stop conditions and timeouts are checked at
-the servo rate). Arrival is judged on the measured tool pose, position and
-orientation both (:mod:`cosmos.execution.arrival`), and only once the tool has
-settled there; a timed move (``IN t``) ends only on arrival, and fails with
-the measured error if it has not arrived :data:`TIMED_SETTLE_S` after its time.
+Evaluated every servo tick. Arrival is judged on the measured tool pose, position and
+orientation both (:mod:`cosmos.execution.arrival`), once the tool has settled there; a timed
+move (``IN t``) ends only on arrival, and fails with the measured error if it has not arrived
+:data:`TIMED_SETTLE_S` after its time; a CONTACT's approach that stands short of its touch
+has landed or is held back (:mod:`cosmos.execution.approach_stall`).
 """
 
 from __future__ import annotations
@@ -16,14 +16,13 @@ from enum import Enum
 
 import numpy as np
 
+from cosmos.execution.approach_stall import ApproachStall
 from cosmos.execution.arrival import GoalError
 from cosmos.execution.closing import STALL_TIME_S, Closing
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import length_along, norm3, pose_error
 from cosmos.execution.lost_push import LostPush, lost_surface
 from cosmos.execution.supervision import ProtectiveStop
-from cosmos.execution.wording import failure_text as failure_text  # re-exported: its old home
-from cosmos.execution.wording import statement_head as statement_head  # re-exported
 from cosmos.lang.check.limits import MAX_DURATION_S
 from cosmos.osc.orientation import unwrap_rotation_vector
 from cosmos.plan import (
@@ -220,6 +219,9 @@ class SegmentMonitor:
         # The judges below read their ending from self: one call a tick, no wrapper.
         if isinstance(completion, ContactTouch):
             self._touch_ending = completion
+            self._approach = ApproachStall.of(
+                completion.max_travel_m, self.segment.speed_limit_mps, self.start_s
+            )
             return self._touch
         if isinstance(completion, ForceSettled):
             self._settle_ending = completion
@@ -234,18 +236,17 @@ class SegmentMonitor:
         return lambda snap: None
 
     def _touch(self, snap: Snapshot) -> Outcome | None:
-        completion = self._touch_ending
         dx, dy, dz = self._direction
         fx, fy, fz, _, _, _ = snap.wrench.tolist()
         push = fx * dx + fy * dy + fz * dz
-        if push > completion.threshold_n:
+        if push > self._touch_ending.threshold_n:
             return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach", touched=True)
         x, y, z = snap.position.tolist()
         x0, y0, z0 = self._start_xyz
         travel = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
-        if travel >= completion.max_travel_m - 1e-3:
-            return Outcome(Verdict.FAILED, f"found no contact within {completion.max_travel_m * 1e3:.0f} mm")
-        return None
+        if (stopped := self._approach.stopped(push, travel, snap.t_s)) is None:
+            return None
+        return Outcome(Verdict.DONE if stopped[0] else Verdict.FAILED, stopped[1], touched=stopped[0])
 
     def _goal_reached(self, snap: Snapshot) -> Outcome | None:
         goal = self._goal

@@ -104,7 +104,7 @@ class ContactTouch:
     Attributes:
         direction_world: Unit approach direction, world, shape (3,).
         threshold_n: Touch threshold [N].
-        max_travel_m: The segment *fails* ("nothing touched") when the tool has
+        max_travel_m: The segment *fails* ("found no contact within 300 mm") when the tool has
             moved this far along the direction without touching [m]. The
             segment's target sits at this distance.
         force_n: The FORCE the CONTACT holds once touched [N] (its landing's speed is chosen

@@ -19,8 +19,8 @@ from pathlib import Path
 
 from cosmos.errors import CosmosError, ProgramError, Span, UsageError
 from cosmos.execution.executor import Executor, Interrupted
-from cosmos.execution.monitor import statement_head
 from cosmos.execution.session import Session
+from cosmos.execution.wording import statement_head
 from cosmos.hand.tool import Tool
 from cosmos.hand.work_object import SHIPPED_OBJECTS
 from cosmos.lang import Compiler, StatementResult, ast, parse_program, read_program

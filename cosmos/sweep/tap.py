@@ -69,7 +69,7 @@ def summarize(
         ``duration_s``, ``peak_force_n`` and ``statements`` (``line``, ``statement``,
         ``duration_s``, ``peak_force_n`` each).
     """
-    from cosmos.execution.monitor import statement_head
+    from cosmos.execution.wording import statement_head
 
     times, lines, forces = np.asarray(t, dtype=float), np.asarray(line), np.asarray(force, dtype=float)
     statements = []

@@ -1,0 +1,73 @@
+"""A CONTACT's approach that stops short of its touch: landed too softly to count, or held back.
+
+The approach is eq. 20-21's goal motion toward a target 300 mm along its direction, done once
+the tool pushes along it more than the touch threshold (2 N, or half the FORCE). Its command is
+a velocity servo without an integral: met by a surface at a slant (a peg's end on the hole's
+chamfer, 2.5 mm off the axis), at the landing's few mm/s it presses only what its damping
+makes of that speed (1-1.5 N on the Panda), below the threshold, and stands there: with no
+TIMEOUT one such CONTACT ran 1124 s of simulated time without an outcome. So an approach that
+gets no further along its direction for :data:`~cosmos.execution.closing.STALL_TIME_S` has
+stopped: pressing at least :data:`LANDED_N` along it, it has landed (the hold then pushes its
+FORCE); pressing less, something else holds it, and it fails.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from cosmos.execution.closing import STALL_PROGRESS_M, STALL_TIME_S
+
+LANDED_N = 0.5
+"""A stopped approach pressing this much along its direction has landed [N] (the push from which
+the approach brakes: docs/language.md, CONTACT, "The landing")."""
+
+
+@dataclass(slots=True)
+class ApproachStall:
+    """The furthest an approach has got along its direction, and when it got there.
+
+    Attributes:
+        max_travel_m: How far the approach goes before it fails "found no contact" [m].
+        progress_m: What counts as getting further in :data:`STALL_TIME_S`: 0.5 mm, or a quarter
+            of what the approach's SPEED covers in that time if less (SPEED may be 0.1 mm/s) [m].
+        since_s: When the approach last got further [s].
+        furthest_m: How far along it had got then [m].
+    """
+
+    max_travel_m: float
+    progress_m: float
+    since_s: float
+    furthest_m: float = 0.0
+
+    @staticmethod
+    def of(max_travel_m: float, speed_mps: float | None, start_s: float) -> ApproachStall:
+        """The rule for an approach of ``max_travel_m`` at ``speed_mps`` started at ``start_s``."""
+        progress = (
+            STALL_PROGRESS_M if not speed_mps else min(STALL_PROGRESS_M, 0.25 * speed_mps * STALL_TIME_S)
+        )
+        return ApproachStall(max_travel_m, progress, start_s)
+
+    def stopped(self, push_n: float, travel_m: float, t_s: float) -> tuple[bool, str] | None:
+        """``(landed, reason)`` once the approach has ended without its touch, else None.
+
+        Args:
+            push_n: The push along the approach now [N].
+            travel_m: How far along it the tool has come [m].
+            t_s: Now [s].
+        """
+        if travel_m >= self.max_travel_m - 1e-3:
+            return False, f"found no contact within {self.max_travel_m * 1e3:.0f} mm"
+        if travel_m > self.furthest_m + self.progress_m:
+            self.furthest_m, self.since_s = travel_m, t_s
+            return None
+        if t_s - self.since_s < STALL_TIME_S:
+            return None
+        if push_n >= LANDED_N:
+            return (
+                True,
+                f"touched: stopped against it {push_n:.2f} N along the approach for {STALL_TIME_S:g} s",
+            )
+        return False, (
+            f"the approach stopped {max(travel_m, 0.0) * 1e3:.1f} mm along without touching "
+            f"({push_n:.2f} N along it for {STALL_TIME_S:g} s)"
+        )
