@@ -38,7 +38,7 @@ from cosmos.osc.landing import (
 )
 from cosmos.plan import ContactTouch, Segment, SegmentKind
 from cosmos.robots import ROBOTS
-from cosmos.runtime.fixture_solids import FixtureSolid, signed_distances
+from cosmos.runtime.fixture_solids import FixtureSolid, bounds, signed_distances
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 if TYPE_CHECKING:
@@ -74,6 +74,34 @@ def surface_ahead(
     """
     if not solids:
         return math.inf, -1
+    # Only the solids whose boxes the points' sweep reaches can be met (2-5 of the cell's 56:
+    # 9-11 ms a trace of 417 points before, on a calm machine).
+    low, high = _bounds(solids)
+    swept = np.vstack((points, points + travel_m * direction))
+    reach = swept.min(axis=0) - TRACE_TOLERANCE_M, swept.max(axis=0) + TRACE_TOLERANCE_M
+    near = np.flatnonzero(np.all(low <= reach[1], axis=1) & np.all(high >= reach[0], axis=1))
+    if not near.size:
+        return math.inf, -1
+    distance, which = _trace(tuple(solids[i] for i in near), points, direction, travel_m)
+    return distance, -1 if which < 0 else int(near[which])
+
+
+_BOUNDS: dict[int, tuple[tuple[FixtureSolid, ...], FloatArray, FloatArray]] = {}
+""":func:`cosmos.runtime.fixture_solids.bounds` of a workcell's solids, by the tuple's identity."""
+
+
+def _bounds(solids: tuple[FixtureSolid, ...]) -> tuple[FloatArray, FloatArray]:
+    kept_solids, low, high = _BOUNDS.get(id(solids), ((), np.empty(0), np.empty(0)))
+    if kept_solids is not solids:
+        low, high = bounds(solids)
+        _BOUNDS[id(solids)] = (solids, low, high)
+    return low, high
+
+
+def _trace(
+    solids: tuple[FixtureSolid, ...], points: FloatArray, direction: FloatArray, travel_m: float
+) -> tuple[float, int]:
+    """:func:`surface_ahead`'s sphere tracing among ``solids``."""
     at = np.zeros(len(points))
     moving = np.ones(len(points), dtype=bool)
     best, which = math.inf, -1
