@@ -19,19 +19,10 @@ from cosmos.osc.orientation import so3_exp
 from cosmos.osc.tilt_window import tilt_window
 from cosmos.osc.unified import REACH_FRACTION, force_goal_reached, speed_limited_push
 from cosmos.runtime.kernels import contact as ck
+from tests.runtime.kernel_references import close
+from tests.runtime.kernel_references import omega_bar as random_omega_bar
 
 SEEDS = range(20)
-
-
-def _close(actual: np.ndarray, expected: np.ndarray) -> None:
-    scale = max(float(np.max(np.abs(expected))), 1e-12)
-    np.testing.assert_allclose(actual, expected, rtol=1e-12, atol=1e-12 * scale)
-
-
-def _omega_bar(rng: np.random.Generator) -> np.ndarray:
-    """A random selection's Omega_bar in a random task frame. # (6, 6)."""
-    axes = tuple(bool(b) for b in rng.integers(0, 2, 6))
-    return selection(axes, so3_exp(rng.uniform(-3.0, 3.0, 3))).omega_bar
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -39,7 +30,7 @@ def test_the_latches_are_their_references(seed: int) -> None:
     """Catches a latch that reads the wrong part of the wrench (moments for forces, world for
     selected axes), that resets once set, or that compares with >= where the reference has >."""
     rng = np.random.default_rng(seed)
-    omega_bar = _omega_bar(rng)
+    omega_bar = random_omega_bar(rng)
     wrench = rng.normal(0.0, 2.0, 6)
     threshold = float(rng.uniform(0.5, 3.0))
     for before in (False, True):
@@ -95,7 +86,7 @@ def test_low_pass_is_its_reference(seed: int) -> None:
     previous, sample, blend = rng.normal(size=6), rng.normal(size=6), float(rng.uniform(0.0, 1.0))
     filtered = previous.copy()
     ck.low_pass_into(filtered, sample, blend)
-    _close(filtered, low_pass(previous, sample, blend))
+    close(filtered, low_pass(previous, sample, blend))
 
 
 def _admittance_axes(rng: np.random.Generator) -> np.ndarray:
@@ -120,10 +111,10 @@ def test_admittance_is_its_reference(seed: int) -> None:
     bound = 0.5 * unbounded if seed % 2 else 2.0 * unbounded
     speed = ck.admittance_speed(omega_a, setpoint, moment, gain, bound)
     expected = admittance_speed(omega_a, setpoint, moment, gain, bound)
-    _close(speed, expected)
+    close(speed, expected)
     assert np.linalg.norm(speed[3:]) == pytest.approx(min(bound, unbounded), rel=1e-12)
     motion, velocity, kv = rng.normal(0.0, 5.0, 6), rng.normal(0.0, 0.3, 6), float(rng.uniform(10.0, 60.0))
-    _close(
+    close(
         ck.admittance_command(omega_a, motion, speed, velocity, kv),
         admittance_command(omega_a, motion, expected, velocity, kv),
     )
@@ -138,7 +129,7 @@ def test_admittance_speed_at_its_bound_and_at_rest() -> None:
     moment = np.zeros(6)
     speed = admittance_speed(omega_a, setpoint, moment, 2.0, 1.0)
     at_bound = float(np.linalg.norm(speed[3:]))
-    _close(ck.admittance_speed(omega_a, setpoint, moment, 2.0, at_bound), speed)
+    close(ck.admittance_speed(omega_a, setpoint, moment, 2.0, at_bound), speed)
     still = ck.admittance_speed(omega_a, setpoint, setpoint, 2.0, 0.0)
     assert np.array_equal(still, np.zeros(6)) and np.array_equal(
         admittance_speed(omega_a, setpoint, setpoint, 2.0, 0.0), np.zeros(6)
@@ -180,8 +171,8 @@ def test_coulomb_compensation_is_its_reference(seed: int) -> None:
         torque, coulomb, qd, lookahead_s * jbar, kernel_acceleration, positive_nm, negative_nm,
         dead_band, False, 1.0 / full_speed, blend,
     )  # fmt: skip
-    _close(coulomb, expected)
-    _close(torque, torque_before + expected)
+    close(coulomb, expected)
+    close(torque, torque_before + expected)
 
 
 def test_coulomb_compensation_at_the_clip_by_direction() -> None:
@@ -197,12 +188,12 @@ def test_coulomb_compensation_at_the_clip_by_direction() -> None:
     levels = (positive_nm, negative_nm)
     ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, *levels, zero, False, 100.0, 1.0)
     intent = friction_intent(qd, np.eye(6), zero, zero, 1.0, 0.01)
-    _close(coulomb, coulomb_compensation(zero, positive_nm, negative_nm, intent, 1.0))
-    _close(coulomb, np.where(qd > 0, positive_nm, -negative_nm))
+    close(coulomb, coulomb_compensation(zero, positive_nm, negative_nm, intent, 1.0))
+    close(coulomb, np.where(qd > 0, positive_nm, -negative_nm))
     previous = coulomb.copy()
     ck.coulomb_compensation_into(torque, coulomb, zero, np.eye(6), zero, *levels, zero, False, 100.0, 0.25)
-    _close(coulomb, 0.75 * previous)
-    _close(coulomb, coulomb_compensation(previous, positive_nm, negative_nm, zero, 0.25))
+    close(coulomb, 0.75 * previous)
+    close(coulomb, coulomb_compensation(previous, positive_nm, negative_nm, zero, 0.25))
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -214,7 +205,7 @@ def test_speed_limited_push_is_its_reference(seed: int) -> None:
     goal = np.concatenate((rng.normal(0.0, 10.0, 3), rng.normal(0.0, 0.5, 3)))
     n = goal[:3] / np.linalg.norm(goal[:3])
     m = rng.normal(size=(6, 6))
-    force_to_acceleration = np.linalg.inv(m @ m.T + 3.0 * np.eye(6)) @ _omega_bar(rng)
+    force_to_acceleration = np.linalg.inv(m @ m.T + 3.0 * np.eye(6)) @ random_omega_bar(rng)
     force_to_acceleration[:3, :3] = np.eye(3) * rng.uniform(0.1, 1.0)  # a push the arm can make
     sensed, velocity = rng.normal(0.0, 5.0, 6), rng.normal(0.0, 0.05, 6)
     max_speed, kv, k_vf = float(rng.uniform(0.005, 0.05)), 40.0, 30.0
@@ -231,7 +222,7 @@ def test_speed_limited_push_is_its_reference(seed: int) -> None:
     got = feedback.copy()
     got_limited, got_along = ck.speed_limited_push_into(got, *args)
     assert got_limited == limited == bool(seed % 2)
-    _close(got, expected)
+    close(got, expected)
     assert got_along == pytest.approx(along, rel=1e-12, abs=1e-15)
 
 
@@ -269,7 +260,7 @@ def test_touch_damping_is_its_reference(seed: int) -> None:
     expected = touch_damping(motion, wrench, velocity, 1000.0, touch_n, mass)
     got = motion.copy()
     ck.touch_braking_into(got, wrench, velocity, np.array((touch_n, mass, 1000.0)), 0.0)  # as a spring's
-    _close(got, expected)
+    close(got, expected)
     damped = not np.array_equal(got, motion)
     assert damped == toward
     if damped:
@@ -291,7 +282,7 @@ def test_tilt_window_is_its_reference(seed: int) -> None:
     expected = tilt_window(speed, tilt, window, 20.0)
     got = speed.copy()
     ck.tilt_window_into(got, tilt, window, 20.0)
-    _close(got, expected)
+    close(got, expected)
     assert np.array_equal(got[:3], speed[:3])
     turned_back = float(np.dot(got[3:] - speed[3:], tilt[3:]))
     if seed % 2 == 0:
@@ -316,8 +307,8 @@ def test_coulomb_compensation_ignores_the_encoders_noise() -> None:
     coulomb, torque = zero.copy(), zero.copy()
     levels = (positive_nm, negative_nm)
     ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, *levels, dead_band, False, 100.0, 1.0)
-    _close(coulomb, np.array((0.0, 0.0, 1.0, -4.0, 0.0, 2.0)))
+    close(coulomb, np.array((0.0, 0.0, 1.0, -4.0, 0.0, 2.0)))
     intent = friction_intent(qd, np.eye(6), zero, zero, 1.0, full_speed, dead_band)
-    _close(intent, np.array((0.0, 0.0, 0.5, -2.0, 0.0, 1.4)))
+    close(intent, np.array((0.0, 0.0, 0.5, -2.0, 0.0, 1.4)))
     ck.coulomb_compensation_into(torque, coulomb, qd, np.eye(6), zero, *levels, dead_band, True, 100.0, 1.0)
-    _close(coulomb, np.array((2.0, -4.0, 2.0, -4.0, 0.0, 2.0)))
+    close(coulomb, np.array((2.0, -4.0, 2.0, -4.0, 0.0, 2.0)))

@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 from cosmos.osc.contact import LANDED_SPEED_MPS
-from cosmos.osc.force import selection
 from cosmos.osc.held_push import (
     STIFF_HELD_K_FH,
     held_gains,
@@ -23,23 +22,13 @@ from cosmos.osc.held_push import (
     steel_damping,
 )
 from cosmos.osc.landing import landing_limit
-from cosmos.osc.orientation import so3_exp
 from cosmos.runtime.kernels import held_push as hk
 from cosmos.runtime.kernels.cruise import LANDING
 from cosmos.runtime.servo_gains import ServoGains
+from tests.runtime.kernel_references import close
+from tests.runtime.kernel_references import omega_bar as random_omega_bar
 
 SEEDS = range(20)
-
-
-def _close(actual: np.ndarray, expected: np.ndarray) -> None:
-    scale = max(float(np.max(np.abs(expected))), 1e-12)
-    np.testing.assert_allclose(actual, expected, rtol=1e-12, atol=1e-12 * scale)
-
-
-def _omega_bar(rng: np.random.Generator) -> np.ndarray:
-    """A random selection's Omega_bar in a random task frame. # (6, 6)."""
-    axes = tuple(bool(b) for b in rng.integers(0, 2, 6))
-    return selection(axes, so3_exp(rng.uniform(-3.0, 3.0, 3))).omega_bar
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -51,7 +40,7 @@ def test_held_push_is_its_reference(seed: int) -> None:
     rng = np.random.default_rng(seed)
     goal = np.concatenate((rng.normal(0.0, 10.0, 3), rng.normal(0.0, 0.5, 3)))
     m = rng.normal(size=(6, 6))
-    force_to_acceleration = np.linalg.inv(m @ m.T + 3.0 * np.eye(6)) @ _omega_bar(rng)
+    force_to_acceleration = np.linalg.inv(m @ m.T + 3.0 * np.eye(6)) @ random_omega_bar(rng)
     force_to_acceleration[:3, :3] = np.eye(3) * rng.uniform(0.02, 1.0)  # a push the arm can make
     setpoint, sensed = rng.uniform(0.2, 1.0) * goal, rng.normal(0.0, 5.0, 6)
     velocity, feedback = rng.normal(0.0, 0.02, 6), rng.normal(0.0, 5.0, 6)
@@ -61,7 +50,7 @@ def test_held_push_is_its_reference(seed: int) -> None:
     expected, expected_integral = held_push(feedback, *args, gains, integral, integrate, 1e-3)
     got = feedback.copy()
     got_integral = hk.held_push_into(got, *args, np.array(gains), integral, integrate, 1e-3)
-    _close(got, expected)
+    close(got, expected)
     assert got_integral == pytest.approx(expected_integral, rel=1e-12, abs=1e-15)
     assert (got_integral != integral) == integrate and abs(got_integral) <= gains[3]
     n = goal[:3] / np.linalg.norm(goal[:3])
@@ -130,7 +119,7 @@ def test_held_push_capped_is_its_reference(seed: int) -> None:
     args = (goal, setpoint, sensed, velocity, error, force_to_acceleration, np.array(gains), True, dt_s)
     assert hk.held_push_capped_into(got, integral, *args, max_speed, speeds, scalars) == limited
     assert limited == bool(seed % 2)
-    _close(got, expected)
+    close(got, expected)
     assert integral[0] == (0.0 if limited else pytest.approx(expected_integral, rel=1e-12))
 
 
@@ -151,13 +140,13 @@ def test_steel_damping_is_its_reference(seed: int) -> None:
     expected, damped = steel_damping(feedback, goal, velocity, force_to_acceleration, 30.0)
     got = feedback.copy()
     got_damped = hk.steel_damping_into(got, goal, velocity, force_to_acceleration, 30.0, LANDED_SPEED_MPS)
-    _close(got, expected)
-    _close(got_damped, damped)
+    close(got, expected)
+    close(got_damped, damped)
     beyond = math.copysign(max(abs(along) - LANDED_SPEED_MPS, 0.0), along)
     mass = 1.0 / float(n @ force_to_acceleration[:3, :3] @ n)
-    _close(got[:3] - feedback[:3], 30.0 * mass * (along - beyond) * n)
+    close(got[:3] - feedback[:3], 30.0 * mass * (along - beyond) * n)
     assert float(n @ got_damped[:3]) == pytest.approx(beyond, abs=1e-15)
-    _close(got_damped - (n @ got_damped[:3]) * np.r_[n, 0, 0, 0], velocity - along * np.r_[n, 0, 0, 0])
+    close(got_damped - (n @ got_damped[:3]) * np.r_[n, 0, 0, 0], velocity - along * np.r_[n, 0, 0, 0])
 
 
 def test_the_stiff_push_loop_gain_is_under_one() -> None:
