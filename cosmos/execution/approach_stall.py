@@ -13,9 +13,11 @@ FORCE); pressing less, something else holds it, and it fails.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from cosmos.execution.closing import STALL_PROGRESS_M, STALL_TIME_S
+from cosmos.plan import ContactTouch, Segment
 
 LANDED_N = 0.5
 """A stopped approach pressing this much along its direction has landed [N] (the push from which
@@ -31,21 +33,23 @@ class ApproachStall:
         progress_m: What counts as getting further in :data:`STALL_TIME_S`: 0.5 mm, or a quarter
             of what the approach's SPEED covers in that time if less (SPEED may be 0.1 mm/s) [m].
         since_s: When the approach last got further [s].
+        cause: Says what holds a motion back (:func:`cosmos.execution.arrival.stall_cause`).
         furthest_m: How far along it had got then [m].
     """
 
     max_travel_m: float
     progress_m: float
     since_s: float
+    cause: Callable[[], str]
     furthest_m: float = 0.0
 
     @staticmethod
-    def of(max_travel_m: float, speed_mps: float | None, start_s: float) -> ApproachStall:
-        """The rule for an approach of ``max_travel_m`` at ``speed_mps`` started at ``start_s``."""
-        progress = (
-            STALL_PROGRESS_M if not speed_mps else min(STALL_PROGRESS_M, 0.25 * speed_mps * STALL_TIME_S)
-        )
-        return ApproachStall(max_travel_m, progress, start_s)
+    def of(segment: Segment, start_s: float, cause: Callable[[], str]) -> ApproachStall:
+        """The rule for a CONTACT's approach ``segment`` started at ``start_s``."""
+        assert isinstance(segment.completion, ContactTouch)
+        speed = segment.speed_limit_mps
+        progress = STALL_PROGRESS_M if not speed else min(STALL_PROGRESS_M, 0.25 * speed * STALL_TIME_S)
+        return ApproachStall(segment.completion.max_travel_m, progress, start_s, cause)
 
     def stopped(self, push_n: float, travel_m: float, t_s: float) -> tuple[bool, str] | None:
         """``(landed, reason)`` once the approach has ended without its touch, else None.
@@ -69,5 +73,5 @@ class ApproachStall:
             )
         return False, (
             f"the approach stopped {max(travel_m, 0.0) * 1e3:.1f} mm along without touching "
-            f"({push_n:.2f} N along it for {STALL_TIME_S:g} s)"
+            f"({push_n:.2f} N along it for {STALL_TIME_S:g} s): {self.cause()}"
         )

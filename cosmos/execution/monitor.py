@@ -219,9 +219,7 @@ class SegmentMonitor:
         # The judges below read their ending from self: one call a tick, no wrapper.
         if isinstance(completion, ContactTouch):
             self._touch_ending = completion
-            self._approach = ApproachStall.of(
-                completion.max_travel_m, self.segment.speed_limit_mps, self.start_s
-            )
+            self._approach = ApproachStall.of(self.segment, self.start_s, self.stall_cause)
             return self._touch
         if isinstance(completion, ForceSettled):
             self._settle_ending = completion

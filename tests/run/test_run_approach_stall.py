@@ -5,12 +5,15 @@ from __future__ import annotations
 import contextlib
 import io
 from pathlib import Path
+from types import SimpleNamespace
 
+import numpy as np
 from run_support import write_program
 
 from cosmos.commands.run import run_program
 from cosmos.execution.approach_stall import LANDED_N, ApproachStall
 from cosmos.execution.closing import STALL_TIME_S
+from cosmos.plan import ContactTouch
 from cosmos.runlog import read_log
 from cosmos.runtime.rates import Rates
 from cosmos.sweep.variation import WorkcellVariation
@@ -54,15 +57,26 @@ def test_an_approach_resting_on_a_chamfer_below_the_touch_threshold_has_landed(t
 def test_a_stopped_approach_pressing_nothing_fails_and_a_slow_one_is_not_stopped() -> None:
     """Catches the rule counting a 0.1 mm/s approach (SPEED's least) as stopped after 2 s (it
     covers 0.2 mm, under the 0.5 mm a goal motion must close), and an approach held back in the
-    air (a link against something) counted as landed."""
-    slow = ApproachStall.of(0.3, 0.0001, 0.0)
+    air (an obstacle's field on a link) counted as landed, or failed without its cause."""
+
+    def approach(speed_mps: float) -> ApproachStall:
+        touch = ContactTouch(np.array([0.0, 0.0, -1.0]), 2.0, 0.3)
+        return ApproachStall.of(
+            SimpleNamespace(completion=touch, speed_limit_mps=speed_mps), 0.0, lambda: "held"
+        )
+
+    slow = approach(0.0001)
     t = 0.0
     while t < 10.0:  # 0.1 mm/s for 10 s
         assert slow.stopped(0.0, 0.0001 * t, t) is None
         t += 0.001
-    held = ApproachStall.of(0.3, 0.02, 0.0)
+    held = approach(0.02)
     assert held.stopped(0.1, 0.012, 1.0) is None
     assert held.stopped(0.1, 0.012, 1.0 + STALL_TIME_S - 0.01) is None
     verdict = held.stopped(0.1, 0.012, 1.0 + STALL_TIME_S)
-    assert verdict is not None and not verdict[0] and "stopped 12.0 mm along without touching" in verdict[1]
+    assert (
+        verdict is not None
+        and not verdict[0]
+        and verdict[1].endswith("stopped 12.0 mm along without touching (0.10 N along it for 2 s): held")
+    )
     assert held.stopped(0.0, 0.2995, 4.0) == (False, "found no contact within 300 mm")
