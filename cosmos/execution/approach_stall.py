@@ -72,6 +72,6 @@ class ApproachStall:
                 f"touched: stopped against it {push_n:.2f} N along the approach for {STALL_TIME_S:g} s",
             )
         return False, (
-            f"the approach stopped {max(travel_m, 0.0) * 1e3:.1f} mm along without touching "
+            f"stopped {max(travel_m, 0.0) * 1e3:.1f} mm along its approach without touching "
             f"({push_n:.2f} N along it for {STALL_TIME_S:g} s): {self.cause()}"
         )

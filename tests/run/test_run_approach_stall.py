@@ -77,6 +77,7 @@ def test_a_stopped_approach_pressing_nothing_fails_and_a_slow_one_is_not_stopped
     assert (
         verdict is not None
         and not verdict[0]
-        and verdict[1].endswith("stopped 12.0 mm along without touching (0.10 N along it for 2 s): held")
+        and verdict[1]
+        == "stopped 12.0 mm along its approach without touching (0.10 N along it for 2 s): held"
     )
     assert held.stopped(0.0, 0.2995, 4.0) == (False, "found no contact within 300 mm")
