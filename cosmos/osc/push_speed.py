@@ -52,8 +52,9 @@ Measured and not kept (2026-11-24; realistic plant, seeds 0-4, unless said):
   of the insertion within half its SPEED 0.93 -> 0.40 at SPEED 30 on the ideal plant, 0.97 ->
   0.61 at SPEED 20 on the realistic plant's seed 1; tests/run/test_run_insert_speed.py fails).
 
-SPEED 5 mm/s on the realistic plant still peaks 30 % over (6.50 mm/s, seed 0; a strict xfail in
-tests/run/test_run_insert_speed.py). The cause, measured (2026-11-24, seeds 0-4, peaks in mm/s):
+SPEED 5 mm/s on the realistic plant peaked 30 % over (6.50 mm/s, seed 0) until the scenes'
+collider tolerance went to 1e-8 (5.30 mm/s since: tests/run/test_run_insert_speed.py). What was
+left of it then, measured (2026-11-24, seeds 0-4, peaks in mm/s):
 the speed this servo reads. At 5 mm/s a joint turns one encoder count every 6-9 ms, and the
 observer answers each count with a bump of 3-5 mm/s at the tool that dies in 10-20 ms: its
 estimate swings between 0 and twice the speed. The servo (kv = 300/s, with the observer's lag a

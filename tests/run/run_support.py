@@ -235,18 +235,6 @@ def angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
-NOT_TRACED = "measured on the realistic plant (docs/plant.md), the cause not traced yet: "
-
-
-def on_both_plants(shortfall: str, cause: str = NOT_TRACED) -> list[Any]:
-    """``ideal`` parameters: the realistic plant as a strict xfail with its measured ``shortfall``,
-    then the ideal plant (the test's logic, as before the realistic plant)."""
-    return [
-        pytest.param(False, id="realistic", marks=pytest.mark.xfail(strict=True, reason=cause + shortfall)),
-        pytest.param(True, id="ideal"),
-    ]
-
-
 BOTH_PLANTS = [pytest.param(False, id="realistic"), pytest.param(True, id="ideal")]
 """``ideal`` parameters: the realistic plant, then the ideal one, both expected to pass."""
 
