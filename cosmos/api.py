@@ -163,8 +163,7 @@ def run(
     from cosmos.execution.session import Session
     from cosmos.hand.tool import Tool
     from cosmos.robots import robot_named
-    from cosmos.runlog.output import check_output
-    from cosmos.runlog.writer import unused_log_path
+    from cosmos.runlog.output import check_output, claim_log_path
     from cosmos.runtime.rates import Rates
 
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
@@ -188,7 +187,7 @@ def run(
     for warning in plan.warnings:
         warnings.warn(warning.render(plan.source), CosmosWarning, stacklevel=2)
     stem = Path("program" if plan.file == TEXT_NAME else plan.file)
-    log_path = Path(log) if log is not None else unused_log_path(stem, datetime.now(UTC))
+    log_path = Path(log) if log is not None else claim_log_path(stem, datetime.now(UTC))
     if log is not None:  # overwritten if it exists, as open() would; never the program itself
         reads = () if plan.file == TEXT_NAME else (Path(plan.file),)
         check_output(log_path, what="the log", force=True, make_parents=True, reads=reads)

@@ -9,7 +9,7 @@ from pathlib import Path
 from cosmos.hand.tool import Tool
 from cosmos.repl.app import ReplApp
 from cosmos.robots import DEFAULT_ROBOT, robot_named
-from cosmos.runlog.output import check_output, unused_log_path
+from cosmos.runlog.output import check_output, claim_log_path
 
 DEFAULT_PROGRAM = Path("repl.cos")
 """Names the default log: ``logs/repl-<UTC time>.mcap``."""
@@ -24,8 +24,9 @@ def run_repl(log_path: Path | None, force: bool = False, robot: str | None = Non
     Raises:
         UsageError: The log cannot be created.
     """
-    make_parents = log_path is None
-    log_path = log_path or unused_log_path(DEFAULT_PROGRAM, datetime.now(UTC))
-    check_output(log_path, what="the log", force=force, make_parents=make_parents)
+    if log_path is None:
+        log_path = claim_log_path(DEFAULT_PROGRAM, datetime.now(UTC))
+    else:
+        check_output(log_path, what="the log", force=force)
     arm = robot_named(robot or DEFAULT_ROBOT.name)
     return ReplApp(log_path, sys.stdout, robot=arm, tool=Tool(tool.lower())).run()

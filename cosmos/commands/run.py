@@ -20,8 +20,7 @@ from cosmos.hand.tool import Tool
 from cosmos.lang.parse.source_file import read_program
 from cosmos.plan import Plan
 from cosmos.robots import robot_named
-from cosmos.runlog.output import check_output
-from cosmos.runlog.writer import unused_log_path
+from cosmos.runlog.output import check_output, claim_log_path
 from cosmos.runtime.foresight import with_foreseen_limits
 from cosmos.runtime.rates import Rates
 from cosmos.workcell import fixture_frames
@@ -107,9 +106,10 @@ def run_program(
             a regular file, its directory is missing, or a write fails), naming it.
     """
     plan = compile_file(path, robot)
-    make_parents = log_path is None
-    log_path = log_path or unused_log_path(path, datetime.now(UTC))
-    check_output(log_path, what="the log", force=force, make_parents=make_parents, reads=(path,))
+    if log_path is None:
+        log_path = claim_log_path(path, datetime.now(UTC))
+    else:
+        check_output(log_path, what="the log", force=force, reads=(path,))
     progress = TerminalProgress() if sys.stderr.isatty() else None
     failure: CosmosError | None = None
     signals = _StopAndRemember()

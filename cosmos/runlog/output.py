@@ -121,14 +121,27 @@ def default_log_path(program: Path, now: datetime) -> Path:
     return Path("logs") / f"{program.stem}-{utc:%Y%m%dT%H%M%SZ}.mcap"
 
 
-def unused_log_path(program: Path, now: datetime) -> Path:
-    """:func:`default_log_path`, or with ``-2``, ``-3``, ... before ``.mcap`` if that file exists.
+def claim_log_path(program: Path, now: datetime) -> Path:
+    """:func:`default_log_path`, or with ``-2``, ``-3``, ... before ``.mcap``: created empty, for one run.
 
-    Two runs in the same second each get their own log (no log is overwritten unasked).
+    The file is created with ``O_EXCL`` (and ``logs/`` if missing), so runs started in the same
+    second, in one process or several, each get a log of their own; the run then writes it.
+
+    Raises:
+        UsageError: If ``logs/`` or the file cannot be created, naming the path and the reason.
     """
-    path = default_log_path(program, now)
-    number = 1
-    while os.path.lexists(path):
-        number += 1
-        path = path.with_name(f"{default_log_path(program, now).stem}-{number}.mcap")
-    return path
+    first = default_log_path(program, now)
+    path, number = first, 1
+    try:
+        first.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise cannot_write(first, error, "the log") from None
+    while True:
+        try:
+            os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666))
+            return path
+        except FileExistsError:
+            number += 1
+            path = first.with_name(f"{first.stem}-{number}.mcap")
+        except OSError as error:
+            raise cannot_write(path, error, "the log") from None

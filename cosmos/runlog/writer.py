@@ -48,7 +48,6 @@ from cosmos.runlog.messages import (
 )
 from cosmos.runlog.output import default_log_path as default_log_path  # re-exported
 from cosmos.runlog.output import open_output
-from cosmos.runlog.output import unused_log_path as unused_log_path  # re-exported
 from cosmos.runlog.ros2_channels import Ros2Channels
 from cosmos.runlog.scene import Primitive, entity
 from cosmos.runlog.schemas import (

@@ -376,23 +376,23 @@ def test_read_only_lists_and_strided_inputs_write_the_same_messages(tmp_path: Pa
     assert messages_by_topic(plain) == messages_by_topic(other)
 
 
-def test_the_default_log_path_never_names_an_existing_file(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """Catches two runs in the same second sharing a default log name: the second would be
-    refused (no overwrite without --force) or, before, overwrote the first."""
-    from cosmos.runlog.writer import unused_log_path
+def test_the_default_log_path_is_claimed_for_one_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Catches runs started in the same second sharing a default log name (three `cosmos.run`
+    calls in threads, or three `cosmos run` processes, all wrote `logs/program-<second>.mcap`
+    and two logs were lost): each call creates its own file, even from racing threads."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from cosmos.runlog.output import claim_log_path
 
     monkeypatch.chdir(tmp_path)
     now = datetime(2026, 11, 22, 3, 15, tzinfo=UTC)
-    first = unused_log_path(Path("peg.cos"), now)
-    assert first == Path("logs/peg-20261122T031500Z.mcap")
-    first.parent.mkdir()
-    first.write_bytes(b"")
-    second = unused_log_path(Path("peg.cos"), now)
-    second.write_bytes(b"")
-    assert second == Path("logs/peg-20261122T031500Z-2.mcap")
-    assert unused_log_path(Path("peg.cos"), now) == Path("logs/peg-20261122T031500Z-3.mcap")
+    first = claim_log_path(Path("peg.cos"), now)
+    assert first == Path("logs/peg-20261122T031500Z.mcap") and first.is_file()
+    assert claim_log_path(Path("peg.cos"), now) == Path("logs/peg-20261122T031500Z-2.mcap")
+    with ThreadPoolExecutor(8) as pool:
+        claimed = list(pool.map(lambda _: claim_log_path(Path("peg.cos"), now), range(16)))
+    assert len(set(claimed)) == 16
+    assert {p.name for p in claimed} == {f"peg-20261122T031500Z-{n}.mcap" for n in range(3, 19)}
 
 
 def test_log_channel_mirrors_each_event_with_its_level_and_line(run_log: tuple[Path, WrittenRun]) -> None:
