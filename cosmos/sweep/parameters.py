@@ -38,6 +38,9 @@ POSE_AXES = ("x", "y", "z", "rx", "ry", "rz")
 BIAS_AXES = ("fx", "fy", "fz", "tx", "ty", "tz")
 SEED = "seed"
 MODEL_ERROR = "model_error"
+MODEL_ERROR_MAX = 0.5
+"""The largest model-error scale: friction is drawn within twice it, so beyond it a drive's friction
+could be negative (and beyond 1 a link's mass)."""
 
 
 @dataclass(frozen=True)
@@ -50,7 +53,9 @@ class Parameter:
         si_unit: Unit of its SI value, for printing (``m``, ``rad``, ``N``).
         shown_unit: Unit for people (``mm``, ``deg``), and ``shown_scale`` SI -> shown.
         help: What it changes.
-        minimum: Draws below it are clipped to it (None: no bound).
+        minimum: Its least value: a constant or a uniform's end below it is refused, a normal's
+            draws below it are clipped to it (None: no bound).
+        maximum: Its greatest value, likewise (None: no bound).
     """
 
     name: str
@@ -60,6 +65,13 @@ class Parameter:
     shown_scale: float
     help: str
     minimum: float | None = None
+    maximum: float | None = None
+
+    def outside(self, value: float) -> bool:
+        """Whether ``value`` [SI] is out of its range."""
+        low = -math.inf if self.minimum is None else self.minimum
+        high = math.inf if self.maximum is None else self.maximum
+        return not low <= value <= high
 
 
 def _parameters() -> dict[str, Parameter]:
@@ -100,8 +112,10 @@ def _parameters() -> dict[str, Parameter]:
         "",
         "",
         1.0,
-        "the realistic plant's model error: link masses, inertias within it, friction within twice it (0.05)",
+        "the realistic plant's model error: link masses, inertias within it, friction within twice it "
+        "(0.05; at most 0.5, where a drive's friction may be drawn as none)",
         0.0,
+        MODEL_ERROR_MAX,
     )
     table[SEED] = Parameter(SEED, NUMBER, "", "", 1.0, "the wrist sensor's noise seed (a constant)")
     return table
@@ -155,8 +169,9 @@ class Vary:
             np.random.SeedSequence(seed, spawn_key=(index, zlib.crc32(self.name.encode())))
         )
         value = float(rng.normal(self.a, self.b) if self.kind is Kind.NORMAL else rng.uniform(self.a, self.b))
-        low = self.parameter.minimum
-        return value if low is None else max(value, low)
+        low, high = self.parameter.minimum, self.parameter.maximum
+        value = value if low is None else max(value, low)
+        return value if high is None else min(value, high)
 
 
 def _si(value: float, unit: str) -> str:
@@ -180,6 +195,8 @@ def parse_value(text: str, parameter: Parameter, where: str) -> float:
     if match is None:
         raise UsageError(f"{where}: '{text.strip()}' is not a number with a unit (like 1 mm)")
     number, unit_text = float(match.group(1)), match.group(2)
+    if not math.isfinite(number):
+        raise UsageError(f"{where}: '{match.group(1)}' is not a finite number")
     if not unit_text:
         return number
     if parameter.dim == MASS:
@@ -213,6 +230,7 @@ def parse_vary(text: str) -> Vary:
         value = parse_value(dist, parameter, where)
         if name == SEED and (value != int(value) or value < 0):
             raise UsageError(f"{where}: the noise seed is a whole number >= 0")
+        _within_range(parameter, (value,), where)
         return Vary(name, Kind.CONSTANT, value)
     if name == SEED:
         raise UsageError(f"{where}: the noise seed is a constant (each run draws its own by default)")
@@ -225,7 +243,19 @@ def parse_vary(text: str) -> Vary:
         raise UsageError(f"{where}: the standard deviation must be >= 0")
     if kind is Kind.UNIFORM and b < a:
         raise UsageError(f"{where}: uniform(lo, hi) needs lo <= hi")
+    _within_range(parameter, (a, b) if kind is Kind.UNIFORM else (), where)
     return Vary(name, kind, a, b)
+
+
+def _within_range(parameter: Parameter, values: Sequence[float], where: str) -> None:
+    """Refuse a constant or a uniform's end outside the parameter's range, naming the range."""
+    if not any(parameter.outside(value) for value in values):
+        return
+    scale, unit = parameter.shown_scale, f" {parameter.shown_unit}" if parameter.shown_unit else ""
+    low = "" if parameter.minimum is None else f"{parameter.minimum * scale:g}{unit}"
+    high = "" if parameter.maximum is None else f"{parameter.maximum * scale:g}{unit}"
+    bounds = f"from {low} to {high}" if low and high else (f"at least {low}" if low else f"at most {high}")
+    raise UsageError(f"{where}: {parameter.name} must be {bounds}")
 
 
 def parse_varies(texts: Sequence[str]) -> tuple[Vary, ...]:

@@ -44,6 +44,13 @@ def test_values_take_the_language_units(text: str, kind: Kind, a: float, b: floa
         ("seed=normal(0, 1)", "the noise seed is a constant"),
         ("hole.x", "expected NAME=DIST"),
         ("hole.x=abc", "is not a number with a unit"),
+        # A model error past 1 drew a negative link mass: MuJoCo's traceback, and no log.
+        ("model_error=80", "model_error must be from 0 to 0.5"),
+        ("model_error=uniform(0.3, 2)", "model_error must be from 0 to 0.5"),
+        # 1e400 was taken as infinity and written to the results as the non-JSON `Infinity`.
+        ("friction=1e400", "'1e400' is not a finite number"),
+        ("friction=-0.2", "friction must be at least 0"),
+        ("payload=uniform(-1, 1)", "payload must be at least 0 kg"),
     ],
 )
 def test_mistakes_are_usage_errors_that_say_what_is_wrong(text: str, message: str) -> None:
@@ -101,3 +108,10 @@ def test_canonical_text_parses_back_to_the_same_distribution() -> None:
     for text in ("hole.x=normal(0,1mm)", "slope.ry=uniform(-1deg, 2 deg)", "bias.tz=0.01 Nm", "payload=0.3"):
         vary = parse_vary(text)
         assert parse_vary(vary.text()) == vary
+
+
+def test_normal_draws_are_clipped_to_the_range() -> None:
+    """Catches a normal model error drawn past its range (a negative friction factor in the plant)."""
+    vary = parse_vary("model_error=normal(0.4, 1)")
+    values = [vary.draw(3, index) for index in range(200)]
+    assert min(values) == 0.0 and max(values) == 0.5
