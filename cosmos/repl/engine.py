@@ -25,6 +25,7 @@ from cosmos.hand.tool import Tool
 from cosmos.hand.work_object import SHIPPED_OBJECTS
 from cosmos.lang import Compiler, StatementResult, ast, parse_program, read_program
 from cosmos.lang.compile.state import CompileState, frozen_map
+from cosmos.lang.parse.source_file import check_typed_text
 from cosmos.plan import Diagnostic, Plan, RemoveObstacle, Segment, Step
 from cosmos.repl.names import changed_names, describe_value
 from cosmos.repl.output import Printer, Tone
@@ -87,6 +88,7 @@ class ReplEngine:
         self.executor.stop_requested = False
         source = self.transcript.placed(text)
         try:
+            check_typed_text(text, REPL_FILE, self.transcript.line_count + 1)
             results = self._compile(source, REPL_FILE)
         except ProgramError as error:
             self.transcript.add_rejected(text)

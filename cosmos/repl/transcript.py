@@ -13,6 +13,8 @@ numbers stay put.
 
 from __future__ import annotations
 
+from cosmos.lang.parse.source_file import readable
+
 ERROR_PREFIX = "# ! "
 """Starts each line of an input that did not compile."""
 COMMAND_PREFIX = "# "
@@ -52,5 +54,8 @@ class Transcript:
 
 
 def _lines(text: str) -> list[str]:
-    """Lines as the parser counts them: split at LF (inputs are normalised to it)."""
-    return text.removesuffix("\n").split("\n")
+    """Lines as the parser counts them: split at LF (inputs are normalised to it).
+
+    Bytes that were not UTF-8 are shown as U+FFFD, so the transcript can be attached to the log.
+    """
+    return readable(text).removesuffix("\n").split("\n")

@@ -38,6 +38,29 @@ def test_piped_session_runs_and_logs_under_logs(tmp_path: Path) -> None:
     assert [e.statement for e in record.events if e.kind == "done"] == ["WAIT 0.1 s", "WAIT 0.05 s"]
 
 
+def test_bytes_that_are_not_utf8_are_refused_at_their_line_and_the_log_keeps_the_session(
+    tmp_path: Path,
+) -> None:
+    """Catches a byte that is not UTF-8 in a piped line (a comment ``# caf\\xe9``): the session
+    ran, then ended in a traceback (``UnicodeEncodeError`` attaching the transcript), exit 1,
+    and the log had no program source for ``cosmos replay --verify``."""
+    log = tmp_path / "bytes.mcap"
+    done = subprocess.run(
+        [sys.executable, "-m", "cosmos", "repl", "--log", str(log)],
+        input=b"WAIT 0.1 s\n# caf\xe9\nWAIT 0.05 s\n",
+        capture_output=True,
+        timeout=120,
+        cwd=tmp_path,
+    )
+    out = done.stdout.decode("utf-8", "replace")
+    assert done.returncode == 0, done.stderr
+    assert "Traceback" not in out + done.stderr.decode("utf-8", "replace")
+    assert "<repl>:2:6: the input is not UTF-8 text (byte 0xe9 cannot be read)" in out
+    record = read_log(log)
+    assert record.source == "WAIT 0.1 s\n# ! # caf\ufffd\nWAIT 0.05 s\n"
+    assert [e.statement for e in record.events if e.kind == "done"] == ["WAIT 0.1 s", "WAIT 0.05 s"]
+
+
 def test_sigterm_at_the_prompt_ends_the_session_with_a_complete_log(tmp_path: Path) -> None:
     log = tmp_path / "term.mcap"
     child = subprocess.Popen(

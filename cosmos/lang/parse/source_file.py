@@ -44,6 +44,36 @@ def decode_source(data: bytes, file: str) -> str:
         ) from None
 
 
+def check_typed_text(text: str, file: str, first_line: int) -> None:
+    """Refuse typed text holding bytes that were not UTF-8 (read with ``surrogateescape``).
+
+    Args:
+        text: The input, as read from a pipe or terminal (each bad byte a lone surrogate, U+DC80 to U+DCFF).
+        file: Its name for messages (``<repl>``).
+        first_line: The line number of its first line.
+
+    Raises:
+        ProgramError: At the first bad byte, as :func:`decode_source` does for a file.
+    """
+    bad = next((i for i, c in enumerate(text) if "\udc80" <= c <= "\udcff"), None)
+    if bad is None:
+        return
+    before = text[:bad]
+    line = first_line + before.count("\n")
+    column = len(before.rsplit("\n", 1)[-1]) + 1
+    shown = text[bad].encode("utf-8", "surrogateescape").hex()
+    raise ProgramError(
+        f"the input is not UTF-8 text (byte 0x{shown} cannot be read)",
+        Span(file, line, column, line, column + 1),
+        "\n" * (first_line - 1) + readable(text),
+    )
+
+
+def readable(text: str) -> str:
+    """``text`` with bytes that were not UTF-8 shown as U+FFFD (so it can be written as UTF-8)."""
+    return text.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+
+
 def _kind(mode: int) -> str:
     """What a file that is not a regular file is, in words."""
     if stat.S_ISDIR(mode):
