@@ -65,7 +65,8 @@ def measured_text(
     for term in terms:
         scale, unit, digits = _UNITS[term.quantity]
         value = f"{_value(term, force, torque, distance_m, grip_n) * scale:.{digits}f} {unit}"
-        parts.append(value if len(terms) == 1 else f"{term.text.partition(term.op.value)[0].strip()} {value}")
+        label = term.text.partition(term.op.value)[0].strip().lstrip("(").strip()  # "(FORCE Z < -3 N)"
+        parts.append(value if len(terms) == 1 else f"{label} {value}")
     return ", ".join(parts)
 
 

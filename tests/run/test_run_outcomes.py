@@ -174,6 +174,29 @@ def test_statement_text_keeps_its_final_parenthesis(tmp_path: Path) -> None:
     assert kind == "stopped" and reason.startswith("UNTIL (DISTANCE > 20 mm AND FORCE < 1 N): "), reason
 
 
+def test_a_guarded_moves_impact_after_its_firing_is_in_its_row_and_its_terms_read_whole(
+    tmp_path: Path,
+) -> None:
+    """Catches the replay's peak leaving out the samples after an UNTIL fired while the arm
+    brakes (tagged with the stopped line, before the next statement starts): docs/language.md's
+    own guarded example showed 100.2 N where its samples peaked at 209.1 N; and a parenthesised
+    term's value read ``(FORCE Z -17.6 N`` in the reason."""
+    program = (
+        "MOVE TO table + (0, 0, 50 mm)\n"
+        "MOVE BY (0, 0, -100 mm) SPEED 50 mm/s UNTIL DISTANCE > 40 mm AND FORCE > 5 N OR (FORCE Z < -3 N)\n"
+        "WAIT 0.2 s\n"
+    )
+    run = run_in_process(write_program(tmp_path, "guard", program), tmp_path / "guard.mcap")
+    kind, reason, _ = _outcome(run, 2)
+    assert kind in ("stopped", "failed"), reason
+    assert reason.count("(") == reason.count(")") and "(FORCE Z -" not in reason, reason
+    state = run.log.state
+    tagged = state.line == 2
+    own_peak = float(np.max(np.linalg.norm(state.wrench[tagged, :3], axis=1)))
+    row = next(r for r in statement_timeline(run.log) if r.line == 2)
+    assert row.peak_force == pytest.approx(own_peak, rel=1e-9), (row.peak_force, own_peak)
+
+
 def test_limit_force_sets_the_free_motion_limit(tmp_path: Path) -> None:
     """The free-motion force limit must be settable per program (``LIMIT FORCE``), and enforced.
 
