@@ -18,6 +18,8 @@ def statement_head(statement: str) -> str:
     words = statement.split()
     if words and words[0].upper() in ("IF", "WHILE"):
         return words[0]
+    if len(words) > 1 and words[1].upper() in _CLAUSE_WORDS | {"FORCE", "WIDTH"}:  # GRASP FORCE 40 N
+        return words[0]
     unit = len(words) > 2 and words[1][:1].isdigit() and words[2].isalpha()  # WAIT 2 s
     return " ".join(words[:3] if unit and words[2].upper() not in _CLAUSE_WORDS else words[:2])
 
@@ -28,9 +30,10 @@ def failure_text(statement: str, reason: str, context: str = "") -> str:
     ``CONTACT UP found no contact within 1.5 s``; a protective stop after a colon:
     ``MOVE BY: protective stop: tool hit fixture 'table' at 2.60 s, 31.2 N``; a
     statement of a procedure or a loop's pass ends as the compiler's errors do:
-    ``CONTACT DOWN found no contact within 0.5 s (in PROC probe called at line 5)``.
+    ``CONTACT DOWN found no contact within 0.5 s (in PROC probe called at line 5)``; a reason
+    that is a sentence of its own after a colon too: ``RELEASE: the gripper holds nothing``.
     """
-    joiner = ": " if reason.startswith("protective stop") else " "
+    joiner = ": " if reason.startswith(("protective stop", "the ")) else " "
     return f"{statement_head(statement)}{joiner}{reason}".strip() + origin(context)
 
 

@@ -55,3 +55,12 @@ def test_corrupt_log_fails_with_a_message_naming_it(tmp_path: Path) -> None:
     assert result.returncode == 1
     assert f"{bad}: not an MCAP file" in result.stderr
     assert "Traceback" not in result.stderr
+
+
+def test_a_start_past_the_logs_end_is_a_usage_error(written: WrittenRun, tmp_path: Path) -> None:
+    """Catches ``--view --start 500`` on a 4 s log printing "playing from t = 500 s" and exiting 1
+    (the docs give 2 for wrong usage)."""
+    result = cosmos("replay", str(written.path), "--video", str(tmp_path / "v.mp4"), "--start", "500")
+    assert result.returncode == 2, result.stderr
+    assert "--start 500 s is past the log's end, t = 4.000 s" in result.stderr
+    assert not (tmp_path / "v.mp4").exists()
