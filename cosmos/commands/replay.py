@@ -110,7 +110,8 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
         from cosmos.replay.playback import Playback, view
 
         if options.start_s > record.end_time:
-            raise UsageError(f"--start {options.start_s:g} s is past the log's end, t = {record.end_time:.3f} s")
+            end = f"t = {record.end_time:.3f} s"
+            raise UsageError(f"--start {options.start_s:g} s is past the log's end, {end}")
 
         playback = Playback(start_s=options.start_s, rate=options.rate)
         if options.view:
