@@ -23,6 +23,17 @@ def context_parts(context: str) -> list[str]:
     return [part for part in context.split(SEPARATOR) if part]
 
 
+ORIGIN_PARTS = 4
+"""An origin deeper than this many expansions names the outermost two and the innermost two."""
+
+
 def origin(context: str) -> str:
-    """`` (in PROC p called at line 3; ...)``: how an expanded statement's message ends ("" at top level)."""
-    return f" (in {context})" if context else ""
+    """`` (in PROC p called at line 3; ...)``: how an expanded statement's message ends ("" at top level).
+
+    A deep one keeps its ends: ``(in PROC a called at line 9; PROC b called at line 7; ... 146 more
+    ...; PROC y called at line 3; PROC z called at line 2)``.
+    """
+    parts = context_parts(context)
+    if len(parts) > ORIGIN_PARTS:
+        parts = [*parts[:2], f"... {len(parts) - 4} more ...", *parts[-2:]]
+    return f" (in {joined_context(parts)})" if parts else ""

@@ -199,6 +199,9 @@ def test_a_chain_longer_than_the_expansion_limit_is_a_located_error() -> None:
     message = caught.value.message
     assert f"nest more than {MAX_EXPANSION_DEPTH} deep here" in message
     assert caught.value.span is not None
+    # One line of 7 kB named all 150 calls, twice; now the outermost and innermost two.
+    rendered = caught.value.render()
+    assert len(rendered.splitlines()[0]) < 400 and "... 146 more ..." in rendered, rendered
 
 
 @pytest.mark.parametrize("digits", ["\uff11\uff12", "\u0661\u0662", "1\uff12"])

@@ -24,7 +24,6 @@ from cosmos.lang.compile.state import CompileState, ProcEntry, frozen_map
 from cosmos.lang.evaluate.evaluator import suggest
 from cosmos.lang.evaluate.values import Binding, BindingKind, SuppressedError
 from cosmos.lang.parse.grammar import statement_keywords
-from cosmos.plan.context import joined_context
 
 MAX_STEPS = 100_000
 """Most steps a program may expand to (procedures and loops included)."""
@@ -266,11 +265,10 @@ def _bounded_depth(run: CompileContext, statement: ast.Call | ast.Repeat) -> Non
     Raises:
         ProgramError: At the CALL or REPEAT, naming the outermost expansions.
     """
-    if len(run.context) >= MAX_EXPANSION_DEPTH:
-        outer = joined_context(run.context[:3])
+    if len(run.context) >= MAX_EXPANSION_DEPTH:  # the message's origin names the outermost ones
         raise ProgramError(
-            f"procedure calls and REPEAT blocks nest more than {MAX_EXPANSION_DEPTH} deep here "
-            f"(from {outer}; ...); call fewer procedures from inside each other",
+            f"procedure calls and REPEAT blocks nest more than {MAX_EXPANSION_DEPTH} deep here; "
+            "call fewer procedures from inside each other",
             statement.span,
         )
 
