@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from cosmos.execution.float_maths import length_along
-from cosmos.plan import AllOf, AnyOf, Condition, LastOutcome, Quantity, Segment, SegmentKind
+from cosmos.plan import Segment, SegmentKind
+from cosmos.plan.conditions import has_force_term
 from cosmos.workcell import WRIST_SENSOR
 
 FloatArray = np.ndarray
@@ -23,25 +24,6 @@ accelerations (a 50 mm reversal at 100 mm/s reads about 6 N)."""
 CONTACT_FORCE_MARGIN_N = 30.0
 """A contact statement's force range: twice its FORCE (or UNTIL threshold) plus this [N]
 (impacts on touching, a force loop's overshoot)."""
-
-
-_NOT_THE_WRIST = (Quantity.DISTANCE, Quantity.FINGER_FORCE)
-"""Terms that do not read the wrist sensor: they expect no contact of the tool."""
-
-
-def has_force_term(condition: Condition | None) -> tuple[bool, float]:
-    """Whether an UNTIL compares a force or moment, and its largest threshold [N or N m]."""
-    if condition is None:
-        return False, 0.0
-    if isinstance(condition, AllOf | AnyOf):
-        found, largest = False, 0.0
-        for term in condition.terms:
-            has, value = has_force_term(term)
-            found, largest = found or has, max(largest, value)
-        return found, largest
-    if isinstance(condition, LastOutcome) or condition.quantity in _NOT_THE_WRIST:
-        return False, 0.0
-    return True, abs(condition.value)
 
 
 def expects_contact(segment: Segment) -> bool:

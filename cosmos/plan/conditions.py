@@ -116,6 +116,24 @@ class LastOutcome:
 
 Condition = Comparison | AllOf | AnyOf | LastOutcome
 
+_NOT_THE_WRIST = (Quantity.DISTANCE, Quantity.FINGER_FORCE)
+"""Terms that do not read the wrist sensor: they expect no contact of the tool."""
+
+
+def has_force_term(condition: Condition | None) -> tuple[bool, float]:
+    """Whether an UNTIL compares a force or moment (a guarded motion), its largest threshold [N, N m]."""
+    if condition is None:
+        return False, 0.0
+    if isinstance(condition, AllOf | AnyOf):
+        found, largest = False, 0.0
+        for term in condition.terms:
+            has, value = has_force_term(term)
+            found, largest = found or has, max(largest, value)
+        return found, largest
+    if isinstance(condition, LastOutcome) or condition.quantity in _NOT_THE_WRIST:
+        return False, 0.0
+    return True, abs(condition.value)
+
 
 def condition_holds(
     condition: Condition,

@@ -37,6 +37,7 @@ from cosmos.osc.landing import (
     landing_speed,
 )
 from cosmos.plan import ContactTouch, Segment, SegmentKind
+from cosmos.plan.conditions import has_force_term
 from cosmos.robots import ROBOTS
 from cosmos.runtime.fixture_solids import FixtureSolid, bounds, signed_distances
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -187,6 +188,19 @@ def held_push(setpoint: ServoSetpoint) -> bool:
     return forced and setpoint.mode is MotionMode.HOLD and not setpoint.limit_push_speed
 
 
+def guarded_approach(segment: Segment, setpoint: ServoSetpoint) -> bool:
+    """A guarded MOVE (UNTIL on a force or moment) by goal motion: it lands as a CONTACT's approach.
+
+    Its UNTIL ends it at the touch, and the arm brakes from there (cosmos.execution.holding): the
+    impact is the momentum it meets the surface with. ``MOVE BY (0, 0, -100 mm) UNTIL FORCE > 5 N``
+    from 50 mm over the table at the default 100 mm/s peaked at 174-195 N, 4 ms after the stop
+    (its limit 2 x 5 + 30 N, the sensor's rating 130 N); landing at the CONTACT's speeds, 20-24 N.
+    A timed move (``IN t``) keeps its time.
+    """
+    guarded = segment.kind is SegmentKind.MOVE and has_force_term(segment.until)[0]
+    return guarded and setpoint.mode is MotionMode.GOAL and setpoint.trajectory is None
+
+
 def with_landing(
     setpoint: ServoSetpoint, segment: Segment, runtime: Runtime, rotation: FloatArray, tool: str
 ) -> ServoSetpoint:
@@ -207,7 +221,8 @@ def with_landing(
 
     holds = held_push(setpoint)
     approaches = segment.kind is SegmentKind.CONTACT_APPROACH and isinstance(segment.completion, ContactTouch)
-    if not (holds or approaches):
+    guarded = guarded_approach(segment, setpoint)
+    if not (holds or approaches or guarded):
         return setpoint
     evaluation, robot_name = runtime.evaluation, runtime.robot.description.name
     start, lambda_ = np.asarray(evaluation.position, dtype=float), evaluation.dynamics.lambda_
@@ -223,7 +238,7 @@ def with_landing(
             return setpoint
         direction, points = line / travel, tool_points(start, rotation, cell.tool_sections)
     distance, solid = surface_ahead(cell.solids, points, direction, reach)
-    if solid < 0:
+    if solid < 0 or guarded and distance <= LANDING_ZONE_M:  # a guarded MOVE from a touch: no landing
         return setpoint
     stiff = contact_ramps(robot_name).get(cell.solids[solid].geom, 0.0) < STIFF_RAMP_M
     at = travel - distance + LANDING_ZONE_M  # from the goal (a hold's x_d), along the line
@@ -235,5 +250,7 @@ def with_landing(
     force = float(np.linalg.norm(setpoint.force_world[:3]))  # a hold's; an approach's is its CONTACT's
     if isinstance(segment.completion, ContactTouch):
         force = segment.completion.force_n
+    elif segment.kind is SegmentKind.MOVE:  # a guarded motion's: its UNTIL's threshold
+        force = has_force_term(segment.until)[1]
     speed = landing_speed(mass, setpoint.max_speed, force)
     return replace(setpoint, landing=(at, speed, LANDING_DECELERATION_MPS2))
