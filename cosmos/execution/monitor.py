@@ -21,6 +21,7 @@ from cosmos.execution.arrival import GoalError
 from cosmos.execution.closing import STALL_TIME_S, Closing
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import length_along, norm3, pose_error
+from cosmos.execution.left_surface import watched
 from cosmos.execution.lost_push import LostPush, lost_surface
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.lang.check.limits import MAX_DURATION_S
@@ -172,7 +173,7 @@ class SegmentMonitor:
         that is all there is to judge (no UNTIL, no TIMEOUT): one call a tick, not two."""
         ending, until = segment.completion, timed_until_s  # a timed goal motion's arrival: from its time
         until = start_s + ending.duration_s - 1e-9 if isinstance(ending, Elapsed) else until  # a WAIT's end
-        alone = self.judge is self._complete and isinstance(ending, GoalReached | Elapsed)
+        alone = self.judge == self._goal_reached or self.judge is self._complete and type(ending) is Elapsed
         self.idle_until_s = until if alone and until is not None else -math.inf
         """Before this time :attr:`judge` finds nothing and changes nothing (1e-9 s early for rounding)."""
 
@@ -214,8 +215,8 @@ class SegmentMonitor:
     def _completion_judge(self, completion: object) -> Callable[[Snapshot], Outcome | None]:
         """The judge of the segment's own ending (``completion``), one snapshot at a time."""
         if isinstance(completion, GoalReached):
-            self._goal = completion
-            return self._goal_reached
+            self._goal = completion  # a SLIDE's is watched for leaving its surface (execution.left_surface)
+            return watched(self.segment, self._start_xyz, self._goal_reached, Verdict.FAILED, Outcome)
         # The judges below read their ending from self: one call a tick, no wrapper.
         if isinstance(completion, ContactTouch):
             self._touch_ending = completion
