@@ -26,7 +26,7 @@ from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, singul
 from cosmos.execution.expected import FREE_MOTION_FORCE_N
 from cosmos.execution.field_on_tool import FieldOnToolWatch
 from cosmos.execution.float_maths import distance_to_point
-from cosmos.execution.holding import brake_to_rest, hold_pose
+from cosmos.execution.holding import brake_after_until, hold_pose
 from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict
 from cosmos.execution.obstacles import ObstacleWorld
 from cosmos.execution.recording import LogRecorder
@@ -137,10 +137,10 @@ class Executor:
             if outcome.verdict is Verdict.FAILED:
                 self._fail(segment, outcome)
             if outcome.verdict is Verdict.STOPPED:
-                self._event("stopped", segment, outcome.reason)
                 self._stopped_at = self.runtime.time_s
-                if bool(np.all(segment.motion_axes)) and not any(segment.stiffness):
-                    brake_to_rest(self.runtime)  # a held contact or a spring keeps its force
+                if (impact := brake_after_until(self.runtime, segment, outcome.reason)) is not None:
+                    self._fail(segment, impact)  # braked through an impact over its limit
+                self._event("stopped", segment, outcome.reason)
                 break
             if segment.kind is SegmentKind.CONTACT_APPROACH and outcome.touched:
                 self._event("contact", segment, outcome.reason)

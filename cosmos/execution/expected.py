@@ -67,6 +67,35 @@ def force_limit_n(segment: Segment, free_limit_n: float, spring_press: float = 0
     return min(limit, WRIST_SENSOR.force_n)
 
 
+def braked_over_limit(
+    segment: Segment, free_limit_n: float, braked: tuple[float, float], until_reason: str
+) -> str:
+    """A protective stop's message if the wrist's peak while the arm braked after an UNTIL exceeds the limit.
+
+    A guarded motion's impact comes after its UNTIL fired, while the arm brakes
+    (:func:`cosmos.execution.holding.brake_to_rest`): at 100 mm/s onto the table, UNTIL FORCE > 5 N
+    fired at 5.7 N and the wrist read 174 N 4 ms later. Over the statement's limit
+    (:func:`force_limit_n`) that is a protective stop, not a stop on the condition.
+
+    Args:
+        segment: The segment its UNTIL stopped.
+        free_limit_n: The free-motion limit in force (default or ``LIMIT FORCE``) [N].
+        braked: ``(peak [N], when [s])``: the largest wrist force while the arm braked.
+        until_reason: The stop's reason (``UNTIL FORCE > 5 N: 5.7 N at 3.16 s``).
+
+    Returns:
+        ``protective stop: 174.2 N at the wrist at 3.17 s while braking after UNTIL FORCE > 5 N:
+        5.7 N at 3.16 s; over this statement's limit of 40 N``; "" within the limit.
+    """
+    limit, (peak_n, peak_s) = force_limit_n(segment, free_limit_n), braked
+    if peak_n <= limit:
+        return ""
+    return (
+        f"protective stop: {peak_n:.1f} N at the wrist at {peak_s:.2f} s while braking after "
+        f"{until_reason}; over this statement's limit of {limit:.0f} N"
+    )
+
+
 def off_line(
     p: list[float],
     a: tuple[float, ...],

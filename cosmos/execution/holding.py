@@ -1,13 +1,18 @@
 """The arm held where it is: after a failure, at an interruption, and after an UNTIL stopped it.
 
 Every axis under position control at the measured pose, no force (the arm's own hold, not a
-statement's). :func:`brake_to_rest` holds until the tool is at rest.
+statement's). :func:`brake_to_rest` holds until the tool is at rest; :func:`brake_after_until`
+so stops a free motion its UNTIL stopped, and judges the impact it brakes through.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from cosmos.execution.expected import FREE_MOTION_FORCE_N, braked_over_limit
+from cosmos.execution.monitor import Outcome, Verdict
+from cosmos.execution.supervision import ProtectiveStop, StopKind
+from cosmos.plan import Segment
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
@@ -34,7 +39,7 @@ def hold_pose(runtime: Runtime, duration_s: float = 0.0) -> None:
         runtime.tick()
 
 
-def brake_to_rest(runtime: Runtime) -> None:
+def brake_to_rest(runtime: Runtime) -> tuple[float, float]:
     """Hold the measured pose until the tool is at rest (:data:`BRAKE_AT_REST`).
 
     A statement its UNTIL stopped leaves the tool moving (at its SPEED, or faster on a
@@ -42,12 +47,42 @@ def brake_to_rest(runtime: Runtime) -> None:
     tool's inertia (about 0.7 kg) as a push: after ``MOVE BY (0, 0, 100 mm) SPEED 0.2 m/s
     UNTIL DISTANCE > 50 mm``, a CONTACT DOWN "touched" 12 N 80 mm above the table. The
     statement stopped, so the arm stops.
+
+    Returns:
+        ``(peak [N], when [s])``: the largest force the wrist read while the arm braked, and when (a
+        guarded motion's impact comes 2-16 ms after its UNTIL fired:
+        :func:`cosmos.execution.expected.braked_over_limit`); ``(0, now)`` if it was at rest.
     """
     hold_pose(runtime)
-    twist = runtime.servo.last_velocity
+    twist, wrench = runtime.servo.last_velocity, runtime.wrench
     speed, angular, longest = BRAKE_AT_REST
     end = runtime.time_s + longest
+    peak, peak_s = 0.0, runtime.time_s
     while runtime.time_s < end - 1e-9 and (
         float(np.linalg.norm(twist[:3])) > speed or float(np.linalg.norm(twist[3:])) > angular
     ):
         runtime.tick()
+        fx, fy, fz = wrench[:3].tolist()
+        if (squared := fx * fx + fy * fy + fz * fz) > peak:
+            peak, peak_s = squared, runtime.time_s
+    return peak**0.5, peak_s
+
+
+def brake_after_until(runtime: Runtime, segment: Segment, until_reason: str) -> Outcome | None:
+    """Brake a free motion its UNTIL stopped to rest; a protective stop if it braked over its limit.
+
+    A held contact or a spring keeps its force (no brake). A guarded motion meets its surface
+    as its UNTIL fires, and the impact comes while the arm brakes: a force over the statement's
+    limit then (:func:`cosmos.execution.expected.braked_over_limit`) fails it as a protective
+    stop naming the peak, where it was "stopped" (174 N for UNTIL FORCE > 5 N, limit 40 N).
+
+    Args:
+        runtime: The runtime.
+        segment: The segment its UNTIL stopped.
+        until_reason: The stop's reason (``UNTIL FORCE > 5 N: 5.7 N at 3.16 s``).
+    """
+    if not bool(np.all(segment.motion_axes)) or any(segment.stiffness):
+        return None
+    braked = brake_to_rest(runtime)
+    over = braked_over_limit(segment, segment.force_limit_n or FREE_MOTION_FORCE_N, braked, until_reason)
+    return Outcome(Verdict.FAILED, over, ProtectiveStop(StopKind.FORCE, over)) if over else None

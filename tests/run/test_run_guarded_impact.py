@@ -12,6 +12,9 @@ steel top face.
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 from run_support import ProgramRun, run_in_process, write_program
@@ -42,3 +45,32 @@ def test_a_guarded_move_at_its_default_speed_lands_within_its_force_limit(guarde
     around = (state.t >= stopped[0].t - 0.2) & (state.t <= stopped[0].t + 0.1)
     peak = float(np.max(np.linalg.norm(state.wrench[around, :3], axis=1)))
     assert peak <= LIMIT_N, f"peak {peak:.1f} N around the stop at {stopped[0].t:.3f} s"
+
+
+UNKNOWN_SURFACE = """\
+OBJECT block BOX SIZE (60 mm, 60 mm, 50 mm) MASS 2 kg AT table
+MOVE TO table + (0, 0, 100 mm)
+MOVE BY (0, 0, -100 mm) UNTIL FORCE > 5 N
+WAIT 0.3 s
+"""
+
+
+def test_an_impact_over_the_limit_while_braking_is_a_protective_stop(tmp_path: Path) -> None:
+    """A guarded MOVE onto a surface its model does not know (an OBJECT) was "stopped" at 160 N.
+
+    Its UNTIL fired as the tool met the block at 100 mm/s and the arm braked through a 160 N
+    impact (limit 2 x 5 + 30 N): the statement now fails with a protective stop naming the peak,
+    which the log's own wrist samples after the stop confirm (sampled every 4 ms: at most the peak).
+    """
+    program = write_program(tmp_path, "unknown", UNKNOWN_SURFACE)
+    run = run_in_process(program, tmp_path / "unknown.mcap")
+    assert run.returncode != 0, run.describe()
+    line = run.line_of("UNTIL FORCE")
+    assert not run.events("stopped", line), run.describe()
+    stops = run.events("protective_stop", line)
+    assert len(stops) == 1 and run.events("failed", line), run.describe()
+    named = float(re.search(r"protective stop: ([0-9.]+) N at the wrist", stops[0].reason).group(1))  # type: ignore[union-attr]
+    state = run.log.state
+    last = state.t <= stops[0].t
+    logged = float(np.max(np.linalg.norm(state.wrench[last, :3], axis=1)))
+    assert logged > LIMIT_N and named >= logged - 0.5, f"named {named} N, logged {logged:.1f} N"
