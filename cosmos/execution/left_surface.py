@@ -10,8 +10,8 @@ products) the SLIDE's push is watched from where it started pressing:
 
 - **dropped**: the tool point has moved more than :data:`LEFT_SURFACE_M` along the push (into
   where the surface was);
-- **push lost**: the push along its axis has stayed under :data:`LOST_PUSH_SHARE` of its
-  setpoint for :data:`LOST_PUSH_S` in a row.
+- **push lost**: the push along its axis, once it has reached :data:`LOST_PUSH_SHARE` of its
+  setpoint, has stayed under it for :data:`LOST_PUSH_S` in a row.
 
 Either fails the statement with the measured figures (docs/language.md, SLIDE).
 """
@@ -54,12 +54,14 @@ class SurfaceWatch:
         setpoint_n: The push's setpoint [N].
         start: The tool point where the SLIDE started, world [m]. # (3,)
         weak_since_s: Since when the push has been under its share (None: it is not).
+        pressed: Whether the push has reached its share yet (only then can it be lost).
     """
 
     push: tuple[float, float, float]
     setpoint_n: float
     start: tuple[float, float, float]
     weak_since_s: float | None = None
+    pressed: bool = False
 
     @classmethod
     def of(cls, segment: Segment, start: tuple[float, ...]) -> SurfaceWatch | None:
@@ -89,10 +91,12 @@ class SurfaceWatch:
             slid = self._slid(position, dropped)
             return (
                 f"left its surface at {t_s:.2f} s: the tool dropped {dropped * 1e3:.1f} mm along its push "
-                f"after {slid * 1e3:.1f} mm of its slide (push {push + 0.0:.1f} N of {self.setpoint_n:g} N)"
+                f"after {slid * 1e3:.1f} mm of its slide (push {round(push, 1) + 0.0:.1f} N of {self.setpoint_n:g} N)"
             )
         if push >= LOST_PUSH_SHARE * self.setpoint_n:
-            self.weak_since_s = None
+            self.weak_since_s, self.pressed = None, True
+            return ""
+        if not self.pressed:  # a SLIDE's own FORCE over the contact's: still ramping up to it
             return ""
         if self.weak_since_s is None:
             self.weak_since_s = t_s
