@@ -91,7 +91,8 @@ class SurfaceWatch:
             slid = self._slid(position, dropped)
             return (
                 f"left its surface at {t_s:.2f} s: the tool dropped {dropped * 1e3:.1f} mm along its push "
-                f"after {slid * 1e3:.1f} mm of its slide (push {round(push, 1) + 0.0:.1f} N of {self.setpoint_n:g} N)"
+                f"after {slid * 1e3:.1f} mm of its slide "
+                f"(push {round(push, 1) + 0.0:.1f} N of {self.setpoint_n:g} N)"
             )
         if push >= LOST_PUSH_SHARE * self.setpoint_n:
             self.weak_since_s, self.pressed = None, True
