@@ -44,3 +44,67 @@ def tilt_window(speed: FloatArray, tilt: FloatArray, window_rad: float, rate: fl
     if size > window_rad:
         out[3:] -= rate * (size - window_rad) / size * np.asarray(tilt[3:])
     return out
+
+
+def insert_compliance(
+    speed: FloatArray,
+    tilt: FloatArray,
+    error: FloatArray,
+    force_goal: FloatArray,
+    omega_bar: FloatArray,
+    params: FloatArray,
+) -> tuple[FloatArray, FloatArray]:
+    """An INSERT's compliant axes: tip into the mouth and slide over its rim, then stand up in it.
+
+    The unified command (eq. 17-18) keeps the seed's split: ``F*_m`` on the motion axes,
+    ``F_a`` on the force axes. Here the window's ``theta_w`` and a share of the push across it
+    depend on how deep the tool is along its push ``n`` (``d = n . (x - x_d)``, the INSERT's
+    start its ``x_d``):
+
+    * short of ``d_in`` the window is ``theta_w`` and the force axes add, to F_d, a push
+      across ``n`` toward where the part leans::
+
+          F_d <- F_d + s |F_d| Omega_bar (n x theta) / max(|theta|, theta_w)
+
+      A part whose end rests on the fixture's top face beside the mouth tips its far side
+      into it (the contact's moment about the tool point, zero-moment admittance) and then
+      sits on the mouth's edge: the edge pushes it toward the hole with only
+      ``F tan(theta)`` (2.3 N at 10.8 deg and 12 N), against a friction ``mu F`` (5-10 N at
+      ``mu`` 0.4-0.8), so it crept over the edge at 0.5 mm/s or stayed. Pushed toward its
+      lean (a compliance centre below the tip: the tilt carries the tip toward the mouth,
+      as the seed's compliance on a motion axis is its gain, section 3, here on a force
+      axis) it slides over the edge in tenths of a second.
+    * from ``d_in`` on (the part is in the mouth: tipping on the edge lowers the tool point
+      by at most ``r sin(theta_w)``, 1.5 mm for the 8.4 mm end at 10 deg) the push across
+      ``n`` ends and the window closes to ``theta_in``. A part in the mouth tilted by
+      ``theta`` meets the bore in two points once ``theta`` exceeds the clearance ratio
+      ``c`` over the depth's share of the diameter, and wedges (Whitney) unless
+      ``theta < c / mu`` (1.5 deg for the 0.24 mm clearance of a 20 mm peg, ``mu`` 0.45);
+      tilted it also meets the 45 deg chamfer at ``45 - theta`` deg, which friction holds at
+      ``mu >= tan(45 - theta)`` (0.67 at 11 deg): stood up, the chamfer carries it in.
+
+    Args:
+        speed: ``w_a`` from :func:`cosmos.osc.admittance.admittance_speed`, world. # (6,)
+        tilt: ``Omega_a`` times the pose error (current against goal), world, [m, rad]. # (6,)
+        error: ``x - x_d``, world, [m, rad]; ``x_d`` the INSERT's start. # (6,)
+        force_goal: F_d, world (its force part gives ``n`` and ``|F_d|``), [N, N m]. # (6,)
+        omega_bar: Omega_bar, the force axes' selection, world. # (6, 6)
+        params: ``theta_w`` [rad], ``k_w`` [1/s], ``d_in`` [m], ``theta_in`` [rad], ``s``. # (5,)
+
+    Returns:
+        ``(w_a, F_slide)``: the admittance speed with the window's stop, and the push to add
+        to F_d on the force axes, world. # (6,), (6,)
+    """
+    window_rad, rate, entry_depth_m, aligned_rad, slide_share = (float(p) for p in params)
+    push = np.asarray(force_goal, dtype=float)[:3]
+    size = float(np.linalg.norm(push))
+    slide = np.zeros(6)
+    if not size > 0.0:
+        return tilt_window(speed, tilt, window_rad, rate), slide
+    n = push / size
+    depth = float(n.dot(np.asarray(error)[:3]))
+    if depth >= entry_depth_m:
+        return tilt_window(speed, tilt, aligned_rad, rate), slide
+    lean = np.cross(n, np.asarray(tilt)[3:])
+    slide[:3] = slide_share * size * lean / max(float(np.linalg.norm(tilt[3:])), window_rad)
+    return tilt_window(speed, tilt, window_rad, rate), np.asarray(omega_bar).dot(slide)

@@ -122,12 +122,20 @@ class ServoGains:
             observer's 8 ms delay makes the braking outlast the motion). Damping the hold after
             the switch at 100-300/s, tried for the same reason, lifted the tool off the table
             for 10-300 ms on the realistic plant: the observer's delay again.
-        insert_tilt_window: An INSERT's compliant rotations turn freely within this angle of
-            the segment's orientation, [rad], and beyond it back at this speed per radian
-            over, [1/s] (:func:`cosmos.osc.tilt_window.tilt_window`). 10 deg: a peg landing
-            3.2 mm off tips into the mouth and rights itself; at 3 deg it stayed on the top
-            and jammed; with none a tipped peg wedged at 21-25 deg (on the Panda's
-            ``panda_search_insert.cos`` too); at 8 deg that search met a wall at 218 N.
+        insert_compliance: An INSERT's compliant axes (:func:`cosmos.osc.tilt_window.insert_compliance`):
+            ``theta_w`` [rad], the window its rotations turn freely within short of the mouth,
+            ``k_w`` [1/s], the stop's speed per radian beyond a window, ``d_in`` [m], the depth
+            along the push from which the part is in the mouth, ``theta_in`` [rad], the window
+            there, and ``s``, the share of the push sent across it toward the part's lean short
+            of the mouth. 10 deg: a peg landing 3.2 mm off tips into the mouth; at 3 deg it
+            stayed on the top and jammed; with none a tipped peg wedged at 21-25 deg (on the
+            Panda's ``panda_search_insert.cos`` too); at 8 deg that search met a wall at 218 N.
+            2 mm: tipping 10.8 deg on the mouth's edge lowers the 8.4 mm end's centre 1.6 mm.
+            1.5 deg: Whitney's ``c / mu`` for the 0.24 mm clearance of the 20 mm peg, steel
+            0.45 (a peg dropped in at 10.85 deg wedged at 2.9 mm). 0.6: the Panda's welded
+            peg 3.7-6.2 mm off (friction 0.4-0.8), tipped on the edge, crept over it at
+            0.5 mm/s or stayed (4 of 16 failed): pushed across at 0.6 of 12 N, 16 of 16 went
+            in, the held peg's 16 of 16 (11 before).
         posture_kp: Unit-mass joint stiffness of the POSTURE task in the null space, in
             [1/s^2]: ``xi_q^2 / 4``, critically damped by the null-space damping.
     """
@@ -156,7 +164,7 @@ class ServoGains:
     touch_n: float = 8.0
     touch_damping: float = 200.0
     touch_braking: tuple[float, float, float] = (TOUCH_BRAKING_N, TOUCH_BRAKING_PER_S, LANDING_SPEED_MPS)
-    insert_tilt_window: tuple[float, float] = (0.1745, 20.0)
+    insert_compliance: tuple[float, float, float, float, float] = (0.1745, 20.0, 0.002, 0.026, 0.6)
     posture_kp: float = 100.0
 
 

@@ -16,7 +16,7 @@ from cosmos.osc.force import selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.held_push import touch_damping
 from cosmos.osc.orientation import so3_exp
-from cosmos.osc.tilt_window import tilt_window
+from cosmos.osc.tilt_window import insert_compliance, tilt_window
 from cosmos.osc.unified import REACH_FRACTION, force_goal_reached, speed_limited_push
 from cosmos.runtime.kernels import contact as ck
 from tests.runtime.kernel_references import close
@@ -289,6 +289,33 @@ def test_tilt_window_is_its_reference(seed: int) -> None:
         assert turned_back == pytest.approx(-20.0 * (size - window) * size, rel=1e-9)
     else:
         assert np.array_equal(got, speed)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_insert_compliance_is_its_reference(seed: int) -> None:
+    """The INSERT's window by depth and its push across against
+    cosmos.osc.tilt_window.insert_compliance: a push in a random direction, the tool short of
+    the mouth (seeds 0, 3, ...), in it (1, 4, ...) or just past ``d_in`` (2, 5, ...), a random
+    Omega_bar.
+
+    Catches the kernel's depth read along another axis, its push's cross product turned round,
+    the push fed where Omega_bar has no force axis, or ``setpoint`` or ``speed`` written beyond
+    what the reference changes."""
+    rng = np.random.default_rng(seed)
+    speed, tilt, setpoint = rng.normal(0.0, 0.2, 6), rng.normal(0.0, 0.2, 6), rng.normal(0.0, 3.0, 6)
+    goal = rng.normal(0.0, 8.0, 6)
+    n = goal[:3] / np.linalg.norm(goal[:3])
+    params = np.array((0.1745, 20.0, 0.002, 0.026, 0.6))
+    depth = (0.0005, 0.004, 0.00201)[seed % 3]
+    error = rng.normal(0.0, 0.003, 6)
+    error[:3] += (depth - float(n @ error[:3])) * n
+    omega_bar = random_omega_bar(rng)
+    expected_speed, pushed = insert_compliance(speed, tilt, error, goal, omega_bar, params)
+    got_speed, got_setpoint = speed.copy(), setpoint.copy()
+    ck.insert_compliance_into(got_speed, got_setpoint, tilt, error, goal, omega_bar, params)
+    close(got_speed, expected_speed)
+    close(got_setpoint, setpoint + pushed)
+    assert (seed % 3 == 0) == bool(np.any(pushed != 0.0))
 
 
 def test_coulomb_compensation_ignores_the_encoders_noise() -> None:

@@ -15,7 +15,9 @@ at the edges (thresholds, bounds, clipping):
   :func:`cosmos.osc.friction.coulomb_compensation`;
 * :func:`speed_limited_push_into`: :func:`cosmos.osc.unified.speed_limited_push` (a push's SPEED);
 * :func:`touch_braking_into`: :func:`cosmos.osc.contact.touch_braking` (a CONTACT's approach);
-* :func:`tilt_window_into`: :func:`cosmos.osc.tilt_window.tilt_window` (an INSERT's rotations).
+* :func:`tilt_window_into`: :func:`cosmos.osc.tilt_window.tilt_window` (an INSERT's rotations);
+* :func:`insert_compliance_into`: :func:`cosmos.osc.tilt_window.insert_compliance` (the window by
+  depth, and the push across the insertion toward the part's lean).
 
 A held push's kernels are :mod:`cosmos.runtime.kernels.held_push`.
 """
@@ -272,3 +274,33 @@ def tilt_window_into(speed: FloatArray, tilt: FloatArray, window_rad: float, rat
         speed[3] -= back * t0
         speed[4] -= back * t1
         speed[5] -= back * t2
+
+
+@kernel
+def insert_compliance_into(
+    speed: FloatArray,
+    setpoint: FloatArray,
+    tilt: FloatArray,
+    error: FloatArray,
+    force_goal: FloatArray,
+    omega_bar: FloatArray,
+    params: FloatArray,
+) -> None:
+    """:func:`cosmos.osc.tilt_window.insert_compliance` in place: ``w_a`` stopped, F_d pushed.
+
+    ``params``: theta_w [rad], k_w [1/s], d_in [m], theta_in [rad], s.
+    """
+    push = math.sqrt(force_goal[0] ** 2 + force_goal[1] ** 2 + force_goal[2] ** 2)
+    if not push > 0.0:
+        tilt_window_into(speed, tilt, params[0], params[1])
+        return
+    n0, n1, n2 = force_goal[0] / push, force_goal[1] / push, force_goal[2] / push
+    if n0 * error[0] + n1 * error[1] + n2 * error[2] >= params[2]:
+        tilt_window_into(speed, tilt, params[3], params[1])
+        return
+    tilt_window_into(speed, tilt, params[0], params[1])
+    t0, t1, t2 = tilt[3], tilt[4], tilt[5]
+    scale = params[4] * push / max(math.sqrt(t0 * t0 + t1 * t1 + t2 * t2), params[0])
+    lean = (scale * (n1 * t2 - n2 * t1), scale * (n2 * t0 - n0 * t2), scale * (n0 * t1 - n1 * t0))
+    for i in range(6):
+        setpoint[i] += omega_bar[i, 0] * lean[0] + omega_bar[i, 1] * lean[1] + omega_bar[i, 2] * lean[2]

@@ -46,7 +46,7 @@ LANDED = 5
 """Columns 5-6 of :data:`CRUISE`, each tick (:func:`landing_into`): 1 where eq. 21's limit is on a
 CONTACT's landing profile, else 0; the profile's deceleration ``a_ff`` [m/s^2]."""
 LANDING = 60
-"""The servo's last three scalars (kernels.servo's SCALARS is 63), set per segment (:func:`restart`) from
+"""The servo's scalars 60-62 (kernels.servo's TILT_WINDOW follows), set per segment (:func:`restart`) from
 ``ServoSetpoint.landing``: a CONTACT's landing on a stiff surface (:mod:`cosmos.osc.landing`): ``s_l``,
 the distance from the goal along its line where the landing speed must be held [m], ``v_l`` [m/s]
 (0: no landing), ``a`` [m/s^2]."""

@@ -41,8 +41,8 @@ from cosmos.runtime.kernels.contact import (
     contact_latched,
     coulomb_compensation_into,
     force_goal_latched,
+    insert_compliance_into,
     low_pass_into,
-    tilt_window_into,
     touch_braking_into,
     touch_latched,
 )
@@ -68,13 +68,15 @@ INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(12, 15)
 ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, LOOKAHEAD_S = range(15, 21)
 K_VF, FORCE_SPEED_KV, PUSH_SPEED = range(21, 24)
 MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(24, 28)
-TILT_WINDOW = 34  # an INSERT's compliant rotations: the window [rad] and the stop's rate [1/s]
+TILT_WINDOW = 63  # an INSERT's compliant axes: theta_w, k_w, d_in, theta_in, s (osc.tilt_window)
 GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(36, 40)
 GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
 HOLD_OBSERVER = 45  # a free hold's disturbance observer: L [1/s], bound [m/s^2], band [m], quiet [N]
 PUSH_SPEED_RATE = 56  # an INSERT's push: its speed reference's rise [1/s] (cosmos.osc.push_speed)
 TOUCH_FREE_SPEED = 58  # the speed a touch's damping leaves the motion into it [m/s] (osc.contact)
-SCALARS = 63  # 49-55, 57, 59-62: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch force, mass, k_v
+SCALARS = (
+    68  # 34-35 free. 49-55, 57, 59-62: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch N, mass, k_v
+)
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -272,19 +274,14 @@ def servo_tick(
     for i in range(6):
         setpoint[i] = start[i] + fraction * (goal[i] - start[i])
     if admittance:
-        # Moment axes: admittance control. The moment error (sensor low-passed) sets a bounded
-        # rotation speed that a unit-mass velocity servo tracks (friction compensated toward it):
-        # the seed's force loop would leave a contact's aligning moment (0.02 N m for the round
-        # tip on the slope) to fight the wrist's friction (~1 N m).
-        speed = admittance_speed(
-            omega_admittance,
-            setpoint,
-            state[MOMENT_FILTERED, :6],
-            scalars[ADMITTANCE_GAIN],
-            scalars[ADMITTANCE_MAX_SPEED],
-        )
-        if scalars[PUSH_SPEED] > 0.0:
-            tilt_window_into(speed, tilt, scalars[TILT_WINDOW], scalars[TILT_WINDOW + 1])
+        # Moment axes: admittance control. The moment error (sensor low-passed) sets a bounded rotation speed
+        # that a unit-mass velocity servo tracks (friction compensated toward it): the seed's force loop
+        # would leave a contact's aligning moment (0.02 N m, a round tip on a slope) to the wrist's friction.
+        admitting = (scalars[ADMITTANCE_GAIN], scalars[ADMITTANCE_MAX_SPEED])
+        speed = admittance_speed(omega_admittance, setpoint, state[MOMENT_FILTERED, :6], *admitting)
+        if scalars[PUSH_SPEED] > 0.0:  # an INSERT's window and push (osc.tilt_window.insert_compliance)
+            window = (error, goal, matrices[OMEGA_BAR], scalars[TILT_WINDOW:])
+            insert_compliance_into(speed, setpoint, tilt, *window)
         motion = admittance_command(omega_admittance, motion, speed, velocity, scalars[ADMITTANCE_KV])
         commanded_speed = commanded_speed + speed
     acceleration = motion

@@ -1,0 +1,101 @@
+"""An INSERT's compliant axes by depth (cosmos.osc.tilt_window.insert_compliance).
+
+Checked against geometry computed independently of the law (a rotation applied to the peg's
+axis with SciPy, Whitney's wedging bound ``c / mu``), without the simulator.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from cosmos.osc.tilt_window import insert_compliance, tilt_window
+from cosmos.runtime.servo_gains import ServoGains
+
+PARAMS = np.array(ServoGains().insert_compliance)
+WINDOW_RAD, RATE, ENTRY_M, ALIGNED_RAD, SHARE = PARAMS
+PUSH_N = 12.0
+DOWN = np.array([0.0, 0.0, -1.0])
+FORCE_GOAL = np.concatenate((PUSH_N * DOWN, np.zeros(3)))
+LATERAL = np.diag([1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+"""Omega_bar of ``INSERT DOWN`` with X Y compliant: the force axes X Y Z (the rotations admit)."""
+FORCE_AXES = np.diag([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
+
+
+def tilted(rotvec: np.ndarray) -> np.ndarray:
+    """The pose error of a tool turned by ``rotvec`` from its start, the tool point still. # (6,)."""
+    return np.concatenate((np.zeros(3), rotvec))
+
+
+def at_depth(depth_m: float) -> np.ndarray:
+    """``x - x_d`` of a tool ``depth_m`` along the push from the INSERT's start. # (6,)."""
+    return np.concatenate((depth_m * DOWN, np.zeros(3)))
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_push_across_goes_where_the_peg_leans(seed: int) -> None:
+    """Short of the mouth, a peg tipped by ``theta`` is pushed across the insertion toward where
+    its upper end went: SciPy turns the peg's axis (tip to flange, up) and the flange's
+    displacement gives the direction. Catches the push pointing away from the hole (a sign) or
+    along the insertion; its size is ``s |F_d|`` from the window on, ``s |F_d| theta/theta_w``
+    within it."""
+    rng = np.random.default_rng(seed)
+    heading = rng.uniform(0.0, 2.0 * np.pi)
+    for angle in (0.3 * WINDOW_RAD, WINDOW_RAD, 1.2 * WINDOW_RAD):
+        rotvec = angle * np.array([np.cos(heading), np.sin(heading), 0.0])
+        _, slide = insert_compliance(
+            np.zeros(6), tilted(rotvec), at_depth(0.0), FORCE_GOAL, FORCE_AXES, PARAMS
+        )
+        flange = Rotation.from_rotvec(rotvec).apply(-DOWN) - (-DOWN)  # where the peg's top went
+        lean = flange[:2] / np.linalg.norm(flange[:2])
+        assert slide[2] == pytest.approx(0.0, abs=1e-12) and not slide[3:].any()
+        assert slide[:2] / np.linalg.norm(slide[:2]) == pytest.approx(lean, abs=1e-9)
+        size = SHARE * PUSH_N * min(1.0, angle / WINDOW_RAD)
+        assert np.linalg.norm(slide) == pytest.approx(size, rel=1e-9)
+
+
+def test_the_push_across_is_on_force_axes_only() -> None:
+    """With the translations across held stiff (``COMPLY RX RY``: not force axes) nothing is
+    pushed across: the push is Omega_bar's. Catches a lateral force fed to motion axes."""
+    rotvec = np.array([0.1, 0.05, 0.0])
+    only_z = np.diag([0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+    _, slide = insert_compliance(np.zeros(6), tilted(rotvec), at_depth(0.0), FORCE_GOAL, only_z, PARAMS)
+    assert not slide.any()
+
+
+def test_in_the_mouth_the_window_closes_under_whitneys_bound() -> None:
+    """From ``d_in`` on, the push across ends and the window is ``theta_in``, under Whitney's
+    wedging bound ``c / mu`` for the shipped fit (0.24 mm clearance on 20.065 mm, steel 0.45):
+    a peg tipped 10 deg is turned back, one tipped under ``theta_in`` left to the contact.
+    Catches the wide window kept in the bore (the peg wedged at 10.85 deg, 2.9 mm in)."""
+    clearance_ratio = 0.24 / 20.065
+    assert ALIGNED_RAD <= clearance_ratio / 0.45 * 1.1
+    speed = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.0])
+    deep = at_depth(ENTRY_M + 1e-4)
+    wide = tilted(np.array([0.0, np.radians(10.0), 0.0]))
+    got, slide = insert_compliance(speed, wide, deep, FORCE_GOAL, LATERAL, PARAMS)
+    assert not slide.any()
+    assert got == pytest.approx(tilt_window(speed, wide, ALIGNED_RAD, RATE))
+    assert got[4] < -RATE * (np.radians(10.0) - ALIGNED_RAD) * 0.99  # turned back toward upright
+    small = tilted(np.array([0.5 * ALIGNED_RAD, 0.0, 0.0]))
+    got, _ = insert_compliance(speed, small, deep, FORCE_GOAL, LATERAL, PARAMS)
+    assert got == pytest.approx(speed)
+
+
+def test_short_of_the_mouth_the_window_is_wide() -> None:
+    """Above ``d_in`` the window is ``theta_w`` (the peg may tip its far side into the mouth):
+    a 5 deg tilt is left alone. Catches the narrow window applied on the fixture's top."""
+    speed = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.0])
+    five = tilted(np.array([np.radians(5.0), 0.0, 0.0]))
+    got, _ = insert_compliance(speed, five, at_depth(0.5 * ENTRY_M), FORCE_GOAL, LATERAL, PARAMS)
+    assert got == pytest.approx(speed)
+
+
+def test_no_push_no_change() -> None:
+    """Without a push (F_d's force zero) there is no direction: the wide window, nothing across."""
+    speed = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.0])
+    wide = tilted(np.array([0.0, np.radians(12.0), 0.0]))
+    got, slide = insert_compliance(speed, wide, at_depth(0.0), np.zeros(6), LATERAL, PARAMS)
+    assert not slide.any()
+    assert got == pytest.approx(tilt_window(speed, wide, WINDOW_RAD, RATE))
