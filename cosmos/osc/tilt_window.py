@@ -50,7 +50,9 @@ def insert_compliance(
     speed: FloatArray,
     tilt: FloatArray,
     error: FloatArray,
+    velocity: FloatArray,
     force_goal: FloatArray,
+    wrench: FloatArray,
     omega_bar: FloatArray,
     params: FloatArray,
 ) -> tuple[FloatArray, FloatArray]:
@@ -61,10 +63,16 @@ def insert_compliance(
     depend on how deep the tool is along its push ``n`` (``d = n . (x - x_d)``, the INSERT's
     start its ``x_d``):
 
-    * short of ``d_in`` the window is ``theta_w`` and the force axes add, to F_d, a push
-      across ``n`` toward where the part leans::
+    * short of ``d_in`` the window is ``theta_w`` and the force axes get a push ``F_l``
+      across ``n`` toward where the part leans, ``l = n x theta / |n x theta|``, in
+      proportion to the push felt along ``n`` (``f_n = n . F_s`` within ``[0, |F_d|]``: what
+      the contact's friction holds it by), fading as the tool's speed along ``l`` nears
+      ``v_s`` (the push held to a speed, as eq. 21's ``nu`` holds a motion to ``V_max``),
+      fed forward with F_d but kept out of the force error's integral (Figure 2's PI, which
+      wound up while the tool moved instead of pushing, and threw it across the mouth)::
 
-          F_d <- F_d + s |F_d| Omega_bar (n x theta) / max(|theta|, theta_w)
+          F_l = s f_n min(1, |n x theta| / theta_w) max(0, 1 - l . xd / v_s) Omega_bar l
+          F_a = (1 + k_f)(F_d + F_l) - k_f F_s + k_i int(F_d - F_s) dt
 
       A part whose end rests on the fixture's top face beside the mouth tips its far side
       into it (the contact's moment about the tool point, zero-moment admittance) and then
@@ -73,10 +81,14 @@ def insert_compliance(
       ``mu`` 0.4-0.8), so it crept over the edge at 0.5 mm/s or stayed. Pushed toward its
       lean (a compliance centre below the tip: the tilt carries the tip toward the mouth,
       as the seed's compliance on a motion axis is its gain, section 3, here on a force
-      axis) it slides over the edge in tenths of a second.
+      axis) it slides over the edge in tenths of a second. Off the edge, over the mouth, it
+      feels no push and is pushed across no more, and never faster than ``v_s``: a SEARCH's
+      peg tipped into the mouth, pushed off the edge at ``s |F_d|``, crossed the mouth at
+      25 mm/s in free air onto the far wall (42 N; 21 N without the push).
     * from ``d_in`` on (the part is in the mouth: tipping on the edge lowers the tool point
       by at most ``r sin(theta_w)``, 1.5 mm for the 8.4 mm end at 10 deg) the push across
-      ``n`` ends and the window closes to ``theta_in``. A part in the mouth tilted by
+      ``n`` ends and the window closes to ``theta_in``, its stop at ``k_in`` (snapped back at
+      ``k_w``, 3 rad/s from 10.8 deg, the peg's swing knocked the bore at 47 N). A part in the mouth tilted by
       ``theta`` meets the bore in two points once ``theta`` exceeds the clearance ratio
       ``c`` over the depth's share of the diameter, and wedges (Whitney) unless
       ``theta < c / mu`` (1.5 deg for the 0.24 mm clearance of a 20 mm peg, ``mu`` 0.45);
@@ -87,15 +99,20 @@ def insert_compliance(
         speed: ``w_a`` from :func:`cosmos.osc.admittance.admittance_speed`, world. # (6,)
         tilt: ``Omega_a`` times the pose error (current against goal), world, [m, rad]. # (6,)
         error: ``x - x_d``, world, [m, rad]; ``x_d`` the INSERT's start. # (6,)
+        velocity: ``xd``, the tool's twist, world, [m/s, rad/s]. # (6,)
         force_goal: F_d, world (its force part gives ``n`` and ``|F_d|``), [N, N m]. # (6,)
+        wrench: F_s, the wrench the tool applies, world, [N, N m]. # (6,)
         omega_bar: Omega_bar, the force axes' selection, world. # (6, 6)
-        params: ``theta_w`` [rad], ``k_w`` [1/s], ``d_in`` [m], ``theta_in`` [rad], ``s``. # (5,)
+        params: ``theta_w`` [rad], ``k_w`` [1/s], ``d_in`` [m], ``theta_in`` [rad], ``k_in``
+            [1/s], ``s``, ``v_s`` [m/s]. # (7,)
 
     Returns:
-        ``(w_a, F_slide)``: the admittance speed with the window's stop, and the push to add
-        to F_d on the force axes, world. # (6,), (6,)
+        ``(w_a, F_l)``: the admittance speed with the window's stop, and the push across on
+        the force axes, world. # (6,), (6,)
     """
-    window_rad, rate, entry_depth_m, aligned_rad, slide_share = (float(p) for p in params)
+    window_rad, rate, entry_depth_m, aligned_rad, aligning_rate, slide_share, slide_speed = (
+        float(p) for p in params
+    )
     push = np.asarray(force_goal, dtype=float)[:3]
     size = float(np.linalg.norm(push))
     slide = np.zeros(6)
@@ -104,7 +121,41 @@ def insert_compliance(
     n = push / size
     depth = float(n.dot(np.asarray(error)[:3]))
     if depth >= entry_depth_m:
-        return tilt_window(speed, tilt, aligned_rad, rate), slide
+        return tilt_window(speed, tilt, aligned_rad, aligning_rate), slide
     lean = np.cross(n, np.asarray(tilt)[3:])
-    slide[:3] = slide_share * size * lean / max(float(np.linalg.norm(tilt[3:])), window_rad)
+    leaning = float(np.linalg.norm(lean))
+    if not leaning > 0.0:
+        return tilt_window(speed, tilt, window_rad, rate), slide
+    lean /= leaning
+    felt = min(max(float(n.dot(np.asarray(wrench)[:3])), 0.0), size)
+    fading = max(0.0, 1.0 - float(lean.dot(np.asarray(velocity)[:3])) / slide_speed)
+    slide[:3] = slide_share * felt * min(1.0, leaning / window_rad) * fading * lean
     return tilt_window(speed, tilt, window_rad, rate), np.asarray(omega_bar).dot(slide)
+
+
+def integrated_force_error(
+    omega_bar: FloatArray, force_setpoint: FloatArray, force_sensed: FloatArray, push_across: FloatArray
+) -> FloatArray:
+    """What Figure 2's force integral sums while an INSERT pushes across (:func:`insert_compliance`).
+
+    ``Omega_bar (F_d - F_s)`` less its part along ``F_l``.
+
+    ``F_l`` is fed forward, not tracked: the integral left alone drove the sensed force across
+    back to F_d's (none) and took 6 of a 7 N push away, and, tracking it, wound up while the
+    tool slid instead of pushing, then threw it across the mouth in free air.
+
+    Args:
+        omega_bar: Omega_bar, the force axes' selection, world. # (6, 6)
+        force_setpoint: F_d, ramped, world, [N, N m]. # (6,)
+        force_sensed: F_s, world, [N, N m]. # (6,)
+        push_across: F_l from :func:`insert_compliance`, world (zeros: none). # (6,)
+
+    Returns:
+        The force error to integrate, world. # (6,)
+    """
+    error = np.asarray(omega_bar).dot(np.asarray(force_setpoint) - np.asarray(force_sensed))
+    size = float(np.linalg.norm(push_across[:3]))
+    if size > 0.0:
+        along = np.asarray(push_across[:3]) / size
+        error[:3] -= along * float(along.dot(error[:3]))
+    return error

@@ -119,7 +119,7 @@ class ServoLevel:
         scalars[kernel.K_VF : kernel.FORCE_SPEED_KV + 1] = gains.force.k_vf, gains.force_speed_kv
         scalars[kernel.PUSH_SPEED_RATE] = gains.push_speed_rate  # cosmos.osc.push_speed
         scalars[kernel.MOTION_KI : kernel.MOTION_KI + 2] = gains.motion_ki, gains.motion_integral_limit_ms
-        scalars[kernel.TILT_WINDOW : kernel.TILT_WINDOW + 5] = gains.insert_compliance
+        scalars[kernel.TILT_WINDOW :] = gains.insert_compliance
         scalars[kernel.HELD_PUSH : kernel.HELD_PUSH + 4] = held_push_at(gains.held_push, servo_dt_s)
         scalars[kernel.GOAL_INTEGRAL : kernel.GOAL_INTEGRAL + 5] = gains.goal_integral
         scalars[kernel.HELD_PUSH + 5] = tool_weight_z_n / float(GRAVITY[2])  # the tool's mass

@@ -164,7 +164,7 @@ class ServoGains:
     touch_n: float = 8.0
     touch_damping: float = 200.0
     touch_braking: tuple[float, float, float] = (TOUCH_BRAKING_N, TOUCH_BRAKING_PER_S, LANDING_SPEED_MPS)
-    insert_compliance: tuple[float, float, float, float, float] = (0.1745, 20.0, 0.002, 0.026, 0.6)
+    insert_compliance: tuple[float, ...] = (0.1745, 20.0, 0.002, 0.026, 4.0, 0.6, 0.005)
     posture_kp: float = 100.0
 
 

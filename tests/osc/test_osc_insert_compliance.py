@@ -14,7 +14,8 @@ from cosmos.osc.tilt_window import insert_compliance, tilt_window
 from cosmos.runtime.servo_gains import ServoGains
 
 PARAMS = np.array(ServoGains().insert_compliance)
-WINDOW_RAD, RATE, ENTRY_M, ALIGNED_RAD, SHARE = PARAMS
+WINDOW_RAD, RATE, ENTRY_M, ALIGNED_RAD, ALIGNING_RATE, SHARE, SLIDE_MPS = PARAMS
+STILL = np.zeros(6)
 PUSH_N = 12.0
 DOWN = np.array([0.0, 0.0, -1.0])
 FORCE_GOAL = np.concatenate((PUSH_N * DOWN, np.zeros(3)))
@@ -35,17 +36,17 @@ def at_depth(depth_m: float) -> np.ndarray:
 
 @pytest.mark.parametrize("seed", range(5))
 def test_the_push_across_goes_where_the_peg_leans(seed: int) -> None:
-    """Short of the mouth, a peg tipped by ``theta`` is pushed across the insertion toward where
-    its upper end went: SciPy turns the peg's axis (tip to flange, up) and the flange's
-    displacement gives the direction. Catches the push pointing away from the hole (a sign) or
-    along the insertion; its size is ``s |F_d|`` from the window on, ``s |F_d| theta/theta_w``
-    within it."""
+    """Short of the mouth, a peg tipped by ``theta`` and pressing at its FORCE is pushed across
+    the insertion toward where its upper end went: SciPy turns the peg's axis (tip to flange,
+    up) and the flange's displacement gives the direction. Catches the push pointing away from
+    the hole (a sign) or along the insertion; its size is ``s |F_d|`` from the window on,
+    ``s |F_d| theta/theta_w`` within it."""
     rng = np.random.default_rng(seed)
     heading = rng.uniform(0.0, 2.0 * np.pi)
     for angle in (0.3 * WINDOW_RAD, WINDOW_RAD, 1.2 * WINDOW_RAD):
         rotvec = angle * np.array([np.cos(heading), np.sin(heading), 0.0])
         _, slide = insert_compliance(
-            np.zeros(6), tilted(rotvec), at_depth(0.0), FORCE_GOAL, FORCE_AXES, PARAMS
+            np.zeros(6), tilted(rotvec), at_depth(0.0), STILL, FORCE_GOAL, FORCE_GOAL, FORCE_AXES, PARAMS
         )
         flange = Rotation.from_rotvec(rotvec).apply(-DOWN) - (-DOWN)  # where the peg's top went
         lean = flange[:2] / np.linalg.norm(flange[:2])
@@ -60,7 +61,9 @@ def test_the_push_across_is_on_force_axes_only() -> None:
     pushed across: the push is Omega_bar's. Catches a lateral force fed to motion axes."""
     rotvec = np.array([0.1, 0.05, 0.0])
     only_z = np.diag([0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
-    _, slide = insert_compliance(np.zeros(6), tilted(rotvec), at_depth(0.0), FORCE_GOAL, only_z, PARAMS)
+    _, slide = insert_compliance(
+        np.zeros(6), tilted(rotvec), at_depth(0.0), STILL, FORCE_GOAL, FORCE_GOAL, only_z, PARAMS
+    )
     assert not slide.any()
 
 
@@ -74,12 +77,12 @@ def test_in_the_mouth_the_window_closes_under_whitneys_bound() -> None:
     speed = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.0])
     deep = at_depth(ENTRY_M + 1e-4)
     wide = tilted(np.array([0.0, np.radians(10.0), 0.0]))
-    got, slide = insert_compliance(speed, wide, deep, FORCE_GOAL, LATERAL, PARAMS)
+    got, slide = insert_compliance(speed, wide, deep, STILL, FORCE_GOAL, FORCE_GOAL, LATERAL, PARAMS)
     assert not slide.any()
-    assert got == pytest.approx(tilt_window(speed, wide, ALIGNED_RAD, RATE))
-    assert got[4] < -RATE * (np.radians(10.0) - ALIGNED_RAD) * 0.99  # turned back toward upright
+    assert got == pytest.approx(tilt_window(speed, wide, ALIGNED_RAD, ALIGNING_RATE))
+    assert got[4] < -ALIGNING_RATE * (np.radians(10.0) - ALIGNED_RAD) * 0.99  # turned back toward upright
     small = tilted(np.array([0.5 * ALIGNED_RAD, 0.0, 0.0]))
-    got, _ = insert_compliance(speed, small, deep, FORCE_GOAL, LATERAL, PARAMS)
+    got, _ = insert_compliance(speed, small, deep, STILL, FORCE_GOAL, FORCE_GOAL, LATERAL, PARAMS)
     assert got == pytest.approx(speed)
 
 
@@ -88,7 +91,9 @@ def test_short_of_the_mouth_the_window_is_wide() -> None:
     a 5 deg tilt is left alone. Catches the narrow window applied on the fixture's top."""
     speed = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.0])
     five = tilted(np.array([np.radians(5.0), 0.0, 0.0]))
-    got, _ = insert_compliance(speed, five, at_depth(0.5 * ENTRY_M), FORCE_GOAL, LATERAL, PARAMS)
+    got, _ = insert_compliance(
+        speed, five, at_depth(0.5 * ENTRY_M), STILL, FORCE_GOAL, FORCE_GOAL, LATERAL, PARAMS
+    )
     assert got == pytest.approx(speed)
 
 
@@ -96,6 +101,48 @@ def test_no_push_no_change() -> None:
     """Without a push (F_d's force zero) there is no direction: the wide window, nothing across."""
     speed = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.0])
     wide = tilted(np.array([0.0, np.radians(12.0), 0.0]))
-    got, slide = insert_compliance(speed, wide, at_depth(0.0), np.zeros(6), LATERAL, PARAMS)
+    got, slide = insert_compliance(
+        speed, wide, at_depth(0.0), STILL, np.zeros(6), np.zeros(6), LATERAL, PARAMS
+    )
     assert not slide.any()
     assert got == pytest.approx(tilt_window(speed, wide, WINDOW_RAD, RATE))
+
+
+def test_the_push_across_follows_the_push_felt() -> None:
+    """The push across is ``s`` times the push felt along the insertion (clipped to F_d): none
+    over the mouth in free air (a SEARCH's tipped peg crossed the mouth at 30 mm/s and hit
+    the far wall at 42 N), half at half the push, no more than ``s |F_d|`` pressing harder.
+    Catches the push across applied without a contact to hold it, or a pull read as a push."""
+    rotvec = np.array([0.0, WINDOW_RAD, 0.0])
+    sizes = []
+    for felt in (0.0, -0.5, 0.5, 2.0):
+        wrench = np.concatenate((felt * PUSH_N * DOWN, np.zeros(3)))
+        args = (tilted(rotvec), at_depth(0.0), STILL, FORCE_GOAL, wrench, FORCE_AXES, PARAMS)
+        sizes.append(float(np.linalg.norm(insert_compliance(np.zeros(6), *args)[1])))
+    assert sizes == pytest.approx([0.0, 0.0, 0.5 * SHARE * PUSH_N, SHARE * PUSH_N])
+
+
+def test_the_push_across_is_held_to_its_speed() -> None:
+    """The push across fades as the tool's speed toward the lean nears ``v_s`` and is off from
+    it on (a SEARCH's peg pushed off the mouth's edge crossed the mouth at 25 mm/s and hit
+    the far wall at 42 N); moving away from the lean, it stays whole. Catches a push that
+    accelerates the tool through free air, or fades on the speed across the lean."""
+    rotvec = np.array([0.0, WINDOW_RAD, 0.0])
+    _, still = insert_compliance(
+        np.zeros(6), tilted(rotvec), at_depth(0.0), STILL, FORCE_GOAL, FORCE_GOAL, FORCE_AXES, PARAMS
+    )
+    lean = still[:3] / np.linalg.norm(still[:3])
+    across = np.cross(lean, DOWN)
+    sizes = []
+    for velocity in (
+        0.5 * SLIDE_MPS * lean,
+        SLIDE_MPS * lean,
+        2 * SLIDE_MPS * lean,
+        -lean * SLIDE_MPS,
+        across * SLIDE_MPS,
+    ):
+        moving = np.concatenate((velocity, np.zeros(3)))
+        args = (tilted(rotvec), at_depth(0.0), moving, FORCE_GOAL, FORCE_GOAL, FORCE_AXES, PARAMS)
+        sizes.append(float(np.linalg.norm(insert_compliance(np.zeros(6), *args)[1])))
+    whole = SHARE * PUSH_N
+    assert sizes == pytest.approx([0.5 * whole, 0.0, 0.0, 2.0 * whole, whole])

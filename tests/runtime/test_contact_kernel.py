@@ -16,7 +16,7 @@ from cosmos.osc.force import selection
 from cosmos.osc.friction import coulomb_compensation, friction_intent
 from cosmos.osc.held_push import touch_damping
 from cosmos.osc.orientation import so3_exp
-from cosmos.osc.tilt_window import insert_compliance, tilt_window
+from cosmos.osc.tilt_window import insert_compliance, integrated_force_error, tilt_window
 from cosmos.osc.unified import REACH_FRACTION, force_goal_reached, speed_limited_push
 from cosmos.runtime.kernels import contact as ck
 from tests.runtime.kernel_references import close
@@ -305,17 +305,42 @@ def test_insert_compliance_is_its_reference(seed: int) -> None:
     speed, tilt, setpoint = rng.normal(0.0, 0.2, 6), rng.normal(0.0, 0.2, 6), rng.normal(0.0, 3.0, 6)
     goal = rng.normal(0.0, 8.0, 6)
     n = goal[:3] / np.linalg.norm(goal[:3])
-    params = np.array((0.1745, 20.0, 0.002, 0.026, 0.6))
+    params = np.array((0.1745, 20.0, 0.002, 0.026, 4.0, 0.6, 0.005))
+    velocity = rng.normal(0.0, 0.004, 6)
     depth = (0.0005, 0.004, 0.00201)[seed % 3]
     error = rng.normal(0.0, 0.003, 6)
     error[:3] += (depth - float(n @ error[:3])) * n
     omega_bar = random_omega_bar(rng)
-    expected_speed, pushed = insert_compliance(speed, tilt, error, goal, omega_bar, params)
+    wrench = goal * rng.uniform(0.5, 1.5) + rng.normal(0.0, 2.0, 6)  # pressing, more or less
+    expected_speed, pushed = insert_compliance(speed, tilt, error, velocity, goal, wrench, omega_bar, params)
     got_speed, got_setpoint = speed.copy(), setpoint.copy()
-    ck.insert_compliance_into(got_speed, got_setpoint, tilt, error, goal, omega_bar, params)
+    ck.insert_compliance_into(got_speed, got_setpoint, tilt, error, velocity, goal, wrench, omega_bar, params)
     close(got_speed, expected_speed)
-    close(got_setpoint, setpoint + pushed)
-    assert (seed % 3 == 0) == bool(np.any(pushed != 0.0))
+    close(got_setpoint, setpoint + pushed)  # added to what the row holds
+    if seed % 3:
+        assert not pushed.any()
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_integrated_force_error_is_its_reference(seed: int) -> None:
+    """The force integral's error while an INSERT pushes across against
+    cosmos.osc.tilt_window.integrated_force_error, and, computed apart, Omega_bar (F_d - F_s)
+    itself where nothing is pushed across (odd seeds) and none of it along the push (even).
+
+    Catches the error's part along the push kept (the integral would wind up or fight it),
+    the part across it dropped, or a push's moment rows read as its direction."""
+    rng = np.random.default_rng(seed)
+    omega_bar = random_omega_bar(rng)
+    setpoint, wrench = rng.normal(0.0, 5.0, 6), rng.normal(0.0, 5.0, 6)
+    slide = np.zeros(6) if seed % 2 else np.concatenate((rng.normal(0.0, 3.0, 3), rng.normal(0.0, 1.0, 3)))
+    expected = integrated_force_error(omega_bar, setpoint, wrench, slide)
+    close(ck.integrated_force_error(omega_bar, setpoint, wrench, slide), expected)
+    plain = omega_bar @ (setpoint - wrench)
+    if seed % 2:
+        close(expected, plain)
+    else:
+        assert float(expected[:3] @ slide[:3]) == pytest.approx(0.0, abs=1e-9)
+        close(expected[3:], plain[3:])
 
 
 def test_coulomb_compensation_ignores_the_encoders_noise() -> None:

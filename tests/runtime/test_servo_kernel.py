@@ -36,7 +36,7 @@ from cosmos.osc.surface_friction import (
     surface_friction_force,
     surface_intent,
 )
-from cosmos.osc.tilt_window import insert_compliance
+from cosmos.osc.tilt_window import insert_compliance, integrated_force_error
 from cosmos.osc.unified import (
     ForceGains,
     force_command,
@@ -333,11 +333,11 @@ CONTACT_THRESHOLD_N = 1.0
 FORCE_GAINS = ForceGains(k_f=0.6, k_i=12.0, k_vf=30.0, integral_limit=5.0)
 HELD_PUSH_GAINS = (0.4, 288.0, 50.0, 0.2)
 """The held push's (k_fh, k_ih, k_vh, limit) as cosmos.runtime.servo.ServoGains has them."""
-TILT_WINDOW = (0.005, 20.0, 1.0, 0.001, 0.6)
+TILT_WINDOW = (0.005, 20.0, 1.0, 0.001, 4.0, 0.6, 0.005)
 """An INSERT's compliant axes (cosmos.osc.tilt_window.insert_compliance): its tilt window [rad],
 narrow, so that the cases' rotation errors (about 0.01 rad) reach beyond it, its stop's rate
 [1/s], the mouth 1 m deep (every case short of it: its push across the insertion acts), the
-window in the mouth [rad] and the push's share."""
+window in the mouth [rad] and its stop's rate [1/s], the push's share and its speed [m/s]."""
 GOAL_INTEGRAL = (1000.0, 0.004, 0.05, 1.0, 2.0)
 """A free goal motion's (k_i, limit, band, slow, quiet): a band and a speed wide enough for the
 cases' centimetre errors; 2 N quiet, above the near-goal case's push and below the other's."""
@@ -465,7 +465,7 @@ def _tick_inputs(case: TickCase, seed: int) -> TickInputs:
     scalars[sk.ADMITTANCE_MAX_SPEED] = case.admittance_max_speed
     scalars[sk.ADMITTANCE_KV] = ADMITTANCE_KV
     scalars[sk.MOMENT_BLEND] = MOMENT_BLEND
-    scalars[sk.TILT_WINDOW : sk.TILT_WINDOW + 5] = TILT_WINDOW
+    scalars[sk.TILT_WINDOW :] = TILT_WINDOW
     scalars[CRUISE_INTEGRAL + 2] = 1.0  # the cruise's quiet [N]: the Coulomb errors learn under it
     scalars[LANDING : LANDING + 3] = case.landing  # a held push's landing (s_l 1 m: past it, at v_l)
 
@@ -633,16 +633,16 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
     fraction = min(1.0, (inputs.t_s - sc[sk.START_S]) / sc[sk.RAMP_S])
     start = vec[sk.FORCE_START]
     setpoint = start + fraction * (vec[sk.FORCE_WORLD] - start)  # Figure 2's ramped setpoint
+    pushed = np.zeros(6)
     if admitting:  # the moment error sets a bounded rotation speed, tracked by a velocity servo
         speed_a = admittance_speed(
             omega_a, setpoint, moment, sc[sk.ADMITTANCE_GAIN], sc[sk.ADMITTANCE_MAX_SPEED]
         )
         if sc[sk.PUSH_SPEED] > 0.0:  # an INSERT's: its window, its push across toward the lean
-            window = sc[sk.TILT_WINDOW : sk.TILT_WINDOW + 5]
+            window = sc[sk.TILT_WINDOW :]
             speed_a, pushed = insert_compliance(
-                speed_a, tilt, state_error, vec[sk.FORCE_WORLD], sel.omega_bar, window
+                speed_a, tilt, state_error, velocity, vec[sk.FORCE_WORLD], wrench, sel.omega_bar, window
             )
-            setpoint = setpoint + pushed
         motion = admittance_command(omega_a, motion, speed_a, velocity, sc[sk.ADMITTANCE_KV])
         speed = speed + speed_a
     extra = {sk.MOMENT_FILTERED: moment} if sc[sk.ADMITTANCE] else {}
@@ -697,9 +697,9 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         )
         reached = bool(st[sk.FLAGS, sk.REACHED]) or (landed and (fraction >= 1.0 or goal_met))
     if touching and reached:
-        integral = integrate_force_error(
-            integral, setpoint, wrench, sel.omega_bar, DT_S, FORCE_GAINS.integral_limit
-        )
+        error_f = integrated_force_error(sel.omega_bar, setpoint, wrench, pushed)  # osc.tilt_window
+        limit = FORCE_GAINS.integral_limit
+        integral = np.clip(integral + error_f * DT_S, -limit, limit)  # osc.unified.integrate_force_error
     motion_integral = st[sk.MOTION_INTEGRAL].copy()
     arrived = inputs.t_s >= sc[sk.TRAJECTORY_END_S]
     if touching and sc[sk.MODE] == sk.MODE_TRAJECTORY and arrived:  # a slide's final approach
@@ -709,6 +709,7 @@ def _reference_tick(inputs: TickInputs, force_acceleration_always: bool | None =
         motion = motion - np.concatenate((sc[sk.MOTION_KI] * motion_integral[:3], np.zeros(3)))
     integral_before_cap = integral.copy()
     feedback = force_feedback(setpoint, wrench, integral, FORCE_GAINS)
+    feedback = feedback + (1.0 + FORCE_GAINS.k_f) * pushed  # an INSERT's push across, fed forward
     limited = False
     cruise = st[sk.CRUISE].copy()
     if sc[sk.PUSH_SPEED] > 0.0:  # held to its speed reference (cosmos.osc.push_speed)

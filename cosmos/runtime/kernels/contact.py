@@ -17,7 +17,9 @@ at the edges (thresholds, bounds, clipping):
 * :func:`touch_braking_into`: :func:`cosmos.osc.contact.touch_braking` (a CONTACT's approach);
 * :func:`tilt_window_into`: :func:`cosmos.osc.tilt_window.tilt_window` (an INSERT's rotations);
 * :func:`insert_compliance_into`: :func:`cosmos.osc.tilt_window.insert_compliance` (the window by
-  depth, and the push across the insertion toward the part's lean).
+  depth, and the push across the insertion toward the part's lean);
+* :func:`integrated_force_error`: :func:`cosmos.osc.tilt_window.integrated_force_error` (the force
+  integral's error, less its part along that push).
 
 A held push's kernels are :mod:`cosmos.runtime.kernels.held_push`.
 """
@@ -279,16 +281,18 @@ def tilt_window_into(speed: FloatArray, tilt: FloatArray, window_rad: float, rat
 @kernel
 def insert_compliance_into(
     speed: FloatArray,
-    setpoint: FloatArray,
+    slide: FloatArray,
     tilt: FloatArray,
     error: FloatArray,
+    velocity: FloatArray,
     force_goal: FloatArray,
+    wrench: FloatArray,
     omega_bar: FloatArray,
     params: FloatArray,
 ) -> None:
-    """:func:`cosmos.osc.tilt_window.insert_compliance` in place: ``w_a`` stopped, F_d pushed.
+    """:func:`cosmos.osc.tilt_window.insert_compliance` in place: ``w_a`` stopped, F_l added to ``slide``.
 
-    ``params``: theta_w [rad], k_w [1/s], d_in [m], theta_in [rad], s.
+    ``params``: theta_w [rad], k_w [1/s], d_in [m], theta_in [rad], k_in [1/s], s, v_s [m/s].
     """
     push = math.sqrt(force_goal[0] ** 2 + force_goal[1] ** 2 + force_goal[2] ** 2)
     if not push > 0.0:
@@ -296,11 +300,33 @@ def insert_compliance_into(
         return
     n0, n1, n2 = force_goal[0] / push, force_goal[1] / push, force_goal[2] / push
     if n0 * error[0] + n1 * error[1] + n2 * error[2] >= params[2]:
-        tilt_window_into(speed, tilt, params[3], params[1])
+        tilt_window_into(speed, tilt, params[3], params[4])
         return
     tilt_window_into(speed, tilt, params[0], params[1])
     t0, t1, t2 = tilt[3], tilt[4], tilt[5]
-    scale = params[4] * push / max(math.sqrt(t0 * t0 + t1 * t1 + t2 * t2), params[0])
-    lean = (scale * (n1 * t2 - n2 * t1), scale * (n2 * t0 - n0 * t2), scale * (n0 * t1 - n1 * t0))
+    l0, l1, l2 = n1 * t2 - n2 * t1, n2 * t0 - n0 * t2, n0 * t1 - n1 * t0  # n x theta
+    leaning = math.sqrt(l0 * l0 + l1 * l1 + l2 * l2)
+    if not leaning > 0.0:
+        return
+    l0, l1, l2 = l0 / leaning, l1 / leaning, l2 / leaning
+    felt = min(max(n0 * wrench[0] + n1 * wrench[1] + n2 * wrench[2], 0.0), push)
+    fading = max(0.0, 1.0 - (l0 * velocity[0] + l1 * velocity[1] + l2 * velocity[2]) / params[6])
+    size = params[5] * felt * min(1.0, leaning / params[0]) * fading
     for i in range(6):
-        setpoint[i] += omega_bar[i, 0] * lean[0] + omega_bar[i, 1] * lean[1] + omega_bar[i, 2] * lean[2]
+        slide[i] += size * (omega_bar[i, 0] * l0 + omega_bar[i, 1] * l1 + omega_bar[i, 2] * l2)
+
+
+@kernel
+def integrated_force_error(
+    omega_bar: FloatArray, setpoint: FloatArray, wrench: FloatArray, slide: FloatArray
+) -> FloatArray:
+    """:func:`cosmos.osc.tilt_window.integrated_force_error`: ``Omega_bar (F_d - F_s)`` less along F_l."""
+    error = matvec(omega_bar, setpoint - wrench)
+    size = math.sqrt(slide[0] ** 2 + slide[1] ** 2 + slide[2] ** 2)
+    if size > 0.0:
+        l0, l1, l2 = slide[0] / size, slide[1] / size, slide[2] / size
+        along = l0 * error[0] + l1 * error[1] + l2 * error[2]
+        error[0] -= along * l0
+        error[1] -= along * l1
+        error[2] -= along * l2
+    return error

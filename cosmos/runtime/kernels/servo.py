@@ -42,6 +42,7 @@ from cosmos.runtime.kernels.contact import (
     coulomb_compensation_into,
     force_goal_latched,
     insert_compliance_into,
+    integrated_force_error,
     low_pass_into,
     touch_braking_into,
     touch_latched,
@@ -68,15 +69,14 @@ INTENT_SCALE, COULOMB_BLEND, TOOL_WEIGHT_Z_N = range(12, 15)
 ADMITTANCE, ADMITTANCE_GAIN, ADMITTANCE_MAX_SPEED, ADMITTANCE_KV, MOMENT_BLEND, LOOKAHEAD_S = range(15, 21)
 K_VF, FORCE_SPEED_KV, PUSH_SPEED = range(21, 24)
 MOTION_KI, MOTION_INTEGRAL_LIMIT, TRAJECTORY_END_S, HELD_PUSH = range(24, 28)
-TILT_WINDOW = 63  # an INSERT's compliant axes: theta_w, k_w, d_in, theta_in, s (osc.tilt_window)
+TILT_WINDOW = 63  # an INSERT's compliant axes: theta_w, k_w, d_in, theta_in, k_in, s, v_s (osc.tilt_window)
 GOAL_ACCELERATION, GOAL_ANGULAR_ACCELERATION, GOAL_START_SPEED, GOAL_START_ANGULAR_SPEED = range(36, 40)
 GOAL_INTEGRAL = 40  # a free goal motion's integral: k_i, then integrate_goal_error's gate (5 slots)
 HOLD_OBSERVER = 45  # a free hold's disturbance observer: L [1/s], bound [m/s^2], band [m], quiet [N]
 PUSH_SPEED_RATE = 56  # an INSERT's push: its speed reference's rise [1/s] (cosmos.osc.push_speed)
 TOUCH_FREE_SPEED = 58  # the speed a touch's damping leaves the motion into it [m/s] (osc.contact)
-SCALARS = (
-    68  # 34-35 free. 49-55, 57, 59-62: kernels.cruise. HELD_PUSH: k_fh, k_ih, k_vh, limit; touch N, mass, k_v
-)
+SCALARS = 70  # 34-35 free; 49-55, 57, 59-62: kernels.cruise
+# HELD_PUSH's seven (27-33): k_fh, k_ih, k_vh, limit; touch force, mass, k_v
 MODE_HOLD, MODE_GOAL, MODE_TRAJECTORY = commands.MODE_HOLD, commands.MODE_GOAL, commands.MODE_TRAJECTORY
 
 # Rows of ``vectors`` and ``state`` are ``w = max(6, n)`` long for an arm of n joints: the
@@ -111,7 +111,7 @@ REACHED, HELD_INTEGRAL = 2, 3  # FLAGS: 1 once the push reached REACH_FRACTION; 
 OBSERVING = 4  # FLAGS: 1 once a free hold's disturbance observer has its first velocity
 
 # Rows of a tick's work array (servo_tick).
-MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION, SCRATCH_ROWS = range(6)  # and their count
+MOTION, FEEDBACK, COMMANDED_SPEED, SETPOINT, ACCELERATION, SLIDE, SCRATCH_ROWS = range(7)  # and their count
 
 
 @kernel
@@ -270,7 +270,8 @@ def servo_tick(
     ramp = scalars[RAMP_S]
     fraction = 1.0 if elapsed >= ramp else elapsed / ramp
     start, goal = vectors[FORCE_START, :6], vectors[FORCE_WORLD, :6]
-    setpoint = work[SETPOINT]
+    setpoint, slide = work[SETPOINT], work[SLIDE]
+    slide[:] = 0.0  # an INSERT's push across, fed forward (osc.tilt_window.insert_compliance)
     for i in range(6):
         setpoint[i] = start[i] + fraction * (goal[i] - start[i])
     if admittance:
@@ -280,8 +281,8 @@ def servo_tick(
         admitting = (scalars[ADMITTANCE_GAIN], scalars[ADMITTANCE_MAX_SPEED])
         speed = admittance_speed(omega_admittance, setpoint, state[MOMENT_FILTERED, :6], *admitting)
         if scalars[PUSH_SPEED] > 0.0:  # an INSERT's window and push (osc.tilt_window.insert_compliance)
-            window = (error, goal, matrices[OMEGA_BAR], scalars[TILT_WINDOW:])
-            insert_compliance_into(speed, setpoint, tilt, *window)
+            window = (error, velocity, goal, wrench, matrices[OMEGA_BAR], scalars[TILT_WINDOW:])
+            insert_compliance_into(speed, slide, tilt, *window)
         motion = admittance_command(omega_admittance, motion, speed, velocity, scalars[ADMITTANCE_KV])
         commanded_speed = commanded_speed + speed
     acceleration = motion
@@ -317,14 +318,12 @@ def servo_tick(
             flags[REACHED] = 1.0
         if flags[TOUCHING] != 0.0 and flags[REACHED] != 0.0:
             limit, dt = scalars[INTEGRAL_LIMIT], scalars[DT_S]
+            force_error = integrated_force_error(omega_bar, setpoint, wrench, slide)  # osc.tilt_window
             for i in range(6):
-                acc = 0.0
-                for k in range(6):
-                    acc += omega_bar[i, k] * (setpoint[k] - wrench[k])
-                integral[i] = min(max(integral[i] + acc * dt, -limit), limit)
+                integral[i] = min(max(integral[i] + force_error[i] * dt, -limit), limit)
         k_f, k_i = scalars[K_F], scalars[K_I]
         for i in range(6):  # F_a without damping
-            feedback[i] = (1.0 + k_f) * setpoint[i] - k_f * wrench[i] + k_i * integral[i]
+            feedback[i] = (1.0 + k_f) * (setpoint[i] + slide[i]) - k_f * wrench[i] + k_i * integral[i]
         # The SPEED of a force-controlled push (cosmos.osc.unified.speed_limited_push); without one (0)
         # a push held against a surface, stiffened along itself, its SPEED a limit (cosmos.osc.held_push).
         push_speed, f2a, gate = scalars[PUSH_SPEED], matrices[FORCE_TO_ACCELERATION], flags[REACHED] != 0.0
