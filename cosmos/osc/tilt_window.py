@@ -87,10 +87,13 @@ def insert_compliance(
       25 mm/s in free air onto the far wall (42 N; 21 N without the push).
     * from ``d_in`` on (the part is in the mouth: tipping on the edge lowers the tool point
       by at most ``r sin(theta_w)``, 1.5 mm for the 8.4 mm end at 10 deg) the push across
-      ``n`` ends and the window closes to ``theta_in``, its stop at ``k_in`` (snapped back at
-      ``k_w``, 3 rad/s from 10.8 deg, the peg's swing knocked the bore at 47 N). A part in the mouth tilted by
-      ``theta`` meets the bore in two points once ``theta`` exceeds the clearance ratio
-      ``c`` over the depth's share of the diameter, and wedges (Whitney) unless
+      ``n`` ends and the window closes to ``theta_in``: beyond it ``w_a`` loses any part
+      that tips the part further and the stop turns it back at ``k_in`` (snapped back at
+      ``k_w``, 3 rad/s from 10.8 deg, the peg's swing knocked the bore at 47 N; at ``k_in``
+      against the admittance's 0.3 rad/s, a held peg's contact moment held it at 5.9 deg).
+      A part in the mouth tilted by ``theta`` meets the bore in two points once ``theta``
+      exceeds the clearance ratio ``c`` over the depth's share of the diameter, and wedges
+      (Whitney) unless
       ``theta < c / mu`` (1.5 deg for the 0.24 mm clearance of a 20 mm peg, ``mu`` 0.45);
       tilted it also meets the 45 deg chamfer at ``45 - theta`` deg, which friction holds at
       ``mu >= tan(45 - theta)`` (0.67 at 11 deg): stood up, the chamfer carries it in.
@@ -121,7 +124,12 @@ def insert_compliance(
     n = push / size
     depth = float(n.dot(np.asarray(error)[:3]))
     if depth >= entry_depth_m:
-        return tilt_window(speed, tilt, aligned_rad, aligning_rate), slide
+        turning = np.array(speed, dtype=float)
+        size_rad = float(np.linalg.norm(tilt[3:]))
+        if size_rad > aligned_rad:  # no further over: the part of w_a along the tilt dropped
+            out = np.asarray(tilt[3:]) / size_rad
+            turning[3:] -= out * max(0.0, float(out.dot(turning[3:])))
+        return tilt_window(turning, tilt, aligned_rad, aligning_rate), slide
     lean = np.cross(n, np.asarray(tilt)[3:])
     leaning = float(np.linalg.norm(lean))
     if not leaning > 0.0:

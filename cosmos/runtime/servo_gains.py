@@ -123,19 +123,21 @@ class ServoGains:
             the switch at 100-300/s, tried for the same reason, lifted the tool off the table
             for 10-300 ms on the realistic plant: the observer's delay again.
         insert_compliance: An INSERT's compliant axes (:func:`cosmos.osc.tilt_window.insert_compliance`):
-            ``theta_w`` [rad], the window its rotations turn freely within short of the mouth,
-            ``k_w`` [1/s], the stop's speed per radian beyond a window, ``d_in`` [m], the depth
-            along the push from which the part is in the mouth, ``theta_in`` [rad], the window
-            there, and ``s``, the share of the push sent across it toward the part's lean short
-            of the mouth. 10 deg: a peg landing 3.2 mm off tips into the mouth; at 3 deg it
-            stayed on the top and jammed; with none a tipped peg wedged at 21-25 deg (on the
-            Panda's ``panda_search_insert.cos`` too); at 8 deg that search met a wall at 218 N.
-            2 mm: tipping 10.8 deg on the mouth's edge lowers the 8.4 mm end's centre 1.6 mm.
-            1.5 deg: Whitney's ``c / mu`` for the 0.24 mm clearance of the 20 mm peg, steel
-            0.45 (a peg dropped in at 10.85 deg wedged at 2.9 mm). 0.6: the Panda's welded
-            peg 3.7-6.2 mm off (friction 0.4-0.8), tipped on the edge, crept over it at
-            0.5 mm/s or stayed (4 of 16 failed): pushed across at 0.6 of 12 N, 16 of 16 went
-            in, the held peg's 16 of 16 (11 before).
+            ``theta_w`` [rad], the window its rotations turn freely within short of the mouth;
+            ``k_w`` [1/s], the stop's speed per radian beyond it; ``d_in`` [m], the depth along
+            the push from which the part is in the mouth; ``theta_in`` [rad] and ``k_in``
+            [1/s], the window there and its stop's rate; ``s``, the share of the push felt
+            sent across it toward the part's lean short of the mouth, and ``v_s`` [m/s], the
+            speed that way at which that push is off. 10 deg: a peg landing 3.2 mm off tips
+            into the mouth; at 3 deg it stayed on the top and jammed; with none a tipped peg
+            wedged at 21-25 deg (on the Panda's ``panda_search_insert.cos`` too); at 8 deg
+            that search met a wall at 218 N. 2 mm: tipping 10.8 deg on the mouth's edge
+            lowers the 8.4 mm end's centre at most 1.6 mm. 1.5 deg: Whitney's ``c / mu`` for
+            the 0.24 mm clearance of the 20 mm peg, steel 0.45 (a held peg dropped in at
+            10.85 deg jammed at 2.9 mm on the chamfer); 4 1/s: at 20 1/s the peg righted
+            from 10.8 deg at 3 rad/s and knocked the bore at 47 N. 0.6 and 5 mm/s: the
+            Panda's welded peg 3.7-6.2 mm off (friction 0.4-0.8) crept over the edge at
+            0.5 mm/s or stayed (4 of 16 failed); pushed, 16 of 16 went in.
         posture_kp: Unit-mass joint stiffness of the POSTURE task in the null space, in
             [1/s^2]: ``xi_q^2 / 4``, critically damped by the null-space damping.
     """

@@ -70,8 +70,10 @@ def test_the_push_across_is_on_force_axes_only() -> None:
 def test_in_the_mouth_the_window_closes_under_whitneys_bound() -> None:
     """From ``d_in`` on, the push across ends and the window is ``theta_in``, under Whitney's
     wedging bound ``c / mu`` for the shipped fit (0.24 mm clearance on 20.065 mm, steel 0.45):
-    a peg tipped 10 deg is turned back, one tipped under ``theta_in`` left to the contact.
-    Catches the wide window kept in the bore (the peg wedged at 10.85 deg, 2.9 mm in)."""
+    a peg tipped 10 deg is turned back, whatever the contact's moment asks (its part tipping
+    further dropped), one tipped under ``theta_in`` left to the contact. Catches the wide
+    window kept in the bore (the peg wedged at 10.85 deg, 2.9 mm in) and a stop the
+    admittance outruns (a held peg stayed at 5.9 deg)."""
     clearance_ratio = 0.24 / 20.065
     assert ALIGNED_RAD <= clearance_ratio / 0.45 * 1.1
     speed = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.0])
@@ -81,6 +83,10 @@ def test_in_the_mouth_the_window_closes_under_whitneys_bound() -> None:
     assert not slide.any()
     assert got == pytest.approx(tilt_window(speed, wide, ALIGNED_RAD, ALIGNING_RATE))
     assert got[4] < -ALIGNING_RATE * (np.radians(10.0) - ALIGNED_RAD) * 0.99  # turned back toward upright
+    further = np.array([0.0, 0.0, 0.0, 0.1, 0.3, 0.0])  # the contact's moment tips it further over
+    got, _ = insert_compliance(further, wide, deep, STILL, FORCE_GOAL, FORCE_GOAL, LATERAL, PARAMS)
+    expected = -ALIGNING_RATE * (np.radians(10.0) - ALIGNED_RAD)
+    assert got == pytest.approx([0.0, 0.0, 0.0, 0.1, expected, 0.0])
     small = tilted(np.array([0.5 * ALIGNED_RAD, 0.0, 0.0]))
     got, _ = insert_compliance(speed, small, deep, STILL, FORCE_GOAL, FORCE_GOAL, LATERAL, PARAMS)
     assert got == pytest.approx(speed)

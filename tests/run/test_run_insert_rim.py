@@ -9,7 +9,8 @@ compliant rotations tip its far side into the mouth; then
   ``F tan(theta)``, 2.3 N of the 12 N push, against friction 0.43-0.64 times it: the peg crept
   at 0.5 mm/s or not at all and the INSERT failed "jammed at depth 0.4-1.5 mm";
 * dropped into the mouth still tilted 10.85 deg, the peg's chamfer met the hole's at
-  45 - 10.85 = 34 deg, which friction 0.70 holds (tan 34 deg = 0.67): "jammed at 2.9 mm".
+  45 - 10.85 = 34 deg, which friction 0.70 holds (tan 34 deg = 0.67): "jammed at 2.9 mm"
+  (and, righted more slowly than the contact's moment tipped it, at 2.8 mm and 5.9 deg).
 
 Each case is a run of the sweep that failed on main (``cosmos sweep P --runs 16 --workers 2
 --vary friction='uniform(0.4,0.8)' --vary hole.x='normal(0,1mm)'``, its values and noise
@@ -74,6 +75,7 @@ CASES = (
     Case("welded-run1", WELDED, 0.5767256922239811, -0.00014657623213710285, 673228719, "jammed at 1.5 mm"),
     Case("welded-run12", WELDED, 0.6421611831210303, -0.0010230401136248866, 2090914255, "jammed at 1.0 mm"),
     Case("grasped-run6", GRASPED, 0.700990216699344, -0.00035963273925785944, 2471122328, "jammed at 2.9 mm"),
+    Case("grasped-run7", GRASPED, 0.4351591453332909, -0.0028666202658479373, 23012616, "jammed at 0.6 mm"),
 )
 
 

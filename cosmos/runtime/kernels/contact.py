@@ -299,11 +299,17 @@ def insert_compliance_into(
         tilt_window_into(speed, tilt, params[0], params[1])
         return
     n0, n1, n2 = force_goal[0] / push, force_goal[1] / push, force_goal[2] / push
+    t0, t1, t2 = tilt[3], tilt[4], tilt[5]
     if n0 * error[0] + n1 * error[1] + n2 * error[2] >= params[2]:
+        size = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        if size > params[3]:  # no further over
+            further = max(0.0, (t0 * speed[3] + t1 * speed[4] + t2 * speed[5]) / size) / size
+            speed[3] -= further * t0
+            speed[4] -= further * t1
+            speed[5] -= further * t2
         tilt_window_into(speed, tilt, params[3], params[4])
         return
     tilt_window_into(speed, tilt, params[0], params[1])
-    t0, t1, t2 = tilt[3], tilt[4], tilt[5]
     l0, l1, l2 = n1 * t2 - n2 * t1, n2 * t0 - n0 * t2, n0 * t1 - n1 * t0  # n x theta
     leaning = math.sqrt(l0 * l0 + l1 * l1 + l2 * l2)
     if not leaning > 0.0:
