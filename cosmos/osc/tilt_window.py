@@ -93,9 +93,10 @@ def insert_compliance(
       against the admittance's 0.3 rad/s, a held peg's contact moment held it at 5.9 deg).
       A part in the mouth tilted by ``theta`` meets the bore in two points once ``theta``
       exceeds the clearance ratio ``c`` over the depth's share of the diameter, and wedges
-      (Whitney) unless
-      ``theta < c / mu`` (1.5 deg for the 0.24 mm clearance of a 20 mm peg, ``mu`` 0.45);
-      tilted it also meets the 45 deg chamfer at ``45 - theta`` deg, which friction holds at
+      (Whitney) unless ``theta < c / mu`` (1.5 deg for the 0.24 mm clearance of a 20 mm
+      peg, ``mu`` 0.45; ``theta_in`` adds the controller's own error in the tool's
+      orientation, 0.5 deg, lest the stop hold the part against the bore); tilted it also
+      meets the 45 deg chamfer at ``45 - theta`` deg, which friction holds at
       ``mu >= tan(45 - theta)`` (0.67 at 11 deg): stood up, the chamfer carries it in.
 
     Args:
