@@ -221,7 +221,8 @@ def test_the_servo_kernel_layout_leaves_the_cruise_its_slots() -> None:
     assert sk.PUSH_SPEED_RATE == CRUISE_INTEGRAL + CRUISE_SLOTS
     assert sk.PUSH_SPEED_RATE + 1 == TRACKED_UNTIL  # a slow MOVE's
     assert sk.TOUCH_FREE_SPEED == TRACKED_UNTIL + 1 and CRUISE_TURNS == sk.TOUCH_FREE_SPEED + 1  # CONTACT's
-    assert sk.SCALARS == LANDING + 3 and LANDING == CRUISE_TURNS + 1  # a CONTACT's landing (osc.landing)
+    assert sk.TILT_WINDOW == LANDING + 3 and LANDING == CRUISE_TURNS + 1  # a CONTACT's landing (osc.landing)
+    assert sk.SCALARS == sk.TILT_WINDOW + 7  # an INSERT's compliant axes last (osc.tilt_window)
     assert sk.HOLD_OBSERVER + 4 <= CRUISE_INTEGRAL
     assert sk.STATE_ROWS > CRUISE and sk.MOTION_INTEGRAL < CRUISE  # the springs' rows follow (kernels.spring)
     assert (sk.WRENCH, sk.ERROR, sk.VELOCITY) == (0, 1, 2)
