@@ -18,6 +18,10 @@ axes. Within the window the law is unchanged: a peg that lands 3.2 mm off still 
 end into the mouth (to 11 deg) and rights itself as it goes in, and the slope's CONTACT
 (not an INSERT) aligns freely. The compiled kernel
 :func:`cosmos.runtime.kernels.contact.tilt_window_into` runs the same arithmetic.
+
+Which window applies, and the push across the insertion that carries a part tipped on the
+mouth's edge over it, depend on the depth (:func:`insert_compliance`, compiled as
+:func:`cosmos.runtime.kernels.contact.insert_compliance_into`).
 """
 
 from __future__ import annotations
@@ -73,6 +77,7 @@ def insert_compliance(
 
           F_l = s f_n min(1, |n x theta| / theta_w) max(0, 1 - l . xd / v_s) Omega_bar l
           F_a = (1 + k_f)(F_d + F_l) - k_f F_s + k_i int(F_d - F_s) dt
+                (the integral's error less its part along F_l: :func:`integrated_force_error`)
 
       A part whose end rests on the fixture's top face beside the mouth tips its far side
       into it (the contact's moment about the tool point, zero-moment admittance) and then
