@@ -44,7 +44,9 @@ not at 50 mm/s. The cruise's integral keeps what it learnt at the SPEED while th
 (wound by the braking, it stopped the tool above the face, then ran it in at twice ``v_l``), and
 the joints' Coulomb levels learn from the feedback about the profile, not about ``V_max``
 (:mod:`cosmos.runtime.kernels.cruise`). A surface the model does not know (an object, a fixture
-moved) is met at the SPEED as before, and the touch braking takes what a 1 kHz loop can.
+moved) is met at the SPEED as before, and the touch braking takes what a 1 kHz loop can: once
+the tool is :data:`LANDING_OVER_M` past where the model put the surface without a touch, the
+landing is over and the approach goes on at its SPEED.
 """
 
 from __future__ import annotations
@@ -91,6 +93,15 @@ CUSHIONED_LANDING_MPS = 0.03
 the table, the tilted plate and a task frame turned 45 deg, FORCE 3-30 N, met the bar at up to
 30 mm/s (3 N peaked at 6.8 N) and not at 50 mm/s (3 N at 12-21 N, 8 N at 14-21 N)."""
 
+LANDING_OVER_M = 0.002
+"""A landing is over once the tool is this far past where ``v_l`` must be held without its touch
+[m]: the surface is not where the model puts it (a fixture moved, a sweep's drawn workcell), and
+the approach goes on at its SPEED, as to a surface the model does not know. More than a steel
+landing sinks in before its touch (0.3 mm of contact ramp, the encoders' 0.1 mm), and than the
+table's cushion (1.5 mm). Without it, ``CONTACT DOWN FORCE 5 N TIMEOUT 6 s`` over the hole
+fixture moved 30 mm down crawled at 3.8 mm/s from the nominal face on and found no contact in
+6 s (issue 14)."""
+
 LANDING_MIN_MPS = 0.002
 """The landing speed never falls below this [m/s]: slower, the realistic plant's joints stick."""
 
@@ -126,7 +137,8 @@ def landing_limit(
 
     Args:
         max_speed_mps: ``V_max`` (ramped), [m/s].
-        to_go_m: ``s``, the distance to where ``v_l`` must be held [m] (negative: past it).
+        to_go_m: ``s``, the distance to where ``v_l`` must be held [m] (negative: past it; past
+            it by more than :data:`LANDING_OVER_M`, the landing is over: ``V_max`` returned).
         landing_mps: ``v_l`` [m/s]; 0 for no landing (``V_max`` returned).
         deceleration_mps2: ``a`` [m/s^2].
 
@@ -134,7 +146,7 @@ def landing_limit(
         ``(V, a_ff)``: the limit [m/s] and the feedforward deceleration [m/s^2] (0 unless the
         profile binds before ``v_l`` is reached).
     """
-    if not landing_mps > 0.0:
+    if not landing_mps > 0.0 or to_go_m < -LANDING_OVER_M:
         return max_speed_mps, 0.0
     profile = math.sqrt(landing_mps**2 + 2.0 * deceleration_mps2 * max(to_go_m, 0.0))
     if profile >= max_speed_mps:

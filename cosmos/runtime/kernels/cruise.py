@@ -13,6 +13,7 @@ import numpy as np
 
 from cosmos.jit import kernel
 from cosmos.osc.cruise_speed import breaks_away, leg_start_speed, next_leg
+from cosmos.osc.landing import LANDING_OVER_M
 from cosmos.osc.motion import PoseTrajectory
 from cosmos.runtime.kernels.linear import matvec
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
@@ -136,7 +137,7 @@ def restart(
 @kernel
 def landing_limit(max_speed: float, to_go: float, landing: float, deceleration: float) -> tuple[float, float]:
     """:func:`cosmos.osc.landing.landing_limit`: ``(V, a_ff)`` on a landing's braking profile."""
-    if not landing > 0.0:
+    if not landing > 0.0 or to_go < -LANDING_OVER_M:  # none, or past its surface untouched: over
         return max_speed, 0.0
     profile = math.sqrt(landing * landing + 2.0 * deceleration * max(to_go, 0.0))
     if profile >= max_speed:
