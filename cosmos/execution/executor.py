@@ -254,6 +254,7 @@ class Executor:
             timed_until,
             goals[-1],
             cause,
+            rt.robot.tool.mass_kg,
         )
         monitor.turn_long_way = rt.rotation_plan is not None and rt.rotation_plan.long_way
         supervisor = self.supervisor

@@ -34,6 +34,8 @@ class LostPush:
     push: tuple[float, float, float]
     at: tuple[float, float, float]
     since_s: float
+    pressed_at: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    touching_n: float = 0.0
 
     @classmethod
     def of(cls, segment: Segment, start: tuple[float, ...], start_s: float) -> LostPush:
@@ -42,7 +44,8 @@ class LostPush:
         size = float(np.linalg.norm(push))
         unit = push / size if size > 0.0 else np.zeros(3)
         x, y, z = start
-        return cls((float(unit[0]), float(unit[1]), float(unit[2])), (x, y, z), start_s)
+        touching = min(TOUCHING_N, 0.5 * size)
+        return cls((float(unit[0]), float(unit[1]), float(unit[2])), (x, y, z), start_s, (x, y, z), touching)
 
     def ran_on(self, position: FloatArray, t_s: float) -> bool:
         """Whether the tool point ``position`` [m] ran on past :data:`LOST_PUSH_TRAVEL_M` (now its mark)."""
@@ -53,6 +56,32 @@ class LostPush:
         self.at, self.since_s = (x, y, z), t_s
         return True
 
+
+    def ran_free(self, position: FloatArray, force_n: float) -> float:
+        """How far the tool point ``position`` [m] ran on along the push touching nothing [m] (0: it touches).
+
+        Touching is a sensed force ``|f|`` [N] of at least :attr:`touching_n`, whatever its direction
+        (the bore's wall rubbing a falling peg reads 4-7 N across the push and 1.5-3.6 N along it);
+        the run is counted along the push from where the tool last touched.
+        """
+        x, y, z = position.tolist()
+        if force_n >= self.touching_n:
+            self.pressed_at = (x, y, z)
+            return 0.0
+        (nx, ny, nz), (x0, y0, z0) = self.push, self.pressed_at
+        return (x - x0) * nx + (y - y0) * ny + (z - z0) * nz
+
+
+TOUCHING_N = 2.0
+"""A hold touches something while the wrist senses a force of at least this, or half its FORCE
+if less [N]: CONTACT's touch threshold (docs/language.md)."""
+
+LOST_CONTACT_M = 0.015
+"""A CONTACT's hold whose tool runs on this far along its push touching nothing has lost its
+contact and fails [m]. A peg sliding off the hole's chamfer falls into the bore rubbing its wall
+(4-7 N sensed all the 43 mm down, realistic seed 1); a hold whose touch was the tool's own
+inertia (issue 14: SPEED 100 mm/s, before the touch was judged without it) pushed the tool 606
+mm through free air, 7.2 s, until the path deviation stopped it."""
 
 LOST_SURFACE_M = 0.005
 """A motion statement's held push that ran on this far along itself has lost its surface, as its

@@ -22,8 +22,9 @@ from cosmos.execution.closing import STALL_TIME_S, Closing
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import length_along, norm3, pose_error
 from cosmos.execution.left_surface import watched
-from cosmos.execution.lost_push import LostPush, lost_surface
+from cosmos.execution.lost_push import LOST_CONTACT_M, LostPush, lost_surface
 from cosmos.execution.supervision import ProtectiveStop
+from cosmos.execution.touch_push import ToolInertia
 from cosmos.lang.check.limits import MAX_DURATION_S
 from cosmos.osc.orientation import unwrap_rotation_vector
 from cosmos.plan import (
@@ -107,6 +108,7 @@ class SegmentMonitor:
         timed_until_s: float | None,
         goal: tuple[FloatArray, FloatArray],
         stall_cause: Callable[[], str],
+        tool_mass_kg: float = 0.0,
     ):
         self.segment = segment
         self.goal_position, self.goal_rotation = goal
@@ -122,6 +124,8 @@ class SegmentMonitor:
         self.turn_long_way = False
         """Set when the controller turns the long way round to the goal orientation."""
         self.tool_touched: Callable[[], bool] = lambda: True  # a fixture, since the segment started
+        self.tool_mass_kg = tool_mass_kg
+        """The mass below the wrist sensor [kg]: its inertia is no touch (:mod:`cosmos.execution.touch_push`)."""
         self._turn: tuple[float, ...] | None = None
         self._turn_angle, self._closing = 0.0, Closing(since_s=start_s)
         self._last_depth, self._last_progress_s = 0.0, start_s
@@ -133,9 +137,10 @@ class SegmentMonitor:
         if segment.orientation_free:  # ORIENTATION FREE: the orientation is not the goal's
             self._motion[3:] = False
         self._force_axes = ~self._motion
-        # The TIMEOUT in force: a CONTACT's bounds the search for the surface (language.md);
-        # once it touched, settling the force has its own bound (ForceSettled.max_time_s).
-        timeout = None if segment.kind is SegmentKind.CONTACT_HOLD else segment.timeout_s
+        # The TIMEOUT in force, counted from the statement's start: a CONTACT's bounds its approach
+        # and its hold both (language.md); settling the force has its own bound besides
+        # (ForceSettled.max_time_s).
+        timeout = segment.timeout_s
         if timeout is None and isinstance(segment.completion, UntilOnly):
             timeout = MAX_DURATION_S  # WAIT UNTIL without TIMEOUT: bounded all the same
         self._timeout_s = timeout
@@ -208,6 +213,8 @@ class SegmentMonitor:
         kind = self.segment.kind
         if kind is SegmentKind.CONTACT_APPROACH:
             return f"found no contact within {timeout_s:g} s"
+        if kind is SegmentKind.CONTACT_HOLD:
+            return f"timed out after {timeout_s:g} s: touched, its force not settled"
         if kind is SegmentKind.INSERT:
             return f"timed out after {timeout_s:g} s at depth {self._last_depth * 1e3:.1f} mm"
         return f"timed out after {timeout_s:g} s"
@@ -221,13 +228,16 @@ class SegmentMonitor:
         if isinstance(completion, ContactTouch):
             self._touch_ending = completion
             self._approach = ApproachStall.of(self.segment, self.start_s, self.stall_cause)
+            self._inertia = ToolInertia(self.tool_mass_kg)
             return self._touch
         if isinstance(completion, ForceSettled):
             self._settle_ending = completion
             self._lost = LostPush.of(self.segment, self._start_xyz, self.start_s)  # its surface, lost
+            self._holds_contact = self.segment.kind is SegmentKind.CONTACT_HOLD  # its contact, lost
             return self._force_settled
         if isinstance(completion, DepthReached):
             self._depth_ending = completion
+            self._inertia = ToolInertia(self.tool_mass_kg)
             return self._depth
         if isinstance(completion, Elapsed):
             duration_s = completion.duration_s
@@ -237,8 +247,11 @@ class SegmentMonitor:
     def _touch(self, snap: Snapshot) -> Outcome | None:
         dx, dy, dz = self._direction
         fx, fy, fz, _, _, _ = snap.wrench.tolist()
+        vx, vy, vz, _, _, _ = snap.velocity.tolist()
         push = fx * dx + fy * dy + fz * dz
-        if push > self._touch_ending.threshold_n:
+        # The push the environment makes: the tool's own inertia taken out (cosmos.execution.touch_push).
+        met = self._inertia.contact_push(push, vx * dx + vy * dy + vz * dz, snap.t_s)
+        if self._inertia.touched(met, self._touch_ending.threshold_n, snap.t_s):
             return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach", touched=True)
         x, y, z = snap.position.tolist()
         x0, y0, z0 = self._start_xyz
@@ -342,6 +355,14 @@ class SegmentMonitor:
 
     def _force_settled(self, snap: Snapshot) -> Outcome | None:
         self._settled_since = None if self._lost.ran_on(snap.position, snap.t_s) else self._settled_since
+        if self._holds_contact and (free := self._lost.ran_free(snap.position, norm3(snap.wrench[:3]))) > (
+            LOST_CONTACT_M
+        ):
+            return Outcome(
+                Verdict.FAILED,
+                f"lost contact: the tool ran on {free * 1e3:.1f} mm along its push touching nothing "
+                f"(under {self._lost.touching_n:g} N) at {snap.t_s:.2f} s",
+            )
         settled, elapsed = self._settle_ending, snap.t_s - self._lost.since_s
         wrench, worst = snap.wrench.tolist(), 0.0
         for at, rx, ry, rz, setpoint in self._force_terms:  # the rows of diag(R^T, R^T) it needs
@@ -373,8 +394,14 @@ class SegmentMonitor:
         x0, y0, z0 = self._statement_xyz  # DEPTH counts from the statement's start
         travelled = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
         if depth.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
-            push = norm3(snap.wrench[:3])
-            if push > depth.touch_n:
+            fx, fy, fz, _, _, _ = snap.wrench.tolist()
+            vx, vy, vz, _, _, _ = snap.velocity.tolist()
+            push = math.sqrt(fx * fx + fy * fy + fz * fz)
+            # The push the environment makes, the tool's speed-up along the approach taken out.
+            inertia = self._inertia.mass_kg * self._inertia.speed_up(vx * dx + vy * dy + vz * dz, snap.t_s)
+            fx, fy, fz = fx - inertia * dx, fy - inertia * dy, fz - inertia * dz
+            met = math.sqrt(fx * fx + fy * fy + fz * fz)
+            if self._inertia.touched(met, depth.touch_n, snap.t_s):
                 return Outcome(Verdict.DONE, f"touched: {push:.2f} N", touched=True)
             if travelled < depth.depth_m:
                 return None
