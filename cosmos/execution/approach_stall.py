@@ -17,7 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from cosmos.execution.closing import STALL_PROGRESS_M, STALL_TIME_S
-from cosmos.plan import ContactTouch, Segment
+from cosmos.plan import ContactTouch, Segment, SegmentKind
 
 LANDED_N = 0.5
 """A stopped approach pressing this much along its direction has landed [N] (the push from which
@@ -75,3 +75,18 @@ class ApproachStall:
             f"stopped {max(travel_m, 0.0) * 1e3:.1f} mm along its approach without touching "
             f"({push_n:.2f} N along it for {STALL_TIME_S:g} s): {self.cause()}"
         )
+
+
+def timeout_reason(kind: SegmentKind, timeout_s: float, depth_m: float) -> str:
+    """What a segment of ``kind`` that ran out its statement's TIMEOUT [s] says; ``depth_m``: an INSERT's [m].
+
+    A CONTACT's TIMEOUT bounds its approach and its hold both, from the statement's start
+    (docs/language.md): a hold still settling at it fails.
+    """
+    if kind is SegmentKind.CONTACT_APPROACH:
+        return f"found no contact within {timeout_s:g} s"
+    if kind is SegmentKind.CONTACT_HOLD:
+        return f"timed out after {timeout_s:g} s: touched, its force not settled"
+    if kind is SegmentKind.INSERT:
+        return f"timed out after {timeout_s:g} s at depth {depth_m * 1e3:.1f} mm"
+    return f"timed out after {timeout_s:g} s"

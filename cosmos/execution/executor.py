@@ -246,16 +246,9 @@ class Executor:
             )  # fmt: skip
 
         monitor = SegmentMonitor(
-            segment,
-            start_s,
-            start_position,
-            statement_start_s,
-            statement_start_position,
-            timed_until,
-            goals[-1],
-            cause,
-            rt.robot.tool.mass_kg,
-        )
+            segment, start_s, start_position, statement_start_s, statement_start_position, timed_until,
+            goals[-1], cause, rt.robot.tool.mass_kg,
+        )  # fmt: skip
         monitor.turn_long_way = rt.rotation_plan is not None and rt.rotation_plan.long_way
         supervisor = self.supervisor
         monitor.tool_touched = supervisor.tool_touched

@@ -8,11 +8,12 @@ force is not settled meanwhile, whatever the wrist reads (the bore's wall rubbin
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from cosmos.plan import Segment
+from cosmos.plan import Segment, SegmentKind
 
 FloatArray = np.ndarray
 
@@ -29,6 +30,9 @@ class LostPush:
         push: The push's unit direction, world. # (3,)
         at: The tool point where it last had its surface, world [m]. # (3,)
         since_s: When it was there [s].
+        pressed_at: The tool point where it last touched something (:meth:`ran_free`), world [m]. # (3,)
+        touching_n: The least force that touches something [N] (:data:`TOUCHING_N`, or half the push).
+        contact: The push is a CONTACT's hold: one running on touching nothing fails (:meth:`lost_contact`).
     """
 
     push: tuple[float, float, float]
@@ -36,6 +40,7 @@ class LostPush:
     since_s: float
     pressed_at: tuple[float, float, float] = (0.0, 0.0, 0.0)
     touching_n: float = 0.0
+    contact: bool = False
 
     @classmethod
     def of(cls, segment: Segment, start: tuple[float, ...], start_s: float) -> LostPush:
@@ -45,7 +50,10 @@ class LostPush:
         unit = push / size if size > 0.0 else np.zeros(3)
         x, y, z = start
         touching = min(TOUCHING_N, 0.5 * size)
-        return cls((float(unit[0]), float(unit[1]), float(unit[2])), (x, y, z), start_s, (x, y, z), touching)
+        held = segment.kind is SegmentKind.CONTACT_HOLD
+        return cls(
+            (float(unit[0]), float(unit[1]), float(unit[2])), (x, y, z), start_s, (x, y, z), touching, held
+        )
 
     def ran_on(self, position: FloatArray, t_s: float) -> bool:
         """Whether the tool point ``position`` [m] ran on past :data:`LOST_PUSH_TRAVEL_M` (now its mark)."""
@@ -55,7 +63,6 @@ class LostPush:
             return False
         self.at, self.since_s = (x, y, z), t_s
         return True
-
 
     def ran_free(self, position: FloatArray, force_n: float) -> float:
         """How far the tool point ``position`` [m] ran on along the push touching nothing [m] (0: it touches).
@@ -70,6 +77,22 @@ class LostPush:
             return 0.0
         (nx, ny, nz), (x0, y0, z0) = self.push, self.pressed_at
         return (x - x0) * nx + (y - y0) * ny + (z - z0) * nz
+
+    def lost_contact(self, position: FloatArray, wrench: FloatArray, t_s: float) -> str:
+        """A CONTACT hold's failure once it ran :data:`LOST_CONTACT_M` touching nothing, else "".
+
+        :meth:`ran_free`; "" for any other held push (:attr:`contact` False).
+        """
+        if not self.contact:
+            return ""
+        fx, fy, fz, _, _, _ = wrench.tolist()
+        free = self.ran_free(position, math.sqrt(fx * fx + fy * fy + fz * fz))
+        if free <= LOST_CONTACT_M:
+            return ""
+        return (
+            f"lost contact: the tool ran on {free * 1e3:.1f} mm along its push touching nothing "
+            f"(under {self.touching_n:g} N) at {t_s:.2f} s"
+        )
 
 
 TOUCHING_N = 2.0

@@ -16,13 +16,13 @@ from enum import Enum
 
 import numpy as np
 
-from cosmos.execution.approach_stall import ApproachStall
+from cosmos.execution.approach_stall import ApproachStall, timeout_reason
 from cosmos.execution.arrival import GoalError
 from cosmos.execution.closing import STALL_TIME_S, Closing
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import length_along, norm3, pose_error
 from cosmos.execution.left_surface import watched
-from cosmos.execution.lost_push import LOST_CONTACT_M, LostPush, lost_surface
+from cosmos.execution.lost_push import LostPush, lost_surface
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.execution.touch_push import ToolInertia
 from cosmos.lang.check.limits import MAX_DURATION_S
@@ -34,7 +34,6 @@ from cosmos.plan import (
     ForceSettled,
     GoalReached,
     Segment,
-    SegmentKind,
     UntilOnly,
     condition_holds,
 )
@@ -124,8 +123,7 @@ class SegmentMonitor:
         self.turn_long_way = False
         """Set when the controller turns the long way round to the goal orientation."""
         self.tool_touched: Callable[[], bool] = lambda: True  # a fixture, since the segment started
-        self.tool_mass_kg = tool_mass_kg
-        """The mass below the wrist sensor [kg]: its inertia is no touch (:mod:`cosmos.execution.touch_push`)."""
+        self._inertia = ToolInertia.of(tool_mass_kg, segment.speed_limit_mps)  # the tool's: no touch
         self._turn: tuple[float, ...] | None = None
         self._turn_angle, self._closing = 0.0, Closing(since_s=start_s)
         self._last_depth, self._last_progress_s = 0.0, start_s
@@ -137,10 +135,7 @@ class SegmentMonitor:
         if segment.orientation_free:  # ORIENTATION FREE: the orientation is not the goal's
             self._motion[3:] = False
         self._force_axes = ~self._motion
-        # The TIMEOUT in force, counted from the statement's start: a CONTACT's bounds its approach
-        # and its hold both (language.md); settling the force has its own bound besides
-        # (ForceSettled.max_time_s).
-        timeout = segment.timeout_s
+        timeout = segment.timeout_s  # from the statement's start: a CONTACT's hold's too (language.md)
         if timeout is None and isinstance(segment.completion, UntilOnly):
             timeout = MAX_DURATION_S  # WAIT UNTIL without TIMEOUT: bounded all the same
         self._timeout_s = timeout
@@ -206,18 +201,10 @@ class SegmentMonitor:
                 return done
         if snap.t_s >= self._deadline_s and self._timeout_s is not None:
             if snap.t_s - self.statement_start_s >= self._timeout_s:  # as written, to the tick
-                return Outcome(Verdict.FAILED, self._timeout_reason(self._timeout_s))
+                return Outcome(
+                    Verdict.FAILED, timeout_reason(self.segment.kind, self._timeout_s, self._last_depth)
+                )
         return None
-
-    def _timeout_reason(self, timeout_s: float) -> str:
-        kind = self.segment.kind
-        if kind is SegmentKind.CONTACT_APPROACH:
-            return f"found no contact within {timeout_s:g} s"
-        if kind is SegmentKind.CONTACT_HOLD:
-            return f"timed out after {timeout_s:g} s: touched, its force not settled"
-        if kind is SegmentKind.INSERT:
-            return f"timed out after {timeout_s:g} s at depth {self._last_depth * 1e3:.1f} mm"
-        return f"timed out after {timeout_s:g} s"
 
     def _completion_judge(self, completion: object) -> Callable[[Snapshot], Outcome | None]:
         """The judge of the segment's own ending (``completion``), one snapshot at a time."""
@@ -228,16 +215,13 @@ class SegmentMonitor:
         if isinstance(completion, ContactTouch):
             self._touch_ending = completion
             self._approach = ApproachStall.of(self.segment, self.start_s, self.stall_cause)
-            self._inertia = ToolInertia(self.tool_mass_kg)
             return self._touch
         if isinstance(completion, ForceSettled):
             self._settle_ending = completion
             self._lost = LostPush.of(self.segment, self._start_xyz, self.start_s)  # its surface, lost
-            self._holds_contact = self.segment.kind is SegmentKind.CONTACT_HOLD  # its contact, lost
             return self._force_settled
         if isinstance(completion, DepthReached):
             self._depth_ending = completion
-            self._inertia = ToolInertia(self.tool_mass_kg)
             return self._depth
         if isinstance(completion, Elapsed):
             duration_s = completion.duration_s
@@ -246,11 +230,7 @@ class SegmentMonitor:
 
     def _touch(self, snap: Snapshot) -> Outcome | None:
         dx, dy, dz = self._direction
-        fx, fy, fz, _, _, _ = snap.wrench.tolist()
-        vx, vy, vz, _, _, _ = snap.velocity.tolist()
-        push = fx * dx + fy * dy + fz * dz
-        # The push the environment makes: the tool's own inertia taken out (cosmos.execution.touch_push).
-        met = self._inertia.contact_push(push, vx * dx + vy * dy + vz * dz, snap.t_s)
+        push, met = self._inertia.approach_push(snap.wrench, snap.velocity, self._direction, snap.t_s)
         if self._inertia.touched(met, self._touch_ending.threshold_n, snap.t_s):
             return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach", touched=True)
         x, y, z = snap.position.tolist()
@@ -355,14 +335,8 @@ class SegmentMonitor:
 
     def _force_settled(self, snap: Snapshot) -> Outcome | None:
         self._settled_since = None if self._lost.ran_on(snap.position, snap.t_s) else self._settled_since
-        if self._holds_contact and (free := self._lost.ran_free(snap.position, norm3(snap.wrench[:3]))) > (
-            LOST_CONTACT_M
-        ):
-            return Outcome(
-                Verdict.FAILED,
-                f"lost contact: the tool ran on {free * 1e3:.1f} mm along its push touching nothing "
-                f"(under {self._lost.touching_n:g} N) at {snap.t_s:.2f} s",
-            )
+        if lost := self._lost.lost_contact(snap.position, snap.wrench, snap.t_s):  # a CONTACT's hold
+            return Outcome(Verdict.FAILED, lost)
         settled, elapsed = self._settle_ending, snap.t_s - self._lost.since_s
         wrench, worst = snap.wrench.tolist(), 0.0
         for at, rx, ry, rz, setpoint in self._force_terms:  # the rows of diag(R^T, R^T) it needs
@@ -394,13 +368,7 @@ class SegmentMonitor:
         x0, y0, z0 = self._statement_xyz  # DEPTH counts from the statement's start
         travelled = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
         if depth.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
-            fx, fy, fz, _, _, _ = snap.wrench.tolist()
-            vx, vy, vz, _, _, _ = snap.velocity.tolist()
-            push = math.sqrt(fx * fx + fy * fy + fz * fz)
-            # The push the environment makes, the tool's speed-up along the approach taken out.
-            inertia = self._inertia.mass_kg * self._inertia.speed_up(vx * dx + vy * dy + vz * dz, snap.t_s)
-            fx, fy, fz = fx - inertia * dx, fy - inertia * dy, fz - inertia * dz
-            met = math.sqrt(fx * fx + fy * fy + fz * fz)
+            push, met = self._inertia.insert_push(snap.wrench, snap.velocity, self._direction, snap.t_s)
             if self._inertia.touched(met, depth.touch_n, snap.t_s):
                 return Outcome(Verdict.DONE, f"touched: {push:.2f} N", touched=True)
             if travelled < depth.depth_m:

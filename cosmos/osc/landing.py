@@ -106,6 +106,16 @@ LANDING_MIN_MPS = 0.002
 """The landing speed never falls below this [m/s]: slower, the realistic plant's joints stick."""
 
 
+IMPACT_MASS_KG = {"puma560": 18.5, "panda": 8.8}
+"""``Lambda_n``, the arm's effective mass along an approach, rotors included [kg]: the PUMA's and the
+Panda's over the hole fixture (the figures :data:`IMPACT_STIFFNESS_N_PER_M` was fitted with)."""
+
+
+def impact_peak_n(speed_mps: float, mass_kg: float) -> float:
+    """``P = v sqrt(k_i Lambda_n)`` [N]: a mass ``Lambda_n`` meeting steel at ``v``, over the static push."""
+    return speed_mps * math.sqrt(IMPACT_STIFFNESS_N_PER_M * mass_kg)
+
+
 def bar_n(force_n: float) -> float:
     """The documented bound on a landing's peak for a FORCE, ``max(1.5 F, F + 5 N)`` [N]."""
     return max(1.5 * force_n, force_n + 5.0)

@@ -41,3 +41,27 @@ def test_a_push_running_on_at_its_force_is_not_settled() -> None:
         outcome = monitor.check(Snapshot(t, position, rotation, np.zeros(6), wrench))
     assert outcome is not None and outcome.verdict is Verdict.DONE and outcome.reason == "force settled"
     assert 0.2 - 1e-9 <= t - landed <= 0.2 + RAN_ON_M / DOWN_SPEED_MPS + 2 * DT_S
+
+
+def test_a_hold_running_on_touching_nothing_fails_lost_contact() -> None:
+    """Catches a CONTACT's hold pushing through free air: the new user's SPEED 100 mm/s CONTACT UP
+    took its tool's inertia for a touch, and its hold pushed the tool 606 mm up, 7.2 s, until the
+    path deviation stopped it. With the wrist reading nothing (under the 2 N touch threshold) and
+    the tool running on down its push at 84 mm/s, the hold fails "lost contact" once it has run on
+    LOST_CONTACT_M (15 mm, within a sample), whatever the 3 s bound. And the bore's wall rubbing a
+    falling peg (6 N across the push, 2 N along it) is contact: that run is not cut short."""
+    speed = 0.084
+    rotation, velocity = np.diag([1.0, -1.0, -1.0]), np.array([0.0, 0.0, -speed, 0.0, 0.0, 0.0])
+    for wrench, lost in ((np.zeros(6), True), (np.array([0.0, -6.0, -2.0, 0.0, 0.0, 0.0]), False)):
+        monitor, start = _hold_monitor()
+        t, outcome, position = 0.0, None, start.copy()
+        while outcome is None and t < 0.5:  # 42 mm
+            t += DT_S
+            position = start - np.array([0.0, 0.0, speed * t])
+            outcome = monitor.check(Snapshot(t, position, rotation, velocity, wrench))
+        if not lost:
+            assert outcome is None, outcome
+            continue
+        assert outcome is not None and outcome.verdict is Verdict.FAILED, outcome
+        assert outcome.reason.startswith("lost contact: the tool ran on"), outcome.reason
+        assert 0.015 < start[2] - position[2] <= 0.015 + speed * DT_S

@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from cosmos import plan
+from cosmos.capabilities import WRIST_SENSOR
 from cosmos.errors import ProgramError
 from cosmos.lang import ast, units
 from cosmos.lang.compile.motion.axes import vector_text
@@ -26,6 +27,7 @@ from cosmos.lang.compile.motion.conditions import (
 )
 from cosmos.lang.compile.state import WORLD, TaskFrame
 from cosmos.lang.evaluate.values import BindingKind, FrameValue, Scalar
+from cosmos.osc.landing import IMPACT_MASS_KG, IMPACT_STIFFNESS_N_PER_M, impact_peak_n
 from cosmos.rotations import IDENTITY
 
 IN_WORLD: tuple[TaskFrame, float | None, str | None] = (WORLD, None, None)
@@ -163,6 +165,26 @@ class ClauseValues(MotionBuilderBase):
             self.warn(
                 f"TIMEOUT {timeout:g} s is shorter than the {needed:.3g} s this motion needs",
                 clauses.span_of(ast.ClauseKind.TIMEOUT),
+            )
+
+    def _warn_impact(self, speed: float, clauses: Clauses, keyword: str) -> None:
+        """Warn where a CONTACT's or INSERT's SPEED would meet unforeseen steel over the sensor's rating.
+
+        The landing slows the approach before a surface the workcell model knows (cosmos.osc.landing);
+        one it does not (a moved fixture, an object) is met at the SPEED, and the steel's impact peaks
+        at ``v sqrt(k_i Lambda_n)`` whatever the force loop does after it.
+        """
+        mass = IMPACT_MASS_KG.get(self.state.robot, max(IMPACT_MASS_KG.values()))
+        peak, rating = impact_peak_n(speed, mass), WRIST_SENSOR.force_n
+        if peak > rating:
+            safe = rating / impact_peak_n(1.0, mass)
+            self.warn(
+                f"{keyword} SPEED {speed * 1e3:g} mm/s would meet steel the workcell model does not foresee "
+                f"(a moved fixture, an object) at about {peak:.0f} N "
+                f"(v sqrt(k m): {IMPACT_STIFFNESS_N_PER_M / 1e3:g} kN/m, {mass:g} kg along the approach), "
+                f"over the wrist sensor's rating of {rating:g} N; "
+                f"at most {safe * 1e3:.0f} mm/s stays under it",
+                clauses.span_of(ast.ClauseKind.SPEED),
             )
 
     def _warn_away_from_fixture(self, direction: ast.Direction, fixture: str | None, keyword: str) -> None:

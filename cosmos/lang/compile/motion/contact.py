@@ -29,6 +29,7 @@ class Contact(AxisRules, ClauseValues):
         direction_world, direction = signed_column(frame.rotation, axis, sign)
         force = self._force(clauses)
         speed = self._speed(clauses, self.defaults.contact_speed_mps)
+        self._warn_impact(speed, clauses, "CONTACT")
         self._no_compliance(axis, lambda: f"CONTACT {statement.direction.text}", statement.direction.span)
         self._warn_away_from_fixture(statement.direction, fixture, "CONTACT")
         timeout = self._timeout(clauses)

@@ -73,6 +73,7 @@ class Insert(AxisRules, ClauseValues):
             search = self._search(search_clause, axis, free, contact_axis)
             self._warn_search_timeout(search, clauses, search_clause)
         speed = self._speed(clauses, self.defaults.insert_speed_mps)
+        self._warn_impact(speed, clauses, "INSERT")
         until = None if clauses.until is None else self._until(clauses, frame, force_expected=True)
         if contact is None:
             # No contact yet: approach along the direction with every axis held, as CONTACT

@@ -1,0 +1,113 @@
+"""CONTACTs at a fast SPEED, onto a moved fixture and against their TIMEOUT (issue 14), from the log.
+
+A new user's programs: ``CONTACT UP FORCE 5 N SPEED 100 mm/s`` from 200 mm over the table (nothing
+above) "touched" 21 ms into its approach and its hold pushed the tool 606 mm up through free air;
+a CONTACT over the hole fixture moved 30 mm down crawled at the landing's 3.8 mm/s from the
+fixture's nominal face on and found nothing within its TIMEOUT; a CONTACT whose hold had not
+settled ran on past its TIMEOUT.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+from pathlib import Path
+
+import numpy as np
+import pytest
+from run_support import TABLE_POINT_M, write_program
+
+from cosmos.commands.run import run_program
+from cosmos.runlog import read_log
+from cosmos.runlog.reader import RunRecord
+from cosmos.runtime.rates import Rates
+from cosmos.sweep.variation import WorkcellVariation
+
+UP = np.array((0.0, 0.0, 1.0))
+REACH_M = 0.300
+"""A CONTACT's approach goes at most this far (docs/language.md, CONTACT)."""
+
+
+def run(tmp_path: Path, source: str, variation: WorkcellVariation | None = None) -> tuple[int, RunRecord]:
+    """Run ``source`` in-process (realistic plant, seed 0) with its state logged at 1 kHz."""
+    log = tmp_path / ("varied.mcap" if variation is not None else "fast.mcap")
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        code = run_program(
+            write_program(tmp_path, "fast", source), log, Rates(state_hz=1000.0), 0, variation=variation
+        )
+    return code, read_log(log)
+
+
+def told(record: RunRecord) -> str:
+    """The run's events, for a failed assertion."""
+    return "\n".join(f"{e.t:.3f} {e.kind} line {e.line}: {e.reason}" for e in record.events)
+
+
+@pytest.mark.parametrize("robot", ["puma560", "panda"])
+def test_a_fast_contact_in_free_air_touches_nothing(tmp_path: Path, robot: str) -> None:
+    """CONTACT UP at SPEED 100 mm/s with nothing above: no touch, and it stops within its 300 mm.
+
+    Bug: the tool's own inertia, speeding up under the wrist sensor (0.66 kg at some 3 m/s^2),
+    read 2.11 N along the approach 21 ms into it, over the 2 N touch threshold; the hold then
+    pushed the tool 606 mm up (876 mm on the Panda) until the path deviation stopped it. Judged
+    from the log against the scene (nothing within 300 mm above the tool's start) and the
+    language's reach: no ``contact`` event, the statement fails "found no contact within 300 mm",
+    and the tool point rose at most the approach's 300 mm (and 1 mm) above where the statement began.
+    """
+    source = f"ROBOT {robot}\nMOVE TO table + (0, 0, 200 mm)\nCONTACT UP FORCE 5 N SPEED 100 mm/s\n"
+    code, record = run(tmp_path, source)
+    events = [e for e in record.events if e.line == 3]
+    assert not [e for e in events if e.kind == "contact"], told(record)
+    assert code != 0 and events[-1].reason == "found no contact within 300 mm", told(record)
+    state = record.state
+    on = state.line == 3
+    rise = float((state.x[on] - state.x[on][0]).dot(UP).max())
+    assert rise <= REACH_M + 1e-3, f"the tool rose {rise * 1e3:.0f} mm\n{told(record)}"
+
+
+def test_a_contact_onto_a_moved_fixture_goes_on_at_its_speed(tmp_path: Path) -> None:
+    """Over the hole fixture moved 30 mm down, CONTACT DOWN (TIMEOUT 6 s) touches its real face.
+
+    Bug: the landing slowed the approach to 3.8 mm/s before the fixture's nominal face and kept
+    it there: the CONTACT failed "found no contact within 6 s" (the nominal touches in 0.84 s).
+    Judged from the log: the contact event comes, the tool point then stands 30 mm (within 2 mm)
+    below where it touches over the nominal fixture, and the approach, once 2 mm past the nominal
+    face, goes on at the default SPEED (20 mm/s, within 15 %).
+    """
+    source = "MOVE TO hole + (25 mm, 0, 10 mm)\nCONTACT DOWN FORCE 5 N TIMEOUT 6 s\n"
+    code, nominal = run(tmp_path, source)
+    assert code == 0, told(nominal)
+    code, moved = run(tmp_path, source, WorkcellVariation.from_values({"hole.z": -0.030}))
+    assert code == 0, told(moved)
+    heights = []
+    for record in (nominal, moved):
+        touch = next(e.t for e in record.events if e.kind == "contact" and e.line == 2)
+        state = record.state
+        heights.append(float(state.x[state.t <= touch][-1, 2]))
+    assert heights[0] - heights[1] == pytest.approx(0.030, abs=0.002), heights
+    state = moved.state
+    between = (state.line == 2) & (state.x[:, 2] < heights[0] - 0.010) & (state.x[:, 2] > heights[1] + 0.010)
+    speed = float(np.median(-state.v[between, 2]))
+    assert speed == pytest.approx(0.020, rel=0.15), f"{speed * 1e3:.1f} mm/s between the faces"
+
+
+def test_a_contact_timeout_bounds_its_hold_too(tmp_path: Path) -> None:
+    """CONTACT DOWN ... TIMEOUT 0.8 s that touches at 0.55 s and would settle at 1.0 s fails at 0.8 s.
+
+    Bug: a CONTACT's TIMEOUT bounded only its approach; once touched, the hold ran on its own 3 s
+    bound (the new user's ``TIMEOUT 2 s`` ran 7 s). docs/language.md: TIMEOUT counts the whole
+    statement from its start. Judged from the log: the statement's last event is a failure
+    "timed out after 0.8 s", at most one servo tick after 0.8 s from its start, after its touch.
+    """
+    x, y, z = TABLE_POINT_M * 1e3
+    source = (
+        f"MOVE TO ({x:g} mm, {y:g} mm, {z + 15:g} mm)\nCONTACT DOWN FORCE 3 N SPEED 30 mm/s TIMEOUT 0.8 s\n"
+    )
+    code, record = run(tmp_path, source)
+    events = [e for e in record.events if e.line == 2]
+    start = events[0].t
+    assert events[0].kind == "start", told(record)
+    assert any(e.kind == "contact" for e in events), told(record)
+    assert code != 0 and events[-1].kind == "failed", told(record)
+    assert events[-1].reason.startswith("timed out after 0.8 s"), told(record)
+    assert 0.8 - 1e-9 <= events[-1].t - start <= 0.8 + 1.5e-3, told(record)
