@@ -11,6 +11,7 @@ from cosmos.osc.landing import (
     IMPACT_MAX_N,
     IMPACT_STIFFNESS_N_PER_M,
     LANDING_MIN_MPS,
+    LANDING_OVER_M,
     bar_n,
     landing_limit,
     landing_speed,
@@ -37,13 +38,25 @@ def test_the_profile_is_a_constant_deceleration_to_the_landing_speed() -> None:
     assert landing_limit(v_max, 0.0, 0.0, a) == (v_max, 0.0)  # no landing
 
 
+def test_a_landing_is_over_past_its_surface_untouched() -> None:
+    """Catches the landing held on past a surface that is not there (issue 14: over the hole fixture
+    moved 30 mm down, CONTACT DOWN crawled at the landing's 3.8 mm/s from the nominal face on and
+    found no contact in 6 s): ``LANDING_OVER_M`` (2 mm) past where ``v_l`` is held, the limit is
+    ``V_max`` again, in the reference and the servo's compiled form; short of it, still ``v_l``."""
+    v_max, v_l, a = 0.02, 0.0038, 0.1
+    for limit in (landing_limit, compiled_landing_limit):
+        assert limit(v_max, -LANDING_OVER_M + 1e-5, v_l, a) == (v_l, 0.0)
+        assert limit(v_max, -LANDING_OVER_M - 1e-5, v_l, a) == (v_max, 0.0)
+        assert limit(v_max, -0.030, v_l, a) == (v_max, 0.0)
+
+
 def test_the_compiled_profile_matches_the_reference() -> None:
     """Catches the servo's compiled landing limit drifting from the readable reference."""
     rng = np.random.default_rng(5)
     for _ in range(200):
         args = (
             float(rng.uniform(0.001, 0.05)),
-            float(rng.uniform(-2e-3, 5e-3)),
+            float(rng.uniform(-4e-3, 5e-3)),
             float(rng.choice([0.0, rng.uniform(0.002, 0.01)])),
             float(rng.uniform(0.05, 1.0)),
         )
