@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import TABLE_POINT_M, write_program
+from run_support import HOLE_MOUTH_M, TABLE_POINT_M, write_program
 
 from cosmos.commands.run import run_program
 from cosmos.runlog import read_log
@@ -111,3 +111,26 @@ def test_a_contact_timeout_bounds_its_hold_too(tmp_path: Path) -> None:
     assert code != 0 and events[-1].kind == "failed", told(record)
     assert events[-1].reason.startswith("timed out after 0.8 s"), told(record)
     assert 0.8 - 1e-9 <= events[-1].t - start <= 0.8 + 1.5e-3, told(record)
+
+
+def test_a_fast_insert_lands_on_the_mouth_and_goes_in(tmp_path: Path) -> None:
+    """INSERT DOWN DEPTH 40 mm FORCE 20 N SPEED 100 mm/s from 20 mm over the hole reaches its depth.
+
+    Bug: its approach took the peg's speed-up for a touch 20 mm above the mouth, and the insertion
+    then hit the mouth at its SPEED: a protective stop at 223.7 N (with the touch judged without the
+    inertia, the approach met the mouth at 100 mm/s: 111.7 N). Judged from the 1 kHz log: the
+    INSERT is done at its depth, it touched within 3 mm of the hole's documented mouth, and the
+    force at the wrist stayed under the statement's protective limit, 2 FORCE + 30 N = 70 N.
+    """
+    source = (
+        "MOVE TO hole + (0.3 mm, 0, 20 mm)\nINSERT DOWN DEPTH 40 mm FORCE 20 N SPEED 100 mm/s TIMEOUT 10 s\n"
+    )
+    code, record = run(tmp_path, source)
+    events = [e for e in record.events if e.line == 2]
+    assert code == 0 and events[-1].reason == "depth 40.0 mm reached", told(record)
+    state = record.state
+    touch = next(e.t for e in events if e.kind == "contact")
+    tip = float(state.x[(state.line == 2) & (state.t <= touch)][-1, 2])
+    assert abs(tip - HOLE_MOUTH_M[2]) < 0.003, f"touched {(tip - HOLE_MOUTH_M[2]) * 1e3:.1f} mm off the mouth"
+    peak = float(np.linalg.norm(state.wrench[state.line == 2, :3], axis=1).max())
+    assert peak < 70.0, f"{peak:.1f} N at the wrist\n{told(record)}"
