@@ -80,13 +80,10 @@ class ApproachStall:
 def timeout_reason(kind: SegmentKind, timeout_s: float, depth_m: float) -> str:
     """What a segment of ``kind`` that ran out its statement's TIMEOUT [s] says; ``depth_m``: an INSERT's [m].
 
-    A CONTACT's TIMEOUT bounds its approach and its hold both, from the statement's start
-    (docs/language.md): a hold still settling at it fails.
+    A CONTACT's TIMEOUT bounds its search for the surface (docs/language.md).
     """
     if kind is SegmentKind.CONTACT_APPROACH:
         return f"found no contact within {timeout_s:g} s"
-    if kind is SegmentKind.CONTACT_HOLD:
-        return f"timed out after {timeout_s:g} s: touched, its force not settled"
     if kind is SegmentKind.INSERT:
         return f"timed out after {timeout_s:g} s at depth {depth_m * 1e3:.1f} mm"
     return f"timed out after {timeout_s:g} s"

@@ -34,6 +34,7 @@ from cosmos.plan import (
     ForceSettled,
     GoalReached,
     Segment,
+    SegmentKind,
     UntilOnly,
     condition_holds,
 )
@@ -135,7 +136,9 @@ class SegmentMonitor:
         if segment.orientation_free:  # ORIENTATION FREE: the orientation is not the goal's
             self._motion[3:] = False
         self._force_axes = ~self._motion
-        timeout = segment.timeout_s  # from the statement's start: a CONTACT's hold's too (language.md)
+        # The TIMEOUT in force: a CONTACT's bounds the search for the surface (language.md); once it
+        # touched, its hold has its own bounds (ForceSettled.max_time_s, a lost contact's 15 mm).
+        timeout = None if segment.kind is SegmentKind.CONTACT_HOLD else segment.timeout_s
         if timeout is None and isinstance(segment.completion, UntilOnly):
             timeout = MAX_DURATION_S  # WAIT UNTIL without TIMEOUT: bounded all the same
         self._timeout_s = timeout
