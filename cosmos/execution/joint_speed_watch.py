@@ -15,7 +15,8 @@ longer than a contact's or a landing's jolt on a light joint (a few milliseconds
 
 The speed read is the plant's (MuJoCo's joint velocities, as a drive's own speed measurement
 would be); the run log's ``qd`` is the controller's estimate of it, the same to the encoders'
-resolution. One compiled call a tick (:func:`first_over_speed`), no allocation.
+resolution. Looked at in the supervision's compiled tick
+(:func:`cosmos.execution.supervision_kernel.supervise_tick`, :func:`first_over_speed`), no allocation.
 """
 
 from __future__ import annotations
@@ -55,7 +56,7 @@ def first_over_speed(qd: FloatArray, watch: FloatArray) -> int:
 
 
 class JointSpeedWatch:
-    """Watches the joints' speeds every tick (module docstring).
+    """What the supervision's tick reads to watch the joints' speeds (module docstring), and its words.
 
     Args:
         qd_rad_s: The joints' speeds, a live view the plant rewrites every step. # (n,)
@@ -65,20 +66,19 @@ class JointSpeedWatch:
 
     def __init__(self, qd_rad_s: FloatArray, limits_rad_s: FloatArray, servo_dt_s: float):
         limits = np.asarray(limits_rad_s, dtype=float)
-        self._qd = qd_rad_s
+        self.qd = qd_rad_s
+        """The joints' speeds, the live view :func:`first_over_speed` reads. # (n,)"""
         self._limits = limits
         ticks = float(max(1, round(OVER_S / servo_dt_s)))  # one array: a compiled call's arguments cost
         threshold = np.where(limits > 0.0, OVER_FRACTION * limits, math.inf)
-        self._watch = np.concatenate(((ticks,), threshold, np.zeros(limits.shape[0])))
-        self._counts = self._watch[1 + limits.shape[0] :]
+        self.watch = np.concatenate(((ticks,), threshold, np.zeros(limits.shape[0])))
+        """:func:`first_over_speed`'s ``watch``, stepped in place. # (1 + 2 n,)"""
+        self._counts = self.watch[1 + limits.shape[0] :]
 
-    def check(self, t_s: float) -> str:
-        """The stop's message if a joint has been over its limit long enough, else ""."""
-        joint = first_over_speed(self._qd, self._watch)
-        if joint < 0:
-            return ""
+    def stop_text(self, joint: int, t_s: float) -> str:
+        """The stop's message for ``joint``, over its limit long enough now; its count starts again."""
         self._counts[:] = 0.0
         return (
-            f"protective stop: joint {joint + 1} at {abs(float(self._qd[joint])):.2f} rad/s, over its "
+            f"protective stop: joint {joint + 1} at {abs(float(self.qd[joint])):.2f} rad/s, over its "
             f"limit of {self._limits[joint]:g} rad/s, at {t_s:.2f} s"
         )

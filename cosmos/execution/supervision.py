@@ -31,11 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
-from enum import IntEnum
-from typing import Any
 
-import mujoco
 import numpy as np
 from numba import typeof
 from numpy.lib.stride_tricks import as_strided
@@ -52,30 +48,51 @@ from cosmos.execution.expected import (
 )
 from cosmos.execution.fixture_reach import FixtureReach
 from cosmos.execution.joint_speed_watch import JointSpeedWatch
+from cosmos.execution.protective_stop import (
+    ProtectiveStop,
+    StopKind,
+    contact_stop,
+    drive_stop,
+    force_stop,
+    path_stop,
+)
 from cosmos.execution.supervision_kernel import (
     ALLOW_FIXTURE,
+    AXES,
     COUNTING,
     FIELD_ACTING,
     FORCE_LIMIT2,
+    GEOMS,
     GONE_TICKS,
     GUARDED,
     INHERITED,
+    KINDS,
     LINE,
     LINE_SIZE,
+    LIVE_VECTOR,
     LOOK_AT_PATH,
     LOOKS,
     LOWEST,
     OVER,
-    PATH_DEVIATION_M,
+    POSITION,
+    QD,
     RATING2,
     REACH2,
     SATURATED_AT,
     SINCE_TOUCH,
     SLOW_CHECK_EVERY,
     START,
+    STATE,
+    STOP_VALUE,
+    STOP_WHICH,
+    TABLE_SIZE,
     TICK,
+    TORQUE,
     TOUCHED,
+    WATCH,
+    WRENCH,
     state_size,
+    supervise_listed,
     supervise_tick,
 )
 from cosmos.plan import Segment
@@ -103,36 +120,6 @@ _NONE = np.zeros((2, 4), dtype=np.int32)[:, ::2]
 """No contacts' geom pairs, as a strided view (:meth:`Supervisor.contact_geoms`)."""
 
 
-class StopKind(IntEnum):
-    """Why the supervisor stopped the arm."""
-
-    CONTACT = 1
-    FORCE = 2
-    PATH = 3
-    DRIVE = 4
-    SPEED = 5
-
-
-@dataclass(frozen=True)
-class ProtectiveStop:
-    """A hazard the supervisor found.
-
-    Attributes:
-        kind: Which supervision tripped.
-        message: ``protective stop: link 3 hit obstacle 'ball' at 2.31 s, 14.2 N``.
-        collision: For a contact, ``link3 touches ball`` (the ``collision`` event's reason); else "".
-    """
-
-    kind: StopKind
-    message: str
-    collision: str = ""
-
-
-def _arm_part(owner: str) -> str:
-    """``link3`` -> ``link 3``; ``tool`` stays."""
-    return f"link {owner.removeprefix('link')}" if owner.startswith("link") else owner
-
-
 class Supervisor:
     """Watches one arm every tick (module docstring); reset at every segment.
 
@@ -148,6 +135,7 @@ class Supervisor:
     def __init__(self, plant: Plant, torque_limits_nm: FloatArray, servo_dt_s: float):
         self._plant = plant
         self._data = plant.data
+        self._table = np.zeros(TABLE_SIZE, dtype=np.int64)  # the tick's arrays by address (_list)
         self._free_roles = geom_roles(plant)
         self._set_roles(self._free_roles)
         self._held_body = -1
@@ -166,6 +154,7 @@ class Supervisor:
         state[LOOKS] = max(1, math.ceil(SATURATION_S / (SLOW_CHECK_EVERY * servo_dt_s) - 1e-9))
         state[SATURATED_AT : SATURATED_AT + joints] = saturated_at
         self._counts = slice(SATURATED_AT + joints, SATURATED_AT + 2 * joints)  # each drive's looks
+        self._list(STATE, state)
         self.free_force_limit_n = FREE_MOTION_FORCE_N
         """The free-motion force limit now in force [N] (``LIMIT FORCE`` sets it)."""
         self.obstacle_names: Mapping[str, str] = {}
@@ -176,23 +165,34 @@ class Supervisor:
         # The commanded line as floats (for path_deviation_m): start, direction, length^2.
         self._line: tuple[tuple[float, ...], tuple[float, ...], float] = ((0.0,) * 3, (0.0,) * 3, 0.0)
         self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
-        # contact_geoms's view: MuJoCo's own even with no contact (numba types an array of no rows
-        # made by numpy, as its dispatcher sees it, in Python: 1 us more a call).
-        self._geoms: IntArray = self._data.contact.geom
-        self._kernel_geoms = _NONE if not self._geoms.shape[0] else self._geoms
+        # contact_geoms's views: none yet, then MuJoCo's own whenever the count changes.
+        self._geoms: IntArray = _NONE[:0]
+        self._kernel_geoms = _NONE
+        self.contact_geoms(self._data.ncon)
         self._axes = np.zeros((0, 3))
-        self._speeds: JointSpeedWatch | None = None
-        # The compiled tick without numba's dispatch (it types all eight arguments: 0.15 us a tick) for
-        # the live views seen to be of its declared types (the executor's, the same every tick).
-        supervise_tick.compile_declared()
-        (declared,) = supervise_tick.signatures
-        self._compiled_tick, self._live_types = supervise_tick.overloads[declared].entry_point, declared[3:6]
-        self._live: tuple[object, ...] = (None, None, None)  # wrench, torque, position
+        self._list(AXES, self._axes)
+        self.watch_joint_speeds([0.0] * joints)  # none until the arm's are known
+        # The compiled tick without numba's dispatch (it types every argument: 0.5 us a tick) on the live
+        # views seen to be of the plain tick's declared types (the executor's, the same every tick).
+        supervise_listed.compile_declared()
+        (declared,) = supervise_listed.signatures
+        self._listed_tick = supervise_listed.overloads[declared].entry_point
+        self._live_types = (LIVE_VECTOR,) * 3  # wrench, torque, position as supervise_tick declares them
+        self._wrench: object = None  # the live views listed (_check_unlisted)
+        self._torque: object = None
+        self._position: object = None
+
+    def _list(self, at: int, array: np.ndarray) -> None:
+        """List ``array`` (C-contiguous, of the dtype its view is made with) at ``at`` in the tick's table."""
+        rows, columns = array.shape if array.ndim == 2 else (1, array.shape[0])
+        self._table[at : at + 3] = (array.ctypes.data, rows, columns)
 
     def watch_joint_speeds(self, limits_rad_s: Sequence[float]) -> None:
         """Stop a joint beyond its speed limit [rad/s] (:mod:`cosmos.execution.joint_speed_watch`)."""
         qd = self._data.qvel[: len(self._torque_limits)]  # the plant's joint speeds, a live view
         self._speeds = JointSpeedWatch(qd, np.asarray(limits_rad_s, dtype=float), self._dt_s)
+        self._list(QD, qd)
+        self._list(WATCH, self._speeds.watch)
 
     @property
     def field_acting(self) -> bool:
@@ -217,6 +217,9 @@ class Supervisor:
             self._kernel_geoms = (
                 view if ncon > 1 else as_strided(view, (2, 2), view.strides) if ncon else _NONE
             )
+            # The listed tick reads the pairs as the first two int32 of each contact's record.
+            record = max(2, view.strides[0] // view.itemsize) if ncon else 2
+            self._table[GEOMS : GEOMS + 3] = (view.ctypes.data if ncon else 0, ncon, record)
         return view
 
     def _set_roles(self, roles: np.ndarray) -> None:
@@ -226,6 +229,7 @@ class Supervisor:
         self._pair_kinds = np.asarray(PAIR_KINDS, dtype=np.int8)[
             roles[:, None].astype(np.int64) * ROLES + roles[None, :]
         ]
+        self._list(KINDS, self._pair_kinds)
         self._near_fixture = FixtureReach(self._plant, roles == Role.TOOL, self._pair_kinds == TOOL_FIXTURE)
 
     def holding(self, body: int) -> None:
@@ -270,6 +274,7 @@ class Supervisor:
             if segment.motion_axes[i] and segment.stiffness[i] is None
         ]
         self._axes = np.array(self._path_axes, dtype=float).reshape(-1, 3)
+        self._list(AXES, self._axes)
         state[LOOK_AT_PATH] = bool(self._path_axes)
         self.leg(position, goal_position)
 
@@ -303,50 +308,50 @@ class Supervisor:
         ncon = self._data.ncon
         if self._geoms.shape[0] != ncon:
             self.contact_geoms(ncon)
-        live_wrench, live_torque, live_position = self._live
-        exact = wrench is live_wrench and torque is live_torque and position is live_position
-        kind, which, value = (self._compiled_tick if exact else self._tick_for(wrench, torque, position))(
-            ncon, self._kernel_geoms, self._pair_kinds, wrench, torque, position, self._state, self._axes
-        )
-        if not kind and self._speeds is not None and (over := self._speeds.check(t_s)):
-            return ProtectiveStop(StopKind.SPEED, over)
-        return None if not kind else self._stop(StopKind(kind), which, value, t_s, wrench)
+        if wrench is not self._wrench or torque is not self._torque or position is not self._position:
+            return self._check_unlisted(ncon, t_s, wrench, torque, position)
+        kind = self._listed_tick(ncon, self._table)
+        return None if not kind else self._found(kind, t_s, wrench)
 
-    def _tick_for(self, wrench: FloatArray, torque: FloatArray, position: FloatArray) -> Any:
-        """The compiled tick without numba's dispatch for arrays of its types (kept as the live views)."""
-        if tuple(typeof(array) for array in (wrench, torque, position)) != self._live_types:
-            return supervise_tick  # numba's dispatch converts them
-        self._live = (wrench, torque, position)
-        return self._compiled_tick
+    def _check_unlisted(
+        self, ncon: int, t_s: float, wrench: FloatArray, torque: FloatArray, position: FloatArray
+    ) -> ProtectiveStop | None:
+        """:meth:`check` on arrays not listed: listed if of the tick's types, else by numba's dispatch."""
+        if tuple(typeof(array) for array in (wrench, torque, position)) == self._live_types:
+            self._wrench, self._torque, self._position = wrench, torque, position  # kept alive: listed
+            self._list(WRENCH, wrench)
+            self._list(TORQUE, torque)
+            self._list(POSITION, position)
+            kind = self._listed_tick(ncon, self._table)
+            return None if not kind else self._found(kind, t_s, wrench)
+        speeds, state = self._speeds, self._state
+        supervise_tick.compile_declared()  # closed to other types: numba refuses them, converts the rest
+        kind, state[STOP_WHICH], state[STOP_VALUE] = supervise_tick(  # numba's dispatch converts them
+            ncon, self._kernel_geoms, self._pair_kinds, wrench, torque, position, state, self._axes,
+            speeds.qd, speeds.watch,
+        )  # fmt: skip
+        return None if not kind else self._found(kind, t_s, wrench)
 
-    def _stop(
-        self, kind: StopKind, which: int, value: float, t_s: float, wrench: FloatArray
-    ) -> ProtectiveStop:
-        """The stop :func:`supervise_tick` found, in words: ``which`` and ``value`` as it returns them."""
-        if kind is StopKind.CONTACT:
+    def _found(self, kind: int, t_s: float, wrench: FloatArray) -> ProtectiveStop:
+        """The stop the tick found, in words: its ``which`` and ``value`` (supervise_tick's) in the state."""
+        which, value = int(self._state[STOP_WHICH]), float(self._state[STOP_VALUE])
+        if kind == StopKind.CONTACT:
             roles = self._roles_list
             g1, g2 = self._geoms[which].tolist()
             arm, other = (g1, g2) if roles[g1] in (Role.LINK, Role.TOOL) else (g2, g1)
-            return self._contact_stop(which, arm, other, roles[other], t_s, wrench)
-        if kind is StopKind.FORCE:
+            owners, arm_roles = (self._owners[arm], self._owners[other]), (roles[arm], roles[other])
+            return contact_stop(
+                self._plant.model, self._data, which, owners, arm_roles, self.obstacle_names, t_s, wrench
+            )
+        if kind == StopKind.FORCE:
             limit = WRIST_SENSOR.force_n if self._state[INHERITED] else self._force_limit
-            return ProtectiveStop(
-                StopKind.FORCE,
-                f"protective stop: {value:.1f} N at the wrist at {t_s:.2f} s, above this "
-                f"statement's limit of {limit:g} N",
-            )
-        if kind is StopKind.DRIVE:
-            held_ms = value * SLOW_CHECK_EVERY * self._dt_s * 1e3
-            return ProtectiveStop(
-                StopKind.DRIVE,
-                f"protective stop: drive {which + 1} at its torque limit of "
-                f"{self._torque_limits[which]:g} N m for {held_ms:.0f} ms at {t_s:.2f} s",
-            )
-        return ProtectiveStop(
-            StopKind.PATH,
-            f"protective stop: the tool is {value * 1e3:.0f} mm off its path at {t_s:.2f} s "
-            f"(limit {PATH_DEVIATION_M * 1e3:g} mm)",
-        )
+            return force_stop(value, limit, t_s)
+        if kind == StopKind.DRIVE:
+            held_s = value * SLOW_CHECK_EVERY * self._dt_s
+            return drive_stop(which, self._torque_limits[which], held_s, t_s)
+        if kind == StopKind.SPEED:
+            return ProtectiveStop(StopKind.SPEED, self._speeds.stop_text(which, t_s))
+        return path_stop(value, t_s)
 
     def tool_touched(self) -> bool:
         """Whether the tool has touched a fixture since the segment started, or is at one now.
@@ -366,35 +371,3 @@ class Supervisor:
             return False
         kinds = self._pair_kinds
         return any(kinds[g1, g2] == TOOL_FIXTURE for g1, g2 in self.contact_geoms(ncon).tolist())
-
-    def _contact_stop(
-        self, index: int, arm: int, other: int, role: int, t_s: float, wrench: FloatArray
-    ) -> ProtectiveStop:
-        """The stop for contact ``index``.
-
-        Its force is the contact's normal force, and for the tool at least what the wrist
-        sensor reads: the stop comes at the first touch, before much force has built up.
-        """
-        plant = self._plant
-        force = np.zeros(6)
-        mujoco.mj_contactForce(plant.model, self._data, index, force)
-        push = abs(float(force[0]))
-        if self._roles_list[arm] == Role.TOOL:
-            push = max(push, float(np.linalg.norm(wrench[:3])))
-        owner = self._owners[other]
-        if role == Role.OBSTACLE:
-            name = self.obstacle_names.get(owner, owner)
-            what = f"obstacle '{name}'"
-        elif owner == "world":
-            name, what = "floor", "the floor"
-        elif role == Role.OBJECT:
-            name, what = owner, f"object '{owner}'"
-        else:  # as programs name it: hole_fixture's frame is `hole`
-            name = owner.removesuffix("_fixture")
-            what = f"fixture '{name}'"
-        arm_owner = self._owners[arm]
-        return ProtectiveStop(
-            StopKind.CONTACT,
-            f"protective stop: {_arm_part(arm_owner)} hit {what} at {t_s:.2f} s, {push:.1f} N",
-            collision=f"{arm_owner} touches {name}",
-        )

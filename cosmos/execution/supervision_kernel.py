@@ -12,11 +12,14 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numba.core import types
 
 from cosmos.execution.contact_kernel import first_unexpected_contact
+from cosmos.execution.joint_speed_watch import first_over_speed
 from cosmos.jit import kernel
+from cosmos.obstacles.kernels.arrays import _pointer
 
 FloatArray = np.ndarray
 IntArray = np.ndarray
@@ -94,7 +97,7 @@ SLOW_CHECK_EVERY = 4
 """The path and the drives are looked at every this many ticks (4 ms: 4 mm at 1 m/s);
 contacts and force every tick."""
 
-NO_STOP, CONTACT_STOP, FORCE_STOP, PATH_STOP, DRIVE_STOP = 0, 1, 2, 3, 4
+NO_STOP, CONTACT_STOP, FORCE_STOP, PATH_STOP, DRIVE_STOP, SPEED_STOP = 0, 1, 2, 3, 4, 5
 """What :func:`supervise_tick` found (:class:`cosmos.execution.supervision.StopKind`'s values)."""
 
 # The supervision's state, one array of floats: its layout.
@@ -116,13 +119,24 @@ TOUCHED = 16  # the tool has touched a fixture since the segment began
 COUNTING = 17  # a drive's looks at its limit are being counted
 LOOKS = 18  # looks at its limit that make a drive's stop
 LINE = 19  # the commanded line (LINE_SIZE)
-SATURATED_AT = LINE + LINE_SIZE
+STOP_WHICH = LINE + LINE_SIZE  # the stop supervise_listed found: which (a contact, a drive, a joint) ...
+STOP_VALUE = STOP_WHICH + 1  # ... and its value (supervise_tick's Returns)
+SATURATED_AT = STOP_VALUE + 1
 """Then each drive's limit at the saturation fraction [N m] (n), then its looks at it so far (n)."""
 
 
 def state_size(joints: int) -> int:
     """The length of the supervision's state for an arm of ``joints`` drives."""
     return SATURATED_AT + 2 * joints
+
+
+@kernel
+def _speed_look(qd: FloatArray, watch: FloatArray) -> tuple[int, int, float]:
+    """The joints' speeds (:func:`first_over_speed`): a joint over its limit long enough, and its speed."""
+    joint = first_over_speed(qd, watch)
+    if joint < 0:
+        return NO_STOP, 0, 0.0
+    return SPEED_STOP, joint, abs(qd[joint])
 
 
 @kernel
@@ -161,7 +175,7 @@ def _count_saturation(torque: FloatArray, state: FloatArray) -> int:
     return -1
 
 
-_ARRAY = types.Array(types.float64, 1, "C")
+LIVE_VECTOR = types.Array(types.float64, 1, "C")
 """A live buffer as the executor passes it (an exact match: numba converts any other type in Python,
 1 us a call)."""
 
@@ -171,11 +185,13 @@ _ARRAY = types.Array(types.float64, 1, "C")
         types.int64,
         types.Array(types.int32, 2, "A"),  # MuJoCo's contacts as a strided view: always this type
         types.Array(types.int8, 2, "C"),
-        _ARRAY,
-        _ARRAY,
-        _ARRAY,
-        _ARRAY,
+        LIVE_VECTOR,
+        LIVE_VECTOR,
+        LIVE_VECTOR,
+        LIVE_VECTOR,
         types.Array(types.float64, 2, "C"),
+        LIVE_VECTOR,
+        LIVE_VECTOR,
     )
 )
 def supervise_tick(
@@ -187,12 +203,15 @@ def supervise_tick(
     position: FloatArray,
     state: FloatArray,
     axes: FloatArray,
+    qd: FloatArray,
+    watch: FloatArray,
 ) -> tuple[int, int, float]:
     """One tick of the protective stops (:class:`cosmos.execution.supervision.Supervisor`), in one call.
 
     The contacts (:func:`first_unexpected_contact`) and the wrist's force every tick; the drives
-    and the path (:func:`slow_look`) every :data:`SLOW_CHECK_EVERY` ticks; ``state`` (the layout
-    above) is read and brought up to date.
+    and the path (:func:`slow_look`) every :data:`SLOW_CHECK_EVERY` ticks; then, if none of them
+    stops the arm, the joints' speeds (:func:`first_over_speed`); ``state`` (the layout above) and
+    ``watch`` are read and brought up to date.
 
     Args:
         ncon: How many contacts MuJoCo found.
@@ -203,10 +222,13 @@ def supervise_tick(
         position: The measured tool point, world [m]. # (3,)
         state: The supervision's state. # (state_size(n),)
         axes: The world directions the path's distance is measured along, one a row. # (k, 3)
+        qd: The joints' speeds [rad/s]. # (n,)
+        watch: The speed watch (:func:`first_over_speed`'s ``watch``). # (1 + 2 n,)
 
     Returns:
         ``(kind, which, value)``: ``NO_STOP``, or the stop found: a contact's index in ``geom``; the
-        force at the wrist [N]; the distance off the path [m]; a drive's index and its looks.
+        force at the wrist [N]; the distance off the path [m]; a drive's index and its looks; a
+        joint's index and its speed [rad/s].
     """
     inherited = state[INHERITED] != 0.0
     if ncon:
@@ -233,7 +255,7 @@ def supervise_tick(
         state[OVER] = 0.0
     state[TICK] += 1.0
     if state[TICK] % SLOW_CHECK_EVERY:
-        return NO_STOP, 0, 0.0
+        return _speed_look(qd, watch)
     # A torque as large as the lowest limit (only then is each drive held against its own), and
     # the tool's distance from its line.
     look_at_path = state[LOOK_AT_PATH] != 0.0 and state[FIELD_ACTING] == 0.0
@@ -245,4 +267,46 @@ def supervise_tick(
             return DRIVE_STOP, joint, state[SATURATED_AT + torque.shape[0] + joint]
     if look_at_path and off > PATH_DEVIATION_M:
         return PATH_STOP, 0, off
-    return NO_STOP, 0, 0.0
+    return _speed_look(qd, watch)
+
+
+# The arrays of a tick listed by address (supervise_listed's table, int64): per array its address, rows
+# and columns; MuJoCo's contacts' geom pairs as the rows of their records, read as int32 (their first two).
+GEOMS, KINDS, WRENCH, TORQUE, POSITION, STATE, AXES, QD, WATCH = range(0, 27, 3)
+TABLE_SIZE = WATCH + 3
+
+
+@kernel(types.int64(types.int64, types.Array(types.int64, 1, "C")))
+def supervise_listed(ncon: int, table: IntArray) -> int:
+    """:func:`supervise_tick` on the arrays ``table`` lists (their views made here): one argument for ten.
+
+    numba converts each array argument of a call from Python (50-100 ns each); the supervisor lists its
+    live buffers once (:class:`cosmos.execution.supervision.Supervisor`) and calls this every tick.
+
+    Args:
+        ncon: How many contacts MuJoCo found.
+        table: Per array (``GEOMS`` ... ``WATCH``) its address, rows and columns; the contacts'
+            rows are ``ncon`` records of as many int32 as the columns say. # (TABLE_SIZE,)
+
+    Returns:
+        The stop's kind (``NO_STOP`` ...); its ``which`` and ``value`` are written to the state's
+        ``STOP_WHICH`` and ``STOP_VALUE``.
+    """
+    records = numba.carray(_pointer(table[GEOMS]), (ncon, table[GEOMS + 2]), np.int32)
+    kinds = numba.carray(_pointer(table[KINDS]), (table[KINDS + 1], table[KINDS + 2]), np.int8)
+    state = numba.carray(_pointer(table[STATE]), table[STATE + 2], np.float64)
+    kind, which, value = supervise_tick(
+        ncon,
+        records[:, :2],
+        kinds,
+        numba.carray(_pointer(table[WRENCH]), table[WRENCH + 2], np.float64),
+        numba.carray(_pointer(table[TORQUE]), table[TORQUE + 2], np.float64),
+        numba.carray(_pointer(table[POSITION]), table[POSITION + 2], np.float64),
+        state,
+        numba.carray(_pointer(table[AXES]), (table[AXES + 1], table[AXES + 2]), np.float64),
+        numba.carray(_pointer(table[QD]), table[QD + 2], np.float64),
+        numba.carray(_pointer(table[WATCH]), table[WATCH + 2], np.float64),
+    )
+    state[STOP_WHICH] = which
+    state[STOP_VALUE] = value
+    return kind
