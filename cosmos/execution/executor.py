@@ -28,9 +28,9 @@ from cosmos.execution.field_on_tool import FieldOnToolWatch
 from cosmos.execution.float_maths import distance_to_point
 from cosmos.execution.holding import brake_after_until, hold_pose
 from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict
-from cosmos.execution.obstacles import ObstacleWorld
-from cosmos.execution.recording import LogRecorder
-from cosmos.execution.resolve import effective_masses, posture_joints, segment_goals, setpoint_for
+from cosmos.execution.obstacles import COLLISION_CHECK_EVERY, MINIMUM_CHECK_EVERY, ObstacleWorld
+from cosmos.execution.recording import LogRecorder, log_segment
+from cosmos.execution.resolve import posture_joints, segment_goals, setpoint_for
 from cosmos.execution.search import search_phase
 from cosmos.execution.supervision import StopKind, Supervisor
 from cosmos.execution.tare import FreeAir
@@ -38,7 +38,6 @@ from cosmos.execution.via_legs import ViaProgress
 from cosmos.execution.walker import NO_HAND, HandSteps, PlanWalker, Senses
 from cosmos.execution.wording import failure_text, origin, statement_head
 from cosmos.lang.check.limits import timed_move_problem
-from cosmos.osc.orientation import matrix_to_quat
 from cosmos.plan import (
     AddObstacle,
     GoalReached,
@@ -274,64 +273,84 @@ class Executor:
         # Obstacles move only if one is MOVING; the first tick rebuilds the world's tree after an OBSTACLE.
         moving = obstacles is not None and any(obstacle.moving for obstacle in obstacles.scene.obstacles)
         acting: object = ()  # the influences the supervisor was told of: the same tuple until an evaluation
-        while True:
-            if obstacles is not None and (moving or not ticks):
-                obstacles.before_tick()
-            now = tick()
-            ticks += 1
-            if obstacles is not None:
-                for reason in obstacles.after_tick():
-                    self._event("collision", segment, reason)
-                if (influences := obstacles.field.influences) is not acting:
-                    supervisor.field_acting, acting = bool(influences), influences
-                if reason := field_watch.update(
-                    rt.servo.null_space, rt.servo.link_field, deviation, influences
-                ):
-                    self._event("field_on_tool", segment, reason)
-            if self.stop_requested:
-                self.stop_requested = False
-                self.hold()
-                self._event("interrupted", segment, "stopped from outside (Ctrl-C or SIGTERM)")
-                raise Interrupted(
-                    f"{statement_head(segment.statement)} interrupted", segment.span, self._source
-                )
-            stop = check(now, wrench, torque, position)
-            if stop is not None:
-                if stop.kind is StopKind.PATH:  # off its line: say if a singularity is why
-                    singular = singularity(rt.q, rt.evaluation.jacobian, rt.robot.description)
-                    if singular is not None:
-                        stop = replace(stop, message=f"{stop.message}; {singular}")
-                return Outcome(Verdict.FAILED, stop.message, stop)
-            snapshot.t_s = now
-            if goal_index < last_goal:
-                if distance_to_point(position, goal_points[goal_index]) < via_radius:
-                    goal_index += 1
-                    supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
-                    rt.set_setpoint(
-                        setpoint_for(
-                            segment, *goals[goal_index], rt.evaluation, rt.wrench, now, posture, among, True
-                        )
+        servo, looked, minimum_in = rt.servo, 0, MINIMUM_CHECK_EVERY
+        # The world's looks for collisions and minima: called at the ticks they fall due, not at every tick.
+        look_at = obstacles.ticks_to_look() if obstacles is not None else 0
+        try:
+            while True:
+                if obstacles is not None and (moving or not ticks):
+                    obstacles.before_tick()
+                now = tick()
+                ticks += 1
+                if obstacles is not None:
+                    if ticks == look_at:
+                        look_at += COLLISION_CHECK_EVERY
+                        for reason in obstacles.after_tick(ticks - looked):
+                            self._event("collision", segment, reason)
+                        looked = ticks
+                    if (influences := obstacles.field.influences) is not acting:
+                        supervisor.field_acting, acting = bool(influences), influences
+                    if reason := field_watch.update(
+                        servo.null_space, servo.link_field, deviation, influences
+                    ):
+                        self._event("field_on_tool", segment, reason)
+                if self.stop_requested:
+                    self.stop_requested = False
+                    self.hold()
+                    self._event("interrupted", segment, "stopped from outside (Ctrl-C or SIGTERM)")
+                    raise Interrupted(
+                        f"{statement_head(segment.statement)} interrupted", segment.span, self._source
                     )
-                outcome = monitor.check(snapshot, completion=False) or via.stalled(now, position, goal_index)
-                if outcome is not None:
+                stop = check(now, wrench, torque, position)
+                if stop is not None:
+                    if stop.kind is StopKind.PATH:  # off its line: say if a singularity is why
+                        singular = singularity(rt.q, rt.evaluation.jacobian, rt.robot.description)
+                        if singular is not None:
+                            stop = replace(stop, message=f"{stop.message}; {singular}")
+                    return Outcome(Verdict.FAILED, stop.message, stop)
+                snapshot.t_s = now
+                if goal_index < last_goal:
+                    if distance_to_point(position, goal_points[goal_index]) < via_radius:
+                        goal_index += 1
+                        supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
+                        rt.set_setpoint(
+                            setpoint_for(
+                                segment,
+                                *goals[goal_index],
+                                rt.evaluation,
+                                rt.wrench,
+                                now,
+                                posture,
+                                among,
+                                True,
+                            )
+                        )
+                    outcome = monitor.check(snapshot, completion=False) or via.stalled(
+                        now, position, goal_index
+                    )
+                    if outcome is not None:
+                        return outcome
+                    continue
+                if watch_minima and obstacles is not None and not (minimum_in := minimum_in - 1):
+                    minimum_in = MINIMUM_CHECK_EVERY
+                    stuck = obstacles.local_minimum(position, goal_points[-1], MINIMUM_CHECK_EVERY)
+                    if stuck is not None:
+                        head = statement_head(segment.statement)
+                        return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
+                if search is not None:  # INSERT ... SEARCH: the pattern, then the found part led in
+                    found = search.check(now, position, meter.rotation)
+                    if isinstance(found, Outcome):
+                        return found
+                    if found is not None:  # the lateral axes return to the INSERT's compliance
+                        self._event("found", segment, found)
+                    monitor.searching, search = search.pattern, search.going_on
+                if now >= idle_until and (outcome := judge(snapshot)) is not None:
                     return outcome
-                continue
-            if watch_minima and obstacles is not None:
-                stuck = obstacles.local_minimum(position, goal_points[-1])
-                if stuck is not None:
-                    head = statement_head(segment.statement)
-                    return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
-            if search is not None:  # INSERT ... SEARCH: the pattern, then the found part led in
-                found = search.check(now, position, meter.rotation)
-                if isinstance(found, Outcome):
-                    return found
-                if found is not None:  # the lateral axes return to the INSERT's compliance
-                    self._event("found", segment, found)
-                monitor.searching, search = search.pattern, search.going_on
-            if now >= idle_until and (outcome := judge(snapshot)) is not None:
-                return outcome
-            if progress is not None and ticks % progress_every == 0:
-                progress(Progress(segment.line, segment.statement, now))
+                if progress is not None and ticks % progress_every == 0:
+                    progress(Progress(segment.line, segment.statement, now))
+        finally:  # the ticks since the world's last look (none falls due in them)
+            if obstacles is not None and ticks > looked:
+                obstacles.after_tick(ticks - looked)
 
     def hold(self, duration_s: float = 0.0) -> None:
         """Hold the measured pose with every axis under position control (no force)."""
@@ -369,26 +388,5 @@ class Executor:
         if self.recorder is not None:
             self.recorder.start_segment(index, segment.line, self._stopped_at)
         self._stopped_at = None
-        if self.log is None:
-            return
-        # The servo's unit-mass gains times the effective masses: physical stiffness and damping.
-        masses = effective_masses(self.runtime.evaluation, setpoint.rotation_task_to_world)
-        motion = np.array(setpoint.motion_axes, dtype=bool)
-        stiffness = np.where(motion, setpoint.kp_task * masses, 0.0)
-        damping = setpoint.kv_task * masses
-        goal = np.concatenate((setpoint.position, matrix_to_quat(setpoint.rotation_to_world)))
-        self.log.segment(
-            self.runtime.time_s,
-            segment=index,
-            line=segment.line,
-            statement=segment.statement,
-            kind=segment.kind.value,
-            frame=matrix_to_quat(setpoint.rotation_task_to_world),
-            motion_axes=[int(a) for a in setpoint.motion_axes],
-            force_setpoint=setpoint.force_task,
-            stiffness=stiffness,
-            damping=damping,
-            goal=goal,
-            speed_limit=segment.speed_limit_mps,
-            timeout=segment.timeout_s,
-        )
+        if self.log is not None:
+            log_segment(self.log, self.runtime.time_s, index, segment, setpoint, self.runtime.evaluation)

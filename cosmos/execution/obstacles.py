@@ -134,9 +134,16 @@ class ObstacleWorld:
         if self.active:
             self.scene.update(self.runtime.time_s)
 
-    def after_tick(self) -> list[str]:
-        """Look for new collisions (every few ticks); redraw moving obstacles. Returns reasons."""
-        self._ticks += 1
+    def ticks_to_look(self) -> int:
+        """How many ticks from now the tick is whose :meth:`after_tick` looks for collisions (1: the next)."""
+        return COLLISION_CHECK_EVERY - self._ticks % COLLISION_CHECK_EVERY
+
+    def after_tick(self, ticks: int = 1) -> list[str]:
+        """``ticks`` more ticks ran: new collisions, and moving obstacles redrawn, if a look falls due now.
+
+        A look is due every :data:`COLLISION_CHECK_EVERY` ticks (:meth:`ticks_to_look`). Returns reasons.
+        """
+        self._ticks += ticks
         if self._ticks % COLLISION_CHECK_EVERY:  # SCENE_EVERY is a multiple of it
             return []
         t_s = self.runtime.time_s
@@ -159,16 +166,19 @@ class ObstacleWorld:
         self.detector.reset()
         self._goal_ticks = 0
 
-    def local_minimum(self, position: np.ndarray, goal: tuple[float, ...]) -> LocalMinimum | None:
+    def local_minimum(
+        self, position: np.ndarray, goal: tuple[float, ...], ticks: int = 1
+    ) -> LocalMinimum | None:
         """The local minimum the goal motion is stuck in, if any (looked for every few ticks).
 
-        Every :data:`MINIMUM_CHECK_EVERY` ticks: the detector takes any steady rate.
+        Every :data:`MINIMUM_CHECK_EVERY` ticks of the goal motion: the detector takes any steady rate.
 
         Args:
             position: The measured tool point, world [m]. # (3,)
             goal: The goal point, world [m].
+            ticks: Ticks of the goal motion since the last call (a caller may call only when a look is due).
         """
-        self._goal_ticks += 1
+        self._goal_ticks += ticks
         if self._goal_ticks % MINIMUM_CHECK_EVERY or not self.active:
             return None
         distance_m = distance_to_point(position, goal)

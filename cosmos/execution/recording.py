@@ -1,4 +1,4 @@
-"""What the run log records from the live runtime: the state and the link transforms.
+"""What the run log records from the live runtime: the state, the link transforms, each segment's start.
 
 The controller never reads the simulator's internals; the *recorder* may: the
 log shows the true tool pose (MuJoCo's tool site) beside the joint state, the
@@ -12,9 +12,14 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
+from cosmos.execution.resolve import effective_masses
+from cosmos.osc.orientation import matrix_to_quat
+from cosmos.plan import Segment
 from cosmos.plant import Plant
 from cosmos.runlog.foxglove import ARM_FRAMES
 from cosmos.runlog.writer import RunLog
+from cosmos.runtime.parameters import Evaluation
+from cosmos.runtime.setpoint import ServoSetpoint
 from cosmos.workcell import TOOL_SITE
 
 TRANSFORM_EVERY = 5
@@ -92,3 +97,39 @@ class LogRecorder:
         self._count += 1
         if self._count % TRANSFORM_EVERY == 1:
             log.transforms(t_s, self._xpos, self._xquat, self._bodies)
+
+
+def log_segment(
+    log: RunLog, t_s: float, index: int, segment: Segment, setpoint: ServoSetpoint, evaluation: Evaluation
+) -> None:
+    """Write segment ``index``'s start on ``/cosmos/segment``: its goal, task frame, stiffness and damping.
+
+    Args:
+        log: The run log.
+        t_s: Simulated time at its start [s].
+        index: The segment's index in order of execution.
+        segment: The segment.
+        setpoint: Its servo setpoint (unit-mass gains, goal, task frame).
+        evaluation: The model's evaluation at its start (the effective masses).
+    """
+    # The servo's unit-mass gains times the effective masses: physical stiffness and damping.
+    masses = effective_masses(evaluation, setpoint.rotation_task_to_world)
+    motion = np.array(setpoint.motion_axes, dtype=bool)
+    stiffness = np.where(motion, setpoint.kp_task * masses, 0.0)
+    damping = setpoint.kv_task * masses
+    goal = np.concatenate((setpoint.position, matrix_to_quat(setpoint.rotation_to_world)))
+    log.segment(
+        t_s,
+        segment=index,
+        line=segment.line,
+        statement=segment.statement,
+        kind=segment.kind.value,
+        frame=matrix_to_quat(setpoint.rotation_task_to_world),
+        motion_axes=[int(a) for a in setpoint.motion_axes],
+        force_setpoint=setpoint.force_task,
+        stiffness=stiffness,
+        damping=damping,
+        goal=goal,
+        speed_limit=segment.speed_limit_mps,
+        timeout=segment.timeout_s,
+    )
