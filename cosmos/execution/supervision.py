@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 from numba import typeof
@@ -91,6 +92,7 @@ from cosmos.execution.supervision_kernel import (
     TOUCHED,
     WATCH,
     WRENCH,
+    path_deviation_listed,
     state_size,
     supervise_listed,
     supervise_tick,
@@ -177,6 +179,7 @@ class Supervisor:
         supervise_listed.compile_declared()
         (declared,) = supervise_listed.signatures
         self._listed_tick = supervise_listed.overloads[declared].entry_point
+        self._listed_deviation: Any = None  # path_deviation_listed's, loaded at its first call
         self._live_types = (LIVE_VECTOR,) * 3  # wrench, torque, position as supervise_tick declares them
         self._wrench: object = None  # the live views listed (_check_unlisted)
         self._torque: object = None
@@ -289,8 +292,17 @@ class Supervisor:
         self._state[LINE : LINE + LINE_SIZE] = [*self._line[0], *self._line[1], self._line[2]]
 
     def path_deviation_m(self, position: FloatArray) -> float:
-        """The tool point's distance from the segment's commanded line (as the PATH stop measures it) [m]."""
-        return off_line(position.tolist(), *self._line, self._path_axes)
+        """The tool point's distance from the segment's commanded line (as the PATH stop measures it) [m].
+
+        For the live tool point the ticks look at, one compiled call (1 us less than in Python).
+        """
+        if position is not self._position:
+            return off_line(position.tolist(), *self._line, self._path_axes)
+        if self._listed_deviation is None:  # among obstacles only (the field's watch): loaded then
+            path_deviation_listed.compile_declared()
+            (declared,) = path_deviation_listed.signatures
+            self._listed_deviation = path_deviation_listed.overloads[declared].entry_point
+        return float(self._listed_deviation(self._table))
 
     # ------------------------------------------------------------------ ticks
 

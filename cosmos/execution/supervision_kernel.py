@@ -310,3 +310,17 @@ def supervise_listed(ncon: int, table: IntArray) -> int:
     state[STOP_WHICH] = which
     state[STOP_VALUE] = value
     return kind
+
+
+@kernel(types.float64(types.Array(types.int64, 1, "C")))
+def path_deviation_listed(table: IntArray) -> float:
+    """The tool point's distance from its commanded line on the path's axes (:func:`slow_look`'s) [m].
+
+    On the arrays ``table`` lists (:func:`supervise_listed`'s): the tool point, the state's line,
+    the axes; what :func:`cosmos.execution.expected.off_line` computes, in one compiled call.
+    """
+    position = numba.carray(_pointer(table[POSITION]), table[POSITION + 2], np.float64)
+    state = numba.carray(_pointer(table[STATE]), table[STATE + 2], np.float64)
+    axes = numba.carray(_pointer(table[AXES]), (table[AXES + 1], table[AXES + 2]), np.float64)
+    _, off = slow_look(position[:0], 0.0, position, state[LINE : LINE + LINE_SIZE], axes, True)
+    return off
