@@ -42,6 +42,11 @@ SINGULAR_CONDITION = 0.02
 """Smallest over largest singular value of the (scaled) Jacobian below which the arm is singular."""
 LENGTH_SCALE_M = 0.3
 """Makes the Jacobian's rotation rows commensurate with its translation rows [m]."""
+REST_ANGULAR_SPEED_RAD_S = 0.05
+"""A goal motion's tool turning faster than this (on its controlled rotations) has not arrived
+[rad/s] (2.9 deg/s, as a brake's rest, :data:`cosmos.execution.holding.BRAKE_AT_REST`). Arrival
+("within tolerance and at rest") judged the tool point's speed only: a reorienting MOVE ended
+at 0.8 deg still turning at 11 deg/s, and the WAIT after it held that pose, 0.75-0.80 deg off."""
 BLOCKED_N = 2.0
 """A stalled motion pushing harder than this is blocked by something [N]."""
 

@@ -17,7 +17,7 @@ from enum import Enum
 import numpy as np
 
 from cosmos.execution.approach_stall import ApproachStall, timeout_reason
-from cosmos.execution.arrival import GoalError
+from cosmos.execution.arrival import REST_ANGULAR_SPEED_RAD_S, GoalError
 from cosmos.execution.closing import STALL_TIME_S, Closing
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import length_along, norm3, pose_error
@@ -249,7 +249,7 @@ class SegmentMonitor:
         if timed is not None and snap.t_s < timed:
             return None
         self._ticks += 1
-        vx, vy, vz, _, _, _ = snap.velocity.tolist()
+        vx, vy, vz, wx, wy, wz = snap.velocity.tolist()
         speed = math.sqrt(vx * vx + vy * vy + vz * vz)
         if self._ticks % JUDGE_MOVING_EVERY and (
             speed > goal.speed_tolerance_mps or self._off_position(snap.position, goal.position_tolerance_m)
@@ -269,6 +269,7 @@ class SegmentMonitor:
         rotation_off = length_along(self._rotation_rows, rx, ry, rz)
         arrived = (
             speed <= goal.speed_tolerance_mps
+            and length_along(self._rotation_rows, wx, wy, wz) <= REST_ANGULAR_SPEED_RAD_S
             and position_off <= goal.position_tolerance_m
             and rotation_off <= goal.orientation_tolerance_rad
         )
