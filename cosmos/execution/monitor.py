@@ -18,7 +18,7 @@ import numpy as np
 
 from cosmos.execution.approach_stall import ApproachStall, timeout_reason
 from cosmos.execution.arrival import REST_ANGULAR_SPEED_RAD_S, GoalError
-from cosmos.execution.closing import STALL_TIME_S, Closing
+from cosmos.execution.closing import Closing, stall_reason
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import length_along, norm3, pose_error
 from cosmos.execution.left_surface import watched
@@ -332,10 +332,9 @@ class SegmentMonitor:
             return Outcome(
                 Verdict.DONE, f"settled on its COMPLY spring {error.distance_m * 1e3:.1f} mm from its goal"
             )
-        return Outcome(
-            Verdict.FAILED,
-            f"cannot reach its goal: stopped {error.text()} for {STALL_TIME_S:g} s; {self.stall_cause()}",
-        )
+        speed = norm3(snap.velocity[:3])
+        rest = self._goal.speed_tolerance_mps
+        return Outcome(Verdict.FAILED, stall_reason(error.text(), speed, rest, self.stall_cause))
 
     def _force_settled(self, snap: Snapshot) -> Outcome | None:
         self._settled_since = None if self._lost.ran_on(snap.position, snap.t_s) else self._settled_since

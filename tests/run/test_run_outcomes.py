@@ -299,3 +299,20 @@ def test_a_relative_goal_out_of_reach_fails_before_the_arm_moves(tmp_path: Path)
     assert failed[0].reason.startswith("cannot reach its goal: the pose is out of the arm's reach")
     slide = [e.t for e in run.log.events if e.line == 3 and e.kind == "start"][0]
     assert failed[0].t - slide < 0.01  # before the arm moves
+
+
+def test_an_arm_swinging_about_its_goal_is_not_said_to_have_stopped(tmp_path: Path) -> None:
+    """Catches the stall's message saying "stopped 0.2 mm and 0.0 deg from its goal for 2 s" of
+    an arm swinging 2.5 mm either side of its goal at 90 mm/s (a model error of 0.5, past the
+    controller's margins): the log's own speeds at the failure say it never stopped."""
+    import cosmos
+
+    log = tmp_path / "swing.mcap"
+    run = cosmos.run("MOVE TO table + (0, 0, 150 mm)\n", log=log, vary={"model_error": 0.5})
+    assert not run.ok
+    reason = run.outcome.reason if run.outcome is not None else ""
+    assert reason.startswith("cannot settle at its goal: ") and "stopped" not in reason, reason
+    state = run.record.state
+    last = state.t >= state.t[-1] - 0.5
+    speeds = np.linalg.norm(state.v[last, :3], axis=1)
+    assert speeds.max() > 0.02, speeds.max()  # the log's own samples: swinging, not at rest
