@@ -18,7 +18,7 @@ def statement_head(statement: str) -> str:
     words = statement.split()
     if words and words[0].upper() in ("IF", "WHILE"):
         return words[0]
-    if len(words) > 1 and words[1].upper() in _CLAUSE_WORDS | {"FORCE", "WIDTH"}:  # GRASP FORCE 40 N
+    if len(words) > 1 and words[1].upper() in {"FORCE", "WIDTH", "SPEED", "TIMEOUT"}:  # GRASP FORCE 40 N
         return words[0]
     unit = len(words) > 2 and words[1][:1].isdigit() and words[2].isalpha()  # WAIT 2 s
     return " ".join(words[:3] if unit and words[2].upper() not in _CLAUSE_WORDS else words[:2])

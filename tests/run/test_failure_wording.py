@@ -19,7 +19,7 @@ from cosmos.execution.wording import failure_text
         # Read "RELEASE the gripper holds nothing" and "WAIT 0.1 s the POSTURE of line 2 ...".
         ("RELEASE", "the gripper holds nothing", "RELEASE: the gripper holds nothing"),
         ("WAIT 0.1 s", "the POSTURE of line 2 gives 5", "WAIT 0.1 s: the POSTURE of line 2 gives 5"),
-        ("WAIT UNTIL FORCE > 5 N", "timed out", "WAIT timed out"),
+        ("WAIT UNTIL FORCE > 5 N", "timed out after 30 s", "WAIT UNTIL timed out after 30 s"),
     ],
 )
 def test_a_failure_reads_as_its_head_then_its_reason(statement: str, reason: str, said: str) -> None:
