@@ -135,16 +135,27 @@ def tool_points(
     met it at its SPEED before it had slowed.
     """
     origin = np.asarray(position, dtype=float)
-    axes = np.asarray(rotation, dtype=float)
+    to_world = np.asarray(rotation, dtype=float).T
+    # Ring by ring, as each ring's own product (one product of all the rings may round otherwise).
+    return np.concatenate([origin[None, :], *(origin + local.dot(to_world) for local in _rings(sections))])
+
+
+@functools.cache
+def _rings(sections: tuple[tuple[float, float, float], ...]) -> tuple[FloatArray, ...]:
+    """:func:`tool_points`' rings in tool axes [m], built once per tool: each (RIM_POINTS, 3).
+
+    Built at each call they were 70 % of its 52 us (warm; 130-200 us in the executor's cold caches).
+    """
     angles = np.linspace(0.0, 2.0 * math.pi, RIM_POINTS, endpoint=False)
     ring = np.stack((np.cos(angles), np.sin(angles), np.zeros(RIM_POINTS)), axis=1)  # (RIM_POINTS, 3)
-    points = [origin[None, :]]
+    rings = []
     for start, end, radius in sections:
         count = max(2, int(math.ceil((end - start) / RING_SPACING_M)) + 1)
         for back in np.linspace(max(start, 0.0), max(end, 0.0), count):
             local = radius * ring - np.array((0.0, 0.0, back))  # z along the tool, away from the flange
-            points.append(origin + local.dot(axes.T))
-    return np.concatenate(points)
+            local.setflags(write=False)
+            rings.append(local)
+    return tuple(rings)
 
 
 @functools.cache
