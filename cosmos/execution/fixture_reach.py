@@ -39,10 +39,12 @@ class FixtureReach:
         aabb = model.geom_aabb[self._geoms]  # in each geom's frame: centre, half sizes
         self._centre, self._half = aabb[:, :3, None], aabb[:, 3:, None]
         self._plane = model.geom_type[fixtures] == mujoco.mjtGeom.mjGEOM_PLANE  # unbounded: measured
+        self._paired = self._pairs.any(axis=0)  # each fixture geom paired with a geom of the tool
+        self._any_pair = bool(self._paired.any())
 
     def within(self, distance_m: float) -> bool:
         """Whether a geom of the tool is within ``distance_m`` of a fixture's, now [m]."""
-        if not self._pairs.any():
+        if not self._any_pair:
             return False
         data, geoms, n = self._data, self._geoms, self._tools
         xmat = data.geom_xmat[geoms].reshape(-1, 3, 3)
@@ -51,7 +53,7 @@ class FixtureReach:
         low, high = centre - half, centre + half
         tool_low, tool_high = low[:n].min(axis=0), high[:n].max(axis=0)
         near = ((low[n:] - tool_high < distance_m) & (tool_low - high[n:] < distance_m)).all(axis=1)
-        near = np.flatnonzero((near | self._plane) & self._pairs.any(axis=0))
+        near = np.flatnonzero((near | self._plane) & self._paired)
         if not len(near):
             return False
         # Each near fixture against each of the tool's geoms it pairs with: their boxes' gap.
