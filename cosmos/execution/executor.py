@@ -23,7 +23,7 @@ import numpy as np
 
 from cosmos.errors import TaskFailure
 from cosmos.execution.arrival import ToolMeter, goal_error, out_of_reach, singularity, stall_cause
-from cosmos.execution.expected import FREE_MOTION_FORCE_N
+from cosmos.execution.expected import free_limit_n
 from cosmos.execution.field_on_tool import FieldOnToolWatch
 from cosmos.execution.float_maths import distance_to_point
 from cosmos.execution.holding import brake_after_until, hold_pose
@@ -251,7 +251,7 @@ class Executor:
         monitor.turn_long_way = rt.rotation_plan is not None and rt.rotation_plan.long_way
         supervisor = self.supervisor
         monitor.tool_touched = supervisor.tool_touched
-        supervisor.free_force_limit_n = segment.force_limit_n or FREE_MOTION_FORCE_N
+        supervisor.free_force_limit_n = free_limit_n(segment)
         supervisor.start(segment, start_position, goals[0][0])
         via_radius = segment.via_radius_m or 0.01
         ticks = 0

@@ -49,6 +49,11 @@ def spring_press_n(segment: Segment, start: FloatArray, goal: FloatArray) -> flo
     return max(presses, default=0.0)
 
 
+def free_limit_n(segment: Segment) -> float:
+    """The free-motion force limit in force for ``segment``: its ``LIMIT FORCE``, else the default [N]."""
+    return segment.force_limit_n or FREE_MOTION_FORCE_N
+
+
 def force_limit_n(segment: Segment, free_limit_n: float, spring_press: float = 0.0) -> float:
     """The largest force the statement may see at the wrist [N] (module docstring).
 
@@ -67,9 +72,7 @@ def force_limit_n(segment: Segment, free_limit_n: float, spring_press: float = 0
     return min(limit, WRIST_SENSOR.force_n)
 
 
-def braked_over_limit(
-    segment: Segment, free_limit_n: float, braked: tuple[float, float], until_reason: str
-) -> str:
+def braked_over_limit(segment: Segment, braked: tuple[float, float], until_reason: str) -> str:
     """A protective stop's message if the wrist's peak while the arm braked after an UNTIL exceeds the limit.
 
     A guarded motion's impact comes after its UNTIL fired, while the arm brakes
@@ -79,7 +82,6 @@ def braked_over_limit(
 
     Args:
         segment: The segment its UNTIL stopped.
-        free_limit_n: The free-motion limit in force (default or ``LIMIT FORCE``) [N].
         braked: ``(peak [N], when [s])``: the largest wrist force while the arm braked.
         until_reason: The stop's reason (``UNTIL FORCE > 5 N: 5.7 N at 3.16 s``).
 
@@ -87,7 +89,7 @@ def braked_over_limit(
         ``protective stop: 174.2 N at the wrist at 3.17 s while braking after UNTIL FORCE > 5 N:
         5.7 N at 3.16 s; over this statement's limit of 40 N``; "" within the limit.
     """
-    limit, (peak_n, peak_s) = force_limit_n(segment, free_limit_n), braked
+    limit, (peak_n, peak_s) = force_limit_n(segment, free_limit_n(segment)), braked
     if peak_n <= limit:
         return ""
     return (

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cosmos.execution.expected import FREE_MOTION_FORCE_N, braked_over_limit
+from cosmos.execution.expected import braked_over_limit
 from cosmos.execution.monitor import Outcome, Verdict
 from cosmos.execution.supervision import ProtectiveStop, StopKind
 from cosmos.plan import Segment
@@ -84,5 +84,5 @@ def brake_after_until(runtime: Runtime, segment: Segment, until_reason: str) -> 
     if not bool(np.all(segment.motion_axes)) or any(segment.stiffness):
         return None
     braked = brake_to_rest(runtime)
-    over = braked_over_limit(segment, segment.force_limit_n or FREE_MOTION_FORCE_N, braked, until_reason)
+    over = braked_over_limit(segment, braked, until_reason)
     return Outcome(Verdict.FAILED, over, ProtectiveStop(StopKind.FORCE, over)) if over else None

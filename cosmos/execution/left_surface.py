@@ -8,8 +8,9 @@ arrived 0.5 mm from its goal, "done". Off the table's edge it found nothing belo
 at its goal's time. Either way the SLIDE did not do what it says. So every tick (a few float
 products) the SLIDE's push is watched from where it started pressing:
 
-- **dropped**: the tool point has moved more than :data:`LEFT_SURFACE_M` along the push (into
-  where the surface was);
+- **dropped**: the tool point has moved more than
+  :data:`~cosmos.execution.lost_push.LOST_SURFACE_M` along the push (into where the surface
+  was: less than any fixture's step, the hole fixture's top face stands 60 mm over the table);
 - **push lost**: the push along its axis, once it has reached :data:`LOST_PUSH_SHARE` of its
   setpoint, has stayed under it for :data:`LOST_PUSH_S` in a row.
 
@@ -24,17 +25,13 @@ from typing import TypeVar
 
 import numpy as np
 
+from cosmos.execution.lost_push import LOST_SURFACE_M, segment_push
 from cosmos.plan import Segment, SegmentKind
 
 FloatArray = np.ndarray
 S = TypeVar("S")
 T = TypeVar("T")
 V = TypeVar("V")
-
-LEFT_SURFACE_M = 0.005
-"""A SLIDE whose tool point moves this far along its push from where it started has left its
-surface [m]: more than a tilted table's rise over a slide (2 deg over 100 mm is 3.5 mm), less
-than any fixture's step (the hole fixture's top face stands 60 mm over the table)."""
 
 LOST_PUSH_SHARE = 0.1
 """A SLIDE's push under this share of its setpoint is lost (while it lasts :data:`LOST_PUSH_S`)."""
@@ -66,13 +63,11 @@ class SurfaceWatch:
     @classmethod
     def of(cls, segment: Segment, start: tuple[float, ...]) -> SurfaceWatch | None:
         """The watch of a segment's push (its force setpoint's translation); None if it pushes nothing."""
-        push = np.asarray(segment.frame_rotation, dtype=float).dot(np.asarray(segment.force_setpoint[:3]))
-        size = float(np.linalg.norm(push))
+        unit, size = segment_push(segment)
         if not size > 0.0:
             return None
-        nx, ny, nz = (push / size).tolist()
         x, y, z = start
-        return cls((nx, ny, nz), size, (x, y, z))
+        return cls(unit, size, (x, y, z))
 
     def left(self, position: FloatArray, wrench: FloatArray, t_s: float) -> str:
         """Why the tool has left its surface at this tick (the failure's reason), or "" if it has not.
@@ -87,7 +82,7 @@ class SurfaceWatch:
         (nx, ny, nz), (x0, y0, z0) = self.push, self.start
         dropped = (x - x0) * nx + (y - y0) * ny + (z - z0) * nz
         push = fx * nx + fy * ny + fz * nz
-        if dropped > LEFT_SURFACE_M:
+        if dropped > LOST_SURFACE_M:
             slid = self._slid(position, dropped)
             return (
                 f"left its surface at {t_s:.2f} s: the tool dropped {dropped * 1e3:.1f} mm along its push "

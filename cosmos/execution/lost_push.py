@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cosmos.plan import Segment, SegmentKind
+from cosmos.plan import TOUCH_THRESHOLD_N, Segment, SegmentKind
 
 FloatArray = np.ndarray
 
@@ -31,7 +31,8 @@ class LostPush:
         at: The tool point where it last had its surface, world [m]. # (3,)
         since_s: When it was there [s].
         pressed_at: The tool point where it last touched something (:meth:`ran_free`), world [m]. # (3,)
-        touching_n: The least force that touches something [N] (:data:`TOUCHING_N`, or half the push).
+        touching_n: The least force that touches something [N]: the touch's
+            (:data:`~cosmos.plan.TOUCH_THRESHOLD_N`), or half the push if less.
         contact: The push is a CONTACT's hold: one running on touching nothing fails (:meth:`lost_contact`).
     """
 
@@ -45,15 +46,11 @@ class LostPush:
     @classmethod
     def of(cls, segment: Segment, start: tuple[float, ...], start_s: float) -> LostPush:
         """The watch of ``segment``'s push (its force setpoint's translation), from its start."""
-        push = np.asarray(segment.frame_rotation, dtype=float).dot(np.asarray(segment.force_setpoint[:3]))
-        size = float(np.linalg.norm(push))
-        unit = push / size if size > 0.0 else np.zeros(3)
+        unit, size = segment_push(segment)
         x, y, z = start
-        touching = min(TOUCHING_N, 0.5 * size)
+        touching = min(TOUCH_THRESHOLD_N, 0.5 * size)
         held = segment.kind is SegmentKind.CONTACT_HOLD
-        return cls(
-            (float(unit[0]), float(unit[1]), float(unit[2])), (x, y, z), start_s, (x, y, z), touching, held
-        )
+        return cls(unit, (x, y, z), start_s, (x, y, z), touching, held)
 
     def ran_on(self, position: FloatArray, t_s: float) -> bool:
         """Whether the tool point ``position`` [m] ran on past :data:`LOST_PUSH_TRAVEL_M` (now its mark)."""
@@ -95,10 +92,6 @@ class LostPush:
         )
 
 
-TOUCHING_N = 2.0
-"""A hold touches something while the wrist senses a force of at least this, or half its FORCE
-if less [N]: CONTACT's touch threshold (docs/language.md)."""
-
 LOST_CONTACT_M = 0.015
 """A CONTACT's hold whose tool runs on this far along its push touching nothing has lost its
 contact and fails [m]. A peg sliding off the hole's chamfer falls into the bore rubbing its wall
@@ -109,6 +102,19 @@ mm through free air, 7.2 s, until the path deviation stopped it."""
 LOST_SURFACE_M = 0.005
 """A motion statement's held push that ran on this far along itself has lost its surface, as its
 failure says [m]: more than a tilted table's rise over a slide (2 deg over 100 mm is 3.5 mm)."""
+
+
+def segment_push(segment: Segment) -> tuple[tuple[float, float, float], float]:
+    """The segment's push, its force setpoint's translation in the world: unit direction, size [N].
+
+    ``((0, 0, 0), 0)`` for a segment that pushes nothing.
+    """
+    push = np.asarray(segment.frame_rotation, dtype=float).dot(np.asarray(segment.force_setpoint[:3]))
+    size = float(np.linalg.norm(push))
+    if not size > 0.0:
+        return (0.0, 0.0, 0.0), 0.0
+    nx, ny, nz = (push / size).tolist()
+    return (nx, ny, nz), size
 
 
 def lost_surface(segment: Segment, start: tuple[float, ...], position: FloatArray) -> str:

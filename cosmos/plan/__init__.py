@@ -70,6 +70,7 @@ from cosmos.plan.steps import (
     inner_steps,
 )
 from cosmos.plan.targets import (
+    TOUCH_THRESHOLD_N,
     AbsoluteTarget,
     BoolArray,
     Completion,
@@ -126,6 +127,7 @@ __all__ = [
     "Segment",
     "SegmentKind",
     "Step",
+    "TOUCH_THRESHOLD_N",
     "Target",
     "ToolEnd",
     "UntilOnly",

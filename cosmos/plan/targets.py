@@ -94,6 +94,12 @@ class GoalReached:
     kind: ClassVar[CompletionKind] = CompletionKind.GOAL_REACHED
 
 
+TOUCH_THRESHOLD_N = 2.0
+"""A CONTACT's or an INSERT's touch: a push of this much, or half its FORCE if less [N]
+(docs/language.md); the compiler's default, and what a CONTACT's hold counts as still touching
+(:mod:`cosmos.execution.lost_push`)."""
+
+
 @dataclass(frozen=True, eq=False)
 class ContactTouch:
     """Done when the tool touches.

@@ -63,7 +63,7 @@ class Defaults:
     contact_speed_mps: float = 0.02
     insert_speed_mps: float = 0.02
     contact_max_travel_m: float = 0.3
-    touch_threshold_n: float = 2.0
+    touch_threshold_n: float = plan.TOUCH_THRESHOLD_N
     settle_tolerance_n: float = 0.5
     settle_time_s: float = 0.2
     settle_max_time_s: float = 3.0
