@@ -79,8 +79,6 @@ def statement_timeline(record: RunRecord) -> list[StatementRun]:
     stack: list[_Open] = []
     t = record.state.t
     force = record.state.force_magnitude
-    lines = record.state.line
-    starts = np.array([event.t for event in record.events if event.kind == EventKind.START])
 
     def close(item: _Open, end: float, outcome: str, reason: str) -> None:
         inside = (t >= item.start) & (t <= end)
@@ -89,13 +87,6 @@ def statement_timeline(record: RunRecord) -> list[StatementRun]:
             fired = int(np.searchsorted(t, end - 1e-9))
             if fired < len(t):
                 inside[fired] = True
-        # So do the samples after its end that still carry its line, up to the next start: the
-        # arm braking after an UNTIL fired (a guarded MOVE's impact peaks there).
-        after = int(np.searchsorted(t, end, side="right"))
-        following = starts[np.searchsorted(starts, end, side="right") :]
-        until = int(np.searchsorted(t, following[0], side="left")) if len(following) else len(t)
-        other = np.flatnonzero(lines[after:until] != item.line)
-        inside[after : after + (int(other[0]) if len(other) else until - after)] = True
         peak = float(force[inside].max()) if inside.any() else float("nan")
         final = float(force[inside][-1]) if inside.any() else float("nan")
         runs.append(

@@ -177,10 +177,10 @@ def test_statement_text_keeps_its_final_parenthesis(tmp_path: Path) -> None:
 def test_a_guarded_moves_impact_after_its_firing_is_in_its_row_and_its_terms_read_whole(
     tmp_path: Path,
 ) -> None:
-    """Catches the replay's peak leaving out the samples after an UNTIL fired while the arm
-    brakes (tagged with the stopped line, before the next statement starts): docs/language.md's
-    own guarded example showed 100.2 N where its samples peaked at 209.1 N; and a parenthesised
-    term's value read ``(FORCE Z -17.6 N`` in the reason."""
+    """Catches the "stopped" event written before the arm has braked: the braking's samples carry
+    the stopped line but fell outside its row, so docs/language.md's own guarded example showed
+    100.2 N where its samples peaked at 209.1 N; and a parenthesised term's value read
+    ``(FORCE Z -17.6 N`` in the reason."""
     program = (
         "MOVE TO table + (0, 0, 50 mm)\n"
         "MOVE BY (0, 0, -100 mm) SPEED 50 mm/s UNTIL DISTANCE > 40 mm AND FORCE > 5 N OR (FORCE Z < -3 N)\n"
