@@ -202,6 +202,33 @@ def test_kept_digests_follow_the_sources(tmp_path: Path, monkeypatch: pytest.Mon
         cache._kept_digests.cache_clear()
 
 
+def test_no_temporary_directory_at_all_means_no_cache_not_a_crash(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """With the home, site-packages and every temporary directory read-only, ``cosmos run`` died at
+    import with ``FileNotFoundError: No usable temporary directory found`` (``tempfile.gettempdir``
+    in the fallback): the cache must be None with both reasons kept, so kernels compile uncached."""
+    blocker = tmp_path / "not_a_directory"
+    blocker.write_text("")
+    monkeypatch.setattr(cache, "user_cache_root", lambda: blocker / "cache")
+
+    def no_temporary_directory() -> str:
+        raise FileNotFoundError(2, "No usable temporary directory found")
+
+    monkeypatch.setattr(cache.tempfile, "gettempdir", no_temporary_directory)
+    monkeypatch.setattr(cache, "FALLBACK", [])
+    cache.kernel_directory.cache_clear()
+    cache._writable.cache_clear()
+    try:
+        assert cache.fallback_root() is None
+        assert cache.kernel_directory() is None
+        assert cache.FALLBACK[0].startswith(str(blocker / "cache"))
+        assert cache.FALLBACK[1] == "no temporary directory can be written"
+    finally:
+        cache.kernel_directory.cache_clear()
+        cache._writable.cache_clear()
+
+
 def test_without_any_cache_kernels_compile_and_run(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -71,10 +71,14 @@ def cache_key() -> str:
     return f"cosmos-{__version__}-numba-{numba.__version__}-{python}-{cpu_name()}".replace(os.sep, "_")
 
 
-def fallback_root() -> Path:
-    """A directory of this user's under the temporary directory (for read-only homes)."""
+def fallback_root() -> Path | None:
+    """A directory of this user's under the temporary directory (for read-only homes); None if there
+    is no temporary directory to write in (``tempfile`` found none)."""
     uid = os.getuid() if hasattr(os, "getuid") else 0
-    return Path(tempfile.gettempdir()) / f"cosmos-{uid}"
+    try:
+        return Path(tempfile.gettempdir()) / f"cosmos-{uid}"
+    except FileNotFoundError:
+        return None
 
 
 @functools.cache
@@ -102,8 +106,12 @@ def kernel_directory() -> Path | None:
     if not reason:
         return user
     FALLBACK.append(reason)
-    temporary = fallback_root() / "kernels" / cache_key()
-    second = _writable(temporary) or _writable(fallback_root())  # the shared directory's entry is ours
+    root = fallback_root()
+    if root is None:
+        FALLBACK.append("no temporary directory can be written")
+        return None
+    temporary = root / "kernels" / cache_key()
+    second = _writable(temporary) or _writable(root)  # the shared directory's entry is ours
     if not second:
         return temporary
     FALLBACK.append(second)
