@@ -14,7 +14,8 @@ import signal
 import threading
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, as_completed, wait
+from itertools import islice
 from typing import Any
 
 from cosmos.errors import UsageError
@@ -61,18 +62,20 @@ class LocalPool:
             return
         context = multiprocessing.get_context("spawn")
         workers = min(self.workers, len(tasks))
+        waiting = iter(tasks)
         with ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker) as pool:
-            futures = [pool.submit(run_task, task) for task in tasks]
-            reported: set[Future[dict[str, Any]]] = set()
+            # One run per worker at a time: the pool hands submitted runs to its workers' queue at once,
+            # where cancelling cannot reach them (Ctrl-C at 2 runs of 20 went on to make 7).
+            under_way = {pool.submit(run_task, task) for task in islice(waiting, workers)}
             try:
-                for future in as_completed(futures):
-                    reported.add(future)
-                    on_result(future.result())
+                while under_way:
+                    finished, _ = wait(under_way, return_when=FIRST_COMPLETED)
+                    for future in finished:
+                        on_result(future.result())
+                        under_way.discard(future)
+                        under_way.update(pool.submit(run_task, task) for task in islice(waiting, 1))
             except KeyboardInterrupt:
-                for future in futures:
-                    future.cancel()  # only those not started yet
-                running = [f for f in futures if not f.cancelled() and f not in reported]
-                for future in as_completed(running):
+                for future in as_completed(under_way):  # the runs under way finish and are reported
                     if future.exception() is None:
                         on_result(future.result())
                 raise

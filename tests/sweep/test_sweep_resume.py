@@ -61,7 +61,8 @@ def start_and_stop(out: Path, after: int, how: signal.Signals) -> subprocess.Com
 
 
 def test_interrupted_and_killed_sweep_resumes_without_repeating_or_losing_runs(tmp_path: Path) -> None:
-    """Catches results lost on Ctrl-C or kill -9, pool workers left running after kill -9, runs
+    """Catches results lost on Ctrl-C or kill -9, runs started after Ctrl-C (the pool's queue had
+    taken them: 2 runs done at Ctrl-C became 5), pool workers left running after kill -9, runs
     made twice on resuming, a cut last line that breaks the results file; then a --json object
     without the documented keys, a kept log that replay cannot read, a run that --sample does not
     make again (values drawn otherwise, or the variation not applied)."""
@@ -73,7 +74,7 @@ def test_interrupted_and_killed_sweep_resumes_without_repeating_or_losing_runs(t
     assert "Traceback" not in interrupted.stderr
     assert "interrupted:" in interrupted.stderr
     after_sigint = result_lines(results)
-    assert len(after_sigint) >= 2
+    assert 2 <= len(after_sigint) <= 3  # the one worker's run under way finishes; none is started
 
     start_and_stop(out, len(after_sigint) + 1, signal.SIGKILL)
     after_sigkill = result_lines(results)
