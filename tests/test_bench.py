@@ -1,11 +1,12 @@
 """cosmos bench: the figures issues 3 and 20 ask for, and a floor that moves as the workload does."""
 
+import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from cosmos.bench import programs
+from cosmos.bench import programs, suite
 from cosmos.bench.language import check_end_to_end_s
 from cosmos.bench.obstacles import bench_obstacles
 from cosmos.bench.programs import executor_run
@@ -156,3 +157,23 @@ def test_the_clock_around_each_tick_is_left_out_of_the_executor_share(
     extra, clocks = programs.tick_clock_cost_ns(calls=1000, looks=2)
     assert extra == pytest.approx(200.0, abs=0.5)
     assert clocks == pytest.approx(100.0, abs=0.5)
+
+
+def test_an_install_without_shipped_programs_reports_nothing_measured(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """From a wheel (``pip install .``: no ``programs/``) ``cosmos bench`` printed ``executor ...:
+    0.0 us/tick`` and ``"executor_tick_us": 0.0`` as if measured: the figures must be null and the
+    report must say where the programs are and why there are none."""
+    monkeypatch.setattr(suite, "shipped_programs", list)
+    figures = suite.programs_figures()
+    assert figures["programs"] == {} and figures["executor_tick_us"] is None
+    assert figures["executor_to_runtime_tick"] is None and figures["startup_s"] > 0  # type: ignore[operator]
+    monkeypatch.setattr(suite, "measure", lambda: {"tick_us": 15.0, "floor_tick_us": 10.0})
+    monkeypatch.setattr(suite, "programs_figures", lambda: figures)
+    monkeypatch.setattr(suite, "bench_obstacles", dict)
+    monkeypatch.setattr(suite, "bench_compile", lambda lines: 0.1)
+    monkeypatch.setattr(suite, "check_end_to_end_s", lambda lines, repeats: [0.1])
+    whole = suite.measure_all(first=False)
+    assert whole["executor_to_bench_loop"] is None and whole["executor_to_floor"] is None
+    json.dumps(whole, allow_nan=False)  # null, not 0.0 and not NaN

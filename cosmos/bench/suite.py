@@ -66,16 +66,17 @@ def programs_figures(
             total_runtime_s += best.runtime_s
             total_setup_s += best.setup_s
         startup = min((startup_run(Path(tmp)) for _ in range(STARTUP_REPEATS)), key=lambda run: run.wall_s)
+    ran = total_ticks > 0  # an installed package has no shipped programs: nothing measured is null
     return {
         "programs": per_program,
         "run_wall_s": walls,
-        "executor_tick_us": total_s / max(1.0, total_ticks) * 1e6,
-        "runtime_tick_us": total_runtime_s / max(1.0, total_ticks) * 1e6,
+        "executor_tick_us": total_s / total_ticks * 1e6 if ran else None,
+        "runtime_tick_us": total_runtime_s / total_ticks * 1e6 if ran else None,
         # The gap that is the executor's own: its loop against the runtime's work in the same runs, its
         # ticks and its set-up of each segment (the bench loop's workload is free space and one setpoint;
         # the programs' contacts cost physics time); "_alone": against the ticks alone.
-        "executor_to_runtime_tick": total_s / (total_runtime_s + total_setup_s) if total_s > 0 else 0.0,
-        "executor_to_runtime_tick_alone": total_s / total_runtime_s if total_runtime_s > 0 else 0.0,
+        "executor_to_runtime_tick": total_s / (total_runtime_s + total_setup_s) if ran else None,
+        "executor_to_runtime_tick_alone": total_s / total_runtime_s if ran else None,
         "startup_s": startup.wall_s,
         "startup_cpu_s": startup.cpu_s,
     }
@@ -86,9 +87,9 @@ def measure_all(first: bool = True) -> dict[str, object]:
     figures = measure()
     figures.update(programs_figures())
     executor_us = figures["executor_tick_us"]
-    assert isinstance(executor_us, float)
-    figures["executor_to_bench_loop"] = executor_us / float(figures["tick_us"])  # type: ignore[arg-type]
-    figures["executor_to_floor"] = executor_us / float(figures["floor_tick_us"])  # type: ignore[arg-type]
+    ran = isinstance(executor_us, float)
+    figures["executor_to_bench_loop"] = executor_us / float(figures["tick_us"]) if ran else None  # type: ignore
+    figures["executor_to_floor"] = executor_us / float(figures["floor_tick_us"]) if ran else None  # type: ignore
     if first:
         with tempfile.TemporaryDirectory(prefix="cosmos-bench-") as tmp:
             run = first_run(Path(tmp))

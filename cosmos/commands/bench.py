@@ -11,6 +11,7 @@ from collections.abc import Mapping
 
 import click
 
+from cosmos.bench.programs import PROGRAMS_DIR
 from cosmos.bench.suite import measure_all
 
 
@@ -43,11 +44,19 @@ def report(f: Mapping[str, object]) -> list[str]:
         *(f"  {name:<11} {cost:6.2f} us/tick" for name, cost in phases.items()),
         f"floor (mj_step + computeAllTerms + Jacobian): {g['floor_tick_us']:.1f} us/tick "
         f"(best of {_listed(g['floor_tick_us_runs'])}); bench loop / floor = {g['ratio_to_floor']:.2f}",
-        f"executor (shipped programs, in process): {g['executor_tick_us']:.1f} us/tick; "
-        f"/ bench loop = {g['executor_to_bench_loop']:.2f}, / floor = {g['executor_to_floor']:.2f}; "
-        f"/ the runtime's tick in the same runs ({g['runtime_tick_us']:.1f} us) = "
-        f"{g['executor_to_runtime_tick']:.3f}",
     ]
+    if g["executor_tick_us"] is None:
+        lines.append(
+            f"executor: not measured, no shipped programs beside this install ({PROGRAMS_DIR}: "
+            "an installed package has none); run `cosmos bench` in a clone of the repository"
+        )
+    else:
+        lines.append(
+            f"executor (shipped programs, in process): {g['executor_tick_us']:.1f} us/tick; "
+            f"/ bench loop = {g['executor_to_bench_loop']:.2f}, / floor = {g['executor_to_floor']:.2f}; "
+            f"/ the runtime's tick in the same runs ({g['runtime_tick_us']:.1f} us) = "
+            f"{g['executor_to_runtime_tick']:.3f}"
+        )
     for name, run in programs.items():
         lines.append(
             f"  {name:<18} {run['ticks']:6d} ticks  {run['executor_tick_us']:5.1f} us/tick  "
