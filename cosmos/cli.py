@@ -48,7 +48,7 @@ whose start-up objects stay frozen to the end (:func:`cosmos.collector.collector
 
 
 # the program file is read (and refused if it is not one) by cosmos.lang.read_program
-program_argument = click.argument("program", type=click.Path(path_type=Path))
+program_argument = click.argument("program", type=click.Path(path_type=Path, readable=False))
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -59,7 +59,7 @@ def cli() -> None:
 
 @cli.command()
 @program_argument
-@click.option("--log", "log_path", type=click.Path(path_type=Path), help="MCAP log path.")
+@click.option("--log", "log_path", type=click.Path(path_type=Path, readable=False), help="MCAP log path.")
 @click.option("--servo-hz", type=click.FloatRange(min=1.0), default=None, help="Servo rate [Hz].")
 @click.option(
     "--param-hz",
@@ -163,7 +163,7 @@ def check(program: Path, as_json: bool, full: bool, robot: str | None) -> None:
 
 
 @cli.command()
-@click.option("--log", "log_path", type=click.Path(path_type=Path), help="MCAP log path.")
+@click.option("--log", "log_path", type=click.Path(path_type=Path, readable=False), help="MCAP log path.")
 @click.option("--force", is_flag=True, help="Overwrite the --log file if it exists.")
 @click.option(
     "--robot",
@@ -186,20 +186,20 @@ def repl(log_path: Path | None, force: bool, robot: str | None, tool: str) -> No
 
 
 @cli.command()
-@click.argument("log", type=click.Path(path_type=Path))
+@click.argument("log", type=click.Path(path_type=Path, readable=False))
 @click.option(
     "--plot",
-    type=click.Path(path_type=Path),
+    type=click.Path(path_type=Path, readable=False),
     help="Write position and force against time, statement by statement (PNG).",
 )
 @click.option(
     "--recover",
     "recover_to",
-    type=click.Path(path_type=Path),
+    type=click.Path(path_type=Path, readable=False),
     help="Write what is readable in a cut log to a complete MCAP file.",
 )
 @click.option("--view", is_flag=True, help="Play back in the MuJoCo viewer.")
-@click.option("--video", type=click.Path(path_type=Path), help="Render playback to MP4.")
+@click.option("--video", type=click.Path(path_type=Path, readable=False), help="Render playback to MP4.")
 @click.option("--verify", is_flag=True, help="Re-run the program and compare with the log.")
 @click.option(
     "--rate",
@@ -270,7 +270,9 @@ def replay(
     "--cluster", metavar="ADDRESS", help="A Dask scheduler to run on (pip install 'cosmos-osc[cluster]')."
 )
 @click.option(
-    "--out", type=click.Path(file_okay=False, path_type=Path), help="Results folder [sweeps/P-seedS]."
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path, readable=False),
+    help="Results folder [sweeps/P-seedS].",
 )
 @click.option(
     "--keep",
@@ -279,7 +281,11 @@ def replay(
     show_default=True,
     help="Logs kept.",
 )
-@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), help="Success per parameter (PNG).")
+@click.option(
+    "--plot",
+    type=click.Path(dir_okay=False, path_type=Path, readable=False),
+    help="Success per parameter (PNG).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--ideal", is_flag=True, help="Every run on the ideal plant (docs/plant.md).")
 def sweep(

@@ -34,6 +34,9 @@ class Span:
         return f"{self.file}:{self.line}:{self.column}"
 
 
+SHOWN_LINE_CHARS = 100
+"""Of a longer program line, an error shows this many characters about its caret."""
+
 class CosmosError(Exception):
     """Root of every error cosmos raises for a user's mistake or a failed task.
 
@@ -71,6 +74,13 @@ class CosmosError(Exception):
             width = max(self.span.end_column - self.span.column, 1)
         else:
             width = max(len(text) - start, 1)
+        if len(text) > SHOWN_LINE_CHARS:  # a window of the line about the caret, cut ends marked
+            left = max(0, min(start - SHOWN_LINE_CHARS // 4, len(text) - SHOWN_LINE_CHARS))
+            right = left + SHOWN_LINE_CHARS
+            width = max(1, min(width, right - start))
+            cut = "..." if left else ""
+            text = cut + text[left:right] + ("..." if right < len(text) else "")
+            start += len(cut) - left
         return f"{head}\n    {text}\n    {' ' * start}{'^' * width}"
 
     def __str__(self) -> str:

@@ -33,3 +33,33 @@ def test_a_negative_seed_is_a_usage_error() -> None:
         assert result.exit_code == 2, result.output
         assert "'--seed': -1 is not in the range x>=0" in result.output
         assert "Traceback" not in result.output
+
+
+def test_a_file_the_user_cannot_read_is_one_line_naming_it(tmp_path, monkeypatch) -> None:
+    """A program the user may not read gave click's three lines ("Usage: ... Error: Invalid
+    value for 'PROGRAM': Path ... is not readable.") where a missing one gives one line: every
+    command must say it the same way, one line naming the path and the operating system's reason.
+    The permission is denied through ``os.access`` and ``os.open`` (the tests may run as root)."""
+    import errno
+    import os
+
+    from tests.cli_in_process import cosmos_in_process
+
+    program = tmp_path / "locked.cos"
+    program.write_text("WAIT 1 s\n")
+    locked = {str(program)}
+    real_access, real_open = os.access, os.open
+    monkeypatch.setattr(
+        os, "access", lambda path, mode, **kw: str(path) not in locked and real_access(path, mode)
+    )
+
+    def denied_open(path, flags, *args, **kwargs):
+        if str(path) in locked:
+            raise PermissionError(errno.EACCES, "Permission denied", str(path))
+        return real_open(path, flags, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", denied_open)
+    for command in ("check", "run", "sweep"):
+        result = cosmos_in_process(command, str(program))
+        assert result.returncode == 2, result.stderr
+        assert result.stderr == f"cannot read {program}: Permission denied\n", result.stderr

@@ -79,8 +79,9 @@ def replay_log(log: Path, options: ReplayOptions) -> int:
         if path is not None:
             check_output(path, what=what, force=options.force, reads=(log,))
     if options.video is not None:
-        from cosmos.replay.playback import prefer_headless_gl
+        from cosmos.replay.playback import check_video_name, prefer_headless_gl
 
+        check_video_name(options.video)  # refused before the summary is printed
         prefer_headless_gl()  # before anything imports mujoco
     if options.recover_to is not None:
         recovery = recover(log, options.recover_to, force=options.force)

@@ -72,8 +72,10 @@ def cache_key() -> str:
 
 
 def fallback_root() -> Path | None:
-    """A directory of this user's under the temporary directory (for read-only homes); None if there
-    is no temporary directory to write in (``tempfile`` found none)."""
+    """A directory of this user's under the temporary directory (for read-only homes).
+
+    None if there is no temporary directory to write in (``tempfile`` found none).
+    """
     uid = os.getuid() if hasattr(os, "getuid") else 0
     try:
         return Path(tempfile.gettempdir()) / f"cosmos-{uid}"

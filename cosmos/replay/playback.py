@@ -196,6 +196,18 @@ FrameCallback = Callable[[int, int], None]
 """Called after each video frame with (frames done, frames in all)."""
 
 
+def check_video_name(path: Path) -> None:
+    """Refuse a ``--video`` path that is not an MP4 file name.
+
+    Raises:
+        UsageError: If ``path`` does not end in ``.mp4`` or is a directory.
+    """
+    if path.suffix.lower() != ".mp4":
+        raise UsageError(f"--video writes MP4: give a file name ending in .mp4 (got {path})")
+    if path.is_dir():
+        raise UsageError(f"--video {path}: is a directory; give a file name ending in .mp4")
+
+
 def render_video(
     record: RunRecord,
     path: Path,
@@ -213,10 +225,7 @@ def render_video(
             ``force`` allows overwriting it).
         CosmosError: If the encoder is missing or offscreen rendering is not available.
     """
-    if path.suffix.lower() != ".mp4":
-        raise UsageError(f"--video writes MP4: give a file name ending in .mp4 (got {path})")
-    if path.is_dir():
-        raise UsageError(f"--video {path}: is a directory; give a file name ending in .mp4")
+    check_video_name(path)
     check_output(path, what="the video", force=force)
     times = frame_times(record.state.t, playback)
     positions = joint_positions_at(record.state, times)  # (frames, n)

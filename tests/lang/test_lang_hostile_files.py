@@ -312,3 +312,19 @@ def test_the_step_count_known_before_expanding_never_exceeds_what_is_emitted(sou
 
     least = least_steps(program.statements, procedures)
     assert least <= emitted(compiled.steps)
+
+
+@pytest.mark.parametrize("before, after", [(10_000, 0), (0, 10_000), (300, 300)])
+def test_an_error_on_a_long_line_shows_a_window_with_the_caret_under_the_error(
+    before: int, after: int
+) -> None:
+    """A 10,000-character line was echoed whole in its error (20 kB on the terminal): the error
+    must show a window of the line, its cut ends marked, with the caret still under the word."""
+    source = f"MOVE BY (0, 0, {'1' * before} mm) FOO # {'x' * after}\n"
+    with pytest.raises(ProgramError) as raised:
+        compile_program(source, "long.cos")
+    head, shown, caret = str(raised.value).split("\n")
+    assert head.startswith(f"long.cos:1:{source.index('FOO') + 1}: unexpected 'FOO'")
+    assert len(shown) <= 4 + 100 + 6 and len(caret) <= len(shown)
+    assert shown[caret.index("^") : caret.index("^") + 3] == "FOO" and caret.strip() == "^^^"
+    assert shown.startswith("    ...") == (before > 0) and shown.endswith("...") == (after > 0)

@@ -71,9 +71,12 @@ def test_video_has_one_frame_per_step_of_rate_over_fps(log: Path, tmp_path: Path
 
 
 def test_video_needs_an_mp4_name(log: Path, tmp_path: Path) -> None:
+    """Catches a wrong --video name refused only after the whole summary was printed (a usage
+    error must come before any work, as the other outputs' are)."""
     result = cosmos_in_process("replay", str(log), "--video", str(tmp_path / "clip.avi"))
     assert result.returncode == 2
     assert "ending in .mp4" in result.stderr
+    assert result.stdout == ""
 
 
 def test_view_without_a_display_says_to_use_video(log: Path, monkeypatch: pytest.MonkeyPatch) -> None:
