@@ -37,6 +37,7 @@ class Span:
 SHOWN_LINE_CHARS = 100
 """Of a longer program line, an error shows this many characters about its caret."""
 
+
 class CosmosError(Exception):
     """Root of every error cosmos raises for a user's mistake or a failed task.
 
