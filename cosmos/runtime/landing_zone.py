@@ -107,24 +107,60 @@ def _bounds(solids: tuple[FixtureSolid, ...]) -> tuple[FloatArray, FloatArray]:
 def _trace(
     solids: tuple[FixtureSolid, ...], points: FloatArray, direction: FloatArray, travel_m: float
 ) -> tuple[float, int]:
-    """:func:`surface_ahead`'s sphere tracing among ``solids``."""
+    """:func:`surface_ahead`'s sphere tracing among ``solids``.
+
+    Each point steps by its distance to the solids until it meets one (within
+    :data:`TRACE_TOLERANCE_M`) or passes ``travel_m``; the answer is the least distance along at
+    which a point met one (the first in order of those that met there, at the earliest step). A
+    point farther along than that cannot better it and stops. At each step the points the least far
+    along step first: if one of them meets a solid, all the others are farther along and stop
+    unstepped (a CONTACT straight down met the table with its lowest ring at the second step, where
+    the 400 points above it were stepped for nothing: 416 -> 216 us a trace; 7.5 -> 3.9 ms for
+    search_insert.cos's INSERT over the hole's 50 solids, warm).
+    """
     at = np.zeros(len(points))
     moving = np.ones(len(points), dtype=bool)
     best, which = math.inf, -1
     for _ in range(200):
-        if not moving.any():
-            break
-        distances = signed_distances(solids, points[moving] + at[moving, None] * direction)
-        nearest = distances.min(axis=1)
         index = np.flatnonzero(moving)
-        met = nearest < TRACE_TOLERANCE_M
-        for k in np.flatnonzero(met):
-            if at[index[k]] < best:
-                best, which = float(at[index[k]]), int(distances[k].argmin())
-        at[index] += np.where(met, 0.0, np.maximum(nearest, TRACE_TOLERANCE_M))
-        moving[index[met]] = False
+        if not index.size:
+            break
+        ahead = at[index]
+        least = ahead == ahead.min()
+        if least.all():
+            met = _step(solids, points, direction, at, moving, index)
+        elif not (met := _step(solids, points, direction, at, moving, index[least]))[0] < best:
+            met = _step(solids, points, direction, at, moving, index[~least])  # none of them met one
+        if met[0] < best:
+            best, which = met
         moving &= at <= min(travel_m, best)
     return best, which
+
+
+def _step(
+    solids: tuple[FixtureSolid, ...],
+    points: FloatArray,
+    direction: FloatArray,
+    at: FloatArray,
+    moving: FloatArray,
+    index: FloatArray,
+) -> tuple[float, int]:
+    """One step of :func:`_trace`'s points ``index``: ``at`` moves on, ``moving`` drops those that met.
+
+    Returns:
+        How far along the first of those met nearest met a solid, and that solid's index;
+        ``(inf, -1)`` if none met one.
+    """
+    distances = signed_distances(solids, points[index] + at[index, None] * direction)
+    nearest = distances.min(axis=1)
+    met = nearest < TRACE_TOLERANCE_M
+    found = math.inf, -1
+    if met.any():  # the first of the least far along: argmin's first (a point by point scan: 140 us)
+        first = np.flatnonzero(met)[at[index[met]].argmin()]
+        found = float(at[index[first]]), int(distances[first].argmin())
+    at[index] += np.where(met, 0.0, np.maximum(nearest, TRACE_TOLERANCE_M))
+    moving[index[met]] = False
+    return found
 
 
 def tool_points(

@@ -16,10 +16,12 @@ from cosmos.osc.landing import (
     landing_limit,
     landing_speed,
 )
+from cosmos.osc.orientation import so3_exp
 from cosmos.robots import ROBOTS
+from cosmos.runtime.fixture_solids import FixtureSolid, signed_distances
 from cosmos.runtime.foresight_cache import workcell
 from cosmos.runtime.kernels.cruise import landing_limit as compiled_landing_limit
-from cosmos.runtime.landing_zone import contact_ramps, surface_ahead, tool_points
+from cosmos.runtime.landing_zone import TRACE_TOLERANCE_M, contact_ramps, surface_ahead, tool_points
 from cosmos.workcell import fixture_frames
 
 DOWN = np.array([0.0, 0.0, -1.0])
@@ -158,3 +160,51 @@ def test_the_trace_among_the_solids_its_sweep_reaches_meets_what_the_trace_among
         assert culled[1] == whole[1] and (culled[0] == whole[0] or abs(culled[0] - whole[0]) < 1e-4)
         met += whole[1] >= 0
     assert met >= 20  # the traces do meet solids
+
+
+def _each_point_alone(
+    solids: tuple[FixtureSolid, ...], points: np.ndarray, direction: np.ndarray, travel_m: float
+) -> tuple[float, int]:
+    """The sphere trace's definition, point by point: each point steps by its distance to the solids
+    until it meets one (within the tolerance) or passes ``travel_m``, 200 steps at most; the least
+    ``(distance, step, order)`` of those that met one gives the answer."""
+    found = []
+    for order, point in enumerate(points):
+        at = 0.0
+        for step in range(200):
+            if at > travel_m:
+                break
+            distances = signed_distances(solids, point + at * direction)[0]
+            if distances.min() < TRACE_TOLERANCE_M:
+                found.append((at, step, order, int(distances.argmin())))
+                break
+            at += max(float(distances.min()), TRACE_TOLERANCE_M)
+    at, _, _, solid = min(found, default=(math.inf, 0, 0, -1))
+    return at, solid
+
+
+@pytest.mark.parametrize("robot", ["puma560", "panda"])
+def test_the_trace_is_each_point_traced_alone(robot: str) -> None:
+    """Catches the trace's shortcuts (the points least far along step first, and the others stop
+    unstepped once one of them meets a solid; the first met found by argmin, not a scan) changing
+    what it meets or where, to the last bit: 16 traces, straight down onto the table and the hole
+    (where the lowest ring meets first at the second step) and in random directions, against each
+    point traced alone."""
+    from cosmos.runtime.landing_zone import _trace
+
+    cell = workcell(robot, "peg")
+    hole = fixture_frames(ROBOTS[robot])["hole"].position
+    rng = np.random.default_rng(5)
+    met = 0
+    for k in range(16):
+        start = rng.uniform((0.35, -0.4, 0.2), (0.8, 0.3, 0.5)) if k % 4 else hole + (0.01 * k, 0.0, 0.02)
+        direction = DOWN if k % 2 == 0 else rng.normal(size=3)
+        direction = direction / np.linalg.norm(direction)
+        turn = (
+            np.diag([1.0, -1.0, -1.0]) if k % 3 else so3_exp(rng.normal(size=3) * 0.2) @ np.diag([1, -1, -1])
+        )
+        points = tool_points(start, turn, cell.tool_sections)
+        traced = _trace(cell.solids, points, direction, 0.3)
+        assert traced == _each_point_alone(cell.solids, points, direction, 0.3)
+        met += traced[1] >= 0
+    assert met >= 8
