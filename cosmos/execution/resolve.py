@@ -232,7 +232,7 @@ def posture_joints(
 
 def effective_masses(evaluation: Evaluation, rotation_task_to_world: FloatArray) -> FloatArray:
     """``n^T Lambda n`` for each task axis n: translation [kg], rotation [kg m^2]. # (6,)."""
-    lam = evaluation.dynamics.lambda_
+    lam = evaluation.lambda_
     masses = np.empty(6)
     for i in range(3):
         axis = rotation_task_to_world[:, i]

@@ -189,14 +189,13 @@ def operational_dynamics(
     m, n = jacobian.shape
     a_inv_jt = np.linalg.solve(inertia, jacobian.T) if inertia_inv is None else inertia_inv.dot(jacobian.T)
     lambda_inv = jacobian.dot(a_inv_jt)  # (m, m)
-    scale = _row_scale(m, policy)
-    lambda_ = _exact_inverse(lambda_inv, scale, policy)
+    lambda_, blended = kinetic_energy_matrix(lambda_inv, policy)
     empty = np.empty((m, 0))
     eigenvalues, eigenvectors, blend = empty[0], empty, np.ones(m)
     projection = np.eye(m)
-    if lambda_ is None:
-        lambda_, eigenvalues, eigenvectors, blend = _blended_inverse(lambda_inv, scale, policy)
-        projection = singular_task_projection(eigenvectors, blend, scale)
+    if blended is not None:
+        eigenvalues, eigenvectors, blend = blended
+        projection = singular_task_projection(eigenvectors, blend, _row_scale(m, policy))
     jbar = a_inv_jt.dot(lambda_)  # (n, m)
     jbar_t = jbar.T
     lambda_h = lambda_.dot(jdot_qdot)
@@ -214,6 +213,30 @@ def operational_dynamics(
         blend=blend,
         task_projection=projection,
     )
+
+
+def kinetic_energy_matrix(
+    lambda_inv: FloatArray, policy: SingularityPolicy = DEFAULT_POLICY
+) -> tuple[FloatArray, tuple[FloatArray, FloatArray, FloatArray] | None]:
+    """Lambda from ``Lambda^-1 = J A^-1 J^T`` (eq. 27), section 5's singular directions removed.
+
+    :func:`operational_dynamics`' Lambda, also asked for alone
+    (:attr:`cosmos.runtime.parameters.Evaluation.lambda_`).
+
+    Args:
+        lambda_inv: ``J A^-1 J^T``. # (m, m)
+        policy: Singularity thresholds.
+
+    Returns:
+        Lambda, and near a singular direction the scaled ``Lambda^-1``'s eigenvalues, eigenvectors
+        and blend weights (:func:`blend_weights`); None where the plain inverse is exact.
+    """
+    scale = _row_scale(lambda_inv.shape[0], policy)
+    lambda_ = _exact_inverse(lambda_inv, scale, policy)
+    if lambda_ is not None:
+        return lambda_, None
+    lambda_, eigenvalues, eigenvectors, blend = _blended_inverse(lambda_inv, scale, policy)
+    return lambda_, (eigenvalues, eigenvectors, blend)
 
 
 def _exact_inverse(

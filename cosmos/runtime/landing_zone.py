@@ -290,7 +290,7 @@ def with_landing(
     if not (holds or approaches or guarded or inserts):
         return setpoint
     evaluation, robot_name = runtime.evaluation, runtime.robot.description.name
-    start, lambda_ = np.asarray(evaluation.position, dtype=float), evaluation.dynamics.lambda_
+    start, lambda_ = np.asarray(evaluation.position, dtype=float), evaluation.lambda_
     cell = workcell(robot_name, tool)
     if holds:  # from the tool point along the push, as far as a CONTACT's approach looks
         direction = setpoint.force_world[:3] / float(np.linalg.norm(setpoint.force_world[:3]))
