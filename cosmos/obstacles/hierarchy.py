@@ -134,10 +134,16 @@ def layout(boxes: np.ndarray, groups: np.ndarray, compiled: bool = True) -> Tree
         child[index, 1] = split(ordered[half:], level + 1)
         return index
 
+    members: dict[Nest, np.ndarray] = {}  # each group's and nest's leaves, listed once
+
     def members_of(nest: Nest) -> np.ndarray:
-        if isinstance(nest, Group):
-            return np.flatnonzero(labels == nest)
-        return np.concatenate([members_of(part) for part in nest])
+        if nest not in members:
+            members[nest] = (
+                np.flatnonzero(labels == nest)
+                if isinstance(nest, Group)
+                else np.concatenate([members_of(part) for part in nest])
+            )
+        return members[nest]
 
     def join(nest: Nest, level: int) -> int:
         if isinstance(nest, Group):

@@ -167,6 +167,7 @@ class ObstacleScene:
         self._slot_name = [model.geom(g).name for g in self._slot_geom]
         self._leaf_geoms = world_leaves(model)  # the world tree's leaves (fixtures and slots)
         self._above: dict[int, list[tuple[int, int, int]]] = {}  # a slot's leaf -> the nodes above it
+        self._tree: tuple[int, list[int], list[list[int]]] = (0, [], [])  # root; each node's parent, children
         self._leaf: list[int] = []
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
         self._moving: list[tuple[int, float, float, float, float, float, float, float]] = []
@@ -301,26 +302,17 @@ class ObstacleScene:
         model = self._plant.model
         root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
         ids = model.bvh_nodeid[root : root + nodes]
-        is_leaf = (model.bvh_child[root : root + nodes] < 0).all(axis=1) & (ids >= 0)
+        leaves = np.flatnonzero((model.bvh_child[root : root + nodes] < 0).all(axis=1) & (ids >= 0))
         first = int(model.body_geomadr[0])
-        box_of = {first + int(ids[k]): model.bvh_aabb[root + k].copy() for k in np.flatnonzero(is_leaf)}
+        # Each leaf's box, by its geom (the model's arrays read once: a read builds a view, 1-2 us)
+        row_of = {first + node_id: row for row, node_id in enumerate(ids[leaves].tolist())}
+        leaf_boxes = model.bvh_aabb[root : root + nodes][leaves]
         geoms = self._leaf_geoms
-        slot_of = {geom: slot for slot, geom in enumerate(self._slot_geom)}
-        moving = {slot for slot, _ in self._moving_slots}
-        used = {slot for slot, _ in self._by_name.values()}
-        groups = np.array(
-            [
-                Group.FIXTURE
-                if g not in slot_of
-                else Group.PARKED
-                if slot_of[g] not in used
-                else Group.MOVING
-                if slot_of[g] in moving
-                else Group.OBSTACLE
-                for g in geoms.tolist()
-            ]
-        )
-        tree = layout(np.array([box_of[g] for g in geoms.tolist()]), groups)
+        group_of = dict.fromkeys(self._slot_geom, Group.PARKED)  # a geom not named: the workcell's
+        for slot, obstacle in self._by_name.values():
+            group_of[self._slot_geom[slot]] = Group.MOVING if obstacle.moving else Group.OBSTACLE
+        groups = np.array([group_of.get(g, Group.FIXTURE) for g in geoms.tolist()])
+        tree = layout(leaf_boxes[[row_of[g] for g in geoms.tolist()]], groups)
         install(model, geoms, tree)
         self.version[0] += 1.0
         self._stale = False
@@ -333,25 +325,32 @@ class ObstacleScene:
         """
         model = self._plant.model
         root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
-        parent = [-1] * nodes
-        leaf_of: dict[int, int] = {}
+        child = model.bvh_child[root : root + nodes]  # (nodes, 2), each node's own indices (-1: none)
+        node_ids = model.bvh_nodeid[root : root + nodes]
+        parent_of = np.full(nodes, -1, dtype=np.int64)  # absolute (-1: the root's)
+        for side in (0, 1):
+            has = np.flatnonzero(child[:, side] >= 0)
+            parent_of[child[has, side]] = root + has
+        parent = parent_of.tolist()
+        leaves = np.flatnonzero((child < 0).all(axis=1) & (node_ids >= 0))
         first = int(model.body_geomadr[0])
-        children = (model.bvh_child[root : root + nodes] + root).tolist()  # absolute (-1 + root: none)
-        for node in range(nodes):
-            present = [c for c in children[node] if c >= root]
-            for child in present:
-                parent[child - root] = root + node
-            if not present and model.bvh_nodeid[root + node] >= 0:
-                leaf_of[first + int(model.bvh_nodeid[root + node])] = root + node
+        leaf_of = dict(zip((first + node_ids[leaves]).tolist(), (root + leaves).tolist(), strict=True))
+        children = (child + root).tolist()  # absolute (-1 + root: none)
         self._leaf = [leaf_of[g] for g in self._slot_geom]
-        self._above = {}
-        for leaf in self._leaf:
+        self._above = {}  # listed for a slot when it is first refitted (most stay parked)
+        self._tree = (root, parent, children)
+
+    def _nodes_above(self, leaf: int) -> list[tuple[int, int, int]]:
+        """The nodes above ``leaf``, from its parent to the root, each with its two children (-1: none)."""
+        if leaf not in self._above:
+            root, parent, children = self._tree
             path, node = [], parent[leaf - root]
             while node >= 0:
                 left, right = children[node - root]
                 path.append((node, left, right if right >= root else -1))
                 node = parent[node - root]
             self._above[leaf] = path
+        return self._above[leaf]
 
     def _extent(self, slot: int) -> tuple[list[float], list[float]]:
         """Where the slot's geom box is centred from its origin, and its half-sizes, world axes [m]."""
@@ -376,7 +375,7 @@ class ObstacleScene:
         bvh, leaf = model.bvh_aabb, self._leaf[slot]
         self.version[0] += 1.0
         bvh[leaf] = _box(low, high)
-        for node, left, right in self._above[leaf]:
+        for node, left, right in self._nodes_above(leaf):
             if right < 0:
                 bvh[node] = bvh[left]
             else:

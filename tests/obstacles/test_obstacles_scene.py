@@ -168,6 +168,51 @@ def test_the_world_hierarchy_holds_every_obstacle_as_it_moves() -> None:
         plant.data.time += plant.dt_s
 
 
+def _outside_an_ancestor(plant: Plant, geom: int) -> list[int]:
+    """The nodes on the way from the geom's leaf to the root (read from MuJoCo's ``bvh_child``) whose
+    box does not hold the geom where MuJoCo places it."""
+    model = plant.model
+    root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
+    parent = {int(c): n for n in range(root, root + nodes) for c in model.bvh_child[n] if c >= 0}
+    first = int(model.body_geomadr[0])
+    leaves = [n for n in range(root, root + nodes) if model.bvh_child[n][0] < 0]
+    node = next(n for n in leaves if model.bvh_nodeid[n] == geom - first)
+    mujoco.mj_kinematics(model, plant.data)
+    low, high = _world_box(plant, geom)
+    outside = []
+    while node >= 0:
+        box_ = model.bvh_aabb[node]
+        if not (np.all(box_[:3] - box_[3:] <= low + 1e-9) and np.all(high <= box_[:3] + box_[3:] + 1e-9)):
+            outside.append(node)
+        node = parent.get(node, -1)
+    return outside
+
+
+def test_obstacles_added_after_the_hierarchy_is_rebuilt_are_held_by_it() -> None:
+    """The nodes above a slot's leaf are listed when the slot is first refitted after a rebuild (most
+    slots stay parked): catches a list kept from the tree before the rebuild, or one listed from the
+    wrong parents, which refits nodes that are not the leaf's ancestors and leaves an obstacle added
+    after the rebuild outside its ancestors' boxes (MuJoCo's midphase never collides it). The nodes
+    are walked here from MuJoCo's own ``bvh_child``."""
+    plant = Plant(obstacle_scene_xml())
+    scene = ObstacleScene(plant)
+    for i in range(CAPACITY):  # every slot refitted in the compiled tree
+        scene.add(sphere(f"s{i}", (0.01 * i, 0.0, 2.0), 0.01))
+    for i in range(CAPACITY):
+        scene.remove(f"s{i}")
+    scene.add(sphere("first", (0.4, -0.3, 0.5), 0.05))
+    scene.update(plant.time_s)  # the hierarchy rebuilt for the first
+    scene.add(box("later", (0.6, 0.2, 0.3), (0.05, 0.3, 0.02), (0.0, -0.2, 0.0)))  # no update: refitted
+    scene.add(sphere("far", (-0.5, 0.5, 1.2), 0.03))
+    slot = [plant.model.geom(f"obstacle_slot{i}").id for i in range(3)]
+    assert [_outside_an_ancestor(plant, geom) for geom in slot] == [[], [], []]
+    scene.remove("first")
+    plant.data.time += 0.3  # "later" moves on, refitted on its way
+    scene.update(plant.time_s)  # rebuilt again: the freed slot's nodes are others
+    scene.add(sphere("again", (0.3, 0.4, 0.6), 0.04))
+    assert [_outside_an_ancestor(plant, geom) for geom in slot] == [[], [], []]
+
+
 def test_scene_errors_name_the_fix() -> None:
     with pytest.raises(CosmosError, match="obstacle_scene_xml"):
         ObstacleScene(Plant())
@@ -273,3 +318,20 @@ def test_a_slot_is_owned_by_its_own_name_not_by_the_world() -> None:
     plant.step(np.zeros(6))
     owners = {(c.body1, c.body2) for c in plant.contacts()}
     assert ("tool", "obstacle_slot0") in owners or ("obstacle_slot0", "tool") in owners
+
+
+@pytest.mark.parametrize(
+    "obstacle",
+    [sphere("s", (0, 0, 0), 0.07, (0.0, 0.0, 0.0)), sphere("m", (0, 0, 0), 0.07, (0.0, -1e-9, 0.0))],
+    ids=["still", "moving"],
+)
+def test_whether_an_obstacle_moves_is_worked_out_once_from_a_velocity_that_cannot_change(
+    obstacle: Obstacle,
+) -> None:
+    """``moving`` is kept after its first answer (the scene's drawing asks it every 40 ms): catches
+    a velocity that can be written after it (a kept answer would go stale) or an answer that is not
+    whether a component of the velocity is non-zero."""
+    assert obstacle.moving == any(v != 0.0 for v in obstacle.velocity_world_mps.tolist())
+    with pytest.raises(ValueError, match="read-only"):
+        obstacle.velocity_world_mps[0] = 1.0
+    assert obstacle.moving == (obstacle.name == "m")
