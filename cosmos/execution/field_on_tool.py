@@ -41,9 +41,9 @@ class FieldOnToolWatch:
         # The last field looked at, and whether it acts on the tool's link.
         self._field: LinkField | None = None
         self._on_tool = False
-        # The influences of the last look, when it found nothing going on (no episode, nothing on the
-        # tool's link): until an evaluation brings another field, share or influences, a look finds
-        # nothing again (the executor looks every tick: 0.8-1.2 us a look, 0.2 us this one).
+        # The influences of the last look, when it found nothing going on (no episode, no obstacle
+        # nearest the tool's link): until an evaluation brings another field, share or influences, a
+        # look finds nothing again (the executor looks every tick: 0.8-1.2 us a look, 0.2 us this one).
         self._quiet: tuple[Influence, ...] | None = None
 
     def update(
@@ -76,6 +76,8 @@ class FieldOnToolWatch:
                 self._tool_obstacle = next((i.obstacle for i in influences if i.link == tool_link), "")
             if self._tool_obstacle:
                 self._tool_deviation_m = max(self._tool_deviation_m, deviation_m())
+            else:  # no obstacle nearest the tool's link: the same inputs find none again
+                self._quiet = influences
         elif self._tool_obstacle:
             return "; ".join(reason for reason in (told, self.close()) if reason)
         elif self._episode is None:  # nothing going on: the same inputs find nothing again

@@ -50,9 +50,9 @@ PLANE_DRAWN_SIZE_M = 2.0
 def primitive(obstacle: Obstacle, t_s: float) -> Primitive:
     """How an obstacle is drawn in the log's 3-D scene."""
     position = obstacle.position_at(t_s).tolist()
-    quat = matrix_to_quat(obstacle.rotation_world).tolist()
-    if obstacle.shape is ObstacleShape.SPHERE:
+    if obstacle.shape is ObstacleShape.SPHERE:  # no orientation drawn
         return Sphere(obstacle.name, position, obstacle.radius_m)
+    quat = matrix_to_quat(obstacle.rotation_world).tolist()
     if obstacle.shape is ObstacleShape.CYLINDER:
         height = 2.0 * float(obstacle.half_extents_m[2])
         return Cylinder(obstacle.name, position, obstacle.radius_m, height, quat)
@@ -74,6 +74,8 @@ class ObstacleWorld:
         # with the last, and the contact gate its physics steps: a tick without obstacles costs
         # what a bare tick costs.
         self.detector = LocalMinimumDetector()
+        self._data = runtime.plant.data  # its contacts and clock, looked at in the servo loop
+        self._moving: tuple[Obstacle, ...] = ()  # the scene's MOVING obstacles, redrawn as they move
         self._touching: set[tuple[str, str]] = set()
         self._ticks = 0
         self._goal_ticks = 0  # ticks of the goal motion under way
@@ -107,6 +109,7 @@ class ObstacleWorld:
             self._attach_field()
             if self.log is not None:
                 self.log.scene(t_s, remove=[step.name])
+        self._moving = tuple(obstacle for obstacle in self.scene.obstacles if obstacle.moving)
 
     def _attach_field(self) -> None:
         """The field in the parameter level and the gate on the steps while any obstacle is in the scene."""
@@ -130,9 +133,8 @@ class ObstacleWorld:
         return ", ".join(f"{body} inside it" for body in sorted(set(touching)))
 
     def before_tick(self) -> None:
-        """Move the moving obstacles to where they are now."""
-        if self.active:
-            self.scene.update(self.runtime.time_s)
+        """Move the moving obstacles to where they are now (the first tick after an OBSTACLE: the tree)."""
+        self.scene.update(self._data.time)  # every tick among moving obstacles: no property on the way
 
     def ticks_to_look(self) -> int:
         """How many ticks from now the tick is whose :meth:`after_tick` looks for collisions (1: the next)."""
@@ -146,17 +148,14 @@ class ObstacleWorld:
         self._ticks += ticks
         if self._ticks % COLLISION_CHECK_EVERY:  # SCENE_EVERY is a multiple of it
             return []
-        t_s = self.runtime.time_s
-        if self.log is not None and self.active and self._ticks % SCENE_EVERY == 0:
-            moving = [primitive(o, t_s) for o in self.scene.obstacles if o.moving]
-            if moving:
-                self.log.scene(t_s, add=moving)
+        if self._moving and self.log is not None and self._ticks % SCENE_EVERY == 0:
+            t_s = self._data.time
+            self.log.scene(t_s, add=[primitive(obstacle, t_s) for obstacle in self._moving])
+        if not self._data.ncon:  # no contact: no collision (the scene's names not gathered for nothing)
+            self._touching.clear()
+            return []
         plant = self.runtime.plant
-        found = (  # no contact: no collision (the scene's names not gathered for nothing)
-            {(c.arm_body, c.other) for c in collisions(plant, self.scene.body_names())}
-            if plant.data.ncon
-            else set()
-        )
+        found = {(c.arm_body, c.other) for c in collisions(plant, self.scene.body_names())}
         new = sorted(found - self._touching)
         self._touching = found
         return [f"{arm} touches {other}" for arm, other in new]
@@ -182,4 +181,4 @@ class ObstacleWorld:
         if self._goal_ticks % MINIMUM_CHECK_EVERY or not self.active:
             return None
         distance_m = distance_to_point(position, goal)
-        return self.detector.update(self.runtime.time_s, distance_m, self.field.influences)
+        return self.detector.update(self._data.time, distance_m, self.field.influences)
