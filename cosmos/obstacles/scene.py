@@ -30,6 +30,7 @@ from __future__ import annotations
 import functools
 import tempfile
 import threading
+from collections.abc import Callable
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -168,10 +169,10 @@ class ObstacleScene:
         self._leaf_geoms = world_leaves(model)  # the world tree's leaves (fixtures and slots)
         self._above: dict[int, list[tuple[int, int, int]]] = {}  # a slot's leaf -> the nodes above it
         self._tree: tuple[int, list[int], list[list[int]]] = (0, [], [])  # root; each node's parent, children
-        self._leaf: list[int] = []
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
         self._moving: list[tuple[int, float, float, float, float, float, float, float]] = []
         self._motions = np.zeros((0, mk.MOTION))  # the same, packed for the tick (kernels.moving)
+        self._move_into: Callable[[np.ndarray, np.ndarray, float], None] | None = None  # loaded for the first
         self._geom_pos = plant.model.geom_pos
         self._moving_slots: list[tuple[int, Obstacle]] = []
         self._extents: dict[int, tuple[list[float], list[float]]] = {}
@@ -265,7 +266,7 @@ class ObstacleScene:
         moving = self._moving
         if not moving:
             return
-        mk.move_into(self._geom_pos, self._motions, t_s)
+        self._move_into(self._geom_pos, self._motions, t_s)  # type: ignore[misc]  # loaded with _moving
         if t_s >= self._refit_s:  # in plain floats: the servo loop
             until = self._refit_s = t_s + self._sweep_s
             for slot, x, y, z, vx, vy, vz, added_s in moving:
@@ -287,6 +288,8 @@ class ObstacleScene:
         self._motions = np.array(
             [(self._slot_geom[slot], *rest) for slot, *rest in self._moving], dtype=float
         ).reshape(-1, mk.MOTION)
+        if self._moving and self._move_into is None:
+            self._move_into = mk.entry()
         self._refit_s = -np.inf
 
     def restore(self, t_s: float) -> None:
@@ -336,7 +339,7 @@ class ObstacleScene:
         first = int(model.body_geomadr[0])
         leaf_of = dict(zip((first + node_ids[leaves]).tolist(), (root + leaves).tolist(), strict=True))
         children = (child + root).tolist()  # absolute (-1 + root: none)
-        self._leaf = [leaf_of[g] for g in self._slot_geom]
+        self._leaf: list[int] = [leaf_of[g] for g in self._slot_geom]
         self._above = {}  # listed for a slot when it is first refitted (most stay parked)
         self._tree = (root, parent, children)
 
