@@ -136,6 +136,8 @@ class ObstacleField:
         self._nearest = np.full(fk.NEAREST, np.inf)
         self._acting = np.zeros((0, fk.ACTING))  # per obstacle at the last evaluation (ACTING_*)
         self._influences: tuple[Influence, ...] | None = ()
+        self._names: tuple[str, ...] = ()  # the obstacles' names, in the kernels' order
+        self._link_names = tuple(f"link{k + 1}" for k in range(robot.model.nv))  # link6 includes the tool
 
     @property
     def parameters(self) -> FieldParameters:
@@ -163,12 +165,14 @@ class ObstacleField:
     @property
     def influences(self) -> tuple[Influence, ...]:
         """Obstacles whose field acted at the last evaluation, with their nearest link."""
-        if self._influences is None:
-            obstacles = self._geometry.obstacles if self._geometry is not None else ()
+        if self._influences is None:  # once per evaluation the executor looks at (every 8 ms)
+            names, links = self._names, self._link_names
             self._influences = tuple(
-                Influence(obstacles[j].name, f"link{int(link) + 1}", distance, force)
-                for j, (flag, distance, link, force) in enumerate(self._acting.tolist())
-                if flag
+                [
+                    Influence(names[j], links[int(link)], distance, force)
+                    for j, (flag, distance, link, force) in enumerate(self._acting.tolist())
+                    if flag
+                ]
             )
         return self._influences
 
@@ -253,6 +257,7 @@ class ObstacleField:
         geometry = self._geometry = ProximityModel(
             self._capsules, obstacles, obstacle_table(obstacles, self._parameters)
         )
+        self._names = tuple(obstacle.name for obstacle in geometry.obstacles)
         self._acting = np.zeros((len(obstacles), fk.ACTING))
         self._evaluations = 0
         scalars = self._scalars
