@@ -89,8 +89,10 @@ class LocalMinimumDetector:
         start_s, start_distance = history[0]
         if t_s - start_s < self.window_s or distance_to_goal_m <= self.near_goal_m:
             return None
+        if start_distance - distance_to_goal_m > self.progress_m:  # progressing: no obstacle looked at
+            return None
         acting = [influence for influence in influences if influence.force_n > 0.0]
-        if not acting or start_distance - distance_to_goal_m > self.progress_m:
+        if not acting:
             return None
         strongest = max(acting, key=lambda influence: influence.force_n)
         return LocalMinimum(strongest.obstacle, strongest.link, distance_to_goal_m, t_s)

@@ -167,7 +167,7 @@ class ObstacleScene:
             )
         self._slot_name = [model.geom(g).name for g in self._slot_geom]
         self._leaf_geoms = world_leaves(model)  # the world tree's leaves (fixtures and slots)
-        self._above: dict[int, list[tuple[int, int, int]]] = {}  # a slot's leaf -> the nodes above it
+        self._above: dict[int, tuple[list[int], list[int], list[int]]] = {}  # a slot's leaf -> the way up
         self._tree: tuple[int, list[int], list[list[int]]] = (0, [], [])  # root; each node's parent, children
         self._by_name: dict[str, tuple[int, Obstacle]] = {}
         self._moving: list[tuple[int, float, float, float, float, float, float, float]] = []
@@ -224,11 +224,11 @@ class ObstacleScene:
         mujoco.mju_mat2Quat(model.geom_quat[geom], np.ascontiguousarray(obstacle.rotation_world).reshape(9))
         # Placed by its own pos and quat; one not turned keeps the world's axes, which MuJoCo then
         # copies instead of composing the quaternions (the same matrix, exactly: the identity).
-        unturned = np.array_equal(model.geom_quat[geom], _IDENTITY_QUAT)
+        unturned = model.geom_quat[geom].tolist() == list(_IDENTITY_QUAT)  # (array_equal: 5-10 us)
         model.geom_sameframe[geom] = _SAME_AXES if unturned else mujoco.mjtSameFrame.mjSAMEFRAME_NONE
         self._by_name[obstacle.name] = (slot, obstacle)
         now = self._plant.time_s
-        self._place(slot, obstacle.position_at(now))
+        self._geom_pos[geom] = obstacle.position_at(now)
         self._track_moving()
         self._refit(slot, obstacle.position_at(now).tolist(), obstacle.position_at(now + SWEEP_S).tolist())
         self._stale = True
@@ -248,7 +248,7 @@ class ObstacleScene:
         geom = self._slot_geom[slot]
         model.geom_quat[geom] = _IDENTITY_QUAT
         model.geom_sameframe[geom] = _SAME_AXES
-        self._place(slot, parked)
+        self._geom_pos[geom] = parked
         self._track_moving()
         self._refit(slot, parked.tolist(), parked.tolist())
         self._stale = True
@@ -297,9 +297,6 @@ class ObstacleScene:
         self._refit_s = -np.inf
         self.update(t_s)
 
-    def _place(self, slot: int, position: np.ndarray) -> None:
-        self._plant.model.geom_pos[self._slot_geom[slot]] = position
-
     def _rebuild(self) -> None:
         """Rebuild the world's hierarchy for where its geoms are now (:mod:`cosmos.obstacles.hierarchy`)."""
         model = self._plant.model
@@ -343,16 +340,21 @@ class ObstacleScene:
         self._above = {}  # listed for a slot when it is first refitted (most stay parked)
         self._tree = (root, parent, children)
 
-    def _nodes_above(self, leaf: int) -> list[tuple[int, int, int]]:
-        """The nodes above ``leaf``, from its parent to the root, each with its two children (-1: none)."""
+    def _nodes_above(self, leaf: int) -> tuple[list[int], list[int], list[int]]:
+        """The way from ``leaf`` up to the root: its nodes, the child of each off the way, the way's side.
+
+        The side of a node's child on the way: 0 its only child (then also listed as off it), 1 left, 2 right.
+        """
         if leaf not in self._above:
             root, parent, children = self._tree
-            path, node = [], parent[leaf - root]
+            nodes, others, sides, below, node = [], [], [], leaf, parent[leaf - root]
             while node >= 0:
                 left, right = children[node - root]
-                path.append((node, left, right if right >= root else -1))
-                node = parent[node - root]
-            self._above[leaf] = path
+                nodes.append(node)
+                others.append(below if right < root else right if left == below else left)
+                sides.append(0 if right < root else 1 if left == below else 2)
+                below, node = node, parent[node - root]
+            self._above[leaf] = (nodes, others, sides)
         return self._above[leaf]
 
     def _extent(self, slot: int) -> tuple[list[float], list[float]]:
@@ -376,25 +378,22 @@ class ObstacleScene:
         low = [min(a, b) + o - h for a, b, o, h in zip(start, end, offset, half, strict=True)]
         high = [max(a, b) + o + h for a, b, o, h in zip(start, end, offset, half, strict=True)]
         bvh, leaf = model.bvh_aabb, self._leaf[slot]
+        nodes, others, sides = self._nodes_above(leaf)
+        off_way = bvh[others].tolist()  # read at once: the walk rewrites only the nodes on its way
         self.version[0] += 1.0
-        bvh[leaf] = _box(low, high)
-        for node, left, right in self._nodes_above(leaf):
-            if right < 0:
-                bvh[node] = bvh[left]
-            else:
-                a, b = bvh[left].tolist(), bvh[right].tolist()
+        boxes = [_box(low, high)]
+        for side, other in zip(sides, off_way, strict=True):
+            if side:  # the box of the left child, of the right child
+                a, b = (boxes[-1], other) if side == 1 else (other, boxes[-1])
                 low = [min(a[i] - a[i + 3], b[i] - b[i + 3]) for i in range(3)]
                 high = [max(a[i] + a[i + 3], b[i] + b[i + 3]) for i in range(3)]
-                bvh[node] = _box(low, high)
+            boxes.append(_box(low, high) if side else boxes[-1])
+        bvh[[leaf, *nodes]] = boxes
 
 
 def _box(low: list[float], high: list[float]) -> list[float]:
     """Centre and half-sizes of the box from ``low`` to ``high`` corners."""
     return [
-        (low[0] + high[0]) / 2.0,
-        (low[1] + high[1]) / 2.0,
-        (low[2] + high[2]) / 2.0,
-        (high[0] - low[0]) / 2.0,
-        (high[1] - low[1]) / 2.0,
-        (high[2] - low[2]) / 2.0,
-    ]
+        (low[0] + high[0]) / 2.0, (low[1] + high[1]) / 2.0, (low[2] + high[2]) / 2.0,
+        (high[0] - low[0]) / 2.0, (high[1] - low[1]) / 2.0, (high[2] - low[2]) / 2.0,
+    ]  # fmt: skip

@@ -188,11 +188,27 @@ def _outside_an_ancestor(plant: Plant, geom: int) -> list[int]:
     return outside
 
 
+def _not_holding_their_children(plant: Plant) -> list[int]:
+    """The world's nodes whose box does not hold both its children's (MuJoCo's ``bvh_child``)."""
+    model = plant.model
+    root, nodes = int(model.body_bvhadr[0]), int(model.body_bvhnum[0])
+    boxes, children = model.bvh_aabb[root : root + nodes], model.bvh_child[root : root + nodes]
+    low, high = boxes[:, :3] - boxes[:, 3:], boxes[:, :3] + boxes[:, 3:]
+    return [
+        node
+        for node in range(nodes)
+        for child in children[node].tolist()
+        if child >= 0
+        and not (np.all(low[node] <= low[child] + 1e-12) and np.all(high[child] <= high[node] + 1e-12))
+    ]
+
+
 def test_obstacles_added_after_the_hierarchy_is_rebuilt_are_held_by_it() -> None:
     """The nodes above a slot's leaf are listed when the slot is first refitted after a rebuild (most
     slots stay parked): catches a list kept from the tree before the rebuild, or one listed from the
     wrong parents, which refits nodes that are not the leaf's ancestors and leaves an obstacle added
-    after the rebuild outside its ancestors' boxes (MuJoCo's midphase never collides it). The nodes
+    after the rebuild outside its ancestors' boxes (MuJoCo's midphase never collides it), or a node
+    refitted from the wrong child off the way up (the geoms below it are then outside it). The nodes
     are walked here from MuJoCo's own ``bvh_child``."""
     plant = Plant(obstacle_scene_xml())
     scene = ObstacleScene(plant)
@@ -211,6 +227,7 @@ def test_obstacles_added_after_the_hierarchy_is_rebuilt_are_held_by_it() -> None
     scene.update(plant.time_s)  # rebuilt again: the freed slot's nodes are others
     scene.add(sphere("again", (0.3, 0.4, 0.6), 0.04))
     assert [_outside_an_ancestor(plant, geom) for geom in slot] == [[], [], []]
+    assert _not_holding_their_children(plant) == []  # each refit's way up took the other children in
 
 
 def test_scene_errors_name_the_fix() -> None:
