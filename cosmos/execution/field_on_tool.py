@@ -63,6 +63,14 @@ class FieldOnToolWatch:
         """
         if influences is self._quiet and field is self._field and null_space.link_share_to_tool < START_SHARE:
             return ""
+        if (  # an episode goes on, the same field: the tool measured (what _links does) and no more
+            self._episode is not None
+            and field is self._field
+            and null_space.link_share_to_tool >= END_SHARE
+            and not self._tool_obstacle
+        ):
+            self._deviation_m = max(self._deviation_m, deviation_m())
+            return ""
         self._quiet = None
         told = self._links(null_space, field, deviation_m)
         if field is not self._field:  # a new field at an evaluation (every 4th tick): looked at once

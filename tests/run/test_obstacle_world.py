@@ -99,3 +99,44 @@ def test_the_watch_is_quiet_until_an_obstacle_nears_the_tools_link() -> None:
     most_mm = max(measured) * 1e3
     assert told == f"the field of obstacle 'ball' moved the tool up to {most_mm:.1f} mm off its path"
     assert told.endswith("2.0 mm off its path")
+
+
+def test_an_episode_measures_the_tool_at_every_look_and_tells_the_largest_deviation() -> None:
+    """A link's field reaches the tool (share 20 %): the episode begins; while the share stays at or
+    above 1 % every look measures the tool (the same field, or a new one at an evaluation), and when
+    it falls below, the event gives the largest of the deviations fed here (3.0 mm, met mid-episode).
+    Catches an episode that stops measuring, measures twice a look, or misses its end."""
+    watch = FieldOnToolWatch()
+    null_space = NullSpaceTerms(1.0, DEFAULT_ABSORPTION)
+    field = LinkField(np.zeros(6), np.ones(6), 0.03, "link4", "ball")
+    fed_m = [0.0008, 0.0012, 0.0030, 0.0021, 0.0017, 0.0009]
+    measured: list[float] = []
+
+    def deviation_m() -> float:
+        measured.append(fed_m[len(measured)])
+        return measured[-1]
+
+    influences = (Influence("ball", "link4", 0.03, 9.0),)
+    assert watch.update(null_space, field, deviation_m, influences) == ""  # no share on the tool yet
+    told = []
+    for share, new_field in (
+        (0.2, False),
+        (0.05, False),
+        (0.02, False),
+        (0.05, True),
+        (0.01, False),
+        (0.005, False),
+    ):
+        null_space.link_share_to_tool = share
+        if new_field:  # an evaluation's field, the same forces
+            field = LinkField(np.zeros(6), np.ones(6), 0.03, "link4", "ball")
+        told.append(watch.update(null_space, field, deviation_m, influences))
+    assert measured == fed_m  # one measure a look, from the episode's first to its last
+    assert told[0].startswith(
+        "link4 is 30 mm from ball: the null space cannot keep it clear, 20% of its field"
+    )
+    assert told[1:5] == [""] * 4
+    assert told[5] == (
+        f"link4 clear of ball through the null space again; the field moved the tool up to "
+        f"{max(fed_m) * 1e3:.1f} mm off its path"
+    )
