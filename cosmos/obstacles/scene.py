@@ -28,8 +28,6 @@ they are (:meth:`ObstacleScene.restore` puts the moving ones where they are at a
 from __future__ import annotations
 
 import functools
-import tempfile
-import threading
 from collections.abc import Callable
 from pathlib import Path
 from xml.etree import ElementTree
@@ -42,6 +40,7 @@ from cosmos.lang.check.limits import MAX_OBSTACLES
 from cosmos.obstacles.hierarchy import Group, install, layout, world_leaves
 from cosmos.obstacles.kernels import moving as mk
 from cosmos.obstacles.obstacle import Obstacle
+from cosmos.obstacles.scene_file import kept_scene_file
 from cosmos.plan import ObstacleShape
 from cosmos.plant import Plant
 from cosmos.workcell import SCENE_XML
@@ -97,32 +96,22 @@ def add_obstacle_slots(worldbody: ElementTree.Element, count: int = DEFAULT_SLOT
         )
 
 
-_WRITING = threading.Lock()
-
-
-@functools.cache
-def _scene_dir() -> tempfile.TemporaryDirectory[str]:
-    return tempfile.TemporaryDirectory(prefix="cosmos-obstacles-")
-
-
 @functools.cache
 def obstacle_scene_xml(slots: int = DEFAULT_SLOTS, scene_xml: Path = SCENE_XML) -> Path:
     """An arm's workcell (``scene.xml``) with ``slots`` obstacle slots, an MJCF file for :class:`Plant`.
 
     The slots are appended to the scene's text, so every number of the workcell
-    is kept as written; the file is written once per process into a temporary
-    directory (the workcell has no file assets, so the copy compiles anywhere).
+    is kept as written; the file is kept in the user cache
+    (:func:`~cosmos.obstacles.scene_file.kept_scene_file`: the workcell has no file assets,
+    so the copy compiles anywhere).
     """
     tree = ElementTree.parse(scene_xml)
     worldbody = tree.getroot().find("worldbody")
     if worldbody is None:  # pragma: no cover - guards the shipped model file
         raise CosmosError(f"{scene_xml}: no worldbody")
     add_obstacle_slots(worldbody, slots)
-    with _WRITING:  # threads' first calls at once: one directory kept; the file replaced whole
-        path = Path(_scene_dir().name) / f"{scene_xml.parent.name}_scene_with_{slots}_obstacle_slots.xml"
-        tree.write(path.with_suffix(".part"), encoding="unicode")
-        path.with_suffix(".part").replace(path)
-    return path
+    text = ElementTree.tostring(tree.getroot(), encoding="unicode")
+    return kept_scene_file(f"{scene_xml.parent.name}_scene_with_{slots}_obstacle_slots", text)
 
 
 def geom_size_and_bounds(obstacle: Obstacle) -> tuple[np.ndarray, float, np.ndarray]:
