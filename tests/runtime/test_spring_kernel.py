@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from cosmos.osc.integral_action import SPRING_OBSERVER, observe_spring_disturbance
+from cosmos.osc.integral_action import SPRING_OBSERVER, observe_spring_disturbance, spring_intent
 from cosmos.osc.orientation import so3_exp
 from cosmos.runtime.kernels import servo as sk
 from cosmos.runtime.kernels.cruise import CRUISE
 from cosmos.runtime.kernels.joint_speed import JOINT_SPEED_MAX
-from cosmos.runtime.kernels.spring import SPRING_LAW, SPRINGS, spring_law_into
+from cosmos.runtime.kernels.spring import SPRING_LAW, SPRINGS, spring_intent_into, spring_law_into
 
 DT_S = 1e-3
 
@@ -71,6 +71,38 @@ def test_the_observer_leaves_the_spring_law_at_rest_in_contact() -> None:
     assert abs(press - mass * pull) < 1e-3, press
     assert abs(estimate[2] * mass - friction) < 1e-3  # the friction, observed
     assert SPRING_OBSERVER[0] > 0.0
+
+
+def test_the_spring_intent_kernel_matches_its_reference_on_random_ticks() -> None:
+    """Catches the kernel that takes a spring's push off the friction's intent drifting from its
+    reference: a wrong frame, sign or axis (it must leave the axes that are no spring alone)."""
+    rng = np.random.default_rng(15)
+    for _ in range(200):
+        r = so3_exp(rng.normal(size=3))
+        rotation = np.zeros((6, 6))
+        rotation[:3, :3] = r
+        springs = np.where(rng.random(6) < 0.5, rng.uniform(0.5, 8.0, 6), 0.0)
+        state = np.zeros((sk.STATE_ROWS, 6))
+        vectors = np.zeros((sk.VECTORS, 6))
+        vectors[SPRINGS] = springs
+        state[sk.WRENCH] = rng.normal(scale=5.0, size=6)
+        acceleration = rng.normal(size=6)
+        out = acceleration.copy()
+        spring_intent_into(out, state, vectors, rotation)
+        expected = spring_intent(_blocks(r.T, acceleration), springs, _blocks(r.T, state[sk.WRENCH]))
+        np.testing.assert_allclose(out, _blocks(r, expected), atol=1e-12)
+
+
+def test_a_spring_at_rest_in_balance_asks_no_friction_compensation() -> None:
+    """Catches the Coulomb compensation turning the joints toward a spring's pull that a surface
+    holds: pressed at its law (f = lambda F*_m), the spring axis's intent is zero; free (f = 0) it
+    is the pull, as before."""
+    mass, pull = 22.0, -0.7  # the PUMA's 22 kg along z, 15.4 N down
+    springs = np.array((0.0, 0.0, mass, 0.0, 0.0, 0.0))
+    command = np.array((0.1, 0.0, pull, 0.0, 0.0, 0.0))
+    pressed = spring_intent(command, springs, np.array((0.0, 0.0, mass * pull, 0.0, 0.0, 0.0)))
+    np.testing.assert_allclose(pressed, (0.1, 0.0, 0.0, 0.0, 0.0, 0.0), atol=1e-15)
+    np.testing.assert_allclose(spring_intent(command, springs, np.zeros(6)), command)
 
 
 def test_the_springs_rows_are_their_own() -> None:

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from cosmos.jit import kernel
-from cosmos.runtime.kernels import commands
+from cosmos.runtime.kernels import commands, spring
 from cosmos.runtime.kernels.commands import (
     environment_wrench_into,
     saturate_about,
@@ -370,6 +370,7 @@ def servo_tick(
     # Jbar times the commanded acceleration over a look-ahead), low-passed: a new setpoint never steps it.
     if admittance or mode == MODE_TRAJECTORY or pushing_at_speed or cruising:  # no slow joint left to stick
         acceleration = acceleration + commanded_speed / scalars[LOOKAHEAD_S]
+    spring.spring_intent_into(acceleration, state, vectors, matrices[ROTATION_TASK])  # its model's motion
     free = mode != MODE_HOLD and scalars[UNIFORM] != 0.0 and scalars[HAS_FORCE] + scalars[ADMITTANCE] == 0.0
     free = free and wrench[0] ** 2 + wrench[1] ** 2 + wrench[2] ** 2 < scalars[CRUISE_INTEGRAL + 2] ** 2
     adaption = np.array((kv[0], scalars[LOOKAHEAD_S], scalars[INTENT_SCALE], scalars[DT_S]))

@@ -1,8 +1,9 @@
 """A COMPLY spring held to its law in the servo tick, compiled (numba).
 
-:func:`spring_law_into` mirrors :func:`cosmos.osc.integral_action.observe_spring_disturbance`,
-against which ``tests/runtime/test_spring_kernel.py`` checks it on seeded random inputs. Its
-rows in the servo kernel's packed arrays (:mod:`cosmos.runtime.kernels.servo`) are laid out here.
+:func:`spring_law_into` mirrors :func:`cosmos.osc.integral_action.observe_spring_disturbance` and
+:func:`spring_intent_into` :func:`cosmos.osc.integral_action.spring_intent`, against which
+``tests/runtime/test_spring_kernel.py`` checks them on seeded random inputs. Their rows in the servo
+kernel's packed arrays (:mod:`cosmos.runtime.kernels.servo`) are laid out here.
 """
 
 from __future__ import annotations
@@ -67,3 +68,29 @@ def spring_law_into(
     out = rotate_blocks(rotation_task, command, False)
     for i in range(6):
         motion[i] = out[i]
+
+
+@kernel
+def spring_intent_into(
+    acceleration: FloatArray, state: FloatArray, vectors: FloatArray, rotation_task: FloatArray
+) -> None:
+    """Take each spring axis's ``f / lambda`` off the Coulomb compensation's acceleration (in place).
+
+    Args:
+        acceleration: What the joints' friction is compensated toward, world. # (6,)
+        state: The servo's state: the wrench (row 0) read. # (rows, >= 6)
+        vectors: The servo's vectors: :data:`SPRINGS` read. # (rows, >= 6)
+        rotation_task: The task frame (top-left (3, 3)).
+    """
+    springs = vectors[SPRINGS]
+    sprung = False
+    for i in range(6):
+        sprung = sprung or springs[i] > 0.0
+    if not sprung:
+        return
+    pushed = rotate_blocks(rotation_task, state[0], True)
+    for i in range(6):
+        pushed[i] = pushed[i] / springs[i] if springs[i] > 0.0 else 0.0
+    out = rotate_blocks(rotation_task, pushed, False)
+    for i in range(6):
+        acceleration[i] -= out[i]
