@@ -2,7 +2,8 @@
 
 Every axis under position control at the measured pose, no force (the arm's own hold, not a
 statement's). :func:`brake_to_rest` holds until the tool is at rest; :func:`brake_after_until`
-so stops a free motion its UNTIL stopped, and judges the impact it brakes through.
+so stops a free motion its UNTIL stopped, judges the impact it brakes through, and after a
+guarded stop holds where the tool touched until its push has relaxed (:func:`settle_at_touch`).
 """
 
 from __future__ import annotations
@@ -12,13 +13,16 @@ import numpy as np
 from cosmos.execution.expected import braked_over_limit
 from cosmos.execution.monitor import Outcome, Verdict
 from cosmos.execution.supervision import ProtectiveStop, StopKind
-from cosmos.plan import Segment
+from cosmos.plan import TOUCH_THRESHOLD_N, Segment
+from cosmos.plan.conditions import AllOf, AnyOf, Comparison, Condition, Quantity
 from cosmos.runtime.loop import Runtime
 from cosmos.runtime.setpoint import MotionMode, ServoSetpoint
 
 BRAKE_AT_REST = (5e-3, 0.05, 0.5)
 """The tool is at rest under this speed [m/s] and angular speed [rad/s]; a brake holds it at
 most this long [s]."""
+SETTLE_AT_TOUCH_S = 1.0
+"""After a guarded stop, the longest the arm holds where the tool touched for its push to relax [s]."""
 
 
 def hold_pose(runtime: Runtime, duration_s: float = 0.0) -> None:
@@ -75,6 +79,8 @@ def brake_after_until(runtime: Runtime, segment: Segment, until_reason: str) -> 
     as its UNTIL fires, and the impact comes while the arm brakes: a force over the statement's
     limit then (:func:`cosmos.execution.expected.braked_over_limit`) fails it as a protective
     stop naming the peak, where it was "stopped" (174 N for UNTIL FORCE > 5 N, limit 40 N).
+    Within it, an UNTIL on the wrist's force then holds where the tool touched until its push
+    has relaxed (:func:`settle_at_touch`).
 
     Args:
         runtime: The runtime.
@@ -84,5 +90,45 @@ def brake_after_until(runtime: Runtime, segment: Segment, until_reason: str) -> 
     if not bool(np.all(segment.motion_axes)) or any(segment.stiffness):
         return None
     braked = brake_to_rest(runtime)
-    over = braked_over_limit(segment, braked, until_reason)
-    return Outcome(Verdict.FAILED, over, ProtectiveStop(StopKind.FORCE, over)) if over else None
+    if over := braked_over_limit(segment, braked, until_reason):
+        return Outcome(Verdict.FAILED, over, ProtectiveStop(StopKind.FORCE, over))
+    if thresholds := force_thresholds_n(segment.until):
+        settle_at_touch(runtime, min(TOUCH_THRESHOLD_N, *thresholds))
+    return None
+
+
+def force_thresholds_n(condition: Condition | None) -> tuple[float, ...]:
+    """The thresholds of an UNTIL's terms on the wrist's force (FORCE, FORCE axis) [N]; () if none."""
+    if isinstance(condition, AllOf | AnyOf):
+        return tuple(value for term in condition.terms for value in force_thresholds_n(term))
+    if isinstance(condition, Comparison) and condition.quantity in (Quantity.FORCE, Quantity.FORCE_ALONG):
+        return (abs(condition.value),)
+    return ()
+
+
+def settle_at_touch(runtime: Runtime, push_n: float) -> None:
+    """Hold the brake's pose, where a guarded motion's UNTIL fired, until the push is at most ``push_n``.
+
+    The brake (:func:`brake_to_rest`) holds the pose at which the UNTIL fired, where the tool
+    touched; the tool comes to rest below it, pressed into the surface by its momentum, and there
+    the brake used to let go: the next statement's hold took that compressed pose and kept pressing
+    (``MOVE BY (0, 0, -100 mm) UNTIL FORCE > 5 N`` onto the table: the UNTIL fired at 6.3-7.5 N,
+    the arm came to rest pressing 10.1 N and 13.9 N, seeds 0 and 1, 27.9 N on the ideal plant, and
+    the WAIT 1 s after it still pressed 2.4-3.1 N: MuJoCo's contact forces). Held at the touch, the
+    surface pushes the tool back up to it: the push falls under a touch's
+    (:data:`cosmos.plan.TOUCH_THRESHOLD_N`, or the UNTIL's own threshold if lower) in 0.15-0.25 s
+    on the cushioned table, 10-25 ms on the steel hole fixture, and the next statement holds the
+    tool where it touched (the WAIT: 0.3-1.7 N). At most :data:`SETTLE_AT_TOUCH_S` (something that
+    keeps pushing is held as before).
+
+    Args:
+        runtime: The runtime, its servo holding the brake's setpoint.
+        push_n: The push the tool may keep on its surface, in [N].
+    """
+    wrench = runtime.wrench
+    end = runtime.time_s + SETTLE_AT_TOUCH_S
+    while runtime.time_s < end - 1e-9:
+        fx, fy, fz = wrench[:3].tolist()
+        if fx * fx + fy * fy + fz * fz <= push_n * push_n:
+            return
+        runtime.tick()
