@@ -11,16 +11,11 @@ MOVE's end, and against a touch's 2 N (docs/language.md, CONTACT) at the WAIT's.
 
 from __future__ import annotations
 
-import contextlib
-import io
 from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import write_program
-from tool_contact import ToolContactProbe
-
-from cosmos.runlog.reader import RunRecord, read_log
+from tool_contact import ToolContactProbe, run_with_probe
 
 GUARDED = """MOVE TO table + (0, 0, 50 mm)
 MOVE BY (0, 0, -100 mm) UNTIL FORCE > 5 N
@@ -40,19 +35,6 @@ CASES = {
 }
 
 
-def _run(tmp_path: Path, source: str, seed: int, ideal: bool) -> tuple[RunRecord, ToolContactProbe]:
-    from cosmos.commands.run import run_program
-    from cosmos.runtime.rates import Rates
-
-    program, log = write_program(tmp_path, "guarded", source), tmp_path / "guarded.mcap"
-    err = io.StringIO()
-    quiet = (contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err))
-    with ToolContactProbe() as probe, quiet[0], quiet[1]:
-        returncode = run_program(program, log, Rates(), seed, ideal=ideal)
-    assert returncode == 0, err.getvalue()
-    return read_log(log), probe
-
-
 def _force_at(probe: ToolContactProbe, t_s: float) -> float:
     """The magnitude of MuJoCo's contact force on the tool at the last physics step by ``t_s`` [N]."""
     last = int(np.searchsorted(np.asarray(probe.t), t_s + 1e-9)) - 1
@@ -64,7 +46,7 @@ def test_a_guarded_move_stopped_on_the_table_holds_where_it_touched(tmp_path: Pa
     """Catches the hold after a guarded stop pressing on: 10.1-27.9 N of contact force as the MOVE
     ended "stopped, UNTIL FORCE > 5 N", and 2.4-3.1 N still at the end of the WAIT after it."""
     prefix, seed, ideal = CASES[case]
-    record, probe = _run(tmp_path, prefix + GUARDED, seed, ideal)
+    record, probe = run_with_probe(tmp_path, "guarded", prefix + GUARDED, seed, ideal)
     move_line = 2 + prefix.count("\n")
     ends = {e.line: e for e in record.events if e.kind in ("done", "stopped", "failed")}
     assert ends[move_line].kind == "stopped", ends[move_line].reason

@@ -13,15 +13,10 @@ the log's tool point (the point the program moves) and the goal the program stat
 
 from __future__ import annotations
 
-import contextlib
-import io
 from pathlib import Path
 
 import pytest
-from run_support import write_program
-from tool_contact import ToolContactProbe
-
-from cosmos.runlog.reader import RunRecord, read_log
+from tool_contact import run_with_probe
 
 STIFFNESS_N_M = 500.0
 GRIPPER_PRESS = """TOOL GRIPPER
@@ -45,25 +40,12 @@ TOLERANCE = 0.06
 """Of the law's force: the realistic plant's sensor and friction (the press read 15.8-15.9 N for 15.8 N)."""
 
 
-def _run(tmp_path: Path, source: str, seed: int, ideal: bool) -> tuple[RunRecord, ToolContactProbe]:
-    from cosmos.commands.run import run_program
-    from cosmos.runtime.rates import Rates
-
-    program, log = write_program(tmp_path, "press", source), tmp_path / "press.mcap"
-    err = io.StringIO()
-    quiet = (contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err))
-    with ToolContactProbe() as probe, quiet[0], quiet[1]:
-        returncode = run_program(program, log, Rates(), seed, ideal=ideal)
-    assert returncode == 0, err.getvalue()
-    return read_log(log), probe
-
-
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_a_spring_pressed_31_mm_short_presses_k_times_its_shortfall(tmp_path: Path, case: str) -> None:
     """Catches the Coulomb compensation pressing the spring's pull into the table: 22.1-26.1 N of
     MuJoCo contact force for 500 N/m x 31.6 mm = 15.8 N (gripper), 19 N for 15.6 N (peg, ideal)."""
     source, drop_mm, seed, ideal = CASES[case]
-    record, probe = _run(tmp_path, source, seed, ideal)
+    record, probe = run_with_probe(tmp_path, "press", source, seed, ideal)
     lines = source.splitlines()
     move_line = 1 + next(i for i, text in enumerate(lines) if text.startswith("MOVE BY"))
     events = {(e.kind, e.line): e for e in record.events}

@@ -7,11 +7,16 @@ fingers) and everything else (``mujoco.mj_contactForce``): the force the tool ap
 
 from __future__ import annotations
 
+import contextlib
+import io
+from pathlib import Path
 from typing import Any
 
 import mujoco
 import numpy as np
-from run_support import StepProbe
+from run_support import StepProbe, write_program
+
+from cosmos.runlog.reader import RunRecord, read_log
 
 
 def _subtree(model: mujoco.MjModel, root: int) -> frozenset[int]:
@@ -59,3 +64,22 @@ class ToolContactProbe(StepProbe):
         window = (t > start_s) & (t <= end_s)
         assert window.any(), (start_s, end_s)
         return np.asarray(self.force)[window].mean(axis=0)
+
+
+def run_with_probe(
+    tmp_path: Path, name: str, source: str, seed: int, ideal: bool
+) -> tuple[RunRecord, ToolContactProbe]:
+    """Run ``source`` as ``cosmos run`` does (it must succeed): its log, and the tool's contact forces."""
+    from cosmos.commands.run import run_program
+    from cosmos.runtime.rates import Rates
+
+    program, log = write_program(tmp_path, name, source), tmp_path / f"{name}.mcap"
+    err = io.StringIO()
+    with (
+        ToolContactProbe() as probe,
+        contextlib.redirect_stdout(io.StringIO()),
+        contextlib.redirect_stderr(err),
+    ):
+        returncode = run_program(program, log, Rates(), seed, ideal=ideal)
+    assert returncode == 0, err.getvalue()
+    return read_log(log), probe

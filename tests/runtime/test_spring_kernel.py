@@ -18,18 +18,25 @@ def _blocks(r: np.ndarray, v: np.ndarray) -> np.ndarray:
     return np.concatenate((r.dot(v[:3]), r.dot(v[3:])))
 
 
+def _random_tick(rng: np.random.Generator) -> tuple[np.ndarray, ...]:
+    """A task frame's rotation (3 x 3 and its 6 x 6 block), springs on some axes, the kernels' state
+    and vectors with a random wrench in them."""
+    r = so3_exp(rng.normal(size=3))
+    rotation = np.zeros((6, 6))
+    rotation[:3, :3] = r
+    springs = np.where(rng.random(6) < 0.5, rng.uniform(0.5, 8.0, 6), 0.0)
+    state = np.zeros((sk.STATE_ROWS, 6))
+    vectors = np.zeros((sk.VECTORS, 6))
+    vectors[SPRINGS] = springs
+    state[sk.WRENCH] = rng.normal(scale=5.0, size=6)
+    return r, rotation, springs, state, vectors
+
+
 def test_the_spring_kernel_matches_its_reference_on_random_ticks() -> None:
     """Catches a kernel that drifts from the readable law: a wrong frame, sign, bound or axis."""
     rng = np.random.default_rng(14)
     for _ in range(200):
-        r = so3_exp(rng.normal(size=3))
-        rotation = np.zeros((6, 6))
-        rotation[:3, :3] = r
-        springs = np.where(rng.random(6) < 0.5, rng.uniform(0.5, 8.0, 6), 0.0)
-        state = np.zeros((sk.STATE_ROWS, 6))
-        vectors = np.zeros((sk.VECTORS, 6))
-        vectors[SPRINGS] = springs
-        state[sk.WRENCH] = rng.normal(scale=5.0, size=6)
+        r, rotation, springs, state, vectors = _random_tick(rng)
         state[sk.VELOCITY] = rng.normal(scale=0.05, size=6)
         state[SPRING_LAW] = rng.normal(scale=0.5, size=6)
         state[SPRING_LAW + 1] = rng.normal(scale=0.05, size=6)
@@ -78,14 +85,7 @@ def test_the_spring_intent_kernel_matches_its_reference_on_random_ticks() -> Non
     reference: a wrong frame, sign or axis (it must leave the axes that are no spring alone)."""
     rng = np.random.default_rng(15)
     for _ in range(200):
-        r = so3_exp(rng.normal(size=3))
-        rotation = np.zeros((6, 6))
-        rotation[:3, :3] = r
-        springs = np.where(rng.random(6) < 0.5, rng.uniform(0.5, 8.0, 6), 0.0)
-        state = np.zeros((sk.STATE_ROWS, 6))
-        vectors = np.zeros((sk.VECTORS, 6))
-        vectors[SPRINGS] = springs
-        state[sk.WRENCH] = rng.normal(scale=5.0, size=6)
+        r, rotation, springs, state, vectors = _random_tick(rng)
         acceleration = rng.normal(size=6)
         out = acceleration.copy()
         spring_intent_into(out, state, vectors, rotation)
