@@ -261,8 +261,9 @@ class Executor:
         supervisor.field_acting = False
         # Looked up once: the loop below runs every servo tick. The arrays are live views,
         # rewritten in place by the servo and the physics.
-        tick, check, judge, idle_until = rt.tick, supervisor.check, monitor.judge, monitor.idle_until_s
+        tick, judge, idle_until = rt.tick, monitor.judge, monitor.idle_until_s
         wrench, torque, position, grip = rt.wrench, rt.servo.torque, meter.position, self.hand.grip_n
+        check = supervisor.checker(wrench, torque, position)  # check(now): these views, listed once
         snapshot = Snapshot(start_s, position, meter.rotation, rt.servo.last_velocity, wrench, grip)
         last_goal = len(goals) - 1
         progress, progress_every = self.progress, self.progress_every
@@ -301,7 +302,7 @@ class Executor:
                     raise Interrupted(
                         f"{statement_head(segment.statement)} interrupted", segment.span, self._source
                     )
-                stop = check(now, wrench, torque, position)
+                stop = check(now)
                 if stop is not None:
                     if stop.kind is StopKind.PATH:  # off its line: say if a singularity is why
                         singular = singularity(rt.q, rt.evaluation.jacobian, rt.robot.description)

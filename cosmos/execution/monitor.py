@@ -21,6 +21,7 @@ from cosmos.execution.arrival import REST_ANGULAR_SPEED_RAD_S, GoalError
 from cosmos.execution.closing import Closing, stall_reason
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import length_along, norm3, pose_error
+from cosmos.execution.goal_gate import GoalGate
 from cosmos.execution.left_surface import watched
 from cosmos.execution.lost_push import LostPush, lost_surface
 from cosmos.execution.supervision import ProtectiveStop
@@ -213,6 +214,10 @@ class SegmentMonitor:
         """The judge of the segment's own ending (``completion``), one snapshot at a time."""
         if isinstance(completion, GoalReached):
             self._goal = completion  # a SLIDE's is watched for leaving its surface (execution.left_surface)
+            self._gate = GoalGate(
+                self._goal_xyz, completion.speed_tolerance_mps, completion.position_tolerance_m,
+                self._position_rows,
+            )  # fmt: skip
             return watched(self.segment, self._start_xyz, self._goal_reached, Verdict.FAILED, Outcome)
         # The judges below read their ending from self: one call a tick, no wrapper.
         if isinstance(completion, ContactTouch):
@@ -249,15 +254,16 @@ class SegmentMonitor:
         if timed is not None and snap.t_s < timed:
             return None
         self._ticks += 1
-        vx, vy, vz, wx, wy, wz = snap.velocity.tolist()
-        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+        gate = self._gate  # on its way: too fast, or slow but still off its goal point (compiled)
         if self._ticks % JUDGE_MOVING_EVERY and (
-            speed > goal.speed_tolerance_mps or self._off_position(snap.position, goal.position_tolerance_m)
+            gate.listed(gate.table) if snap is gate.snapshot else gate.on_its_way(snap)
         ):
-            # On its way, or slow but still off its goal point: not arrived (no settling starts);
-            # the whole error (orientation, stall, overrun) is judged now and then.
+            # Not arrived (no settling starts); the whole error (orientation, stall, overrun) is
+            # judged now and then.
             self._settled_since = None
             return None
+        vx, vy, vz, wx, wy, wz = snap.velocity.tolist()
+        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
         # The error in floats (a 3 x 3 product and a log: 3 us, where arrays cost 10-25 us).
         (ex, ey, ez), turned = pose_error(
             snap.position.tolist(), snap.rotation.tolist(), self._goal_xyz, self._goal_rows
@@ -309,17 +315,6 @@ class SegmentMonitor:
             angle = math.sqrt(left[0] * left[0] + left[1] * left[1] + left[2] * left[2])
         self._turn, self._turn_angle = left, angle
         return self._stalled(snap, position_off + STALL_ANGLE_SCALE_M * angle, (ex, ey, ez), turned)
-
-    def _off_position(self, position: FloatArray, tolerance_m: float) -> bool:
-        """Whether the tool point is beyond ``tolerance_m`` of its goal on the motion axes (as floats)."""
-        x, y, z = position.tolist()
-        gx, gy, gz = self._goal_xyz
-        ex, ey, ez = x - gx, y - gy, z - gz
-        total = 0.0
-        for ax, ay, az in self._position_rows:
-            component = ax * ex + ay * ey + az * ez
-            total += component * component
-        return total > tolerance_m * tolerance_m
 
     def _stalled(
         self, snap: Snapshot, distance_m: float, off: tuple[float, ...], turned: tuple[float, ...]

@@ -30,14 +30,14 @@ naming what, where and how hard; the executor ends the statement as failed, logs
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 from numba import typeof
-from numpy.lib.stride_tricks import as_strided
 
 from cosmos.execution.contact_kernel import TOOL_FIXTURE
+from cosmos.execution.contact_pairs import ContactPairs
 from cosmos.execution.contact_roles import PAIR_KINDS, ROLES, Role, geom_roles
 from cosmos.execution.expected import (
     FREE_MOTION_FORCE_N,
@@ -63,7 +63,6 @@ from cosmos.execution.supervision_kernel import (
     COUNTING,
     FIELD_ACTING,
     FORCE_LIMIT2,
-    GEOMS,
     GONE_TICKS,
     GUARDED,
     INHERITED,
@@ -118,8 +117,6 @@ INHERITED_REACH_M = 0.05
 (45 mm), so a peg pulled out grazes its bore freely; a lift off the table is clear of it
 long before."""
 _RATING2 = WRIST_SENSOR.force_n**2
-_NONE = np.zeros((2, 4), dtype=np.int32)[:, ::2]
-"""No contacts' geom pairs, as a strided view (:meth:`Supervisor.contact_geoms`)."""
 
 
 class Supervisor:
@@ -167,10 +164,8 @@ class Supervisor:
         # The commanded line as floats (for path_deviation_m): start, direction, length^2.
         self._line: tuple[tuple[float, ...], tuple[float, ...], float] = ((0.0,) * 3, (0.0,) * 3, 0.0)
         self._path_axes: list[tuple[float, ...]] = []  # the task frame's free translation axes, world
-        # contact_geoms's views: none yet, then MuJoCo's own whenever the count changes.
-        self._geoms: IntArray = _NONE[:0]
-        self._kernel_geoms = _NONE
-        self.contact_geoms(self._data.ncon)
+        self._pairs = ContactPairs(self._data, self._table)  # the contacts' geom pairs, their views
+        self._pairs.update(self._data.ncon)
         self._axes = np.zeros((0, 3))
         self._list(AXES, self._axes)
         self.watch_joint_speeds([0.0] * joints)  # none until the arm's are known
@@ -205,25 +200,6 @@ class Supervisor:
     @field_acting.setter
     def field_acting(self, acting: bool) -> None:
         self._state[FIELD_ACTING] = acting
-
-    def contact_geoms(self, ncon: int) -> IntArray:
-        """MuJoCo's ``ncon`` contacts' geom pairs (``data.contact.geom``), a live view. # (ncon, 2).
-
-        MuJoCo writes its contacts at the start of its arena every step: the view (whose list the
-        bindings build on every call, 0.5-1 us) is kept while their count stays the same.
-        """
-        view = self._geoms
-        if view.shape[0] != ncon:
-            view = self._geoms = self._data.contact.geom
-            # For the compiled tick, always a strided view (numba types one or no contact's as contiguous,
-            # and converts in Python, 1 us a call): two rows of the contacts' memory, or none's.
-            self._kernel_geoms = (
-                view if ncon > 1 else as_strided(view, (2, 2), view.strides) if ncon else _NONE
-            )
-            # The listed tick reads the pairs as the first two int32 of each contact's record.
-            record = max(2, view.strides[0] // view.itemsize) if ncon else 2
-            self._table[GEOMS : GEOMS + 3] = (view.ctypes.data if ncon else 0, ncon, record)
-        return view
 
     def _set_roles(self, roles: np.ndarray) -> None:
         self._roles = roles
@@ -318,28 +294,62 @@ class Supervisor:
             position: The measured tool point, world [m]. # (3,)
         """
         ncon = self._data.ncon
-        if self._geoms.shape[0] != ncon:
-            self.contact_geoms(ncon)
+        if self._pairs.count != ncon:
+            self._pairs.update(ncon)
         if wrench is not self._wrench or torque is not self._torque or position is not self._position:
             return self._check_unlisted(ncon, t_s, wrench, torque, position)
         kind = self._listed_tick(ncon, self._table)
         return None if not kind else self._found(kind, t_s, wrench)
 
+    def checker(
+        self, wrench: FloatArray, torque: FloatArray, position: FloatArray
+    ) -> Callable[[float], ProtectiveStop | None]:
+        """:meth:`check` on these live views for a segment's ticks: ``check(t_s)``, one argument a tick.
+
+        The views are listed here, once (a :meth:`check` on others lists those instead): a tick reads
+        MuJoCo's contact count and makes the compiled call.
+        """
+        if type(self).check is not Supervisor.check or not self._listable(wrench, torque, position):
+            check = self.check  # a subclass's own, or views of other types: as the tick declares them
+            return lambda t_s: check(t_s, wrench, torque, position)
+        data, pairs, listed, table, found = (
+            self._data,
+            self._pairs,
+            self._listed_tick,
+            self._table,
+            self._found,
+        )
+
+        def tick_check(t_s: float) -> ProtectiveStop | None:
+            ncon = data.ncon
+            if pairs.count != ncon:
+                pairs.update(ncon)
+            kind = listed(ncon, table)
+            return None if not kind else found(kind, t_s, wrench)
+
+        return tick_check
+
+    def _listable(self, wrench: FloatArray, torque: FloatArray, position: FloatArray) -> bool:
+        """List the three live views if they are of the types the compiled tick declares (True), else not."""
+        if tuple(typeof(array) for array in (wrench, torque, position)) != self._live_types:
+            return False
+        self._wrench, self._torque, self._position = wrench, torque, position  # kept alive: listed
+        self._list(WRENCH, wrench)
+        self._list(TORQUE, torque)
+        self._list(POSITION, position)
+        return True
+
     def _check_unlisted(
         self, ncon: int, t_s: float, wrench: FloatArray, torque: FloatArray, position: FloatArray
     ) -> ProtectiveStop | None:
         """:meth:`check` on arrays not listed: listed if of the tick's types, else by numba's dispatch."""
-        if tuple(typeof(array) for array in (wrench, torque, position)) == self._live_types:
-            self._wrench, self._torque, self._position = wrench, torque, position  # kept alive: listed
-            self._list(WRENCH, wrench)
-            self._list(TORQUE, torque)
-            self._list(POSITION, position)
+        if self._listable(wrench, torque, position):
             kind = self._listed_tick(ncon, self._table)
             return None if not kind else self._found(kind, t_s, wrench)
         speeds, state = self._speeds, self._state
         supervise_tick.compile_declared()  # closed to other types: numba refuses them, converts the rest
         kind, state[STOP_WHICH], state[STOP_VALUE] = supervise_tick(  # numba's dispatch converts them
-            ncon, self._kernel_geoms, self._pair_kinds, wrench, torque, position, state, self._axes,
+            ncon, self._pairs.kernel_view, self._pair_kinds, wrench, torque, position, state, self._axes,
             speeds.qd, speeds.watch,
         )  # fmt: skip
         return None if not kind else self._found(kind, t_s, wrench)
@@ -349,7 +359,7 @@ class Supervisor:
         which, value = int(self._state[STOP_WHICH]), float(self._state[STOP_VALUE])
         if kind == StopKind.CONTACT:
             roles = self._roles_list
-            g1, g2 = self._geoms[which].tolist()
+            g1, g2 = self._pairs.view[which].tolist()
             arm, other = (g1, g2) if roles[g1] in (Role.LINK, Role.TOOL) else (g2, g1)
             owners, arm_roles = (self._owners[arm], self._owners[other]), (roles[arm], roles[other])
             return contact_stop(
@@ -382,4 +392,4 @@ class Supervisor:
         if not ncon:
             return False
         kinds = self._pair_kinds
-        return any(kinds[g1, g2] == TOOL_FIXTURE for g1, g2 in self.contact_geoms(ncon).tolist())
+        return any(kinds[g1, g2] == TOOL_FIXTURE for g1, g2 in self._pairs.update(ncon).tolist())

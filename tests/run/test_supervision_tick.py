@@ -127,7 +127,7 @@ def test_the_compiled_tick_reads_mujocos_contacts_through_one_type_of_view() -> 
             ncon = plant.data.ncon
             counts.add(min(ncon, 2))
             supervisor.check(0.0, np.zeros(6), np.zeros(6), plant.data.site_xpos[-1])
-            view = supervisor._kernel_geoms
+            view = supervisor._pairs.kernel_view
             assert typeof(view).layout == "A"
             assert view[:ncon].tolist() == plant.data.contact.geom.tolist()
     assert counts == {0, 1, 2}, counts

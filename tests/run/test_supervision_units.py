@@ -215,10 +215,12 @@ def test_the_kept_contact_view_reads_mujocos_own_contact_list() -> None:
     import mujoco
     import pinocchio as pin
 
+    from cosmos.execution.contact_pairs import ContactPairs
+    from cosmos.execution.supervision_kernel import TABLE_SIZE
     from tests.arm_helpers import solve_ik
 
     plant = Plant()
-    supervisor = Supervisor(plant, np.minimum(-ROBOT.tau_lower_nm, ROBOT.tau_upper_nm), 0.001)
+    pairs = ContactPairs(plant.data, np.zeros(TABLE_SIZE, dtype=np.int64))
     hole = fixture_frames()["hole"]
     counts = set()
     for offset in (0.0002, 0.003, -0.002):
@@ -228,7 +230,7 @@ def test_the_kept_contact_view_reads_mujocos_own_contact_list() -> None:
             mujoco.mj_step(plant.model, plant.data)
             ncon = plant.data.ncon
             counts.add(ncon)
-            assert supervisor.contact_geoms(ncon).tolist() == plant.data.contact.geom.tolist()
+            assert pairs.update(ncon).tolist() == plant.data.contact.geom.tolist()
     assert len(counts) > 2  # the count changed, and held: both ways of the view were read
 
 
