@@ -265,6 +265,10 @@ class Executor:
         wrench, torque, position, grip = rt.wrench, rt.servo.torque, meter.position, self.hand.grip_n
         check = supervisor.checker(wrench, torque, position)  # check(now): these views, listed once
         snapshot = Snapshot(start_s, position, meter.rotation, rt.servo.last_velocity, wrench, grip)
+        # A goal motion's judge alone: its compiled gate first, the judge on the ticks it lets through.
+        gate = monitor.gate if monitor.gate is not None and monitor.gate.list(snapshot) else None
+        passes, gate_table = (gate.listed, gate.table) if gate is not None else (bool, None)
+        gated, judge = gate is not None, monitor.judged if gate is not None else judge
         last_goal = len(goals) - 1
         progress, progress_every = self.progress, self.progress_every
         self._field_watch = field_watch = FieldOnToolWatch()
@@ -345,7 +349,7 @@ class Executor:
                     if found is not None:  # the lateral axes return to the INSERT's compliance
                         self._event("found", segment, found)
                     monitor.searching, search = search.pattern, search.going_on
-                if now >= idle_until and (outcome := judge(snapshot)) is not None:
+                if now >= idle_until and not (gated and passes(gate_table)) and (outcome := judge(snapshot)):
                     return outcome
                 if progress is not None and ticks % progress_every == 0:
                     progress(Progress(segment.line, segment.statement, now))

@@ -121,7 +121,6 @@ class SegmentMonitor:
         self.timed_until_s = timed_until_s
         self._reads_grip = segment.until is not None and reads_grip(segment.until)
         self._settled_since: float | None = None
-        self._ticks = 0
         self.turn_long_way = False
         """Set when the controller turns the long way round to the goal orientation."""
         self.tool_touched: Callable[[], bool] = lambda: True  # a fixture, since the segment started
@@ -180,6 +179,10 @@ class SegmentMonitor:
         alone = self.judge == self._goal_reached or self.judge is self._complete and type(ending) is Elapsed
         self.idle_until_s = until if alone and until is not None else -math.inf
         """Before this time :attr:`judge` finds nothing and changes nothing (1e-9 s early for rounding)."""
+        self.gate = self._gate if self.judge == self._goal_reached else None
+        """Where :attr:`judge` is a goal motion's alone: its gate (a tick it passes by, :attr:`judge`
+        does too), and :attr:`judged` the judge of the ticks it does not (cosmos.execution.goal_gate)."""
+        self.judged = self._goal_judged
 
     def check(self, snap: Snapshot, completion: bool = True) -> Outcome | None:
         """The outcome if the segment ends at this tick, else None.
@@ -216,7 +219,7 @@ class SegmentMonitor:
             self._goal = completion  # a SLIDE's is watched for leaving its surface (execution.left_surface)
             self._gate = GoalGate(
                 self._goal_xyz, completion.speed_tolerance_mps, completion.position_tolerance_m,
-                self._position_rows,
+                self._position_rows, JUDGE_MOVING_EVERY,
             )  # fmt: skip
             return watched(self.segment, self._start_xyz, self._goal_reached, Verdict.FAILED, Outcome)
         # The judges below read their ending from self: one call a tick, no wrapper.
@@ -249,19 +252,19 @@ class SegmentMonitor:
         return Outcome(Verdict.DONE if stopped[0] else Verdict.FAILED, stopped[1], touched=stopped[0])
 
     def _goal_reached(self, snap: Snapshot) -> Outcome | None:
-        goal = self._goal
         timed = self.timed_until_s
         if timed is not None and snap.t_s < timed:
             return None
-        self._ticks += 1
-        gate = self._gate  # on its way: too fast, or slow but still off its goal point (compiled)
-        if self._ticks % JUDGE_MOVING_EVERY and (
-            gate.listed(gate.table) if snap is gate.snapshot else gate.on_its_way(snap)
-        ):
-            # Not arrived (no settling starts); the whole error (orientation, stall, overrun) is
-            # judged now and then.
-            self._settled_since = None
+        gate = self._gate  # on its way (too fast, or slow but off its goal point): passed by, compiled
+        if gate.listed(gate.table) if snap is gate.snapshot else gate.passes(snap):
             return None
+        return self._goal_judged(snap)
+
+    def _goal_judged(self, snap: Snapshot) -> Outcome | None:
+        """A goal motion's tick its gate did not pass by: maybe arrived, or one to judge the whole error."""
+        goal, timed = self._goal, self.timed_until_s
+        if self._gate.settling_broken():  # a tick passed by since the last: not arrived then
+            self._settled_since = None
         vx, vy, vz, wx, wy, wz = snap.velocity.tolist()
         speed = math.sqrt(vx * vx + vy * vy + vz * vz)
         # The error in floats (a 3 x 3 product and a log: 3 us, where arrays cost 10-25 us).

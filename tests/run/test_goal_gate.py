@@ -22,6 +22,9 @@ from run_support import run_in_process, write_program
 
 import cosmos.execution.monitor as monitor_module
 from cosmos.execution.goal_gate import GoalGate
+from cosmos.execution.monitor import JUDGE_MOVING_EVERY, SETTLE_S, SegmentMonitor, Snapshot
+from cosmos.lang import compile_program
+from cosmos.workcell import fixture_frames
 
 
 def _on_its_way_in_floats(
@@ -63,24 +66,26 @@ MOVE BY (0, 60 mm, -20 mm) IN 1 s
 def test_the_gate_answers_as_the_judges_floats_at_every_tick_of_real_moves(
     source: str, tmp_path: Any, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Every tick a goal motion's judge asks the gate, on the executor's live arrays (listed by
-    address), the float test above on the same snapshot must agree. Catches an array listed in
-    another's place (the twist read as the tool point), a stale address after a new segment's
-    snapshot, the angular speed counted in the speed, an axis of the task frame left out or a
-    tolerance compared unsquared: each changes the tick a motion arrives at, or its reason."""
+    """Every tick a goal motion's gate is asked, on the executor's live arrays (listed by address),
+    it must pass the tick by exactly when the judge's former test did on the same snapshot: not one
+    of every ``JUDGE_MOVING_EVERY`` ticks counted, and on its way by the floats above. Catches an
+    array listed in another's place (the twist read as the tool point), a stale address after a new
+    segment's snapshot, the angular speed counted in the speed, an axis of the task frame left out,
+    a tolerance compared unsquared, or the count off by one: each changes the tick a motion
+    arrives at, or its reason."""
     answers: list[tuple[bool, bool]] = []
 
     class Recorded(GoalGate):
         def __init__(self, *gate: Any) -> None:
             super().__init__(*gate)
-            compiled = self.listed
+            compiled, counted = self.listed, [0]
 
             def listed(table: np.ndarray) -> bool:
-                answer = bool(compiled(table))
+                counted[0] += 1
                 snap = self.snapshot
-                expected = _on_its_way_in_floats(snap.position.tolist(), snap.velocity.tolist(), *gate)
-                answers.append((answer, expected))
-                return answer
+                on_its_way = _on_its_way_in_floats(snap.position.tolist(), snap.velocity.tolist(), *gate[:4])
+                answers.append((bool(compiled(table)), bool(counted[0] % JUDGE_MOVING_EVERY) and on_its_way))
+                return answers[-1][0]
 
             self.listed = listed
 
@@ -88,8 +93,8 @@ def test_the_gate_answers_as_the_judges_floats_at_every_tick_of_real_moves(
     run = run_in_process(write_program(tmp_path, "moves", source), tmp_path / "moves.mcap")
     assert run.returncode == 0, run.describe()
     assert [i for i, (answer, expected) in enumerate(answers) if answer != expected] == []
-    at_goal = sum(not answer for answer, _ in answers)
-    assert 40 < at_goal < len(answers) - 300  # both answers, many times each
+    judged = sum(not answer for answer, _ in answers)
+    assert len(answers) / JUDGE_MOVING_EVERY + 40 < judged < len(answers) - 300  # arrivals among them
 
 
 def test_the_gate_at_its_tolerances_and_on_any_array() -> None:
@@ -111,16 +116,52 @@ def test_the_gate_at_its_tolerances_and_on_any_array() -> None:
     for _ in range(300):
         position = np.add(goal, rng.normal(0.0, 0.001, 3))
         cases.append((position.tolist(), rng.normal(0.0, 0.004, 6).tolist()))
-    gate = GoalGate(goal, speed_mps, tolerance_m, axes)
+    listed, strided = (
+        GoalGate(goal, speed_mps, tolerance_m, axes, 7),
+        GoalGate(goal, speed_mps, tolerance_m, axes, 7),
+    )
     answers = []
-    for position, velocity in cases:
-        expected = _on_its_way_in_floats(position, velocity, goal, speed_mps, tolerance_m, axes)
-        listed = SimpleNamespace(position=np.array(position), velocity=np.array(velocity))
-        strided = SimpleNamespace(position=np.repeat(position, 2)[::2], velocity=np.repeat(velocity, 2)[::2])
-        first = gate.on_its_way(listed)
-        assert gate.snapshot is listed  # listed: the ticks after call the compiled function directly
-        again = bool(gate.listed(gate.table))
-        assert first == again == gate.on_its_way(strided) == expected, (position, velocity)
+    for k, (position, velocity) in enumerate(cases, start=1):
+        expected = (
+            _on_its_way_in_floats(position, velocity, goal, speed_mps, tolerance_m, axes) and k % 7 != 0
+        )
+        snap = SimpleNamespace(position=np.array(position), velocity=np.array(velocity))
+        assert listed.list(snap) and listed.snapshot is snap  # the ticks after call the compiled function
+        answer = bool(listed.listed(listed.table))
+        other = SimpleNamespace(position=np.repeat(position, 2)[::2], velocity=np.repeat(velocity, 2)[::2])
+        assert answer == strided.passes(other) == expected, (k, position, velocity)
+        assert listed.ticks == strided.ticks == k
+        assert listed.settling_broken() == strided.settling_broken() == expected
         answers.append(expected)
     assert answers[:5] == [False, True, True, False, False]
     assert 50 < sum(answers) < len(answers) - 50
+
+
+def test_a_tick_passed_by_breaks_the_settling_as_a_judged_one_does() -> None:
+    """A goal motion at its goal and at rest for 10 ticks, off it by 2 mm for one, back from the
+    next: it arrives ``SETTLE_S`` after it came back, asked every tick (:attr:`judge`) or through
+    its gate as the executor's loop asks it (:attr:`judged` on the ticks the gate lets through).
+    Catches the settling started before the tick passed by kept (an arrival 10 ticks early), or
+    the gate's counts and the judge's parting."""
+    plan = compile_program("MOVE TO (0.5, 0.1, 0.4) RPY (180 deg, 0, 0)\n", "m.cos", fixture_frames())
+    goal = (np.array([0.5, 0.1, 0.4]), np.diag([1.0, -1.0, -1.0]))
+    arrivals = []
+    for through_gate in (False, True):
+        monitor = SegmentMonitor(plan.segments[0], 0.0, goal[0], 0.0, goal[0], None, goal, lambda: "")
+        assert monitor.gate is not None and monitor.idle_until_s == -math.inf
+        position = goal[0].copy()
+        snap = Snapshot(0.0, position, goal[1], np.zeros(6), np.zeros(6))
+        assert monitor.gate.list(snap)
+        for tick in range(1, 100):
+            snap.t_s = 0.001 * tick
+            position[2] = goal[0][2] + (0.002 if tick == 11 else 0.0)
+            if through_gate:
+                gate = monitor.gate
+                outcome = None if gate.listed(gate.table) else monitor.judged(snap)
+            else:
+                outcome = monitor.judge(snap)
+            if outcome is not None:
+                arrivals.append((tick, outcome.reason))
+                break
+    back, settle_ticks = 12, round(SETTLE_S / 0.001)
+    assert arrivals == [(back + settle_ticks, "arrived: 0.0 mm and 0.0 deg from its goal")] * 2

@@ -26,7 +26,7 @@ def test_the_rotation_left_is_unwraps_choice_at_every_judgement_through_pi() -> 
         rotation = so3_exp(axis * angle)
         log = so3_log(rotation)
         expected = log if expected is None else unwrap_rotation_vector(log, expected)
-        monitor._ticks = JUDGE_MOVING_EVERY - 1  # this check is a judgement
+        monitor._gate.ticks = JUDGE_MOVING_EVERY - 1  # this check is a judgement
         assert monitor.check(Snapshot(0.001 * k, position, rotation, velocity, np.zeros(6))) is None
         assert monitor._turn is not None
         np.testing.assert_array_equal(monitor._turn, expected)
