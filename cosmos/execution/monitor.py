@@ -5,6 +5,7 @@ orientation both (:mod:`cosmos.execution.arrival`), once the tool has settled th
 move (``IN t``) ends only on arrival, and fails with the measured error if it has not arrived
 :data:`TIMED_SETTLE_S` after its time; a CONTACT's approach that stands short of its touch
 has landed or is held back (:mod:`cosmos.execution.approach_stall`).
+The measurements a tick is judged on are a :class:`~cosmos.execution.snapshot.Snapshot` (re-exported).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from cosmos.execution.float_maths import length_along, norm3, pose_error
 from cosmos.execution.goal_gate import GoalGate
 from cosmos.execution.left_surface import watched
 from cosmos.execution.lost_push import LostPush, lost_surface
+from cosmos.execution.snapshot import Snapshot
 from cosmos.execution.supervision import ProtectiveStop
 from cosmos.execution.touch_push import ToolInertia
 from cosmos.lang.check.limits import MAX_DURATION_S
@@ -41,6 +43,7 @@ from cosmos.plan import (
 )
 
 FloatArray = np.ndarray
+__all__ = ["Outcome", "SegmentMonitor", "Snapshot", "Verdict"]
 
 STALL_ANGLE_SCALE_M = 0.1
 """Progress in orientation counts as this many metres per radian."""
@@ -68,32 +71,6 @@ class Outcome:
     reason: str
     stop: ProtectiveStop | None = None
     touched: bool = False
-
-
-@dataclass(slots=True)
-class Snapshot:
-    """What the monitor looks at in one tick (world axes).
-
-    Made once per segment: the arrays are live views of the runtime's and the
-    plant's buffers (rewritten in place every tick), and the executor sets
-    ``t_s`` each tick, so a tick allocates nothing to be judged.
-
-    Attributes:
-        t_s: Simulated time, in [s].
-        position: Measured tool point, in [m]. # (3,)
-        rotation: Measured tool orientation, tool to world. # (3, 3)
-        velocity: Tool twist ``J qd`` from the encoders, in [m/s, rad/s]. # (6,)
-        wrench: Wrench the tool applies to the environment (wrist sensor), in [N, N m]. # (6,)
-        grip: Reads the gripper's pads now: the smaller of their forces [N] (FINGER FORCE);
-            called only by a segment whose UNTIL reads it.
-    """
-
-    t_s: float
-    position: FloatArray
-    rotation: FloatArray
-    velocity: FloatArray
-    wrench: FloatArray
-    grip: Callable[[], float] = lambda: 0.0
 
 
 class SegmentMonitor:
@@ -170,10 +147,14 @@ class SegmentMonitor:
         self._complete = self._completion_judge(segment.completion)  # chosen once: it runs every tick
         self._turns = bool(self._motion[3:].any())
         self.judge: Callable[[Snapshot], Outcome | None] = (
-            self._complete if segment.until is None and timeout is None else self.check
+            self.check
+            if segment.until is not None
+            else self._complete_in_time
+            if timeout is not None
+            else self._complete
         )
-        """Judges a tick of the last leg: :meth:`check`, or the segment's own ending alone where
-        that is all there is to judge (no UNTIL, no TIMEOUT): one call a tick, not two."""
+        """Judges a tick of the last leg: :meth:`check`, or without UNTIL the segment's own ending and
+        its TIMEOUT, or that ending alone (no UNTIL, no TIMEOUT): one call a tick, not two."""
         ending, until = segment.completion, timed_until_s  # a timed goal motion's arrival: from its time
         until = start_s + ending.duration_s - 1e-9 if isinstance(ending, Elapsed) else until  # a WAIT's end
         alone = self.judge == self._goal_reached or self.judge is self._complete and type(ending) is Elapsed
@@ -206,11 +187,19 @@ class SegmentMonitor:
             done = self._complete(snap)
             if done is not None:
                 return done
-        if snap.t_s >= self._deadline_s and self._timeout_s is not None:
-            if snap.t_s - self.statement_start_s >= self._timeout_s:  # as written, to the tick
-                return Outcome(
-                    Verdict.FAILED, timeout_reason(self.segment.kind, self._timeout_s, self._last_depth)
-                )
+        return self._timed_out(snap) if snap.t_s >= self._deadline_s else None
+
+    def _complete_in_time(self, snap: Snapshot) -> Outcome | None:
+        """:meth:`check` of a segment without UNTIL: its own ending, then its TIMEOUT."""
+        done = self._complete(snap)
+        return self._timed_out(snap) if done is None and snap.t_s >= self._deadline_s else done
+
+    def _timed_out(self, snap: Snapshot) -> Outcome | None:
+        """The TIMEOUT's failure once ``snap`` is past its deadline (as written, to the tick)."""
+        if self._timeout_s is not None and snap.t_s - self.statement_start_s >= self._timeout_s:
+            return Outcome(
+                Verdict.FAILED, timeout_reason(self.segment.kind, self._timeout_s, self._last_depth)
+            )
         return None
 
     def _completion_judge(self, completion: object) -> Callable[[Snapshot], Outcome | None]:
