@@ -270,6 +270,7 @@ class Executor:
         passes, gate_table = (gate.listed, gate.table) if gate is not None else (bool, None)
         gated, judge = gate is not None, monitor.judged if gate is not None else judge
         last_goal = len(goals) - 1
+        on_the_way = last_goal > 0 or watch_minima or search is not None  # the loop's rarer looks, or none
         progress, progress_every = self.progress, self.progress_every
         self._field_watch = field_watch = FieldOnToolWatch()
         deviation = partial(supervisor.path_deviation_m, position)  # position: a live view
@@ -314,41 +315,42 @@ class Executor:
                             stop = replace(stop, message=f"{stop.message}; {singular}")
                     return Outcome(Verdict.FAILED, stop.message, stop)
                 snapshot.t_s = now
-                if goal_index < last_goal:
-                    if distance_to_point(position, goal_points[goal_index]) < via_radius:
-                        goal_index += 1
-                        supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
-                        rt.set_setpoint(
-                            setpoint_for(
-                                segment,
-                                *goals[goal_index],
-                                rt.evaluation,
-                                rt.wrench,
-                                now,
-                                posture,
-                                among,
-                                True,
+                if on_the_way:  # VIA legs, local minima among obstacles, a SEARCH: decided once
+                    if goal_index < last_goal:
+                        if distance_to_point(position, goal_points[goal_index]) < via_radius:
+                            goal_index += 1
+                            supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
+                            rt.set_setpoint(
+                                setpoint_for(
+                                    segment,
+                                    *goals[goal_index],
+                                    rt.evaluation,
+                                    rt.wrench,
+                                    now,
+                                    posture,
+                                    among,
+                                    True,
+                                )
                             )
+                        outcome = monitor.check(snapshot, completion=False) or via.stalled(
+                            now, position, goal_index
                         )
-                    outcome = monitor.check(snapshot, completion=False) or via.stalled(
-                        now, position, goal_index
-                    )
-                    if outcome is not None:
-                        return outcome
-                    continue
-                if watch_minima and obstacles is not None and not (minimum_in := minimum_in - 1):
-                    minimum_in = MINIMUM_CHECK_EVERY
-                    stuck = obstacles.local_minimum(position, goal_points[-1], MINIMUM_CHECK_EVERY)
-                    if stuck is not None:
-                        head = statement_head(segment.statement)
-                        return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
-                if search is not None:  # INSERT ... SEARCH: the pattern, then the found part led in
-                    found = search.check(now, position, meter.rotation)
-                    if isinstance(found, Outcome):
-                        return found
-                    if found is not None:  # the lateral axes return to the INSERT's compliance
-                        self._event("found", segment, found)
-                    monitor.searching, search = search.pattern, search.going_on
+                        if outcome is not None:
+                            return outcome
+                        continue
+                    if watch_minima and obstacles is not None and not (minimum_in := minimum_in - 1):
+                        minimum_in = MINIMUM_CHECK_EVERY
+                        stuck = obstacles.local_minimum(position, goal_points[-1], MINIMUM_CHECK_EVERY)
+                        if stuck is not None:
+                            head = statement_head(segment.statement)
+                            return Outcome(Verdict.FAILED, stuck.message(head).removeprefix(head).strip())
+                    if search is not None:  # INSERT ... SEARCH: the pattern, then the found part led in
+                        found = search.check(now, position, meter.rotation)
+                        if isinstance(found, Outcome):
+                            return found
+                        if found is not None:  # the lateral axes return to the INSERT's compliance
+                            self._event("found", segment, found)
+                        monitor.searching, search = search.pattern, search.going_on
                 if now >= idle_until and not (gated and passes(gate_table)) and (outcome := judge(snapshot)):
                     return outcome
                 if progress is not None and ticks % progress_every == 0:
