@@ -16,7 +16,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from functools import partial
 from typing import NoReturn
 
 import numpy as np
@@ -28,6 +27,7 @@ from cosmos.execution.field_on_tool import FieldOnToolWatch
 from cosmos.execution.float_maths import distance_to_point
 from cosmos.execution.holding import brake_after_until, hold_pose
 from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict
+from cosmos.execution.obstacle_ticks import ObstacleTicks
 from cosmos.execution.obstacles import COLLISION_CHECK_EVERY, MINIMUM_CHECK_EVERY, ObstacleWorld
 from cosmos.execution.recording import LogRecorder, log_segment
 from cosmos.execution.resolve import posture_joints, segment_goals, setpoint_for
@@ -271,34 +271,32 @@ class Executor:
         gated, judge = gate is not None, monitor.judged if gate is not None else judge
         last_goal = len(goals) - 1
         on_the_way = last_goal > 0 or watch_minima or search is not None  # the loop's rarer looks, or none
-        progress, progress_every = self.progress, self.progress_every
-        self._field_watch = field_watch = FieldOnToolWatch()
-        deviation = partial(supervisor.path_deviation_m, position)  # position: a live view
+        progress, progress_every, servo = self.progress, self.progress_every, rt.servo
+        self._field_watch = watch = FieldOnToolWatch()
         goal_points = [tuple(goal[0].tolist()) for goal in goals]  # as floats: distances every tick
         via = ViaProgress(goal_points, monitor.stall_cause)  # a VIA leg that stops getting closer fails
-        # Obstacles move only if one is MOVING; the first tick rebuilds the world's tree after an OBSTACLE.
-        moving = obstacles is not None and any(obstacle.moving for obstacle in obstacles.scene.obstacles)
-        acting: object = ()  # the influences the supervisor was told of: the same tuple until an evaluation
-        servo, looked, minimum_in = rt.servo, 0, MINIMUM_CHECK_EVERY
-        # The world's looks for collisions and minima: called at the ticks they fall due, not at every tick.
-        look_at = obstacles.ticks_to_look() if obstacles is not None else 0
+        minimum_at = MINIMUM_CHECK_EVERY if not last_goal else -1  # the minima's tick (from 1): last leg
+        # Collisions looked for at their ticks; the field when an evaluation or a setpoint is new.
+        looks = None if obstacles is None else ObstacleTicks(obstacles, servo, supervisor, watch, position)
+        move, look_at = (None, 0) if looks is None else (looks.move, looks.first_look)
+        seen, measuring = None, False  # the evaluation of the last look at the field; the watch measures
         try:
             while True:
-                if obstacles is not None and (moving or not ticks):
-                    obstacles.before_tick()
+                if move is not None:  # obstacles MOVING
+                    move()
                 now = tick()
                 ticks += 1
-                if obstacles is not None:
+                if looks is not None:
                     if ticks == look_at:
                         look_at += COLLISION_CHECK_EVERY
-                        for reason in obstacles.after_tick(ticks - looked):
+                        for reason in looks.collisions(ticks):
                             self._event("collision", segment, reason)
-                        looked = ticks
-                    if (influences := obstacles.field.influences) is not acting:
-                        supervisor.field_acting, acting = bool(influences), influences
-                    if reason := field_watch.update(
-                        servo.null_space, servo.link_field, deviation, influences
-                    ):
+                    if rt.evaluation is not seen:  # a new field, influences, share: looked at once
+                        seen = rt.evaluation
+                        if reason := looks.field():
+                            self._event("field_on_tool", segment, reason)
+                        measuring = looks.measuring
+                    elif measuring and (reason := looks.measure()):
                         self._event("field_on_tool", segment, reason)
                 if self.stop_requested:
                     self.stop_requested = False
@@ -319,6 +317,8 @@ class Executor:
                     if goal_index < last_goal:
                         if distance_to_point(position, goal_points[goal_index]) < via_radius:
                             goal_index += 1
+                            seen = None  # the null space's share changes with the setpoint
+                            minimum_at = ticks + MINIMUM_CHECK_EVERY if goal_index == last_goal else -1
                             supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
                             rt.set_setpoint(
                                 setpoint_for(
@@ -338,8 +338,8 @@ class Executor:
                         if outcome is not None:
                             return outcome
                         continue
-                    if watch_minima and obstacles is not None and not (minimum_in := minimum_in - 1):
-                        minimum_in = MINIMUM_CHECK_EVERY
+                    if ticks == minimum_at and watch_minima and obstacles is not None:
+                        minimum_at += MINIMUM_CHECK_EVERY
                         stuck = obstacles.local_minimum(position, goal_points[-1], MINIMUM_CHECK_EVERY)
                         if stuck is not None:
                             head = statement_head(segment.statement)
@@ -351,13 +351,14 @@ class Executor:
                         if found is not None:  # the lateral axes return to the INSERT's compliance
                             self._event("found", segment, found)
                         monitor.searching, search = search.pattern, search.going_on
+                        seen = None  # it may have set a setpoint
                 if now >= idle_until and not (gated and passes(gate_table)) and (outcome := judge(snapshot)):
                     return outcome
                 if progress is not None and ticks % progress_every == 0:
                     progress(Progress(segment.line, segment.statement, now))
         finally:  # the ticks since the world's last look (none falls due in them)
-            if obstacles is not None and ticks > looked:
-                obstacles.after_tick(ticks - looked)
+            if looks is not None:
+                looks.close(ticks)
 
     def hold(self, duration_s: float = 0.0) -> None:
         """Hold the measured pose with every axis under position control (no force)."""

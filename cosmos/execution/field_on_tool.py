@@ -92,6 +92,11 @@ class FieldOnToolWatch:
             self._quiet = influences
         return told
 
+    @property
+    def measuring(self) -> bool:
+        """Whether an :meth:`update` with the same inputs measures the tool (an episode goes on)."""
+        return self._episode is not None or bool(self._tool_obstacle)
+
     def close(self) -> str:
         """How far the field on the tool's link moved the tool, if it did and has not been told."""
         obstacle, moved = self._tool_obstacle, self._tool_deviation_m

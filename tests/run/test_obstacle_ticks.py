@@ -1,0 +1,113 @@
+"""The executor's looks at the field among obstacles: at an evaluation or a new setpoint, not every tick.
+
+Between two parameter evaluations the field, its influences and the null space's share of the
+links' field on the tool stay as they are unless a setpoint changes (a VIA leg's next goal), so the
+executor's loop looks at them only then (:mod:`cosmos.execution.obstacle_ticks`), and measures the
+tool at every tick only while an episode of the field on the tool goes on. Both are checked against
+the runtime's own evaluations and setpoints, and the log's episode, spied on.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import cosmos
+from cosmos.execution.obstacle_ticks import ObstacleTicks
+from cosmos.execution.supervision import Supervisor
+from cosmos.runtime.loop import Runtime
+
+VIA_PROGRAM = (
+    "OBSTACLE ball SPHERE AT (0.3, -0.5, 0.9) RADIUS 40 mm\n"
+    "MOVE TO table + (0, 0, 150 mm) VIA table + (0, 0, 250 mm), table + (50 mm, 0, 200 mm)\n"
+)
+PANDA_NULL_SPACE = Path(cosmos.__file__).resolve().parents[1] / "programs" / "panda_null_space.cos"
+
+
+def _us(t_s: float) -> int:
+    return round(t_s * 1e6)
+
+
+def test_the_field_is_looked_at_after_each_evaluation_and_each_via_legs_setpoint(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """A MOVE ... VIA two points among obstacles: the loop looks at the field at the tick after each
+    of the runtime's evaluations (125 Hz), and at the tick after each VIA leg's new setpoint, which
+    changes the null space's share without an evaluation; at no other tick. Catches a VIA leg's
+    setpoint not looked at until the next evaluation (up to 7 ticks with a stale share), and a loop
+    looking at every tick again."""
+    looks: list[int] = []
+    evaluated: list[int] = []
+    restarted: list[int] = []
+    setpoints: list[int] = []
+    field, evaluate = ObstacleTicks.field, Runtime._evaluate
+    reset_clocks, set_setpoint = Runtime.reset_clocks, Runtime.set_setpoint
+
+    def spied_field(self: ObstacleTicks) -> str:
+        looks.append(_us(self._world.runtime.time_s))
+        return field(self)
+
+    def spied_evaluate(self: Runtime, now: float) -> None:
+        evaluated.append(_us(now + 1.0 / self.rates.servo_hz))  # the tick's end: where the loop looks
+        evaluate(self, now)
+
+    def spied_reset(self: Runtime) -> None:
+        restarted.append(_us(self.time_s))
+        reset_clocks(self)
+
+    def spied_setpoint(self: Runtime, setpoint: object) -> None:
+        setpoints.append(_us(self.time_s))
+        set_setpoint(self, setpoint)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(ObstacleTicks, "field", spied_field)
+    monkeypatch.setattr(Runtime, "_evaluate", spied_evaluate)
+    monkeypatch.setattr(Runtime, "reset_clocks", spied_reset)
+    monkeypatch.setattr(Runtime, "set_setpoint", spied_setpoint)
+    run = cosmos.run(VIA_PROGRAM, log=tmp_path / "via.mcap")
+    assert run.ok, run.outcome
+    legs = [t for t in setpoints if t not in restarted]  # not a segment's first
+    assert len(legs) == 2, setpoints
+    after_legs = [t + 1000 for t in legs]  # the next tick (1 ms)
+    assert set(after_legs) <= set(looks), (after_legs, looks)
+    assert set(after_legs) - set(evaluated), "evaluations looked at every leg anyway: no test of the legs"
+    assert sorted(looks) == sorted(set(evaluated) | set(after_legs))
+
+
+def test_an_episode_is_measured_at_every_tick_and_only_then(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """panda_null_space: the ball's field on link 4 reaches the tool from 1.297 s to 1.889 s (the
+    log's two field_on_tool events): the tool's deviation from its path is measured at each of those
+    ticks (the largest is told), and at no tick outside them. Catches an episode measured only at
+    the looks at the field (one tick in eight), and measures while nothing goes on."""
+    measured: list[int] = []
+    deviation = Supervisor.path_deviation_m
+
+    def spied(self: Supervisor, position: object) -> float:
+        measured.append(_us(self._plant.time_s))
+        return deviation(self, position)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(Supervisor, "path_deviation_m", spied)
+    run = cosmos.run(PANDA_NULL_SPACE, log=tmp_path / "panda.mcap")
+    assert run.ok, run.outcome
+    begins, ends = (e.t for e in run.events if e.kind == "field_on_tool")
+    episode = list(range(_us(begins), _us(ends) + 1, 1000))
+    assert len(episode) > 100
+    assert measured == episode
+
+
+def test_a_local_minimum_is_found_on_the_last_leg_of_a_move_via(tmp_path: Path) -> None:
+    """The wall across the path (test_run_obstacles' TRAPPED) met on the last leg of a MOVE ... VIA,
+    the VIA point passed at once: the move fails as stuck in the wall's local minimum, as it does
+    without the VIA point, not 1.2 s later as unable to reach its goal. Catches the loop's looks
+    for a minimum (every 25 ticks of the last leg, by tick number) not started when the last leg is."""
+    program = (
+        "SPEED 0.2 m/s\n"
+        "OBSTACLE wall BOX AT (450 mm, -150 mm, 420 mm) SIZE (20 mm, 600 mm, 400 mm)\n"
+        "MOVE TO (300 mm, -150 mm, 457 mm) VIA (560 mm, -150 mm, 457 mm) TIMEOUT 20 s\n"
+    )
+    with pytest.warns(cosmos.CosmosWarning, match="joint 3 would reach its limit"):
+        run = cosmos.run(program, log=tmp_path / "trapped.mcap")
+    assert not run.ok
+    assert "stuck in a local minimum of the potential field near obstacle 'wall'" in str(run.outcome)
