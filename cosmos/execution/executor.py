@@ -272,14 +272,14 @@ class Executor:
         last_goal = len(goals) - 1
         on_the_way = last_goal > 0 or watch_minima or search is not None  # the loop's rarer looks, or none
         progress, progress_every, servo = self.progress, self.progress_every, rt.servo
-        self._field_watch = watch = FieldOnToolWatch()
+        self._field_watch = watch = FieldOnToolWatch(supervisor.deviation_kept)  # the ticks keep the largest
         goal_points = [tuple(goal[0].tolist()) for goal in goals]  # as floats: distances every tick
         via = ViaProgress(goal_points, monitor.stall_cause)  # a VIA leg that stops getting closer fails
         minimum_at = MINIMUM_CHECK_EVERY if not last_goal else -1  # the minima's tick (from 1): last leg
         # Collisions looked for at their ticks; the field when an evaluation or a setpoint is new.
         looks = None if obstacles is None else ObstacleTicks(obstacles, servo, supervisor, watch, position)
         move, look_at = (None, 0) if looks is None else (looks.move, looks.first_look)
-        seen, measuring = None, False  # the evaluation of the last look at the field; the watch measures
+        seen = None  # the evaluation of the last look at the field
         try:
             while True:
                 if move is not None:  # obstacles MOVING
@@ -295,9 +295,6 @@ class Executor:
                         seen = rt.evaluation
                         if reason := looks.field():
                             self._event("field_on_tool", segment, reason)
-                        measuring = looks.measuring
-                    elif measuring and (reason := looks.measure()):
-                        self._event("field_on_tool", segment, reason)
                 if self.stop_requested:
                     self.stop_requested = False
                     self.hold()

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import numpy as np
+
 from cosmos.obstacles.field import Influence
 from cosmos.runtime.null_space import LinkField, NullSpaceTerms
 
@@ -31,9 +33,17 @@ tolerance of an arrival."""
 
 
 class FieldOnToolWatch:
-    """Follows the links' share of the field reaching the tool, one episode at a time."""
+    """Follows the links' share of the field reaching the tool, one episode at a time.
 
-    def __init__(self) -> None:
+    Args:
+        kept: ``(keeping, largest)``: while the watch sets ``keeping`` (1.0), each tick between
+            two looks (:meth:`update`) keeps the tool's largest distance from its path in ``largest``
+            [m] (the supervisor's :attr:`~cosmos.execution.supervision.Supervisor.deviation_kept`). # (2,)
+    """
+
+    def __init__(self, kept: np.ndarray | None = None) -> None:
+        self._kept = np.zeros(2) if kept is None else kept
+        self._kept[:] = 0.0
         self._episode: tuple[str, str] | None = None
         self._deviation_m = 0.0
         self._tool_obstacle = ""  # whose field acts on the tool's own link ("": none does)
@@ -72,6 +82,7 @@ class FieldOnToolWatch:
             self._deviation_m = max(self._deviation_m, deviation_m())
             return ""
         self._quiet = None
+        self._fold()
         told = self._links(null_space, field, deviation_m)
         if field is not self._field:  # a new field at an evaluation (every 4th tick): looked at once
             self._field, self._on_tool = field, any(field.tool.tolist())
@@ -84,21 +95,24 @@ class FieldOnToolWatch:
                 self._tool_obstacle = next((i.obstacle for i in influences if i.link == tool_link), "")
             if self._tool_obstacle:
                 self._tool_deviation_m = max(self._tool_deviation_m, deviation_m())
+                self._keep(self._tool_deviation_m)
             else:  # no obstacle nearest the tool's link: the same inputs find none again
                 self._quiet = influences
         elif self._tool_obstacle:
-            return "; ".join(reason for reason in (told, self.close()) if reason)
+            if self._episode is None:  # else the episode's, from now on
+                self._keep(None)
+            return "; ".join(reason for reason in (told, self._tool_told()) if reason)
         elif self._episode is None:  # nothing going on: the same inputs find nothing again
             self._quiet = influences
         return told
 
-    @property
-    def measuring(self) -> bool:
-        """Whether an :meth:`update` with the same inputs measures the tool (an episode goes on)."""
-        return self._episode is not None or bool(self._tool_obstacle)
-
     def close(self) -> str:
-        """How far the field on the tool's link moved the tool, if it did and has not been told."""
+        """At the segment's end: how far the field on the tool's link moved the tool, if it did and untold."""
+        self._fold()
+        self._keep(None)
+        return self._tool_told()
+
+    def _tool_told(self) -> str:
         obstacle, moved = self._tool_obstacle, self._tool_deviation_m
         self._tool_obstacle, self._tool_deviation_m = "", 0.0
         if not obstacle or moved < MOVED_M:
@@ -112,6 +126,7 @@ class FieldOnToolWatch:
                 return ""
             self._episode = (field.link, field.obstacle)
             self._deviation_m = deviation_m()
+            self._keep(self._deviation_m)
             return (
                 f"{field.link} is {field.clearance_m * 1e3:.0f} mm from {field.obstacle}: the null space "
                 f"cannot keep it clear, {share:.0%} of its field acts on the tool "
@@ -122,7 +137,22 @@ class FieldOnToolWatch:
             return ""
         link, obstacle = self._episode
         self._episode = None
+        self._keep(None)
         return (
             f"{link} clear of {obstacle} through the null space again; the field moved the tool "
             f"up to {self._deviation_m * 1e3:.1f} mm off its path"
         )
+
+    def _keep(self, from_m: float | None) -> None:
+        """The ticks keep the tool's largest deviation from ``from_m`` [m] on (None: they stop)."""
+        self._kept[:] = (0.0, 0.0) if from_m is None else (1.0, from_m)
+
+    def _fold(self) -> None:
+        """The largest deviation the ticks kept since the last look, into the episode's or the tool's."""
+        if not self._kept[0]:
+            return
+        most = float(self._kept[1])
+        if self._episode is not None:
+            self._deviation_m = max(self._deviation_m, most)
+        elif self._tool_obstacle:
+            self._tool_deviation_m = max(self._tool_deviation_m, most)

@@ -10,10 +10,11 @@ them changes only at known ticks:
 * the field, its influences and the null space's share change at a parameter evaluation (every
   8th tick at 125 Hz: the runtime's :attr:`~cosmos.runtime.loop.Runtime.evaluation` is then a new
   object) or with a new setpoint (a VIA leg's or a SEARCH's, which the executor sets itself): the
-  field watch, given the same inputs again, finds what it found, and only measures the tool while
-  an episode goes on (:attr:`FieldOnToolWatch.measuring`).
+  field watch, given the same inputs again, finds what it found; in an episode the ticks between
+  its looks keep the tool's largest deviation from its path in the supervisor's compiled call
+  (:attr:`~cosmos.execution.supervision.Supervisor.deviation_kept`).
 
-So a tick among obstacles compares a count and an identity, and measures the tool in an episode.
+So a tick among obstacles compares a count and an identity.
 """
 
 from __future__ import annotations
@@ -58,9 +59,6 @@ class ObstacleTicks:
         ``COLLISION_CHECK_EVERY`` ticks."""
         self._looked = 0  # the tick of the last look for collisions
         self._acting: tuple[Influence, ...] = ()  # the influences the supervisor was told of
-        self._influences: tuple[Influence, ...] = ()  # those of the last look at the field
-        self.measuring = False
-        """Whether the watch measures the tool at every tick until the next look at the field."""
         supervisor.field_acting = False
         world.before_tick()  # the first tick's: the world's tree rebuilt after an OBSTACLE
 
@@ -72,18 +70,11 @@ class ObstacleTicks:
 
     def field(self) -> str:
         """A look at the field after an evaluation or a new setpoint: the watch's event, if any."""
-        self._influences = influences = self._world.field.influences
+        influences = self._world.field.influences
         if influences is not self._acting:
             self._supervisor.field_acting, self._acting = bool(influences), influences
         servo, watch = self._servo, self._watch
-        told = watch.update(servo.null_space, servo.link_field, self._deviation_m, influences)
-        self.measuring = watch.measuring
-        return told
-
-    def measure(self) -> str:
-        """A tick between two looks at the field while the watch measures: the same inputs again."""
-        servo, watch = self._servo, self._watch
-        return watch.update(servo.null_space, servo.link_field, self._deviation_m, self._influences)
+        return watch.update(servo.null_space, servo.link_field, self._deviation_m, influences)
 
     def close(self, ticks: int) -> None:
         """The segment ended at its tick ``ticks``: the world counts the ticks since its last look."""

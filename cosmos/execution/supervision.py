@@ -61,6 +61,8 @@ from cosmos.execution.supervision_kernel import (
     ALLOW_FIXTURE,
     AXES,
     COUNTING,
+    DEVIATION_KEPT,
+    DEVIATION_MOST,
     FIELD_ACTING,
     FORCE_LIMIT2,
     GONE_TICKS,
@@ -153,6 +155,9 @@ class Supervisor:
         state[LOOKS] = max(1, math.ceil(SATURATION_S / (SLOW_CHECK_EVERY * servo_dt_s) - 1e-9))
         state[SATURATED_AT : SATURATED_AT + joints] = saturated_at
         self._counts = slice(SATURATED_AT + joints, SATURATED_AT + 2 * joints)  # each drive's looks
+        self.deviation_kept = state[DEVIATION_KEPT : DEVIATION_MOST + 1]
+        """``(keeping, largest)``: while ``keeping`` is 1.0 each tick keeps the tool's largest distance from
+        its path in ``largest`` [m] (as the PATH stop measures it: the field on the tool's watch)."""
         self._list(STATE, state)
         self.free_force_limit_n = FREE_MOTION_FORCE_N
         """The free-motion force limit now in force [N] (``LIMIT FORCE`` sets it)."""

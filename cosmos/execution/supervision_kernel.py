@@ -121,7 +121,9 @@ LOOKS = 18  # looks at its limit that make a drive's stop
 LINE = 19  # the commanded line (LINE_SIZE)
 STOP_WHICH = LINE + LINE_SIZE  # the stop supervise_listed found: which (a contact, a drive, a joint) ...
 STOP_VALUE = STOP_WHICH + 1  # ... and its value (supervise_tick's Returns)
-SATURATED_AT = STOP_VALUE + 1
+DEVIATION_KEPT = STOP_VALUE + 1  # 1.0: every tick keeps the tool's largest distance from its line ...
+DEVIATION_MOST = DEVIATION_KEPT + 1  # ... here [m] (the field on the tool's watch, in an episode)
+SATURATED_AT = DEVIATION_MOST + 1
 """Then each drive's limit at the saturation fraction [N m] (n), then its looks at it so far (n)."""
 
 
@@ -211,7 +213,8 @@ def supervise_tick(
     The contacts (:func:`first_unexpected_contact`) and the wrist's force every tick; the drives
     and the path (:func:`slow_look`) every :data:`SLOW_CHECK_EVERY` ticks; then, if none of them
     stops the arm, the joints' speeds (:func:`first_over_speed`); ``state`` (the layout above) and
-    ``watch`` are read and brought up to date.
+    ``watch`` are read and brought up to date; while ``state[DEVIATION_KEPT]`` is set, first the
+    tool's distance from its line (:func:`slow_look`'s) is kept in ``state[DEVIATION_MOST]`` if larger.
 
     Args:
         ncon: How many contacts MuJoCo found.
@@ -230,6 +233,10 @@ def supervise_tick(
         force at the wrist [N]; the distance off the path [m]; a drive's index and its looks; a
         joint's index and its speed [rad/s].
     """
+    if state[DEVIATION_KEPT] != 0.0:  # as slow_look measures it for the PATH stop
+        deviated = slow_look(torque[:0], 0.0, position, state[LINE : LINE + LINE_SIZE], axes, True)[1]
+        if deviated > state[DEVIATION_MOST]:  # max(most, deviated), as Python's max takes it
+            state[DEVIATION_MOST] = deviated
     inherited = state[INHERITED] != 0.0
     if ncon:
         allow_fixture = state[ALLOW_FIXTURE] != 0.0 or inherited

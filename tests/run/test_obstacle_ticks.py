@@ -10,10 +10,13 @@ the runtime's own evaluations and setpoints, and the log's episode, spied on.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 import pytest
 
 import cosmos
+from cosmos.execution.field_on_tool import FieldOnToolWatch
 from cosmos.execution.obstacle_ticks import ObstacleTicks
 from cosmos.execution.supervision import Supervisor
 from cosmos.runtime.loop import Runtime
@@ -74,27 +77,58 @@ def test_the_field_is_looked_at_after_each_evaluation_and_each_via_legs_setpoint
     assert sorted(looks) == sorted(set(evaluated) | set(after_legs))
 
 
-def test_an_episode_is_measured_at_every_tick_and_only_then(
+def test_an_episode_tells_the_largest_deviation_of_all_its_ticks(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     """panda_null_space: the ball's field on link 4 reaches the tool from 1.297 s to 1.889 s (the
-    log's two field_on_tool events): the tool's deviation from its path is measured at each of those
-    ticks (the largest is told), and at no tick outside them. Catches an episode measured only at
-    the looks at the field (one tick in eight), and measures while nothing goes on."""
-    measured: list[int] = []
-    deviation = Supervisor.path_deviation_m
+    log's two field_on_tool events). The largest deviation the second one tells is the largest of
+    the tool's distances from its path measured here, in Python, after each tick of the episode, to
+    the last bit; it falls between two looks at the field. Catches an episode measured only at the
+    looks (one tick in eight: the supervisor's compiled tick keeps the largest in between)."""
+    after_tick: dict[int, float] = {}
+    looks: list[int] = []
+    told: list[float] = []
+    checked: list[tuple[Supervisor, np.ndarray]] = []
+    tick, checker, field, links = (
+        Runtime.tick,
+        Supervisor.checker,
+        ObstacleTicks.field,
+        FieldOnToolWatch._links,
+    )
 
-    def spied(self: Supervisor, position: object) -> float:
-        measured.append(_us(self._plant.time_s))
-        return deviation(self, position)  # type: ignore[arg-type]
+    def spied_checker(self: Supervisor, wrench: np.ndarray, torque: np.ndarray, position: np.ndarray) -> Any:
+        checked[:] = [(self, position)]
+        return checker(self, wrench, torque, position)
 
-    monkeypatch.setattr(Supervisor, "path_deviation_m", spied)
+    def spied_tick(self: Runtime) -> float:
+        now = tick(self)
+        if checked:
+            supervisor, position = checked[0]
+            after_tick[_us(now)] = supervisor.path_deviation_m(position.copy())  # a copy: in Python
+        return now
+
+    def spied_field(self: ObstacleTicks) -> str:
+        looks.append(_us(self._world.runtime.time_s))
+        return field(self)
+
+    def spied_links(self: FieldOnToolWatch, *args: Any) -> str:
+        reason = links(self, *args)
+        if reason.startswith("link4 clear of ball"):
+            told.append(self._deviation_m)
+        return reason
+
+    monkeypatch.setattr(Supervisor, "checker", spied_checker)
+    monkeypatch.setattr(Runtime, "tick", spied_tick)
+    monkeypatch.setattr(ObstacleTicks, "field", spied_field)
+    monkeypatch.setattr(FieldOnToolWatch, "_links", spied_links)
     run = cosmos.run(PANDA_NULL_SPACE, log=tmp_path / "panda.mcap")
     assert run.ok, run.outcome
-    begins, ends = (e.t for e in run.events if e.kind == "field_on_tool")
-    episode = list(range(_us(begins), _us(ends) + 1, 1000))
-    assert len(episode) > 100
-    assert measured == episode
+    begins, ends = (_us(e.t) for e in run.events if e.kind == "field_on_tool")
+    episode = {t: d for t, d in after_tick.items() if begins <= t <= ends}
+    assert len(episode) == (ends - begins) // 1000 + 1
+    largest_at = max(episode, key=episode.__getitem__)
+    assert largest_at not in looks, "the largest at a look: this run cannot tell the ticks between"
+    assert told == [episode[largest_at]]
 
 
 def test_a_local_minimum_is_found_on_the_last_leg_of_a_move_via(tmp_path: Path) -> None:
