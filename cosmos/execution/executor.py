@@ -270,16 +270,16 @@ class Executor:
         passes, gate_table = (gate.listed, gate.table) if gate is not None else (bool, None)
         gated, judge = gate is not None, monitor.judged if gate is not None else judge
         last_goal = len(goals) - 1
-        on_the_way = last_goal > 0 or watch_minima or search is not None  # the loop's rarer looks, or none
+        every_tick = last_goal > 0 or search is not None  # VIA legs, a SEARCH: the rarer looks at every tick
         progress, progress_every, servo = self.progress, self.progress_every, rt.servo
         self._field_watch = watch = FieldOnToolWatch(supervisor.deviation_kept)  # the ticks keep the largest
         goal_points = [tuple(goal[0].tolist()) for goal in goals]  # as floats: distances every tick
         via = ViaProgress(goal_points, monitor.stall_cause)  # a VIA leg that stops getting closer fails
-        minimum_at = MINIMUM_CHECK_EVERY if not last_goal else -1  # the minima's tick (from 1): last leg
-        # Collisions looked for at their ticks; the field when an evaluation or a setpoint is new.
+        minimum_at = MINIMUM_CHECK_EVERY if watch_minima and not last_goal else -1  # (from 1): the last leg's
         looks = None if obstacles is None else ObstacleTicks(obstacles, servo, supervisor, watch, position)
         move, look_at = (None, 0) if looks is None else (looks.move, looks.first_look)
-        seen = None  # the evaluation of the last look at the field
+        on_the_way = every_tick  # else from the look for collisions before a minimum's tick to that tick
+        seen = None  # the evaluation of the last look at the field: looked at again when new (or a setpoint)
         try:
             while True:
                 if move is not None:  # obstacles MOVING
@@ -289,6 +289,7 @@ class Executor:
                 if looks is not None:
                     if ticks == look_at:
                         look_at += COLLISION_CHECK_EVERY
+                        on_the_way = every_tick or 0 < minimum_at <= look_at
                         for reason in looks.collisions(ticks):
                             self._event("collision", segment, reason)
                     if rt.evaluation is not seen:  # a new field, influences, share: looked at once
@@ -310,12 +311,13 @@ class Executor:
                             stop = replace(stop, message=f"{stop.message}; {singular}")
                     return Outcome(Verdict.FAILED, stop.message, stop)
                 snapshot.t_s = now
-                if on_the_way:  # VIA legs, local minima among obstacles, a SEARCH: decided once
+                if on_the_way:  # VIA legs, local minima among obstacles, a SEARCH
                     if goal_index < last_goal:
                         if distance_to_point(position, goal_points[goal_index]) < via_radius:
                             goal_index += 1
                             seen = None  # the null space's share changes with the setpoint
-                            minimum_at = ticks + MINIMUM_CHECK_EVERY if goal_index == last_goal else -1
+                            if goal_index == last_goal and watch_minima:
+                                minimum_at = ticks + MINIMUM_CHECK_EVERY
                             supervisor.leg(goals[goal_index - 1][0], goals[goal_index][0])
                             rt.set_setpoint(
                                 setpoint_for(
@@ -335,8 +337,9 @@ class Executor:
                         if outcome is not None:
                             return outcome
                         continue
-                    if ticks == minimum_at and watch_minima and obstacles is not None:
+                    if ticks == minimum_at and obstacles is not None:
                         minimum_at += MINIMUM_CHECK_EVERY
+                        on_the_way = every_tick
                         stuck = obstacles.local_minimum(position, goal_points[-1], MINIMUM_CHECK_EVERY)
                         if stuck is not None:
                             head = statement_head(segment.statement)

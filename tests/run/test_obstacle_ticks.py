@@ -18,6 +18,7 @@ import pytest
 import cosmos
 from cosmos.execution.field_on_tool import FieldOnToolWatch
 from cosmos.execution.obstacle_ticks import ObstacleTicks
+from cosmos.execution.obstacles import MINIMUM_CHECK_EVERY, ObstacleWorld
 from cosmos.execution.supervision import Supervisor
 from cosmos.runtime.loop import Runtime
 
@@ -145,3 +146,23 @@ def test_a_local_minimum_is_found_on_the_last_leg_of_a_move_via(tmp_path: Path) 
         run = cosmos.run(program, log=tmp_path / "trapped.mcap")
     assert not run.ok
     assert "stuck in a local minimum of the potential field near obstacle 'wall'" in str(run.outcome)
+
+
+def test_a_goal_motion_looks_for_a_minimum_every_25_ticks(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """panda_null_space's MOVE among the ball (from 0 s, 2041 ticks): the local minimum is looked
+    for at its 25th tick, its 50th, ... and no other (the detector's rate, MINIMUM_CHECK_EVERY),
+    though the loop enters its rarer looks only from the look for collisions before each. Catches a
+    look missed or doubled when the collisions' ticks (every 10th) and the minima's fall together."""
+    looked: list[int] = []
+    local_minimum = ObstacleWorld.local_minimum
+
+    def spied(self: ObstacleWorld, *args: Any) -> Any:
+        looked.append(_us(self.runtime.time_s))
+        return local_minimum(self, *args)
+
+    monkeypatch.setattr(ObstacleWorld, "local_minimum", spied)
+    run = cosmos.run(PANDA_NULL_SPACE, log=tmp_path / "panda.mcap")
+    assert run.ok, run.outcome
+    assert looked == [k * MINIMUM_CHECK_EVERY * 1000 for k in range(1, 2041 // MINIMUM_CHECK_EVERY + 1)]
