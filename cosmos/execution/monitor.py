@@ -17,17 +17,18 @@ from enum import Enum
 
 import numpy as np
 
-from cosmos.execution.approach_stall import ApproachStall, timeout_reason
+from cosmos.execution import approach_stall, lost_push, touch_push
+from cosmos.execution.approach_stall import approach_state, timeout_reason
 from cosmos.execution.arrival import REST_ANGULAR_SPEED_RAD_S, GoalError
 from cosmos.execution.closing import Closing, stall_reason
 from cosmos.execution.conditions import condition_text, measured_text, reads_grip
 from cosmos.execution.float_maths import length_along, norm3, pose_error
 from cosmos.execution.goal_gate import GoalGate
 from cosmos.execution.left_surface import watched
-from cosmos.execution.lost_push import LostPush, lost_surface
+from cosmos.execution.listing import Listing, entry
+from cosmos.execution.lost_push import hold_ended, hold_state, lost_surface
 from cosmos.execution.snapshot import Snapshot
 from cosmos.execution.supervision import ProtectiveStop
-from cosmos.execution.touch_push import ToolInertia
 from cosmos.lang.check.limits import MAX_DURATION_S
 from cosmos.osc.orientation import unwrap_rotation_vector
 from cosmos.plan import (
@@ -101,7 +102,7 @@ class SegmentMonitor:
         self.turn_long_way = False
         """Set when the controller turns the long way round to the goal orientation."""
         self.tool_touched: Callable[[], bool] = lambda: True  # a fixture, since the segment started
-        self._inertia = ToolInertia.of(tool_mass_kg, segment.speed_limit_mps)  # the tool's: no touch
+        self._tool_mass_kg = tool_mass_kg  # the tool's inertia is no touch (cosmos.execution.touch_push)
         self._turn: tuple[float, ...] | None = None
         self._turn_angle, self._closing = 0.0, Closing(since_s=start_s)
         self._last_depth, self._last_progress_s = 0.0, start_s
@@ -120,14 +121,6 @@ class SegmentMonitor:
             timeout = MAX_DURATION_S  # WAIT UNTIL without TIMEOUT: bounded all the same
         self._timeout_s = timeout
         self._deadline_s = math.inf if timeout is None else statement_start_s + timeout - 1e-9
-        # A force-settled ending compares the force axes of the wrench in the task frame with
-        # their setpoints, in floats (an array's product and difference cost 2-3 us a tick): for each
-        # force axis, where its half of the wrench starts (force 0, moment 3), its row of R^T, its setpoint.
-        rows_t = self._rotation_t.tolist()
-        setpoints = np.asarray(segment.force_setpoint, dtype=float).tolist()
-        self._force_terms = [
-            (3 * (i // 3), *rows_t[i % 3], setpoints[i]) for i in range(6) if self._force_axes[i]
-        ]
         # An axis made a spring by COMPLY ... STIFFNESS settles where its spring and the
         # world balance, which need not be the goal: there a stall is an arrival.
         # The goal point and the task frame's motion-controlled translation axes (rows of R^T), as
@@ -144,17 +137,19 @@ class SegmentMonitor:
             stiffness is not None and stiffness > 0.0 and moving
             for stiffness, moving in zip(segment.stiffness, self._motion, strict=True)
         )
+        self._in_time = False  # whether the ending's judge finds the TIMEOUT's deadline too
         self._complete = self._completion_judge(segment.completion)  # chosen once: it runs every tick
         self._turns = bool(self._motion[3:].any())
         self.judge: Callable[[Snapshot], Outcome | None] = (
             self.check
             if segment.until is not None
             else self._complete_in_time
-            if timeout is not None
+            if timeout is not None and not self._in_time
             else self._complete
         )
         """Judges a tick of the last leg: :meth:`check`, or without UNTIL the segment's own ending and
-        its TIMEOUT, or that ending alone (no UNTIL, no TIMEOUT): one call a tick, not two."""
+        its TIMEOUT, or that ending alone (no UNTIL, no TIMEOUT; or a compiled judge that finds its
+        TIMEOUT's deadline too): one call a tick, not two."""
         ending, until = segment.completion, timed_until_s  # a timed goal motion's arrival: from its time
         until = start_s + ending.duration_s - 1e-9 if isinstance(ending, Elapsed) else until  # a WAIT's end
         alone = self.judge == self._goal_reached or self.judge is self._complete and type(ending) is Elapsed
@@ -211,34 +206,65 @@ class SegmentMonitor:
                 self._position_rows, JUDGE_MOVING_EVERY,
             )  # fmt: skip
             return watched(self.segment, self._start_xyz, self._goal_reached, Verdict.FAILED, Outcome)
-        # The judges below read their ending from self: one call a tick, no wrapper.
+        # A CONTACT's approach and hold: one compiled call a tick, its TIMEOUT's deadline in it without UNTIL.
+        deadline_s, self._in_time = (
+            (self._deadline_s, True) if self.segment.until is None else (math.inf, False)
+        )
         if isinstance(completion, ContactTouch):
-            self._touch_ending = completion
-            self._approach = ApproachStall.of(self.segment, self.start_s, self.stall_cause)
-            return self._touch
+            state = approach_state(
+                self.segment, self._start_xyz, self.start_s, self._tool_mass_kg, deadline_s
+            )
+            return self._compiled(Listing(state), entry(approach_stall.approach), self._touch_ended)
         if isinstance(completion, ForceSettled):
-            self._settle_ending = completion
-            self._lost = LostPush.of(self.segment, self._start_xyz, self.start_s)  # its surface, lost
-            return self._force_settled
+            state = hold_state(self.segment, self._force_axes, self._start_xyz, self.start_s, deadline_s)
+            return self._compiled(Listing(state), entry(lost_push.hold), self._hold_ended)
+        self._in_time = False
+        # The judges below read their ending from self: one call a tick, no wrapper.
         if isinstance(completion, DepthReached):
             self._depth_ending = completion
+            if completion.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
+                speed, direction = self.segment.speed_limit_mps, self._direction
+                state = touch_push.insert_touch(self._tool_mass_kg, speed, direction, completion.touch_n)
+                self._insert, self._insert_touched = Listing(state), entry(touch_push.insert_touched)
             return self._depth
         if isinstance(completion, Elapsed):
             duration_s = completion.duration_s
             return lambda snap: Outcome(Verdict.DONE, "") if snap.t_s - self.start_s >= duration_s else None
         return lambda snap: None
 
-    def _touch(self, snap: Snapshot) -> Outcome | None:
-        dx, dy, dz = self._direction
-        push, met = self._inertia.approach_push(snap.wrench, snap.velocity, self._direction, snap.t_s)
-        if self._inertia.touched(met, self._touch_ending.threshold_n, snap.t_s):
-            return Outcome(Verdict.DONE, f"touched: {push:.2f} N along the approach", touched=True)
-        x, y, z = snap.position.tolist()
-        x0, y0, z0 = self._start_xyz
-        travel = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
-        if (stopped := self._approach.stopped(push, travel, snap.t_s)) is None:
+    @staticmethod
+    def _compiled(
+        listing: Listing, found_at: Callable[..., int], ended: Callable[[int, Snapshot], Outcome | None]
+    ) -> Callable[[Snapshot], Outcome | None]:
+        """A judge calling compiled ``found_at(table, t_s)`` on ``listing``; ``ended`` once it finds."""
+        table = listing.table
+
+        def judge(snap: Snapshot) -> Outcome | None:
+            if snap is not listing.snapshot:  # a new snapshot, or arrays copied every tick
+                listing.list(snap)
+            found = found_at(table, snap.t_s)
+            return ended(found, snap) if found else None
+
+        judge.state = listing.state  # type: ignore[attr-defined]
+        return judge
+
+    def _touch_ended(self, found: int, snap: Snapshot) -> Outcome | None:
+        """What a CONTACT's approach that found ``found`` (cosmos.execution.approach_stall) ends with."""
+        if found == approach_stall.DEADLINE_PASSED:
+            return self._timed_out(snap)
+        ended = approach_stall.ended(found, self._complete.state, self.stall_cause)  # type: ignore[attr-defined]
+        if ended is None:
             return None
-        return Outcome(Verdict.DONE if stopped[0] else Verdict.FAILED, stopped[1], touched=stopped[0])
+        done, touched, reason = ended
+        return Outcome(Verdict.DONE if done else Verdict.FAILED, reason, touched=touched)
+
+    def _hold_ended(self, found: int, snap: Snapshot) -> Outcome | None:
+        """What a held push that found ``found`` (cosmos.execution.lost_push) ends with."""
+        if found == lost_push.DEADLINE_PASSED:
+            return self._timed_out(snap)
+        state = self._complete.state  # type: ignore[attr-defined]
+        ended = hold_ended(found, state, self.segment, self._force_axes, snap.t_s)
+        return None if ended is None else Outcome(Verdict.DONE if ended[0] else Verdict.FAILED, ended[1])
 
     def _goal_reached(self, snap: Snapshot) -> Outcome | None:
         timed = self.timed_until_s
@@ -323,34 +349,6 @@ class SegmentMonitor:
         rest = self._goal.speed_tolerance_mps
         return Outcome(Verdict.FAILED, stall_reason(error.text(), speed, rest, self.stall_cause))
 
-    def _force_settled(self, snap: Snapshot) -> Outcome | None:
-        self._settled_since = None if self._lost.ran_on(snap.position, snap.t_s) else self._settled_since
-        if lost := self._lost.lost_contact(snap.position, snap.wrench, snap.t_s):  # a CONTACT's hold
-            return Outcome(Verdict.FAILED, lost)
-        settled, elapsed = self._settle_ending, snap.t_s - self._lost.since_s
-        wrench, worst = snap.wrench.tolist(), 0.0
-        for at, rx, ry, rz, setpoint in self._force_terms:  # the rows of diag(R^T, R^T) it needs
-            worst = max(worst, abs(rx * wrench[at] + ry * wrench[at + 1] + rz * wrench[at + 2] - setpoint))
-        if worst <= settled.tolerance_n:
-            if self._settled_since is None:
-                self._settled_since = snap.t_s
-            if snap.t_s - self._settled_since >= settled.settle_time_s:
-                return Outcome(Verdict.DONE, "force settled")
-        else:
-            self._settled_since = None
-        if elapsed >= settled.max_time_s:
-            # Still pressing, but not steadily (a peg sliding down a chamfer, say): the
-            # contact is held, so the statement succeeds and says so; lost, it fails.
-            setpoint = float(np.max(np.abs(self.segment.force_setpoint[self._force_axes])))
-            if worst <= 0.5 * setpoint:
-                return Outcome(
-                    Verdict.DONE,
-                    f"contact held, force within {worst:.1f} N of its setpoint but not settled "
-                    f"to {settled.tolerance_n:g} N in {settled.max_time_s:g} s",
-                )
-            return Outcome(Verdict.FAILED, f"force did not settle within {settled.max_time_s:g} s")
-        return None
-
     def _depth(self, snap: Snapshot) -> Outcome | None:
         depth = self._depth_ending
         dx, dy, dz = self._direction
@@ -358,9 +356,12 @@ class SegmentMonitor:
         x0, y0, z0 = self._statement_xyz  # DEPTH counts from the statement's start
         travelled = (x - x0) * dx + (y - y0) * dy + (z - z0) * dz
         if depth.touch_n is not None:  # an INSERT's approach: it ends where the tool touches
-            push, met = self._inertia.insert_push(snap.wrench, snap.velocity, self._direction, snap.t_s)
-            if self._inertia.touched(met, depth.touch_n, snap.t_s):
-                return Outcome(Verdict.DONE, f"touched: {push:.2f} N", touched=True)
+            if snap is not self._insert.snapshot:
+                self._insert.list(snap)
+            if self._insert_touched(self._insert.table, snap.t_s):
+                return Outcome(
+                    Verdict.DONE, f"touched: {self._insert.state[touch_push.PUSH]:.2f} N", touched=True
+                )
             if travelled < depth.depth_m:
                 return None
             if not self.tool_touched():  # a part entering its hole meets the chamfer or the bore

@@ -29,10 +29,12 @@ realistic run's whole path: INSERT SPEED 5 mm/s, seed 1, then peaked at 6.1 mm/s
 from __future__ import annotations
 
 import math
-from collections import deque
-from dataclasses import dataclass, field
 
 import numpy as np
+from numba.core import types
+
+from cosmos.execution.listing import STATE, VELOCITY, WRENCH, listed
+from cosmos.jit import kernel
 
 FloatArray = np.ndarray
 
@@ -49,86 +51,137 @@ TOUCH_PERSIST_S = 0.005
 sensor (at SPEED 100 mm/s the peg read 1.17 N of speed-up at 0.986 s, before the measured speed
 rose; a steel landing's push rises for 5-7 ms to its peak, so the touch is no later than that)."""
 
+KEPT = 64
+"""The most recent ticks the windows keep: 5 ms is 6 ticks at the fastest servo (1 kHz)."""
 
-@dataclass(slots=True)
-class ToolInertia:
-    """The approach's recent speeds (:data:`ACCELERATION_WINDOW_S`) and pushes (:data:`TOUCH_PERSIST_S`).
+MASS, SPEEDS_FROM, SPEEDS_COUNT, PUSHES_FROM, PUSHES_COUNT, TOTAL, SPEEDS = 0, 1, 2, 3, 4, 5, 6
+"""The tool's inertia's state (the head of a judge's array of floats): the mass below the wrist
+sensor [kg] (0 for an approach at :data:`FAST_APPROACH_MPS` or slower: its touch is the push
+itself, tick by tick); where the recent speeds ``(t [s], n^T v [m/s])`` start in their ring of
+:data:`KEPT` and how many (within :data:`ACCELERATION_WINDOW_S`, oldest first); the same of the
+pushes ``(t [s], c [N])`` within :data:`TOUCH_PERSIST_S`, and their sum ``c`` [N]; then the rings."""
+PUSHES = SPEEDS + 2 * KEPT
+INERTIA_SIZE = PUSHES + 2 * KEPT
 
-    Attributes:
-        mass_kg: The mass below the wrist sensor [kg]; 0 for an approach at :data:`FAST_APPROACH_MPS`
-            or slower: its touch is the push itself, tick by tick.
-        speeds: ``(t [s], n^T v [m/s])`` of the recent ticks, oldest first.
-        pushes: ``(t [s], c [N])`` of the ticks within :data:`TOUCH_PERSIST_S`, oldest first.
-        total_n: The sum of :attr:`pushes`' ``c`` [N].
+
+def inertia(mass_kg: float, speed_mps: float | None) -> FloatArray:
+    """The inertia's state of an approach at SPEED ``speed_mps`` [m/s] whose tool weighs ``mass_kg`` [kg]."""
+    state = np.zeros(INERTIA_SIZE)
+    state[MASS] = mass_kg if speed_mps is not None and speed_mps > FAST_APPROACH_MPS else 0.0
+    return state
+
+
+@kernel
+def _kept(state: FloatArray, ring: int, count_at: int, t_s: float, value: float) -> None:
+    """Keep ``(t_s, value)`` as the newest of ``ring``'s (its start at ``count_at - 1``)."""
+    count = int(state[count_at])
+    if count >= KEPT:
+        raise ValueError("a touch window keeps more ticks than it holds")
+    at = ring + 2 * ((int(state[count_at - 1]) + count) % KEPT)
+    state[at], state[at + 1] = t_s, value
+    state[count_at] = count + 1
+
+
+@kernel
+def _oldest(state: FloatArray, ring: int, count_at: int, index: int) -> int:
+    """Where the ``index``-th oldest of ``ring``'s entries is."""
+    return ring + 2 * ((int(state[count_at - 1]) + index) % KEPT)
+
+
+@kernel
+def _drop_oldest(state: FloatArray, count_at: int) -> None:
+    state[count_at - 1] = (state[count_at - 1] + 1.0) % KEPT
+    state[count_at] -= 1.0
+
+
+@kernel
+def speed_up(state: FloatArray, speed_mps: float, t_s: float) -> float:
+    """``max(a, 0)``: the measured speed-up along the approach [m/s^2], ``a`` its change over the window.
+
+    Args:
+        state: The inertia's (:func:`inertia`).
+        speed_mps: ``n^T v``, the tool point's measured speed along the approach [m/s].
+        t_s: Now [s].
     """
+    if not state[MASS] > 0.0:
+        return 0.0
+    _kept(state, SPEEDS, SPEEDS_COUNT, t_s, speed_mps)
+    while (
+        state[SPEEDS_COUNT] > 2
+        and t_s - state[_oldest(state, SPEEDS, SPEEDS_COUNT, 1)] >= ACCELERATION_WINDOW_S - 1e-9
+    ):
+        _drop_oldest(state, SPEEDS_COUNT)
+    at = _oldest(state, SPEEDS, SPEEDS_COUNT, 0)
+    then_s, then_mps = state[at], state[at + 1]
+    if not t_s > then_s:
+        return 0.0
+    a = (speed_mps - then_mps) / (t_s - then_s)
+    return 0.0 if 0.0 > a else a  # Python's max(a, 0.0), NaN kept
 
-    mass_kg: float
-    speeds: deque[tuple[float, float]] = field(default_factory=deque)
-    pushes: deque[tuple[float, float]] = field(default_factory=deque)
-    total_n: float = 0.0
 
-    @classmethod
-    def of(cls, mass_kg: float, speed_mps: float | None) -> ToolInertia:
-        """The judge of an approach at SPEED ``speed_mps`` [m/s] whose tool weighs ``mass_kg`` [kg]."""
-        return cls(mass_kg if speed_mps is not None and speed_mps > FAST_APPROACH_MPS else 0.0)
+@kernel
+def touched(state: FloatArray, contact_n: float, threshold_n: float, t_s: float) -> bool:
+    """Whether the mean of ``contact_n`` [N] over :data:`TOUCH_PERSIST_S` passes ``threshold_n``."""
+    if not state[MASS] > 0.0:
+        return contact_n > threshold_n
+    _kept(state, PUSHES, PUSHES_COUNT, t_s, contact_n)
+    state[TOTAL] += contact_n
+    while t_s - state[_oldest(state, PUSHES, PUSHES_COUNT, 0)] >= TOUCH_PERSIST_S - 1e-9:
+        state[TOTAL] -= state[_oldest(state, PUSHES, PUSHES_COUNT, 0) + 1]
+        _drop_oldest(state, PUSHES_COUNT)
+    return state[TOTAL] / state[PUSHES_COUNT] > threshold_n
 
-    def speed_up(self, speed_mps: float, t_s: float) -> float:
-        """``max(a, 0)``: the measured speed-up along the approach [m/s^2], ``a`` its change over the window.
 
-        Args:
-            speed_mps: ``n^T v``, the tool point's measured speed along the approach [m/s].
-            t_s: Now [s].
-        """
-        if not self.mass_kg > 0.0:
-            return 0.0
-        speeds = self.speeds
-        speeds.append((t_s, speed_mps))
-        while len(speeds) > 2 and t_s - speeds[1][0] >= ACCELERATION_WINDOW_S - 1e-9:
-            speeds.popleft()
-        then_s, then_mps = speeds[0]
-        return max((speed_mps - then_mps) / (t_s - then_s), 0.0) if t_s > then_s else 0.0
+@kernel
+def approach_push(
+    state: FloatArray, wrench: FloatArray, velocity: FloatArray, direction: FloatArray, t_s: float
+) -> tuple[float, float]:
+    """``(n^T f_s, c)`` [N]: a CONTACT approach's sensed push along ``n``, and the environment's (``c``).
 
-    def contact_push(self, push_n: float, speed_mps: float, t_s: float) -> float:
-        """``c = n^T f_s - m max(a, 0)`` [N] (:meth:`speed_up`); ``push_n`` is ``n^T f_s`` [N]."""
-        return push_n - self.mass_kg * self.speed_up(speed_mps, t_s)
+    ``c = n^T f_s - m max(a, 0)`` (:func:`speed_up`).
 
-    def approach_push(
-        self, wrench: FloatArray, velocity: FloatArray, direction: tuple[float, ...], t_s: float
-    ) -> tuple[float, float]:
-        """``(n^T f_s, c)`` [N]: a CONTACT approach's sensed push along ``n``, and the environment's (``c``).
+    Args:
+        state: The inertia's (:func:`inertia`).
+        wrench: The sensed wrench on the environment, world [N, N m]. # (6,)
+        velocity: The tool's measured twist, world [m/s, rad/s]. # (6,)
+        direction: ``n``, the approach's unit direction, world. # (3,)
+        t_s: Now [s].
+    """
+    dx, dy, dz = direction[0], direction[1], direction[2]
+    push = wrench[0] * dx + wrench[1] * dy + wrench[2] * dz
+    speed = velocity[0] * dx + velocity[1] * dy + velocity[2] * dz
+    return push, push - state[MASS] * speed_up(state, speed, t_s)
 
-        Args:
-            wrench: The sensed wrench on the environment, world [N, N m]. # (6,)
-            velocity: The tool's measured twist, world [m/s, rad/s]. # (6,)
-            direction: ``n``, the approach's unit direction, world. # (3,)
-            t_s: Now [s].
-        """
-        (dx, dy, dz), (fx, fy, fz, _, _, _) = direction, wrench.tolist()
-        vx, vy, vz, _, _, _ = velocity.tolist()
-        push = fx * dx + fy * dy + fz * dz
-        return push, self.contact_push(push, vx * dx + vy * dy + vz * dz, t_s)
 
-    def insert_push(
-        self, wrench: FloatArray, velocity: FloatArray, direction: tuple[float, ...], t_s: float
-    ) -> tuple[float, float]:
-        """``(|f_s|, |f_s - m max(a, 0) n|)`` [N]: an INSERT approach's sensed force, and the environment's.
+DIRECTION, THRESHOLD, PUSH = INERTIA_SIZE, INERTIA_SIZE + 3, INERTIA_SIZE + 4
+"""An INSERT's touch (after its inertia's state): the approach's direction, world (3), its touch
+threshold [N], and the sensed force when it touched [N]."""
+INSERT_SIZE = PUSH + 1
 
-        Arguments as :meth:`approach_push`'s.
-        """
-        (dx, dy, dz), (fx, fy, fz, _, _, _) = direction, wrench.tolist()
-        vx, vy, vz, _, _, _ = velocity.tolist()
-        push = math.sqrt(fx * fx + fy * fy + fz * fz)
-        inertia = self.mass_kg * self.speed_up(vx * dx + vy * dy + vz * dz, t_s)
-        fx, fy, fz = fx - inertia * dx, fy - inertia * dy, fz - inertia * dz
-        return push, math.sqrt(fx * fx + fy * fy + fz * fz)
 
-    def touched(self, contact_n: float, threshold_n: float, t_s: float) -> bool:
-        """Whether the mean of ``contact_n`` [N] over :data:`TOUCH_PERSIST_S` passes ``threshold_n``."""
-        if not self.mass_kg > 0.0:
-            return contact_n > threshold_n
-        pushes = self.pushes
-        pushes.append((t_s, contact_n))
-        self.total_n += contact_n
-        while t_s - pushes[0][0] >= TOUCH_PERSIST_S - 1e-9:
-            self.total_n -= pushes.popleft()[1]
-        return self.total_n / len(pushes) > threshold_n
+def insert_touch(
+    mass_kg: float, speed_mps: float | None, direction: tuple[float, ...], threshold_n: float
+) -> FloatArray:
+    """The state of an INSERT's touch (:func:`insert_touched`)."""
+    state = np.zeros(INSERT_SIZE)
+    state[:INERTIA_SIZE] = inertia(mass_kg, speed_mps)
+    state[DIRECTION : DIRECTION + 3] = direction
+    state[THRESHOLD] = threshold_n
+    return state
+
+
+@kernel(types.boolean(types.Array(types.int64, 1, "C"), types.float64))
+def insert_touched(table: np.ndarray, t_s: float) -> bool:
+    """Whether an INSERT's approach touched: ``|f_s - m max(a, 0) n|`` over its threshold (``|f_s|`` kept).
+
+    ``table`` lists the snapshot's arrays and the state (:class:`cosmos.execution.listing.Listing`,
+    :func:`insert_touch`); ``t_s`` is now [s].
+    """
+    wrench, velocity = listed(table, WRENCH, 6), listed(table, VELOCITY, 6)
+    state = listed(table, STATE, INSERT_SIZE)
+    dx, dy, dz = state[DIRECTION], state[DIRECTION + 1], state[DIRECTION + 2]
+    fx, fy, fz = wrench[0], wrench[1], wrench[2]
+    state[PUSH] = math.sqrt(fx * fx + fy * fy + fz * fz)
+    inertia_n = state[MASS] * speed_up(state, velocity[0] * dx + velocity[1] * dy + velocity[2] * dz, t_s)
+    fx, fy, fz = fx - inertia_n * dx, fy - inertia_n * dy, fz - inertia_n * dz
+    return touched(state, math.sqrt(fx * fx + fy * fy + fz * fz), state[THRESHOLD], t_s)

@@ -4,19 +4,21 @@ from __future__ import annotations
 
 import contextlib
 import io
+from collections.abc import Callable
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 from run_support import write_program
 
 from cosmos.commands.run import run_program
-from cosmos.execution.approach_stall import LANDED_N, ApproachStall
+from cosmos.execution.approach_stall import LANDED_N
 from cosmos.execution.closing import STALL_TIME_S
-from cosmos.plan import ContactTouch
+from cosmos.execution.monitor import Outcome, SegmentMonitor, Snapshot, Verdict
+from cosmos.lang import compile_program
 from cosmos.runlog import read_log
 from cosmos.runtime.rates import Rates
 from cosmos.sweep.variation import WorkcellVariation
+from cosmos.workcell import fixture_frames
 
 # Run 11 of `cosmos sweep P --runs 16 --vary friction='uniform(0.4,0.8)' --vary hole.x='normal(0,1mm)'`:
 # the hole 2.48 mm along +x puts the peg's end on the chamfer's far side.
@@ -59,25 +61,28 @@ def test_a_stopped_approach_pressing_nothing_fails_and_a_slow_one_is_not_stopped
     covers 0.2 mm, under the 0.5 mm a goal motion must close), and an approach held back in the
     air (an obstacle's field on a link) counted as landed, or failed without its cause."""
 
-    def approach(speed_mps: float) -> ApproachStall:
-        touch = ContactTouch(np.array([0.0, 0.0, -1.0]), 2.0, 0.3)
-        return ApproachStall.of(
-            SimpleNamespace(completion=touch, speed_limit_mps=speed_mps), 0.0, lambda: "held"
-        )
+    def approach(speed: str) -> tuple[Callable[[float, float, float], Outcome | None], np.ndarray]:
+        plan = compile_program(f"CONTACT DOWN FORCE 6 N SPEED {speed}\n", "c.cos", fixture_frames())
+        segment = plan.segments[0]
+        start = np.array([0.6, 0.15, 0.3])
+        goal = (start, np.diag([1.0, -1.0, -1.0]))
+        monitor = SegmentMonitor(segment, 0.0, start, 0.0, start, None, goal, lambda: "held")
 
-    slow = approach(0.0001)
-    t = 0.0
-    while t < 10.0:  # 0.1 mm/s for 10 s
-        assert slow.stopped(0.0, 0.0001 * t, t) is None
-        t += 0.001
-    held = approach(0.02)
-    assert held.stopped(0.1, 0.012, 1.0) is None
-    assert held.stopped(0.1, 0.012, 1.0 + STALL_TIME_S - 0.01) is None
-    verdict = held.stopped(0.1, 0.012, 1.0 + STALL_TIME_S)
-    assert (
-        verdict is not None
-        and not verdict[0]
-        and verdict[1]
-        == "stopped 12.0 mm along its approach without touching (0.10 N along it for 2 s): held"
+        def judge(push_n: float, travel_m: float, t_s: float) -> Outcome | None:
+            position = start - np.array([0.0, 0.0, travel_m])  # down
+            wrench = np.array([0.0, 0.0, -push_n, 0.0, 0.0, 0.0])
+            return monitor.judge(Snapshot(t_s, position, goal[1], np.zeros(6), wrench))
+
+        return judge, start
+
+    slow, _ = approach("0.1 mm/s")
+    for tick in range(10000):  # 0.1 mm/s for 10 s
+        assert slow(0.0, 0.0001 * 0.001 * tick, 0.001 * tick) is None
+    held, _ = approach("20 mm/s")
+    assert held(0.1, 0.012, 1.0) is None
+    assert held(0.1, 0.012, 1.0 + STALL_TIME_S - 0.01) is None
+    assert held(0.1, 0.012, 1.0 + STALL_TIME_S) == Outcome(
+        Verdict.FAILED, "stopped 12.0 mm along its approach without touching (0.10 N along it for 2 s): held"
     )
-    assert held.stopped(0.0, 0.2995, 4.0) == (False, "found no contact within 300 mm")
+    far, _ = approach("20 mm/s")
+    assert far(0.0, 0.2995, 4.0) == Outcome(Verdict.FAILED, "found no contact within 300 mm")
