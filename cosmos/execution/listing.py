@@ -70,8 +70,14 @@ def _listable(array: FloatArray, size: int) -> bool:
     )
 
 
+_ENTRIES: dict[Any, Any] = {}
+
+
 def entry(dispatcher: Any) -> Any:
     """``dispatcher``'s one declared compilation without numba's dispatch (compiled or loaded once)."""
-    dispatcher.compile_declared()
-    (declared,) = dispatcher.signatures
-    return dispatcher.overloads[declared].entry_point
+    found = _ENTRIES.get(dispatcher)
+    if found is None:
+        dispatcher.compile_declared()
+        (declared,) = dispatcher.signatures
+        found = _ENTRIES[dispatcher] = dispatcher.overloads[declared].entry_point
+    return found
