@@ -206,18 +206,20 @@ class SegmentMonitor:
                 self._position_rows, JUDGE_MOVING_EVERY,
             )  # fmt: skip
             return watched(self.segment, self._start_xyz, self._goal_reached, Verdict.FAILED, Outcome)
-        # A CONTACT's approach and hold: one compiled call a tick, its TIMEOUT's deadline in it without UNTIL.
+        # A CONTACT's approach and hold: one compiled call a tick on self._state (its deadline without UNTIL).
         deadline_s, self._in_time = (
             (self._deadline_s, True) if self.segment.until is None else (math.inf, False)
         )
         if isinstance(completion, ContactTouch):
-            state = approach_state(
+            self._state = approach_state(
                 self.segment, self._start_xyz, self.start_s, self._tool_mass_kg, deadline_s
             )
-            return self._compiled(Listing(state), entry(approach_stall.approach), self._touch_ended)
+            return self._compiled(Listing(self._state), entry(approach_stall.approach), self._touch_ended)
         if isinstance(completion, ForceSettled):
-            state = hold_state(self.segment, self._force_axes, self._start_xyz, self.start_s, deadline_s)
-            return self._compiled(Listing(state), entry(lost_push.hold), self._hold_ended)
+            self._state = hold_state(
+                self.segment, self._force_axes, self._start_xyz, self.start_s, deadline_s
+            )
+            return self._compiled(Listing(self._state), entry(lost_push.hold), self._hold_ended)
         self._in_time = False
         # The judges below read their ending from self: one call a tick, no wrapper.
         if isinstance(completion, DepthReached):
@@ -245,14 +247,13 @@ class SegmentMonitor:
             found = found_at(table, snap.t_s)
             return ended(found, snap) if found else None
 
-        judge.state = listing.state  # type: ignore[attr-defined]
         return judge
 
     def _touch_ended(self, found: int, snap: Snapshot) -> Outcome | None:
         """What a CONTACT's approach that found ``found`` (cosmos.execution.approach_stall) ends with."""
         if found == approach_stall.DEADLINE_PASSED:
             return self._timed_out(snap)
-        ended = approach_stall.ended(found, self._complete.state, self.stall_cause)  # type: ignore[attr-defined]
+        ended = approach_stall.ended(found, self._state, self.stall_cause)
         if ended is None:
             return None
         done, touched, reason = ended
@@ -262,8 +263,7 @@ class SegmentMonitor:
         """What a held push that found ``found`` (cosmos.execution.lost_push) ends with."""
         if found == lost_push.DEADLINE_PASSED:
             return self._timed_out(snap)
-        state = self._complete.state  # type: ignore[attr-defined]
-        ended = hold_ended(found, state, self.segment, self._force_axes, snap.t_s)
+        ended = hold_ended(found, self._state, self.segment, self._force_axes, snap.t_s)
         return None if ended is None else Outcome(Verdict.DONE if ended[0] else Verdict.FAILED, ended[1])
 
     def _goal_reached(self, snap: Snapshot) -> Outcome | None:

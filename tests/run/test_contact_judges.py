@@ -57,7 +57,6 @@ def _compared(monkeypatch: pytest.MonkeyPatch) -> Judged:
             judged.append((kind, snap.t_s, outcome, expected))
             return outcome
 
-        judge.state = compiled.state  # type: ignore[attr-defined]
         return judge
 
     monkeypatch.setattr(SegmentMonitor, "_completion_judge", both)
