@@ -158,11 +158,14 @@ class DepthReached:
             applies exceeds this [N], in any direction (a peg that enters its hole without
             meeting the chamfer touches the bore's wall first); the insertion follows. Gone
             ``depth_m`` without that touch, it fails: nothing was inserted.
+        force_n: The INSERT's FORCE [N], on its approach: the speed of its landing on a steel face
+            square to it is chosen for it (:mod:`cosmos.runtime.landing_zone`); 0 if not known.
     """
 
     direction_world: FloatArray
     depth_m: float
     touch_n: float | None = None
+    force_n: float = 0.0
     kind: ClassVar[CompletionKind] = CompletionKind.DEPTH_REACHED
 
 

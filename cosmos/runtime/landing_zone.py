@@ -10,6 +10,14 @@ into the solids (sphere tracing on their exact signed distances, as
 landing: for the CONTACT's FORCE if its contact is stiff (:data:`cosmos.osc.landing.STIFF_RAMP_M`),
 at :data:`cosmos.osc.landing.CUSHIONED_LANDING_MPS` if it cushions.
 
+An INSERT's approach lands so on a stiff face square to it (:func:`square_face`: the flat around
+the hole, a part placed beyond the chamfers), its cruise integral on as a CONTACT's approach has
+it, and at its SPEED on the hole's chamfer, where its insertion is tuned to that landing
+(:mod:`cosmos.osc.push_speed`): ``INSERT DOWN DEPTH 25 mm FORCE 15 N SEARCH LISSAJOUS RADIUS 10 mm
+PITCH 3 mm`` from ``hole + (6 mm, -5 mm, 10 mm)`` met the top face at 17-20 mm/s and MuJoCo's
+contact force peaked at 65-80 N (PUMA, realistic seeds 0-4 and ideal), 20-47 N on the Panda; landed
+so, 17.6-19.7 N and 16.1-17.2 N (the bar for 15 N: 22.5 N).
+
 A push held at a surface (a CONTACT's hold, a WAIT in contact) lands the same way where it loses
 that surface (:func:`cosmos.osc.held_push.held_push_cap`): from the tool point alone, along the
 push, to the stiff surface beyond the one it touches (a cushioned one gives a hold no landing: a
@@ -256,13 +264,56 @@ def guarded_approach(segment: Segment, setpoint: ServoSetpoint) -> bool:
 def fast_insert(segment: Segment, setpoint: ServoSetpoint) -> bool:
     """An INSERT's approach over :data:`~cosmos.osc.landing.CUSHIONED_LANDING_MPS`: it lands at that speed.
 
-    An INSERT's approach lands at its SPEED up to 30 mm/s (:mod:`cosmos.osc.push_speed`: slower, the
-    insertion after it stalled); faster, it met the hole's mouth at its SPEED: SPEED 100 mm/s stopped
-    at 111.7 N (issue 14). So above 30 mm/s it lands at 30 mm/s on the surface its model foresees.
+    An INSERT's approach onto the hole's chamfer lands at its SPEED up to 30 mm/s
+    (:mod:`cosmos.osc.push_speed`: slower, the insertion after it stalled); faster, it met the
+    hole's mouth at its SPEED: SPEED 100 mm/s stopped at 111.7 N (issue 14). So above 30 mm/s it
+    lands at 30 mm/s on the surface its model foresees (on a steel face square to it, slower:
+    :func:`with_landing`).
     """
     inserting = segment.kind is SegmentKind.CONTACT_APPROACH and isinstance(segment.completion, DepthReached)
     speed = segment.speed_limit_mps  # the SPEED (the approach's own limit runs 3 mm/s under 1.1 times it)
     return inserting and speed is not None and speed > CUSHIONED_LANDING_MPS
+
+
+SQUARE_FACE_COS = math.cos(math.radians(15.0))
+"""A face whose outward normal is within 15 deg of the approach's reverse is square to it
+(:func:`square_face`); the hole's chamfers are at 45 deg."""
+MET_M = 1e-4
+"""A tool point this close to a solid where the trace stopped is on the surface met [m]."""
+
+
+def insert_approach(segment: Segment) -> bool:
+    """An INSERT's approach: every axis held until its touch (:class:`cosmos.plan.DepthReached`)."""
+    completion = segment.completion
+    inserting = isinstance(completion, DepthReached) and completion.touch_n is not None
+    return segment.kind is SegmentKind.CONTACT_APPROACH and inserting
+
+
+def square_face(
+    solids: tuple[FixtureSolid, ...], points: FloatArray, direction: FloatArray, distance_m: float
+) -> bool:
+    """Whether the tool's points, moved ``distance_m`` along ``direction``, meet a face square to it.
+
+    The outward normal is the gradient of the solids' signed distance (central differences) at
+    each point then within :data:`MET_M` of them: the flat around a hole is square to an INSERT
+    down, the hole's 45 deg chamfer is not.
+    """
+    moved = np.asarray(points, dtype=float) + distance_m * np.asarray(direction, dtype=float)
+    met = moved[signed_distances(solids, moved).min(axis=1) < MET_M]
+    if not met.size:
+        return False
+    step = TRACE_TOLERANCE_M
+    gradient = np.stack(
+        [
+            signed_distances(solids, met + step * axis).min(axis=1)
+            - signed_distances(solids, met - step * axis).min(axis=1)
+            for axis in np.eye(3)
+        ],
+        axis=1,
+    )  # (m, 3)
+    lengths = np.linalg.norm(gradient, axis=1)
+    facing = -gradient.dot(direction)[lengths > 0.0] / lengths[lengths > 0.0]
+    return bool(np.any(facing >= SQUARE_FACE_COS))
 
 
 def with_landing(
@@ -275,8 +326,9 @@ def with_landing(
 
     Args:
         setpoint: The segment's setpoint (a CONTACT's approach: a goal motion toward its far goal).
-        segment: The segment: any but a CONTACT's approach or a held push (an INSERT's too, tuned
-            to its own landing: cosmos.osc.push_speed) gets ``setpoint`` back as it is.
+        segment: The segment: any but a CONTACT's or an INSERT's approach or a held push gets
+            ``setpoint`` back as it is (an INSERT's approach onto the hole's chamfer too, below
+            30 mm/s: :func:`fast_insert`).
         runtime: The runtime: the tool point now, Lambda, the arm's name.
         rotation: The tool's orientation now (tool to world). # (3, 3)
         tool: The tool on its flange (``peg``, ``gripper``).
@@ -286,7 +338,7 @@ def with_landing(
     holds = held_push(setpoint)
     approaches = segment.kind is SegmentKind.CONTACT_APPROACH and isinstance(segment.completion, ContactTouch)
     guarded = guarded_approach(segment, setpoint)
-    inserts = fast_insert(segment, setpoint)
+    inserts = insert_approach(segment)
     if not (holds or approaches or guarded or inserts):
         return setpoint
     evaluation, robot_name = runtime.evaluation, runtime.robot.description.name
@@ -307,7 +359,9 @@ def with_landing(
         return setpoint
     stiff = contact_ramps(robot_name).get(cell.solids[solid].geom, 0.0) < STIFF_RAMP_M
     at = travel - distance + LANDING_ZONE_M  # from the goal (a hold's x_d), along the line
-    if inserts:
+    if inserts and not (stiff and square_face(cell.solids, points, direction, distance)):
+        if not fast_insert(segment, setpoint):  # on the hole's chamfer at its SPEED (push_speed)
+            return setpoint
         return replace(setpoint, landing=(at, CUSHIONED_LANDING_MPS, LANDING_DECELERATION_MPS2))
     if not stiff:
         if holds or not CUSHIONED_LANDING_MPS < setpoint.max_speed:
@@ -315,9 +369,11 @@ def with_landing(
         return replace(setpoint, landing=(at, CUSHIONED_LANDING_MPS, LANDING_DECELERATION_MPS2))
     mass = float(direction.dot(np.asarray(lambda_)[:3, :3]).dot(direction))  # Lambda_n
     force = float(np.linalg.norm(setpoint.force_world[:3]))  # a hold's; an approach's is its CONTACT's
-    if isinstance(segment.completion, ContactTouch):
+    if isinstance(segment.completion, (ContactTouch, DepthReached)):  # a CONTACT's FORCE, an INSERT's
         force = segment.completion.force_n
     elif segment.kind is SegmentKind.MOVE:  # a guarded motion's: its UNTIL's threshold
         force = has_force_term(segment.until)[1]
     speed = landing_speed(mass, setpoint.max_speed, force)
-    return replace(setpoint, landing=(at, speed, LANDING_DECELERATION_MPS2))
+    # An INSERT's approach onto a flat steel face lands as a CONTACT's does, its cruise integral on.
+    integral = setpoint.cruise_integral or inserts
+    return replace(setpoint, landing=(at, speed, LANDING_DECELERATION_MPS2), cruise_integral=integral)

@@ -92,7 +92,10 @@ class Insert(AxisRules, ClauseValues):
                 ),
                 speed=speed,
                 completion=plan.DepthReached(
-                    direction_world, depth, touch_n=min(self.defaults.touch_threshold_n, 0.5 * force)
+                    direction_world,
+                    depth,
+                    touch_n=min(self.defaults.touch_threshold_n, 0.5 * force),
+                    force_n=force,
                 ),
                 until=until,
                 timeout=self._timeout(clauses),
