@@ -350,7 +350,8 @@ def setpoint_for(
         posture_rad=posture_rad,
         spring_masses=spring_masses(segment, evaluation),
         # An INSERT's approach lands on the chamfer at the speed eq. 20-21 alone gives it: at its
-        # SPEED (the cruise integral) the insertion rang past its cap (11.05 mm/s at 10, seed 0).
+        # SPEED (the cruise integral) the insertion rang past its cap (11.05 mm/s at 10, seed 0);
+        # one landing on a flat steel face has it, as a CONTACT's (cosmos.runtime.landing_zone).
         # A spring renders k (x_anchor - x): no integral may turn it into a stiff servo.
         cruise_integral=not isinstance(segment.completion, DepthReached) and not sprung,
         touch_braking=brakes_at_its_touch(segment),  # cosmos.osc.contact.touch_braking
