@@ -13,8 +13,9 @@ import pytest
 from cosmos.lang import compile_program
 from cosmos.plan import DepthReached, SegmentKind
 from cosmos.robots import ROBOTS
+from cosmos.runtime import landing_zone
 from cosmos.runtime.foresight_cache import workcell
-from cosmos.runtime.landing_zone import square_face, surface_ahead, tool_points
+from cosmos.runtime.landing_zone import INSERT_TRACE_STEPS, square_face, surface_ahead, tool_points
 from cosmos.workcell import fixture_frames
 
 DOWN = np.array([0.0, 0.0, -1.0])
@@ -44,7 +45,22 @@ def test_the_top_face_is_square_to_an_insert_down_and_the_chamfer_is_not(
     assert cell.solids[solid].geom.startswith("hole_top" if square else "hole_chamfer")
     if square:
         assert distance == pytest.approx(height_mm * 1e-3, abs=2e-5)
+        assert surface_ahead(cell.solids, points, DOWN, 0.3, INSERT_TRACE_STEPS) == (distance, solid)
     assert square_face(cell.solids, points, DOWN, distance) is square
+
+
+def test_a_peg_over_its_hole_is_not_traced_down_the_bore(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Catches an INSERT's approach traced to the end of the trace's 200 steps: ``peg_in_hole.cos``'s
+    peg, centred 2 mm over its hole, stepped down the bore's 0.12 mm clearance for 60 ms at its
+    INSERT's start (the bench's ``peg_in_hole.cos`` went 1.06 -> 1.28); it meets no square face within
+    the INSERT's steps and keeps its SPEED onto the chamfer. Its only traced segment is the INSERT's."""
+    from cosmos.bench.programs import PROGRAMS_DIR, executor_run
+
+    steps = []
+    stepped = landing_zone._step
+    monkeypatch.setattr(landing_zone, "_step", lambda *args: steps.append(1) or stepped(*args))
+    assert executor_run(PROGRAMS_DIR / "peg_in_hole.cos").ok
+    assert 0 < len(steps) <= 20  # 8 steps at most, each the points least far along, then the rest (was 400)
 
 
 def test_an_inserts_approach_carries_its_force() -> None:
