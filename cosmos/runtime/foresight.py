@@ -27,22 +27,26 @@ import numpy as np
 from cosmos import plan
 from cosmos.robots import ROBOTS
 from cosmos.runtime import foresight_cache
+from cosmos.runtime.approach_time import approach_timeout
 from cosmos.runtime.arm_at_home import obstacles_through_arm
-from cosmos.runtime.goals_in_fixtures import Pose, ToolShape, goals_inside_fixtures
+from cosmos.runtime.goals_in_fixtures import Approach, Pose, ToolShape, goals_inside_fixtures
 from cosmos.runtime.reach import beyond_reach
 
 
 def with_foreseen_limits(compiled: plan.Plan) -> plan.Plan:
     """``compiled`` with a warning for each goal motion a joint's limit will stop or a fixture holds.
 
-    The goals inside a fixture are :func:`cosmos.runtime.goals_in_fixtures.goals_inside_fixtures`'s.
+    The goals inside a fixture are :func:`cosmos.runtime.goals_in_fixtures.goals_inside_fixtures`'s,
+    the CONTACTs whose TIMEOUT ends their approach short of the fixture :func:`approach_timeout`'s.
     The warnings are sorted in by place.
     """
     found = foreseeable_joint_limits(compiled.steps, compiled.robot, compiled.tool)
     cell = foresight_cache.workcell(compiled.robot, compiled.tool)
     home = Pose(cell.home_tool_position, cell.home_tool_rotation)
     tool = ToolShape(cell.tool_length_m, cell.tool_sections, cell.tool_ahead_m)
-    found += goals_inside_fixtures(compiled.steps, cell.solids, home, tool)
+    approaches: list[Approach] = []
+    found += goals_inside_fixtures(compiled.steps, cell.solids, home, tool, approaches)
+    found += [late for a in approaches if (late := approach_timeout(a, tool.sections)) is not None]
     found += obstacles_through_arm(compiled.steps, cell.arm_at_home)
     if not found:
         return compiled

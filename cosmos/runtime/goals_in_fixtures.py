@@ -118,11 +118,21 @@ class Inside:
     along_axis_m: float
 
 
+@dataclass(frozen=True)
+class Approach:
+    """A CONTACT's approach, the pose the text fixes for its start, and the solids then in the cell."""
+
+    step: plan.Segment
+    pose: Pose
+    solids: tuple[FixtureSolid, ...]
+
+
 def goals_inside_fixtures(
     steps: tuple[plan.Step, ...],
     solids: tuple[FixtureSolid, ...],
     home: Pose,
     tool: ToolShape,
+    approaches: list[Approach] | None = None,
 ) -> list[plan.Diagnostic]:
     """Warnings for the motions whose goal the text fixes inside a fixture.
 
@@ -131,12 +141,14 @@ def goals_inside_fixtures(
         solids: The workcell's fixture solids.
         home: The tool's pose at home, where the program starts.
         tool: The tool's shape along its axis.
+        approaches: If given, each CONTACT's approach is added to it with the pose it starts from
+            (:mod:`cosmos.runtime.approach_time` judges its TIMEOUT).
 
     Returns:
         One diagnostic per such goal (each statement once), at its statement.
     """
     found: dict[tuple[int, int], plan.Diagnostic] = {}
-    for diagnostic in _walk(steps, packed(solids), home, tool):
+    for diagnostic in _walk(steps, packed(solids), home, tool, approaches):
         found.setdefault((diagnostic.span.line, diagnostic.span.column), diagnostic)
     return list(found.values())
 
@@ -169,7 +181,11 @@ def obstacle_solid(step: plan.AddObstacle) -> FixtureSolid | None:
 
 
 def _walk(
-    steps: tuple[plan.Step, ...], solids: Solids, pose: Pose, tool: ToolShape
+    steps: tuple[plan.Step, ...],
+    solids: Solids,
+    pose: Pose,
+    tool: ToolShape,
+    approaches: list[Approach] | None = None,
 ) -> Iterator[plan.Diagnostic]:
     """The warnings of ``steps``, run from ``pose``.
 
@@ -185,18 +201,18 @@ def _walk(
             added = obstacle_solid(step) if isinstance(step, plan.AddObstacle) else None
             solids = packed(kept if added is None else (*kept, added))
         elif isinstance(step, plan.Branch):
-            yield from _walk(step.then_steps, solids, pose, tool)
-            yield from _walk(step.else_steps, solids, pose, tool)
+            yield from _walk(step.then_steps, solids, pose, tool, approaches)
+            yield from _walk(step.else_steps, solids, pose, tool, approaches)
             pose = UNKNOWN
         elif isinstance(step, plan.Loop | plan.Attempt):
-            yield from _walk(step.body, solids, pose, tool)
+            yield from _walk(step.body, solids, pose, tool, approaches)
             if isinstance(step, plan.Attempt):
-                yield from _walk(step.handler, solids, UNKNOWN, tool)
+                yield from _walk(step.handler, solids, UNKNOWN, tool, approaches)
             pose = UNKNOWN
         if _holds_hand_steps(step):  # a block that grasps or lets go: after it, not known either
             tool = replace(empty, ahead_m=0.0)
         elif isinstance(step, plan.Segment):
-            diagnostic, pose = _segment(step, solids, pose, tool)
+            diagnostic, pose = _segment(step, solids, pose, tool, approaches)
             if diagnostic is not None:
                 yield diagnostic
 
@@ -216,13 +232,15 @@ def _holds_hand_steps(step: plan.Step) -> bool:
 
 
 def _segment(
-    step: plan.Segment, solids: Solids, pose: Pose, tool: ToolShape
+    step: plan.Segment, solids: Solids, pose: Pose, tool: ToolShape, approaches: list[Approach] | None
 ) -> tuple[plan.Diagnostic | None, Pose]:
     """The warning for one segment, if any, and the pose it leaves."""
     if step.tool_end is plan.ToolEnd.STAYS:
         return None, pose
     target = step.target
     if step.tool_end is not plan.ToolEnd.AT_TARGET or target is None:
+        if approaches is not None and step.kind is plan.SegmentKind.CONTACT_APPROACH:
+            approaches.append(Approach(step, pose, solids.all))
         return None, UNKNOWN  # meant to touch, or stopped by a condition: its end is not known
     if isinstance(target, plan.AbsoluteTarget):
         position: np.ndarray | None = np.asarray(target.position_world, dtype=float)

@@ -240,3 +240,38 @@ def test_a_goal_out_of_reach_is_foreseen_as_the_run_fails(robot: str, goal_x_m: 
         run = cosmos.run(program, log=None, ideal=True)
     assert run.outcome is not None and not run.ok
     assert said[0].removeprefix("MOVE TO: ") in run.outcome.reason, (said, run.outcome.reason)
+
+
+@pytest.mark.parametrize(("timeout_s", "foreseen"), [(2.0, True), (6.0, False)])
+def test_a_contact_timeout_too_short_for_its_approach_is_foreseen(timeout_s: float, foreseen: bool) -> None:
+    """``MOVE TO table + (0, 0, 100 mm)`` then ``CONTACT DOWN ... TIMEOUT 2 s`` passed the check and
+    failed "found no contact within 2 s" (100 mm at the CONTACT's 20 mm/s is 5 s): the check must
+    warn, naming the table 100 mm ahead, and the run confirm it; 6 s is enough, and no warning."""
+    import warnings
+
+    import cosmos
+    from cosmos.api import check
+
+    program = f"MOVE TO table + (0, 0, 100 mm)\nCONTACT DOWN FORCE 10 N TIMEOUT {timeout_s:g} s\n"
+    said = [w.message for w in check(program).warnings if "ends this approach" in w.message]
+    assert bool(said) is foreseen, said
+    if foreseen:
+        assert "'table' 100 mm ahead, 5 s away at 20 mm/s" in said[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cosmos.CosmosWarning)
+        run = cosmos.run(program, log=None, ideal=True)
+    assert run.ok is not foreseen, run.outcome
+    if foreseen:
+        assert run.outcome is not None and f"found no contact within {timeout_s:g} s" in run.outcome.reason
+
+
+def test_a_contact_from_a_pose_the_text_does_not_fix_is_not_judged() -> None:
+    """After a CONTACT the pose is not known (where it touched): no approach time is foreseen, as no
+    goal is. Catches the check judging a CONTACT from a pose it made up."""
+    from cosmos.api import check
+
+    known = "MOVE TO table + (0, 0, 100 mm)\nMOVE BY (0, 0, 20 mm)\nCONTACT DOWN FORCE 10 N TIMEOUT 1 s\n"
+    said = [w.message for w in check(known).warnings if "ends this approach" in w.message]
+    assert said and "'table' 120 mm ahead" in said[0]
+    after_contact = known.replace("MOVE BY", "CONTACT DOWN FORCE 5 N\nMOVE BY")
+    assert not [w for w in check(after_contact).warnings if "ends this approach" in w.message]
