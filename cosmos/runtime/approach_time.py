@@ -46,6 +46,6 @@ def approach_timeout(
         return None
     return plan.Diagnostic(
         f"TIMEOUT {timeout:g} s ends this approach before it can reach '{solids[solid].fixture}' "
-        f"{distance * 1e3:.0f} mm ahead, {needed:.3g} s away at {speed * 1e3:g} mm/s",
+        f"{distance * 1e3:.1f} mm ahead, at least {needed:.2f} s at {speed * 1e3:g} mm/s",
         step.span,
     )

@@ -256,7 +256,7 @@ def test_a_contact_timeout_too_short_for_its_approach_is_foreseen(timeout_s: flo
     said = [w.message for w in check(program).warnings if "ends this approach" in w.message]
     assert bool(said) is foreseen, said
     if foreseen:
-        assert "'table' 100 mm ahead, 5 s away at 20 mm/s" in said[0]
+        assert "'table' 100.0 mm ahead, at least 5.00 s at 20 mm/s" in said[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", cosmos.CosmosWarning)
         run = cosmos.run(program, log=None, ideal=True)
@@ -272,6 +272,6 @@ def test_a_contact_from_a_pose_the_text_does_not_fix_is_not_judged() -> None:
 
     known = "MOVE TO table + (0, 0, 100 mm)\nMOVE BY (0, 0, 20 mm)\nCONTACT DOWN FORCE 10 N TIMEOUT 1 s\n"
     said = [w.message for w in check(known).warnings if "ends this approach" in w.message]
-    assert said and "'table' 120 mm ahead" in said[0]
+    assert said and "'table' 120.0 mm ahead" in said[0]
     after_contact = known.replace("MOVE BY", "CONTACT DOWN FORCE 5 N\nMOVE BY")
     assert not [w for w in check(after_contact).warnings if "ends this approach" in w.message]
