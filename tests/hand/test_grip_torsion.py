@@ -15,18 +15,9 @@ import numpy as np
 import pytest
 
 from tests.hand.gripper_support import tf_poses
-from tests.run.run_support import run_in_process, write_program
+from tests.run.run_support import GRASPED_PEG_INSERT, run_in_process, write_program
 
-PROGRAM = """TOOL GRIPPER
-LET holder = hole + (0, 120 mm, 0)
-MOVE TO holder + (0, 0, 50 mm) SPEED 0.3 m/s
-MOVE TO holder + (0, 0, 15 mm) SPEED 50 mm/s
-GRASP peg FORCE 80 N
-MOVE BY (0, 0, 70 mm) SPEED 80 mm/s
-MOVE TO hole + (3 mm, -2 mm, 8 mm) SPEED 0.15 m/s
-CONTACT DOWN FORCE 6 N SPEED 8 mm/s
-INSERT DOWN DEPTH 25 mm FORCE 12 N TIMEOUT 30 s
-"""
+PROGRAM = GRASPED_PEG_INSERT
 """A grasped peg inserted from 3.6 mm off the hole's axis: it lands on the mouth's edge and the
 INSERT's compliant rotations tip it (docs/language.md, INSERT), so the grip holds a moment."""
 

@@ -267,3 +267,17 @@ class StepProbe:
     def sample(self, model: Any, data: Any, t: float) -> None:
         """Read one physics step's ``model`` and ``data`` at simulated time ``t`` [s]."""
         raise NotImplementedError
+
+
+GRASPED_PEG_INSERT = """TOOL GRIPPER
+LET holder = hole + (0, 120 mm, 0)
+MOVE TO holder + (0, 0, 50 mm) SPEED 0.3 m/s
+MOVE TO holder + (0, 0, 15 mm) SPEED 50 mm/s
+GRASP peg FORCE 80 N
+MOVE BY (0, 0, 70 mm) SPEED 80 mm/s
+MOVE TO hole + (3 mm, -2 mm, 8 mm) SPEED 0.15 m/s
+CONTACT DOWN FORCE 6 N SPEED 8 mm/s
+INSERT DOWN DEPTH 25 mm FORCE 12 N TIMEOUT 30 s
+"""
+"""The shipped peg taken from its holder by the gripper (no ROBOT line: either arm), then a CONTACT
+and an INSERT from 3.6 mm off the hole's axis, where it lands on the mouth's edge."""

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from run_support import HOLE_MOUTH_M
+from run_support import GRASPED_PEG_INSERT, HOLE_MOUTH_M
 
 import cosmos
 
@@ -39,17 +39,7 @@ MOVE TO hole + (3 mm, -2 mm, 8 mm) SPEED 0.15 m/s
 CONTACT DOWN FORCE 6 N SPEED 8 mm/s
 INSERT DOWN DEPTH 25 mm FORCE 12 N TIMEOUT 30 s
 """
-GRASPED = """ROBOT panda
-TOOL GRIPPER
-LET holder = hole + (0, 120 mm, 0)
-MOVE TO holder + (0, 0, 50 mm) SPEED 0.3 m/s
-MOVE TO holder + (0, 0, 15 mm) SPEED 50 mm/s
-GRASP peg FORCE 80 N
-MOVE BY (0, 0, 70 mm) SPEED 80 mm/s
-MOVE TO hole + (3 mm, -2 mm, 8 mm) SPEED 0.15 m/s
-CONTACT DOWN FORCE 6 N SPEED 8 mm/s
-INSERT DOWN DEPTH 25 mm FORCE 12 N TIMEOUT 30 s
-"""
+GRASPED = "ROBOT panda\n" + GRASPED_PEG_INSERT
 INSERTED_M = 0.025
 """The INSERT's DEPTH below the mouth, less the 1 mm its CONTACT may rest above it [m]."""
 CLEARANCE_AXIS_M = 0.5e-3
